@@ -1,0 +1,1 @@
+//! nendo-devices: glove and tracker input.

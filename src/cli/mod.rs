@@ -1,0 +1,28 @@
+//! The `nendo` command line: one module per subcommand, each with its own clap arguments.
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// nendo (粘土) — a clay-like modeller of exact Bezier surfaces and curves.
+#[derive(Debug, Parser)]
+#[command(name = "nendo", version, about, long_about = None)]
+pub struct Cli {
+    /// The subcommand; without one, the modeller window opens.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Every subcommand of the `nendo` binary.
+#[derive(Debug, Subcommand)]
+pub enum Command {}
+
+/// Parses the process arguments and runs the chosen subcommand.
+pub fn run() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        None => {
+            eprintln!("nendo: no subcommand given; see `nendo --help`");
+            ExitCode::from(2)
+        }
+    }
+}

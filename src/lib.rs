@@ -1,0 +1,26 @@
+//! # nendo (粘土, "clay")
+//!
+//! A free-form modeller in which surfaces are shaped like clay — pushed, pulled, grooved — and
+//! curves are grabbed anywhere along their length, on exact geometry: grids of bicubic Bezier
+//! patches kept tangent-continuous while they deform, and Bezier / B-spline curves queried by
+//! Bezier clipping. The geometry follows the four papers summarised in `shared/SPEC.md`.
+//!
+//! ## Parts, and which part may use which
+//!
+//! | part | what it is | may use |
+//! |---|---|---|
+//! | [`curve`] | Bernstein forms, Bezier and B-spline curves, closest point / pick / probe sphere / ray queries by Bezier clipping | glam |
+//! | `surface` | patch grids in five topologies, connected control-point groups, deformation by shape functions through the Bernstein inverse, G1 regulation, continuity measures | `curve`, glam |
+//! | `model` | the `nendo-model` JSON document (surface + curves), validated reading, atomic writing | `curve`, `surface`, serde |
+//! | `hand` | the kinematic hand and its contact with the surface, turning device frames into operations | `surface`, `nendo_devices` |
+//! | `render`, `app` | the wgpu renderer and the egui window | everything above; nothing depends on them |
+//! | [`cli`] | the headless subcommands of the `nendo` binary | everything |
+//!
+//! The rule the table encodes: **geometry (`curve`, `surface`) knows nothing of devices, the
+//! GPU, files or the UI**; the device crate (`nendo-devices`, in `devices/`) knows nothing of
+//! geometry; the application layers wire them together. The geometry modules never import a
+//! module below them in this table.
+#![warn(missing_docs)]
+
+pub mod cli;
+pub mod curve;

@@ -15,6 +15,7 @@
 //! | `hand` | the kinematic hand and its contact with the surface, turning device frames into operations | `surface`, `nendo_devices` |
 //! | `render`, `app` | the wgpu renderer and the egui window | everything above; nothing depends on them |
 //! | [`cli`] | the headless subcommands of the `nendo` binary | everything |
+//! | [`bench`] | the measurement suites behind `nendo bench` | everything |
 //!
 //! The rule the table encodes: **geometry (`curve`, `surface`) knows nothing of devices, the
 //! GPU, files or the UI**; the device crate (`nendo-devices`, in `devices/`) knows nothing of
@@ -22,5 +23,6 @@
 //! module below them in this table.
 #![warn(missing_docs)]
 
+pub mod bench;
 pub mod cli;
 pub mod curve;

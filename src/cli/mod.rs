@@ -1,6 +1,8 @@
 //! The `nendo` command line: one module per subcommand, each with its own clap arguments.
 
 use clap::{Parser, Subcommand};
+
+pub mod bench;
 use std::process::ExitCode;
 
 /// nendo (粘土) — a clay-like modeller of exact Bezier surfaces and curves.
@@ -14,7 +16,10 @@ pub struct Cli {
 
 /// Every subcommand of the `nendo` binary.
 #[derive(Debug, Subcommand)]
-pub enum Command {}
+pub enum Command {
+    /// Run a measurement suite and print its table.
+    Bench(bench::Args),
+}
 
 /// Parses the process arguments and runs the chosen subcommand.
 pub fn run() -> ExitCode {
@@ -24,5 +29,6 @@ pub fn run() -> ExitCode {
             eprintln!("nendo: no subcommand given; see `nendo --help`");
             ExitCode::from(2)
         }
+        Some(Command::Bench(args)) => bench::run(args),
     }
 }

@@ -1,0 +1,28 @@
+//! `nendo bench <suite>`: prints the measurement tables of [`crate::bench`].
+
+use clap::{Args as ClapArgs, ValueEnum};
+use std::process::ExitCode;
+
+/// Arguments of `nendo bench`.
+#[derive(Debug, ClapArgs)]
+pub struct Args {
+    /// Which suite to run.
+    #[arg(value_enum)]
+    pub suite: Suite,
+    /// Scale the number of cases (1.0 = the documented set-up; smaller for a quick look).
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+}
+
+/// The benchmark suites.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Suite {}
+
+/// Runs `nendo bench`.
+pub fn run(args: Args) -> ExitCode {
+    if !(args.scale.is_finite() && args.scale > 0.0) {
+        eprintln!("nendo bench: --scale must be a positive number");
+        return ExitCode::from(2);
+    }
+    match args.suite {}
+}

@@ -1,1 +1,72 @@
-//! nendo-devices: glove and tracker input.
+//! # nendo-devices: glove and tracker input for nendo
+//!
+//! Produces timestamped [`HandFrame`]s — tracker pose, glove joint angles, buttons, source
+//! states — from real devices, a recorded trace, or the mouse. It knows nothing of geometry:
+//! the application's hand model turns frames into a virtual hand and contact with the surface.
+//!
+//! ## Parts
+//!
+//! | module | what it is |
+//! |---|---|
+//! | [`frame`] | the frame types and their units: [`HandFrame`], [`TrackerPose`], [`JointAngles`], [`Joint`] |
+//! | [`decode`] | the incremental, resynchronising byte-stream decoder shared by every protocol |
+//! | [`cyberglove`], [`fivedt`], [`fastrak`], [`flock`] | one module per protocol: record formats, commands, framing, encoders |
+//! | [`serial`] | the serial transport (`serialport`) |
+//! | [`device`] | the [`Glove`] and [`Tracker`] traits and their serial and USB HID backends |
+//! | [`stream`] | [`HandStream`]: glove + tracker merged on background threads, watchdog, reconnection |
+//! | [`mouse`] | [`MouseHand`]: a hand driven by the mouse's view ray |
+//! | [`trace`] | the recorded-trace text format, reader and atomic writer |
+//! | [`profile`] | device profiles (JSON): ports, calibration, tracker-to-world transform, hand size |
+//! | [`discover`] | serial ports and HID devices present, and which profile fits each |
+//! | [`emulator`] | byte-exact device emulators on pseudo-terminals, for tests and demonstrations |
+//! | [`throughput`] | decode throughput per protocol (the `nendo bench input` table) |
+//!
+//! ## Opening a stream
+//!
+//! ```no_run
+//! use nendo_devices::{HandStream, StreamOptions, profile};
+//! # fn main() -> Result<(), nendo_devices::DeviceError> {
+//! let profile = profile::resolve("cyberglove2-18-fastrak")?;
+//! let stream = HandStream::open(&profile, &StreamOptions::default())?;
+//! for frame in stream.drain() {
+//!     if let Some(pose) = frame.pose {
+//!         let (position, orientation) = profile.world_from_tracker.apply(&pose);
+//!         # let _ = (position, orientation);
+//!     }
+//! }
+//! # Ok(()) }
+//! ```
+//!
+//! Protocol facts come from `shared/DEVICES.md`; each protocol module documents every field of
+//! the records it reads, in its own words.
+#![warn(missing_docs)]
+
+pub mod cyberglove;
+pub mod decode;
+pub mod device;
+pub mod discover;
+pub mod emulator;
+mod error;
+pub mod fastrak;
+pub mod fivedt;
+pub mod flock;
+pub mod frame;
+pub mod mouse;
+pub mod profile;
+pub mod serial;
+pub mod stream;
+pub mod throughput;
+pub mod trace;
+
+pub use decode::DecodeStats;
+pub use device::{DeviceStats, Glove, Tracker, open_glove, open_tracker};
+pub use error::DeviceError;
+pub use frame::{
+    ANGLE_LIMIT_RAD, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, POSITION_LIMIT_M, SourceState,
+    Timestamp, TrackerPose, buttons,
+};
+pub use mouse::{MouseHand, ViewRay};
+pub use profile::{HandSize, Profile, WorldFromTracker};
+pub use stream::{HandStream, StreamOptions, StreamStats};
+pub use throughput::{ThroughputRow, decode_throughput};
+pub use trace::{Trace, TraceHeader, TraceWriter};

@@ -1,0 +1,324 @@
+//! 5DT Data Glove protocols (`shared/DEVICES.md` §2): the serial Data Glove 5 and Data Glove 16
+//! byte streams, and the Data Glove Ultra's USB HID report.
+//!
+//! ## Data Glove 5 (serial, 19200 baud 8N1)
+//! Commands: `A` initialise (the glove answers one byte, 0x55); `G` information (32-byte
+//! answer; bit 0 of byte 4 set for a right hand); `C` send one record; `D` stream records.
+//!
+//! | byte | field |
+//! |---|---|
+//! | 0 | header 0x80 |
+//! | 1–5 | thumb, index, middle, ring, little flexure, 0..=255 (value/255 of full bend) |
+//! | 6 | pitch of the hand's tilt sensor, 180·value/255 degrees |
+//! | 7 | roll, 180·value/255 degrees |
+//! | 8 | checksum: XOR of bytes 1 to 7 |
+//!
+//! A record whose checksum does not match is rejected; the decoder drops the header and hunts
+//! for the next 0x80. (Some units are said to send a tenth byte; it is not accepted here.)
+//!
+//! ## Data Glove 16 (serial, 19200 baud)
+//! The glove streams by itself. Data packets are 36 bytes: `<`, `D`, then 16 sensor values as
+//! big-endian u16 at offsets 2–33, then two trailing bytes whose meaning the sources do not give
+//! (they are carried but not checked). 7-byte information packets `<`, `I` + 5 bytes (hardware
+//! version major, minor, hand, wireless flag, reserved) are interleaved. The sensors digitise to
+//! 12 bits, so a data packet with a value above 4095 is rejected as misframed (this is what
+//! keeps the decoder from locking onto `<D` inside data).
+//!
+//! ## Data Glove Ultra (USB HID)
+//! Vendor id 0x5D70. Product-id bit 0 set means a left-hand glove; bit 4 set means the 5-sensor
+//! model. A 64-byte input report holds 16 big-endian i16 values, each ×1/4096 of full scale;
+//! the 14-sensor glove uses the first 14 in the order thumb near, thumb far, thumb–index
+//! abduction, index near, index far, index–middle abduction, middle near, middle far,
+//! middle–ring abduction, ring near, ring far, ring–little abduction, little near, little far; the
+//! 5-sensor glove uses values 0, 3, 6, 9, 12. Whether a report-id byte precedes the data is not
+//! settled by the sources, so [`decode_ultra_report`] takes it as an option.
+
+use crate::decode::{Frame, Framing, StreamDecoder};
+use crate::{DeviceError, Joint};
+
+/// Glove 5: initialise (answer 0x55).
+pub const GLOVE5_INIT: u8 = b'A';
+/// Glove 5: the answer to [`GLOVE5_INIT`].
+pub const GLOVE5_INIT_ANSWER: u8 = 0x55;
+/// Glove 5: 32-byte information block.
+pub const GLOVE5_INFO: u8 = b'G';
+/// Glove 5: length of the information block.
+pub const GLOVE5_INFO_LEN: usize = 32;
+/// Glove 5: one record.
+pub const GLOVE5_ONE: u8 = b'C';
+/// Glove 5: stream records.
+pub const GLOVE5_STREAM: u8 = b'D';
+/// Glove 5: record header.
+pub const GLOVE5_HEADER: u8 = 0x80;
+/// Glove 5: record length.
+pub const GLOVE5_LEN: usize = 9;
+
+/// Glove 16: data packet length.
+pub const GLOVE16_DATA_LEN: usize = 36;
+/// Glove 16: information packet length.
+pub const GLOVE16_INFO_LEN: usize = 7;
+/// Largest raw value of the 12-bit sensors.
+pub const MAX_12_BIT: u16 = 4095;
+
+/// USB vendor id of 5DT.
+pub const ULTRA_VENDOR_ID: u16 = 0x5D70;
+/// Length of an Ultra input report (without a report-id byte).
+pub const ULTRA_REPORT_LEN: usize = 64;
+/// Scale of an Ultra value: raw/4096 is the fraction of full scale.
+pub const ULTRA_SCALE: f64 = 1.0 / 4096.0;
+
+/// The joints of the 14-sensor gloves, in sensor order.
+pub const JOINTS_14: [Joint; 14] = [
+    Joint::ThumbMcp,
+    Joint::ThumbIp,
+    Joint::ThumbIndexAbduction,
+    Joint::IndexMcp,
+    Joint::IndexPip,
+    Joint::IndexMiddleAbduction,
+    Joint::MiddleMcp,
+    Joint::MiddlePip,
+    Joint::MiddleRingAbduction,
+    Joint::RingMcp,
+    Joint::RingPip,
+    Joint::RingPinkyAbduction,
+    Joint::PinkyMcp,
+    Joint::PinkyPip,
+];
+
+/// The joints the 5-sensor gloves' overall finger flexures are mapped to (the knuckle joints).
+pub const JOINTS_5: [Joint; 5] =
+    [Joint::ThumbMcp, Joint::IndexMcp, Joint::MiddleMcp, Joint::RingMcp, Joint::PinkyMcp];
+
+/// The Ultra values used by the 5-sensor model.
+pub const ULTRA_5_SENSOR_SLOTS: [usize; 5] = [0, 3, 6, 9, 12];
+
+/// A Data Glove 5 record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Glove5Record {
+    /// Thumb, index, middle, ring, little flexure (0..=255).
+    pub fingers: [u8; 5],
+    /// Tilt pitch byte (180·value/255 degrees).
+    pub pitch: u8,
+    /// Tilt roll byte (180·value/255 degrees).
+    pub roll: u8,
+}
+
+impl Glove5Record {
+    /// Pitch in degrees.
+    pub fn pitch_degrees(&self) -> f64 {
+        180.0 * f64::from(self.pitch) / 255.0
+    }
+
+    /// Roll in degrees.
+    pub fn roll_degrees(&self) -> f64 {
+        180.0 * f64::from(self.roll) / 255.0
+    }
+}
+
+/// Framing of the Data Glove 5 stream.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Glove5Framing;
+
+fn xor(bytes: &[u8]) -> u8 {
+    bytes.iter().fold(0, |a, b| a ^ b)
+}
+
+impl Framing for Glove5Framing {
+    type Record = Glove5Record;
+
+    fn frame(&self, w: &[u8]) -> Frame<Glove5Record> {
+        if w[0] != GLOVE5_HEADER {
+            return Frame::NotHeader;
+        }
+        if w.len() < GLOVE5_LEN {
+            return Frame::NeedMore;
+        }
+        if xor(&w[1..8]) != w[8] {
+            return Frame::Reject;
+        }
+        let mut fingers = [0; 5];
+        fingers.copy_from_slice(&w[1..6]);
+        Frame::Record(Glove5Record { fingers, pitch: w[6], roll: w[7] }, GLOVE5_LEN)
+    }
+}
+
+/// The Data Glove 5 decoder.
+pub type Glove5Decoder = StreamDecoder<Glove5Framing>;
+
+/// Appends a Data Glove 5 record.
+pub fn encode_glove5(record: &Glove5Record, out: &mut Vec<u8>) {
+    let start = out.len();
+    out.push(GLOVE5_HEADER);
+    out.extend_from_slice(&record.fingers);
+    out.push(record.pitch);
+    out.push(record.roll);
+    let sum = xor(&out[start + 1..]);
+    out.push(sum);
+}
+
+/// A Data Glove 16 packet.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Glove16Packet {
+    /// `<D`: sensor values.
+    Data {
+        /// The 16 raw values (0..=4095).
+        values: [u16; 16],
+        /// The two trailing bytes, unchecked.
+        trailer: [u8; 2],
+    },
+    /// `<I`: information.
+    Info([u8; 5]),
+}
+
+/// Framing of the Data Glove 16 stream.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Glove16Framing;
+
+impl Framing for Glove16Framing {
+    type Record = Glove16Packet;
+
+    fn frame(&self, w: &[u8]) -> Frame<Glove16Packet> {
+        if w[0] != b'<' {
+            return Frame::NotHeader;
+        }
+        let Some(&kind) = w.get(1) else {
+            return Frame::NeedMore;
+        };
+        match kind {
+            b'D' => {
+                // Check the high bytes as they arrive: each must be ≤ 0x0F.
+                let have = w.len().min(34);
+                if (2..have).step_by(2).any(|i| w[i] > (MAX_12_BIT >> 8) as u8) {
+                    return Frame::Reject;
+                }
+                if w.len() < GLOVE16_DATA_LEN {
+                    return Frame::NeedMore;
+                }
+                let mut values = [0u16; 16];
+                for (i, v) in values.iter_mut().enumerate() {
+                    *v = u16::from_be_bytes([w[2 + 2 * i], w[3 + 2 * i]]);
+                }
+                Frame::Record(Glove16Packet::Data { values, trailer: [w[34], w[35]] }, GLOVE16_DATA_LEN)
+            }
+            b'I' => {
+                if w.len() < GLOVE16_INFO_LEN {
+                    return Frame::NeedMore;
+                }
+                let mut info = [0u8; 5];
+                info.copy_from_slice(&w[2..7]);
+                Frame::Record(Glove16Packet::Info(info), GLOVE16_INFO_LEN)
+            }
+            _ => Frame::Reject,
+        }
+    }
+}
+
+/// The Data Glove 16 decoder.
+pub type Glove16Decoder = StreamDecoder<Glove16Framing>;
+
+/// Appends a Data Glove 16 packet.
+pub fn encode_glove16(packet: &Glove16Packet, out: &mut Vec<u8>) {
+    match packet {
+        Glove16Packet::Data { values, trailer } => {
+            out.extend_from_slice(b"<D");
+            for v in values {
+                out.extend_from_slice(&v.to_be_bytes());
+            }
+            out.extend_from_slice(trailer);
+        }
+        Glove16Packet::Info(info) => {
+            out.extend_from_slice(b"<I");
+            out.extend_from_slice(info);
+        }
+    }
+}
+
+/// What the product id of an Ultra USB glove says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UltraModel {
+    /// A left-hand glove (product-id bit 0).
+    pub left_hand: bool,
+    /// The 5-sensor model (product-id bit 4); otherwise 14 sensors.
+    pub five_sensors: bool,
+}
+
+impl UltraModel {
+    /// The model a product id names.
+    pub fn from_product_id(pid: u16) -> Self {
+        UltraModel { left_hand: pid & 0x01 != 0, five_sensors: pid & 0x10 != 0 }
+    }
+}
+
+/// Decodes an Ultra input report into its 16 raw values (big-endian i16; value/4096 is the
+/// fraction of full scale). With `report_id`, the first byte is a report id and is skipped.
+pub fn decode_ultra_report(report: &[u8], report_id: bool) -> Result<[i16; 16], DeviceError> {
+    let data = if report_id { report.get(1..).unwrap_or(&[]) } else { report };
+    if data.len() < 32 {
+        return Err(DeviceError::InvalidValue(format!(
+            "5DT Ultra report of {} bytes (at least 32 data bytes expected)",
+            report.len()
+        )));
+    }
+    let mut values = [0i16; 16];
+    for (i, v) in values.iter_mut().enumerate() {
+        *v = i16::from_be_bytes([data[2 * i], data[2 * i + 1]]);
+    }
+    Ok(values)
+}
+
+/// Encodes an Ultra input report (64 bytes, with a leading report id when given).
+pub fn encode_ultra_report(values: &[i16; 16], report_id: Option<u8>) -> Vec<u8> {
+    let mut out = Vec::with_capacity(ULTRA_REPORT_LEN + 1);
+    out.extend(report_id);
+    for v in values {
+        out.extend_from_slice(&v.to_be_bytes());
+    }
+    out.resize(report_id.is_some() as usize + ULTRA_REPORT_LEN, 0);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn glove5_record_is_byte_exact_with_its_checksum() {
+        let rec = Glove5Record { fingers: [1, 2, 4, 8, 16], pitch: 32, roll: 64 };
+        let mut b = Vec::new();
+        encode_glove5(&rec, &mut b);
+        assert_eq!(b, [0x80, 1, 2, 4, 8, 16, 32, 64, 127]);
+        let mut d = Glove5Decoder::new(Glove5Framing);
+        assert_eq!(d.decode(&b), vec![rec]);
+        b[3] ^= 1;
+        assert!(d.decode(&b).is_empty());
+        assert_eq!(d.stats().rejected, 1);
+    }
+
+    #[test]
+    fn glove16_skips_info_packets_and_rejects_13_bit_values() {
+        let mut b = Vec::new();
+        let values: [u16; 16] = std::array::from_fn(|i| (i as u16) * 200);
+        encode_glove16(&Glove16Packet::Info([1, 2, 1, 1, 0]), &mut b);
+        encode_glove16(&Glove16Packet::Data { values, trailer: [0, 0] }, &mut b);
+        let mut d = Glove16Decoder::new(Glove16Framing);
+        let recs = d.decode(&b);
+        assert_eq!(recs.len(), 2);
+        assert_eq!(recs[1], Glove16Packet::Data { values, trailer: [0, 0] });
+        let mut bad = Vec::new();
+        encode_glove16(&Glove16Packet::Data { values: [0x1000; 16], trailer: [0, 0] }, &mut bad);
+        assert!(d.decode(&bad).is_empty());
+    }
+
+    #[test]
+    fn ultra_reports_round_trip_with_and_without_report_id() {
+        let values: [i16; 16] = std::array::from_fn(|i| (i as i16 - 8) * 300);
+        for id in [None, Some(1)] {
+            let r = encode_ultra_report(&values, id);
+            assert_eq!(r.len(), 64 + id.is_some() as usize);
+            assert_eq!(decode_ultra_report(&r, id.is_some()).unwrap(), values);
+        }
+        assert!(decode_ultra_report(&[0; 10], false).is_err());
+        let m = UltraModel::from_product_id(0x0011);
+        assert!(m.left_hand && m.five_sensors);
+    }
+}

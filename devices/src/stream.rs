@@ -1,0 +1,512 @@
+//! [`HandStream`]: a tracker and a glove merged into one stream of timestamped hand frames.
+//!
+//! Each device runs on its own thread, so a slow or silent device never delays the other. A
+//! frame is emitted at every device sample (and at every change of a source's state) holding the
+//! latest value of each source. Frames go into a bounded channel with `try_send`: the device
+//! threads never block on a slow consumer; when the channel is full the frame is dropped and
+//! counted ([`StreamStats::overflow`]).
+//!
+//! Robustness, per source:
+//! - **watchdog**: no valid sample for the profile's `watchdog_ms` → state
+//!   [`SourceState::Silent`]; the device is stopped and started again (its handshake re-sent)
+//!   until it answers;
+//! - **disconnect**: an I/O error (unplugged, hung up) or a failed open → state
+//!   [`SourceState::Disconnected`]; the device is reopened every [`StreamOptions::retry`] and
+//!   resumes by itself when it is back;
+//! - bad records and bad values are dropped and counted in [`DeviceStats`], never passed on.
+//!
+//! Nothing here panics on device input; a poisoned lock is recovered, not unwrapped.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, TrySendError, sync_channel};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use crate::device::{DeviceStats, Glove, Tracker, open_glove, open_tracker};
+use crate::profile::{Input, Profile};
+use crate::trace::Trace;
+use crate::{DeviceError, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose, buttons};
+
+/// How a device thread waits for data before checking its stop flag and watchdog.
+const POLL: Duration = Duration::from_millis(20);
+
+/// Options for opening a stream.
+#[derive(Debug, Clone)]
+pub struct StreamOptions {
+    /// Replaces the glove's serial port of the profile.
+    pub glove_port: Option<String>,
+    /// Replaces the tracker's serial port of the profile.
+    pub tracker_port: Option<String>,
+    /// Frames the channel holds before new ones are dropped.
+    pub capacity: usize,
+    /// Replaces the profile's watchdog period.
+    pub watchdog: Option<Duration>,
+    /// Time between attempts to reopen a lost device.
+    pub retry: Duration,
+}
+
+impl Default for StreamOptions {
+    fn default() -> Self {
+        StreamOptions { glove_port: None, tracker_port: None, capacity: 1024, watchdog: None, retry: Duration::from_millis(250) }
+    }
+}
+
+/// Counters of a stream.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct StreamStats {
+    /// Frames put into the channel.
+    pub frames: u64,
+    /// Frames dropped because the channel was full.
+    pub overflow: u64,
+    /// Times a source was declared silent by the watchdog.
+    pub watchdog_trips: u64,
+    /// Times a source was lost (I/O error or failed reopen after a loss).
+    pub disconnects: u64,
+    /// The glove's counters.
+    pub glove: DeviceStats,
+    /// The tracker's counters.
+    pub tracker: DeviceStats,
+}
+
+#[derive(Debug, Default)]
+struct Merge {
+    pose: Option<TrackerPose>,
+    angles: Option<JointAngles>,
+    switch: bool,
+    tracker: SourceState,
+    glove: SourceState,
+}
+
+struct Shared {
+    merge: Mutex<Merge>,
+    tx: SyncSender<HandFrame>,
+    stop: AtomicBool,
+    finished: AtomicBool,
+    frames: AtomicU64,
+    overflow: AtomicU64,
+    watchdog_trips: AtomicU64,
+    disconnects: AtomicU64,
+    glove_stats: Mutex<DeviceStats>,
+    tracker_stats: Mutex<DeviceStats>,
+    last_error: Mutex<Option<String>>,
+    start: Instant,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+impl Shared {
+    fn send(&self, frame: HandFrame) {
+        match self.tx.try_send(frame) {
+            Ok(()) => {
+                self.frames.fetch_add(1, Ordering::Relaxed);
+            }
+            Err(TrySendError::Full(_)) => {
+                self.overflow.fetch_add(1, Ordering::Relaxed);
+            }
+            Err(TrySendError::Disconnected(_)) => {}
+        }
+    }
+
+    fn emit(&self, m: &Merge, tracker_fresh: bool, glove_fresh: bool) {
+        let frame = HandFrame {
+            time: Timestamp::since(self.start),
+            pose: if m.tracker == SourceState::Ok { m.pose } else { None },
+            joints: if m.glove == SourceState::Ok { m.angles } else { None },
+            buttons: if m.switch && m.glove == SourceState::Ok { buttons::PRIMARY } else { 0 },
+            status: FrameStatus { tracker: m.tracker, glove: m.glove, tracker_fresh, glove_fresh },
+        };
+        self.send(frame);
+    }
+
+    fn note_error(&self, e: &DeviceError) {
+        *lock(&self.last_error) = Some(e.to_string());
+    }
+}
+
+/// Which source a worker thread serves.
+enum Source {
+    Glove(Box<dyn Glove>),
+    Tracker(Box<dyn Tracker>),
+}
+
+impl Source {
+    fn start(&mut self) -> Result<(), DeviceError> {
+        match self {
+            Source::Glove(g) => g.start(),
+            Source::Tracker(t) => t.start(),
+        }
+    }
+
+    fn stop(&mut self) {
+        match self {
+            Source::Glove(g) => g.stop(),
+            Source::Tracker(t) => t.stop(),
+        }
+    }
+
+    fn stats(&self) -> DeviceStats {
+        match self {
+            Source::Glove(g) => g.stats(),
+            Source::Tracker(t) => t.stats(),
+        }
+    }
+
+    /// Reads and publishes; returns the number of samples.
+    fn read_and_publish(&mut self, shared: &Shared, gloves: &mut Vec<GloveSample>, poses: &mut Vec<TrackerPose>) -> Result<usize, DeviceError> {
+        match self {
+            Source::Glove(g) => {
+                gloves.clear();
+                let r = g.read(POLL, gloves);
+                *lock(&shared.glove_stats) = g.stats();
+                for s in gloves.iter() {
+                    let mut m = lock(&shared.merge);
+                    m.angles = Some(s.angles);
+                    m.switch = s.switch.unwrap_or(false);
+                    m.glove = SourceState::Ok;
+                    shared.emit(&m, false, true);
+                }
+                r.map(|()| gloves.len())
+            }
+            Source::Tracker(t) => {
+                poses.clear();
+                let r = t.read(POLL, poses);
+                *lock(&shared.tracker_stats) = t.stats();
+                for p in poses.iter() {
+                    let mut m = lock(&shared.merge);
+                    m.pose = Some(*p);
+                    m.tracker = SourceState::Ok;
+                    shared.emit(&m, true, false);
+                }
+                r.map(|()| poses.len())
+            }
+        }
+    }
+
+    fn set_state(&self, shared: &Shared, state: SourceState) {
+        let mut m = lock(&shared.merge);
+        let slot = match self {
+            Source::Glove(_) => &mut m.glove,
+            Source::Tracker(_) => &mut m.tracker,
+        };
+        if *slot != state {
+            *slot = state;
+            shared.emit(&m, false, false);
+        }
+    }
+}
+
+enum Phase {
+    Running { last_data: Instant },
+    Restart { at: Instant },
+}
+
+fn run_source(mut source: Source, shared: Arc<Shared>, watchdog: Duration, retry: Duration) {
+    let mut phase = Phase::Running { last_data: Instant::now() };
+    let mut gloves = Vec::new();
+    let mut poses = Vec::new();
+    while !shared.stop.load(Ordering::Relaxed) {
+        match phase {
+            Phase::Running { last_data } => match source.read_and_publish(&shared, &mut gloves, &mut poses) {
+                Ok(0) if last_data.elapsed() > watchdog => {
+                    shared.watchdog_trips.fetch_add(1, Ordering::Relaxed);
+                    source.set_state(&shared, SourceState::Silent);
+                    source.stop();
+                    phase = Phase::Restart { at: Instant::now() };
+                }
+                Ok(0) => {}
+                Ok(_) => phase = Phase::Running { last_data: Instant::now() },
+                Err(e) => {
+                    shared.note_error(&e);
+                    let state = if e.is_disconnect() {
+                        shared.disconnects.fetch_add(1, Ordering::Relaxed);
+                        SourceState::Disconnected
+                    } else {
+                        SourceState::Silent
+                    };
+                    source.set_state(&shared, state);
+                    source.stop();
+                    phase = Phase::Restart { at: Instant::now() + retry };
+                }
+            },
+            Phase::Restart { at } => {
+                let now = Instant::now();
+                if now < at {
+                    std::thread::sleep((at - now).min(POLL));
+                    continue;
+                }
+                match source.start() {
+                    Ok(()) => phase = Phase::Running { last_data: Instant::now() },
+                    Err(e) => {
+                        shared.note_error(&e);
+                        if e.is_disconnect() {
+                            source.set_state(&shared, SourceState::Disconnected);
+                        }
+                        phase = Phase::Restart { at: Instant::now() + retry };
+                    }
+                }
+            }
+        }
+    }
+    source.stop();
+    let stats = source.stats();
+    match source {
+        Source::Glove(_) => *lock(&shared.glove_stats) = stats,
+        Source::Tracker(_) => *lock(&shared.tracker_stats) = stats,
+    }
+}
+
+/// A running stream of hand frames (see the module docs). Dropping it stops the device threads
+/// and closes the devices.
+pub struct HandStream {
+    rx: Receiver<HandFrame>,
+    shared: Arc<Shared>,
+    threads: Vec<JoinHandle<()>>,
+    joints: Vec<Joint>,
+    description: Vec<String>,
+}
+
+impl std::fmt::Debug for HandStream {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("HandStream").field("sources", &self.description).finish()
+    }
+}
+
+impl HandStream {
+    /// Opens the devices (or the trace) a profile names and starts streaming. Each device must
+    /// answer its handshake now: an absent port or a mute device is an error here, not a
+    /// silent stream. The mouse profile is refused: its hand is driven by the window through
+    /// [`MouseHand`](crate::MouseHand).
+    pub fn open(profile: &Profile, options: &StreamOptions) -> Result<HandStream, DeviceError> {
+        let watchdog = options.watchdog.unwrap_or(Duration::from_millis(profile.watchdog_ms));
+        match &profile.input {
+            Input::Devices { glove, tracker } => {
+                let glove = match glove {
+                    Some(g) => {
+                        let mut g = g.clone();
+                        if let Some(p) = &options.glove_port {
+                            g.set_port(p);
+                        }
+                        Some(open_glove(&g)?)
+                    }
+                    None => None,
+                };
+                let tracker = match tracker {
+                    Some(t) => {
+                        let mut t = t.clone();
+                        if let Some(p) = &options.tracker_port {
+                            t.set_port(p);
+                        }
+                        Some(open_tracker(&t)?)
+                    }
+                    None => None,
+                };
+                HandStream::from_devices(glove, tracker, watchdog, options)
+            }
+            Input::Replay(r) => {
+                let trace = Trace::read(Path::new(&r.trace))?;
+                Ok(HandStream::replay(trace, r.speed, r.repeat, options.capacity))
+            }
+            Input::Mouse(_) => Err(DeviceError::Unsupported(
+                "the mouse hand is driven by the window (MouseHand), not opened as a stream".into(),
+            )),
+        }
+    }
+
+    /// Starts a stream over device backends (started here; the first failure is returned and
+    /// every device already started is stopped again).
+    pub fn from_devices(
+        glove: Option<Box<dyn Glove>>,
+        tracker: Option<Box<dyn Tracker>>,
+        watchdog: Duration,
+        options: &StreamOptions,
+    ) -> Result<HandStream, DeviceError> {
+        if glove.is_none() && tracker.is_none() {
+            return Err(DeviceError::Unsupported("a stream needs a glove or a tracker".into()));
+        }
+        let mut sources = Vec::new();
+        let mut description = Vec::new();
+        let mut joints = Vec::new();
+        if let Some(g) = glove {
+            description.push(g.describe());
+            joints = g.joints();
+            sources.push(Source::Glove(g));
+        }
+        if let Some(t) = tracker {
+            description.push(t.describe());
+            sources.push(Source::Tracker(t));
+        }
+        for i in 0..sources.len() {
+            if let Err(e) = sources[i].start() {
+                for s in &mut sources[..i] {
+                    s.stop();
+                }
+                return Err(e);
+            }
+        }
+        let (tx, rx) = sync_channel(options.capacity.max(1));
+        let mut merge = Merge::default();
+        for s in &sources {
+            match s {
+                Source::Glove(_) => merge.glove = SourceState::Ok,
+                Source::Tracker(_) => merge.tracker = SourceState::Ok,
+            }
+        }
+        let shared = Arc::new(Shared::new(tx, merge));
+        let threads = sources
+            .into_iter()
+            .map(|s| {
+                let shared = Arc::clone(&shared);
+                let retry = options.retry;
+                std::thread::Builder::new()
+                    .name("nendo-device".into())
+                    .spawn(move || run_source(s, shared, watchdog, retry))
+                    .map_err(|e| DeviceError::Io { device: "device thread".into(), source: e })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(HandStream { rx, shared, threads, joints, description })
+    }
+
+    /// Plays a trace back in real time (scaled by `speed`) as a stream: the recorded-trace mock
+    /// backend. With `repeat`, it starts over at the end with timestamps continuing.
+    pub fn replay(trace: Trace, speed: f64, repeat: bool, capacity: usize) -> HandStream {
+        let (tx, rx) = sync_channel(capacity.max(1));
+        let shared = Arc::new(Shared::new(tx, Merge::default()));
+        let joints = trace.header.joints.clone();
+        let worker = Arc::clone(&shared);
+        let speed = if speed.is_finite() && speed > 0.0 { speed } else { 1.0 };
+        let thread = std::thread::Builder::new().name("nendo-replay".into()).spawn(move || {
+            let frames = trace.frames;
+            let Some(first) = frames.first().map(|f| f.time.as_micros()) else {
+                worker.finished.store(true, Ordering::Relaxed);
+                return;
+            };
+            let span = frames.last().map_or(0, |f| f.time.as_micros() - first);
+            let period = if frames.len() > 1 { span / (frames.len() as u64 - 1) } else { 0 };
+            let mut offset = 0u64;
+            let t0 = Instant::now();
+            loop {
+                for f in &frames {
+                    let t = f.time.as_micros() - first + offset;
+                    let due = t0 + Duration::from_secs_f64(t as f64 * 1e-6 / speed);
+                    loop {
+                        if worker.stop.load(Ordering::Relaxed) {
+                            return;
+                        }
+                        let now = Instant::now();
+                        if now >= due {
+                            break;
+                        }
+                        std::thread::sleep((due - now).min(POLL));
+                    }
+                    worker.send(HandFrame { time: Timestamp(t), ..*f });
+                }
+                if !repeat {
+                    break;
+                }
+                offset += span + period.max(1);
+            }
+            worker.finished.store(true, Ordering::Relaxed);
+        });
+        let threads = thread.into_iter().collect();
+        HandStream { rx, shared, threads, joints, description: vec!["trace replay".into()] }
+    }
+
+    /// The next frame, if one is waiting.
+    pub fn try_next(&self) -> Option<HandFrame> {
+        self.rx.try_recv().ok()
+    }
+
+    /// The next frame, waiting at most `timeout`.
+    pub fn next_timeout(&self, timeout: Duration) -> Option<HandFrame> {
+        match self.rx.recv_timeout(timeout) {
+            Ok(f) => Some(f),
+            Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => None,
+        }
+    }
+
+    /// Every frame waiting now (call once per UI frame).
+    pub fn drain(&self) -> Vec<HandFrame> {
+        self.rx.try_iter().collect()
+    }
+
+    /// The glove's joints (the columns of a trace recorded from this stream).
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+
+    /// The sources, described for people.
+    pub fn describe(&self) -> String {
+        self.description.join(" + ")
+    }
+
+    /// Current tracker and glove states.
+    pub fn states(&self) -> (SourceState, SourceState) {
+        let m = lock(&self.shared.merge);
+        (m.tracker, m.glove)
+    }
+
+    /// The last device error, for the status line.
+    pub fn last_error(&self) -> Option<String> {
+        lock(&self.shared.last_error).clone()
+    }
+
+    /// Whether a replayed trace has played to its end (always false for live devices).
+    pub fn finished(&self) -> bool {
+        self.shared.finished.load(Ordering::Relaxed)
+    }
+
+    /// Counters so far.
+    pub fn stats(&self) -> StreamStats {
+        let s = &self.shared;
+        StreamStats {
+            frames: s.frames.load(Ordering::Relaxed),
+            overflow: s.overflow.load(Ordering::Relaxed),
+            watchdog_trips: s.watchdog_trips.load(Ordering::Relaxed),
+            disconnects: s.disconnects.load(Ordering::Relaxed),
+            glove: *lock(&s.glove_stats),
+            tracker: *lock(&s.tracker_stats),
+        }
+    }
+
+    /// Stops the device threads, closes the devices and returns the final counters.
+    pub fn close(mut self) -> StreamStats {
+        self.shutdown();
+        self.stats()
+    }
+
+    fn shutdown(&mut self) {
+        self.shared.stop.store(true, Ordering::Relaxed);
+        for t in self.threads.drain(..) {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Shared {
+    fn new(tx: SyncSender<HandFrame>, merge: Merge) -> Shared {
+        Shared {
+            merge: Mutex::new(merge),
+            tx,
+            stop: AtomicBool::new(false),
+            finished: AtomicBool::new(false),
+            frames: AtomicU64::new(0),
+            overflow: AtomicU64::new(0),
+            watchdog_trips: AtomicU64::new(0),
+            disconnects: AtomicU64::new(0),
+            glove_stats: Mutex::new(DeviceStats::default()),
+            tracker_stats: Mutex::new(DeviceStats::default()),
+            last_error: Mutex::new(None),
+            start: Instant::now(),
+        }
+    }
+}
+
+impl Drop for HandStream {
+    fn drop(&mut self) {
+        self.shutdown();
+    }
+}

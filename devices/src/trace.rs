@@ -1,0 +1,422 @@
+//! Recorded traces: a versioned, line-oriented, human-readable format for hand frames.
+//!
+//! ```text
+//! nendo-hand-trace 1
+//! # comments may appear anywhere before `frames`
+//! profile cyberglove2-18-fastrak
+//! world_from_tracker {"translation":[0.0,-0.3,0.0],"rotation_wxyz":[1.0,0.0,0.0,0.0],"scale":1.0}
+//! hand {"side":"right","palm_length":0.095,…}
+//! joints index_mcp index_pip
+//! frames
+//! 0 ok* ok 0 P 0.100000 0.200000 -0.050000 1.000000 0.000000 0.000000 0.000000 J 0.250000 0.500000
+//! 8333 ok ok* 1 P 0.100000 0.200000 -0.050000 1.000000 0.000000 0.000000 0.000000 J 0.260000 ?
+//! 16666 lost ok* 1 P - J 0.270000 0.510000
+//! end 3
+//! ```
+//!
+//! - Line 1 names the format and its version ([`TRACE_FORMAT`], [`TRACE_VERSION`]).
+//! - Header lines, each a keyword and its value: `profile` (optional, the rest of the line),
+//!   `world_from_tracker` and `hand` (optional, one-line JSON as in profiles; defaults when
+//!   absent), `joints` (the glove columns of every frame, by joint name; may be empty).
+//! - `frames` ends the header. Each following line is one frame:
+//!   `time tracker glove buttons P pose J angles`, where
+//!   - `time` is in microseconds since the recording started, never decreasing;
+//!   - `tracker` and `glove` are source states `none`, `ok`, `silent`, `lost`, with `*` appended
+//!     when the frame carries a new sample of that source;
+//!   - `buttons` is the decimal button mask;
+//!   - `P` is followed by `x y z qw qx qy qz` (metres, unit quaternion) or by `-`;
+//!   - `J` is followed by one column per header joint (radians, `?` for a joint missing in this
+//!     frame) or by a single `-` when the frame has no glove data.
+//! - `end N` closes the trace and repeats the number of frames, so truncation is detected.
+//!
+//! Every number is written with exactly six decimals (1 µm, 1 µrad, 10⁻⁶ of a quaternion) and
+//! read back only in that form, so traces diff cleanly and parse back bit-exactly: writing a
+//! parsed trace reproduces its text, and parsing a written trace reproduces its frames rounded
+//! to six decimals ([`quantize`]). Reading errors carry the 1-based line number.
+
+use std::fmt::Write as _;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use glam::{DQuat, DVec3};
+
+use crate::profile::{HandSize, WorldFromTracker};
+use crate::{DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose};
+
+/// The format name on the first line.
+pub const TRACE_FORMAT: &str = "nendo-hand-trace";
+/// The format version this crate writes and reads.
+pub const TRACE_VERSION: u32 = 1;
+/// Decimals of every number in a trace.
+pub const DECIMALS: usize = 6;
+
+/// The header of a trace.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TraceHeader {
+    /// The profile the trace was recorded with.
+    pub profile: Option<String>,
+    /// The profile's tracker-to-world transform.
+    pub world_from_tracker: WorldFromTracker,
+    /// The profile's hand dimensions.
+    pub hand: HandSize,
+    /// The glove columns of every frame.
+    pub joints: Vec<Joint>,
+}
+
+/// A whole trace in memory.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Trace {
+    /// The header.
+    pub header: TraceHeader,
+    /// The frames, in time order.
+    pub frames: Vec<HandFrame>,
+}
+
+/// Rounds a value to the trace's six decimals, exactly as writing and reading it would.
+pub fn quantize(x: f64) -> f64 {
+    format!("{x:.DECIMALS$}").parse().unwrap_or(x)
+}
+
+/// A frame as it will read back from a trace with these header joints: numbers rounded to six
+/// decimals, joints outside the header dropped.
+pub fn quantize_frame(frame: &HandFrame, joints: &[Joint]) -> HandFrame {
+    let mut f = *frame;
+    if let Some(p) = &mut f.pose {
+        p.position = DVec3::from_array(p.position.to_array().map(quantize));
+        p.orientation = DQuat::from_array(p.orientation.to_array().map(quantize));
+    }
+    if let Some(a) = frame.joints {
+        let mut q = JointAngles::new();
+        for &j in joints {
+            if let Some(v) = a.get(j) {
+                // Rounding never leaves the allowed range by more than the rounding itself; a
+                // value that did is dropped, as the reader would refuse it.
+                let _ = q.set(j, quantize(v));
+            }
+        }
+        f.joints = Some(q);
+    }
+    f
+}
+
+fn state_token(state: SourceState, fresh: bool, out: &mut String) {
+    out.push_str(state.token());
+    if fresh {
+        out.push('*');
+    }
+}
+
+fn number(x: f64, out: &mut String) {
+    // Negative zero prints as "-0.000000", which reads back as -0.0: bit-exact either way.
+    let _ = write!(out, " {x:.DECIMALS$}");
+}
+
+/// Appends one frame line (with its newline).
+pub fn format_frame(joints: &[Joint], f: &HandFrame, out: &mut String) {
+    let _ = write!(out, "{} ", f.time.as_micros());
+    state_token(f.status.tracker, f.status.tracker_fresh, out);
+    out.push(' ');
+    state_token(f.status.glove, f.status.glove_fresh, out);
+    let _ = write!(out, " {} P", f.buttons);
+    match &f.pose {
+        Some(p) => {
+            for x in p.position.to_array() {
+                number(x, out);
+            }
+            let q = p.orientation;
+            for x in [q.w, q.x, q.y, q.z] {
+                number(x, out);
+            }
+        }
+        None => out.push_str(" -"),
+    }
+    out.push_str(" J");
+    match &f.joints {
+        Some(a) => {
+            for &j in joints {
+                match a.get(j) {
+                    Some(v) => number(v, out),
+                    None => out.push_str(" ?"),
+                }
+            }
+        }
+        None => out.push_str(" -"),
+    }
+    out.push('\n');
+}
+
+/// The header lines, up to and including `frames`.
+pub fn format_header(h: &TraceHeader) -> String {
+    let mut s = format!("{TRACE_FORMAT} {TRACE_VERSION}\n");
+    if let Some(p) = &h.profile {
+        let _ = writeln!(s, "profile {}", p.replace(['\n', '\r'], " "));
+    }
+    let _ = writeln!(
+        s,
+        "world_from_tracker {}",
+        serde_json::to_string(&h.world_from_tracker).unwrap_or_default()
+    );
+    let _ = writeln!(s, "hand {}", serde_json::to_string(&h.hand).unwrap_or_default());
+    s.push_str("joints");
+    for j in &h.joints {
+        s.push(' ');
+        s.push_str(j.name());
+    }
+    s.push_str("\nframes\n");
+    s
+}
+
+impl Trace {
+    /// The trace as text.
+    pub fn to_text(&self) -> String {
+        let mut s = format_header(&self.header);
+        for f in &self.frames {
+            format_frame(&self.header.joints, f, &mut s);
+        }
+        let _ = writeln!(s, "end {}", self.frames.len());
+        s
+    }
+
+    /// Parses a trace; errors name the 1-based line.
+    pub fn parse(text: &str) -> Result<Trace, DeviceError> {
+        let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+        let err = |line: usize, message: String| DeviceError::TraceSyntax { line, message };
+        let first = lines.next().map(|(_, l)| l).unwrap_or("");
+        let mut words = first.split_whitespace();
+        if words.next() != Some(TRACE_FORMAT) {
+            return Err(err(1, format!("not a nendo hand trace (expected `{TRACE_FORMAT} {TRACE_VERSION}`)")));
+        }
+        match words.next().map(str::parse::<u32>) {
+            Some(Ok(TRACE_VERSION)) => {}
+            Some(Ok(v)) => return Err(err(1, format!("trace version {v}; this nendo reads version {TRACE_VERSION}"))),
+            _ => return Err(err(1, "missing or malformed version".into())),
+        }
+        let mut header = TraceHeader::default();
+        let mut in_frames = false;
+        for (n, line) in lines.by_ref() {
+            if line.starts_with('#') || line.trim().is_empty() {
+                continue;
+            }
+            let (key, rest) = line.split_once(' ').unwrap_or((line, ""));
+            match key {
+                "profile" => header.profile = Some(rest.to_string()),
+                "world_from_tracker" => {
+                    let w: WorldFromTracker = serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?;
+                    w.validate().map_err(|e| err(n, e.to_string()))?;
+                    header.world_from_tracker = w;
+                }
+                "hand" => header.hand = serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?,
+                "joints" => {
+                    header.joints = rest
+                        .split_whitespace()
+                        .map(|w| Joint::from_name(w).ok_or_else(|| err(n, format!("unknown joint `{w}`"))))
+                        .collect::<Result<_, _>>()?;
+                    let mut seen = 0u32;
+                    for j in &header.joints {
+                        if seen & (1 << j.index()) != 0 {
+                            return Err(err(n, format!("joint {j} listed twice")));
+                        }
+                        seen |= 1 << j.index();
+                    }
+                }
+                "frames" => {
+                    in_frames = true;
+                    break;
+                }
+                other => return Err(err(n, format!("unknown header keyword `{other}`"))),
+            }
+        }
+        if !in_frames {
+            return Err(err(text.lines().count().max(1), "the header never ends (no `frames` line)".into()));
+        }
+        let mut frames = Vec::new();
+        let mut last = 0u64;
+        for (n, line) in lines.by_ref() {
+            if let Some(count) = line.strip_prefix("end ") {
+                let count: usize = count.trim().parse().map_err(|_| err(n, format!("malformed end line `{line}`")))?;
+                if count != frames.len() {
+                    return Err(err(n, format!("end says {count} frames, the trace has {}", frames.len())));
+                }
+                if let Some((m, extra)) = lines.find(|(_, l)| !l.trim().is_empty()) {
+                    return Err(err(m, format!("text after the end line: `{extra}`")));
+                }
+                return Ok(Trace { header, frames });
+            }
+            let frame = parse_frame(&header.joints, line).map_err(|m| err(n, m))?;
+            if frame.time.as_micros() < last {
+                return Err(err(n, "time goes backwards".into()));
+            }
+            last = frame.time.as_micros();
+            frames.push(frame);
+        }
+        Err(err(text.lines().count() + 1, "the trace is truncated (no `end` line)".into()))
+    }
+
+    /// Reads a trace file.
+    pub fn read(path: &Path) -> Result<Trace, DeviceError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|source| DeviceError::File { path: path.to_path_buf(), source })?;
+        Trace::parse(&text)
+    }
+
+    /// Writes the trace atomically (temporary file, then rename).
+    pub fn write(&self, path: &Path) -> Result<(), DeviceError> {
+        let mut w = TraceWriter::create(path, self.header.clone())?;
+        for f in &self.frames {
+            w.push(f)?;
+        }
+        w.finish().map(|_| ())
+    }
+}
+
+fn parse_number(word: Option<&str>) -> Result<f64, String> {
+    let w = word.ok_or("the line ends early")?;
+    let body = w.strip_prefix('-').unwrap_or(w);
+    let ok = match body.split_once('.') {
+        Some((int, frac)) => {
+            !int.is_empty()
+                && int.bytes().all(|b| b.is_ascii_digit())
+                && frac.len() == DECIMALS
+                && frac.bytes().all(|b| b.is_ascii_digit())
+        }
+        None => false,
+    };
+    if !ok {
+        return Err(format!("`{w}` is not a number with {DECIMALS} decimals"));
+    }
+    w.parse().map_err(|_| format!("`{w}` is not a number"))
+}
+
+fn parse_state(word: Option<&str>) -> Result<(SourceState, bool), String> {
+    let w = word.ok_or("the line ends early")?;
+    let (token, fresh) = match w.strip_suffix('*') {
+        Some(t) => (t, true),
+        None => (w, false),
+    };
+    let state = SourceState::from_token(token).ok_or_else(|| format!("unknown source state `{w}`"))?;
+    Ok((state, fresh))
+}
+
+/// Parses one frame line given the header's joint columns.
+pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
+    let mut w = line.split_whitespace();
+    let time: u64 = w
+        .next()
+        .ok_or("empty line")?
+        .parse()
+        .map_err(|_| "the time is not a whole number of microseconds".to_string())?;
+    let (tracker, tracker_fresh) = parse_state(w.next())?;
+    let (glove, glove_fresh) = parse_state(w.next())?;
+    let buttons: u32 = w.next().ok_or("the line ends early")?.parse().map_err(|_| "malformed buttons".to_string())?;
+    if w.next() != Some("P") {
+        return Err("expected `P` before the pose".into());
+    }
+    let mut peek = w.clone();
+    let pose = if peek.next() == Some("-") {
+        w.next();
+        None
+    } else {
+        let mut v = [0.0; 7];
+        for x in &mut v {
+            *x = parse_number(w.next())?;
+        }
+        let position = DVec3::new(v[0], v[1], v[2]);
+        let orientation = DQuat::from_xyzw(v[4], v[5], v[6], v[3]);
+        // Validate, but keep the quaternion exactly as written so the trace round-trips.
+        TrackerPose::new(position, orientation).map_err(|e| e.to_string())?;
+        Some(TrackerPose { position, orientation })
+    };
+    if w.next() != Some("J") {
+        return Err("expected `J` before the joint angles".into());
+    }
+    let rest: Vec<&str> = w.collect();
+    let angles = if rest == ["-"] {
+        None
+    } else if rest.len() != joints.len() {
+        return Err(format!("{} joint columns, the header names {}", rest.len(), joints.len()));
+    } else {
+        let mut a = JointAngles::new();
+        for (&j, word) in joints.iter().zip(&rest) {
+            if *word != "?" {
+                a.set(j, parse_number(Some(word))?).map_err(|e| e.to_string())?;
+            }
+        }
+        Some(a)
+    };
+    Ok(HandFrame {
+        time: Timestamp(time),
+        pose,
+        joints: angles,
+        buttons,
+        status: FrameStatus { tracker, glove, tracker_fresh, glove_fresh },
+    })
+}
+
+/// Writes a trace frame by frame to a temporary file beside the target, renamed into place by
+/// [`TraceWriter::finish`]; dropped unfinished, it removes the temporary file.
+#[derive(Debug)]
+pub struct TraceWriter {
+    out: Option<BufWriter<File>>,
+    tmp: PathBuf,
+    path: PathBuf,
+    joints: Vec<Joint>,
+    count: u64,
+    line: String,
+}
+
+impl TraceWriter {
+    /// Starts a trace at `path` (nothing appears there until [`TraceWriter::finish`]).
+    pub fn create(path: &Path, header: TraceHeader) -> Result<TraceWriter, DeviceError> {
+        let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let tmp = path.with_file_name(format!(".{file_name}.tmp-{}", std::process::id()));
+        let io = |source| DeviceError::File { path: tmp.clone(), source };
+        let mut out = BufWriter::new(File::create(&tmp).map_err(io)?);
+        out.write_all(format_header(&header).as_bytes()).map_err(io)?;
+        Ok(TraceWriter { out: Some(out), tmp, path: path.to_path_buf(), joints: header.joints, count: 0, line: String::new() })
+    }
+
+    /// Appends a frame.
+    pub fn push(&mut self, frame: &HandFrame) -> Result<(), DeviceError> {
+        self.line.clear();
+        format_frame(&self.joints, frame, &mut self.line);
+        let Some(out) = self.out.as_mut() else {
+            return Err(DeviceError::File {
+                path: self.tmp.clone(),
+                source: std::io::Error::other("trace writer already finished"),
+            });
+        };
+        out.write_all(self.line.as_bytes())
+            .map_err(|source| DeviceError::File { path: self.tmp.clone(), source })?;
+        self.count += 1;
+        Ok(())
+    }
+
+    /// Frames written so far.
+    pub fn frames(&self) -> u64 {
+        self.count
+    }
+
+    /// Writes the `end` line, flushes, syncs and renames the file into place. Returns the number
+    /// of frames.
+    pub fn finish(mut self) -> Result<u64, DeviceError> {
+        let io = |source, path: &Path| DeviceError::File { path: path.to_path_buf(), source };
+        let Some(mut out) = self.out.take() else {
+            return Ok(self.count);
+        };
+        writeln!(out, "end {}", self.count).map_err(|e| io(e, &self.tmp))?;
+        let file = out.into_inner().map_err(|e| io(e.into_error(), &self.tmp))?;
+        file.sync_all().map_err(|e| io(e, &self.tmp))?;
+        drop(file);
+        std::fs::rename(&self.tmp, &self.path).map_err(|e| io(e, &self.path))?;
+        Ok(self.count)
+    }
+}
+
+impl Drop for TraceWriter {
+    fn drop(&mut self) {
+        if self.out.take().is_some() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}

@@ -10,7 +10,7 @@
 //! | part | what it is | may use |
 //! |---|---|---|
 //! | [`curve`] | Bernstein forms, Bezier and B-spline curves, closest point / pick / probe sphere / ray queries by Bezier clipping | glam |
-//! | `surface` | patch grids in five topologies, connected control-point groups, deformation by shape functions through the Bernstein inverse, G1 regulation, continuity measures | `curve`, glam |
+//! | [`surface`] | patch grids in five topologies, connected control-point groups, deformation by shape functions through the Bernstein inverse, G1 regulation, continuity measures | `curve`, glam |
 //! | `model` | the `nendo-model` JSON document (surface + curves), validated reading, atomic writing | `curve`, `surface`, serde |
 //! | `hand` | the kinematic hand and its contact with the surface, turning device frames into operations | `surface`, `nendo_devices` |
 //! | `render`, `app` | the wgpu renderer and the egui window | everything above; nothing depends on them |
@@ -26,3 +26,4 @@
 pub mod bench;
 pub mod cli;
 pub mod curve;
+pub mod surface;

@@ -1,0 +1,95 @@
+//! The errors of the surface part.
+
+use super::topology::Topology;
+
+/// What can go wrong when building, reading or deforming a patch grid.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SurfaceError {
+    /// A patch count is zero, or too small for the topology (a closed direction needs at least
+    /// 2 patches, 6 around a pole; a sphere needs 2 patches from pole to pole).
+    #[error("{topology} needs at least {min} patches along {direction}, got {got}")]
+    TooFewPatches {
+        /// The topology being built.
+        topology: Topology,
+        /// `"u"` or `"v"`.
+        direction: &'static str,
+        /// The smallest count allowed.
+        min: usize,
+        /// The count asked for.
+        got: usize,
+    },
+    /// A patch count around a closed direction is odd; every meridian at a pole needs an
+    /// opposite one, so closed directions always have an even count.
+    #[error(
+        "{topology} needs an even number of patches around its closed {direction} direction, got {got}"
+    )]
+    OddClosedCount {
+        /// The topology being built.
+        topology: Topology,
+        /// `"u"` or `"v"`.
+        direction: &'static str,
+        /// The count asked for.
+        got: usize,
+    },
+    /// The grid would hold more control points than this build can index.
+    #[error("a {patches_u} x {patches_v} grid is too large")]
+    TooLarge {
+        /// Patches along u.
+        patches_u: usize,
+        /// Patches along v.
+        patches_v: usize,
+    },
+    /// A shape parameter (radius, height, …) is not a positive finite number.
+    #[error("{name} must be a positive finite number, got {value}")]
+    BadParameter {
+        /// Which parameter.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// The number of control points or patches given does not match the grid's counts.
+    #[error("expected {expected} {what}, got {got}")]
+    WrongCount {
+        /// What was counted (`"control points"`, `"patches"`).
+        what: &'static str,
+        /// The count the topology and patch counts require.
+        expected: usize,
+        /// The count given.
+        got: usize,
+    },
+    /// A coordinate is NaN or infinite.
+    #[error("patch {patch}, control point {point}: coordinate is not finite")]
+    NotFinite {
+        /// Patch index `iv * patches_u + iu` (or the node index for a raw net).
+        patch: usize,
+        /// Control point index `4 * i + j` in the patch.
+        point: usize,
+    },
+    /// Two patches disagree about a control point they must share (a common edge, a closed
+    /// seam, a pole).
+    #[error(
+        "patch {patch}, control point {point} should coincide with patch {other}, control point \
+         {other_point} ({what}), but they are {distance:e} apart"
+    )]
+    NotCoincident {
+        /// The patch whose point disagrees.
+        patch: usize,
+        /// Its control point index.
+        point: usize,
+        /// The patch holding the first copy of the shared point.
+        other: usize,
+        /// That copy's control point index.
+        other_point: usize,
+        /// Which kind of sharing (`"shared edge"`, `"closed seam"`, `"pole"`).
+        what: &'static str,
+        /// How far apart they are.
+        distance: f64,
+    },
+    /// An operation's parameter is invalid (not finite, zero direction, radius not positive,
+    /// a path too short).
+    #[error("invalid operation: {0}")]
+    BadOp(String),
+    /// The grids compared by a measure do not have the same topology and patch counts.
+    #[error("the grids differ in topology or patch counts")]
+    Mismatch,
+}

@@ -1,0 +1,213 @@
+//! One bicubic Bezier patch: `S(u,v) = Σ_i Σ_j B_i³(u) B_j³(v) P[4i + j]`, `i` along `u`, `j`
+//! along `v`, `(u, v) ∈ [0,1]²`.
+//!
+//! The normal is `unit(S_u × S_v)`. Where a boundary row is collapsed into one point (a pole)
+//! `S_u` vanishes along it, and the normal there is the limit from inside the patch: near a
+//! collapsed row `v = v₀`, `S_u(u,v) ≈ (v − v₀) S_uv(u,v₀)`, so the normal is
+//! `± unit(S_uv × S_v)` with the sign of `v − v₀` (and likewise for a collapsed column).
+
+use glam::DVec3;
+
+use super::bounds::Aabb;
+
+/// The control points of a bicubic patch, `P[4*i + j]`, `i` along `u`, `j` along `v`.
+pub type PatchPoints = [DVec3; 16];
+
+/// A bicubic Bezier patch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Patch {
+    /// The control points, `P[4*i + j]`, `i` along `u`, `j` along `v`.
+    pub points: PatchPoints,
+}
+
+/// A point of a patch with its first derivatives and the mixed second derivative.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PatchFrame {
+    /// `S(u,v)`.
+    pub point: DVec3,
+    /// `∂S/∂u`.
+    pub du: DVec3,
+    /// `∂S/∂v`.
+    pub dv: DVec3,
+    /// `∂²S/∂u∂v`.
+    pub duv: DVec3,
+}
+
+/// Cubic Bernstein values `B_0..B_3` at `t`.
+#[inline]
+#[must_use]
+pub fn cubic_basis(t: f64) -> [f64; 4] {
+    let s = 1.0 - t;
+    [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t]
+}
+
+/// Derivatives of the cubic Bernstein basis at `t`.
+#[inline]
+#[must_use]
+pub fn cubic_basis_derivative(t: f64) -> [f64; 4] {
+    let s = 1.0 - t;
+    [-3.0 * s * s, 3.0 * s * s - 6.0 * t * s, 6.0 * t * s - 3.0 * t * t, 3.0 * t * t]
+}
+
+impl Patch {
+    /// A patch from its 16 control points.
+    #[must_use]
+    pub fn new(points: PatchPoints) -> Self {
+        Self { points }
+    }
+
+    /// Control point `P[4*i + j]`.
+    ///
+    /// # Panics
+    /// If `i > 3` or `j > 3`.
+    #[inline]
+    #[must_use]
+    pub fn point(&self, i: usize, j: usize) -> DVec3 {
+        assert!(i < 4 && j < 4, "control point ({i}, {j}) out of range");
+        self.points[4 * i + j]
+    }
+
+    /// `S(u, v)`.
+    #[must_use]
+    pub fn eval(&self, u: f64, v: f64) -> DVec3 {
+        let bu = cubic_basis(u);
+        let bv = cubic_basis(v);
+        let mut s = DVec3::ZERO;
+        for i in 0..4 {
+            let mut row = DVec3::ZERO;
+            for j in 0..4 {
+                row += self.points[4 * i + j] * bv[j];
+            }
+            s += row * bu[i];
+        }
+        s
+    }
+
+    /// The point, `S_u`, `S_v` and `S_uv` at `(u, v)`.
+    #[must_use]
+    pub fn frame(&self, u: f64, v: f64) -> PatchFrame {
+        let bu = cubic_basis(u);
+        let bv = cubic_basis(v);
+        let du = cubic_basis_derivative(u);
+        let dv = cubic_basis_derivative(v);
+        let mut f =
+            PatchFrame { point: DVec3::ZERO, du: DVec3::ZERO, dv: DVec3::ZERO, duv: DVec3::ZERO };
+        for i in 0..4 {
+            let mut row = DVec3::ZERO;
+            let mut row_dv = DVec3::ZERO;
+            for j in 0..4 {
+                let p = self.points[4 * i + j];
+                row += p * bv[j];
+                row_dv += p * dv[j];
+            }
+            f.point += row * bu[i];
+            f.du += row * du[i];
+            f.dv += row_dv * bu[i];
+            f.duv += row_dv * du[i];
+        }
+        f
+    }
+
+    /// The unit normal `unit(S_u × S_v)` at `(u, v)`, with the limit taken along collapsed
+    /// rows and columns (see the module docs). `None` where the surface has no tangent plane
+    /// (both derivatives vanish, or they are parallel and no limit exists).
+    #[must_use]
+    pub fn normal(&self, u: f64, v: f64) -> Option<DVec3> {
+        let f = self.frame(u, v);
+        let scale = self.size();
+        if !(scale > 0.0) {
+            return None;
+        }
+        let tiny = 1e-9 * scale;
+        let lu = f.du.length();
+        let lv = f.dv.length();
+        if lu > tiny && lv > tiny {
+            let n = f.du.cross(f.dv);
+            if n.length() > 1e-10 * lu * lv {
+                return n.try_normalize();
+            }
+        } else if lu <= tiny && lv > tiny {
+            // Collapsed row: S_u ≈ (v − v₀) S_uv.
+            let sign = if v < 0.5 { 1.0 } else { -1.0 };
+            let n = f.duv.cross(f.dv) * sign;
+            if n.length() > 1e-10 * f.duv.length() * lv {
+                return n.try_normalize();
+            }
+        } else if lv <= tiny && lu > tiny {
+            // Collapsed column: S_v ≈ (u − u₀) S_uv.
+            let sign = if u < 0.5 { 1.0 } else { -1.0 };
+            let n = f.du.cross(f.duv) * sign;
+            if n.length() > 1e-10 * f.duv.length() * lu {
+                return n.try_normalize();
+            }
+        }
+        // A singular point that is not a collapsed boundary: step a little towards the centre.
+        let step = 1e-6;
+        let (u2, v2) = (u + step * (0.5 - u).signum(), v + step * (0.5 - v).signum());
+        let g = self.frame(u2, v2);
+        let n = g.du.cross(g.dv);
+        if n.length() > 1e-10 * g.du.length() * g.dv.length() { n.try_normalize() } else { None }
+    }
+
+    /// Diagonal of the control points' bounding box: the scale of the patch.
+    #[must_use]
+    pub fn size(&self) -> f64 {
+        let b = self.bounds();
+        (b.max - b.min).length()
+    }
+
+    /// Bounding box of the control points, which holds the patch (convex hull property).
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        Aabb::of_points(&self.points)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wavy() -> Patch {
+        let mut p = [DVec3::ZERO; 16];
+        for i in 0..4 {
+            for j in 0..4 {
+                let (x, y) = (i as f64 / 3.0, j as f64 / 3.0);
+                p[4 * i + j] = DVec3::new(x + 0.1 * y * y, y, 0.3 * (x * 3.0).sin() * y);
+            }
+        }
+        Patch::new(p)
+    }
+
+    #[test]
+    fn derivatives_match_finite_differences() {
+        let p = wavy();
+        let h = 1e-6;
+        for &(u, v) in &[(0.2, 0.7), (0.5, 0.5), (0.9, 0.1)] {
+            let f = p.frame(u, v);
+            assert!((f.point - p.eval(u, v)).length() < 1e-15);
+            let du = (p.eval(u + h, v) - p.eval(u - h, v)) / (2.0 * h);
+            let dv = (p.eval(u, v + h) - p.eval(u, v - h)) / (2.0 * h);
+            let duv = (p.frame(u, v + h).du - p.frame(u, v - h).du) / (2.0 * h);
+            assert!((f.du - du).length() < 1e-8);
+            assert!((f.dv - dv).length() < 1e-8);
+            assert!((f.duv - duv).length() < 1e-8);
+        }
+    }
+
+    #[test]
+    fn normal_at_a_collapsed_row_is_the_limit() {
+        // A cone-like patch: row v = 0 collapsed to the apex.
+        let mut pts = [DVec3::ZERO; 16];
+        for i in 0..4 {
+            let a = i as f64 / 3.0;
+            for j in 0..4 {
+                let r = j as f64 / 3.0;
+                pts[4 * i + j] = DVec3::new(r * (1.0 - a * 0.5), r * a, -0.2 * r * r);
+            }
+        }
+        let p = Patch::new(pts);
+        let at = p.normal(0.4, 0.0).expect("limit normal");
+        let near = p.normal(0.4, 1e-7).expect("normal");
+        assert!(at.angle_between(near) < 1e-5);
+    }
+}

@@ -3,6 +3,7 @@
 use clap::{Parser, Subcommand};
 
 pub mod bench;
+pub mod closest;
 use std::process::ExitCode;
 
 /// nendo (粘土) — a clay-like modeller of exact Bezier surfaces and curves.
@@ -19,6 +20,8 @@ pub struct Cli {
 pub enum Command {
     /// Run a measurement suite and print its table.
     Bench(bench::Args),
+    /// Closest point, pick, probe sphere and ray queries on curves, as JSON Lines (`--batch`).
+    Closest(closest::Args),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -30,5 +33,6 @@ pub fn run() -> ExitCode {
             ExitCode::from(2)
         }
         Some(Command::Bench(args)) => bench::run(args),
+        Some(Command::Closest(args)) => closest::run(args),
     }
 }

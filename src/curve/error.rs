@@ -1,0 +1,108 @@
+//! Errors of the curve part.
+
+use thiserror::Error;
+
+/// Why a curve could not be built or an operation could not be carried out.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum CurveError {
+    /// A curve needs at least one control point.
+    #[error("a curve needs at least one control point")]
+    Empty,
+    /// The degree is above what nendo supports.
+    #[error("degree {degree} is above the supported maximum {max}")]
+    DegreeTooHigh {
+        /// The requested degree.
+        degree: usize,
+        /// The largest supported degree.
+        max: usize,
+    },
+    /// A coordinate, knot or parameter is NaN or infinite.
+    #[error("{what} is not a finite number")]
+    NotFinite {
+        /// Which value (e.g. "control point 3", "knot 2", "query point").
+        what: String,
+    },
+    /// Points of different dimensions were mixed, or a point has a dimension other than 2 or 3.
+    #[error("dimension mismatch: {0}")]
+    Dimension(String),
+    /// A B-spline of degree 0 (piecewise constant) is not a curve nendo edits.
+    #[error("B-spline degree must be at least 1")]
+    ZeroDegree,
+    /// The knot vector's length does not fit the control points and degree.
+    #[error("a B-spline of degree {degree} with {points} control points needs {expected} knots, got {got}")]
+    KnotCount {
+        /// Degree p.
+        degree: usize,
+        /// Number of control points n.
+        points: usize,
+        /// n + p + 1.
+        expected: usize,
+        /// Knots given.
+        got: usize,
+    },
+    /// Too few control points for the degree.
+    #[error("a B-spline of degree {degree} needs at least {needed} control points, got {got}")]
+    TooFewPoints {
+        /// Degree p.
+        degree: usize,
+        /// p + 1.
+        needed: usize,
+        /// Points given.
+        got: usize,
+    },
+    /// Knots must be non-decreasing.
+    #[error("knots must be non-decreasing (knot {index} is smaller than the one before it)")]
+    KnotsDecreasing {
+        /// Index of the offending knot.
+        index: usize,
+    },
+    /// A knot's multiplicity is above what keeps the curve connected (`p` inside the domain,
+    /// `p + 1` at or outside its ends).
+    #[error("knot {value} has multiplicity {multiplicity}, more than the {max} allowed there")]
+    KnotMultiplicity {
+        /// The knot value.
+        value: f64,
+        /// Its multiplicity.
+        multiplicity: usize,
+        /// The largest multiplicity allowed at that knot.
+        max: usize,
+    },
+    /// The parameter domain `[t_p, t_n]` is empty.
+    #[error("the B-spline's parameter domain [{start}, {end}] is empty")]
+    EmptyDomain {
+        /// t_p.
+        start: f64,
+        /// t_n.
+        end: f64,
+    },
+    /// A parameter lies outside where the operation is defined.
+    #[error("parameter {t} is outside {range}")]
+    OutOfDomain {
+        /// The parameter.
+        t: f64,
+        /// The valid range, described.
+        range: String,
+    },
+    /// A radius or distance must be non-negative (and finite).
+    #[error("{what} must be a non-negative number, got {value}")]
+    Negative {
+        /// Which value.
+        what: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// A control-point index beyond the curve's points.
+    #[error("control point index {index} is out of range (the curve has {len} points)")]
+    Index {
+        /// The index given.
+        index: usize,
+        /// Number of control points.
+        len: usize,
+    },
+    /// A JSON description of a curve or point is malformed.
+    #[error("{0}")]
+    Format(String),
+    /// A direction vector has zero length.
+    #[error("{0} has zero length")]
+    ZeroVector(&'static str),
+}

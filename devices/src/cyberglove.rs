@@ -94,7 +94,10 @@ const SLOT_JOINTS: [Option<Joint>; 24] = [
 
 /// The joints of a sensor mask, in the order their values arrive.
 pub fn joints_of_mask(mask: u32) -> Vec<Joint> {
-    (0..24).filter(|bit| mask & (1 << bit) != 0).filter_map(|bit| SLOT_JOINTS[bit]).collect()
+    (0..24)
+        .filter(|bit| mask & (1 << bit) != 0)
+        .filter_map(|bit| SLOT_JOINTS[bit])
+        .collect()
 }
 
 /// Number of sensors of a glove model.
@@ -235,7 +238,15 @@ impl Framing for CyberGloveFraming {
         let mut values = [0u8; 22];
         values[..n].copy_from_slice(&w[1..1 + n]);
         let status = self.status_byte.then(|| w[1 + n]);
-        Frame::Record(CyberRecord::Sample { header, count: n as u8, values, status }, len)
+        Frame::Record(
+            CyberRecord::Sample {
+                header,
+                count: n as u8,
+                values,
+                status,
+            },
+            len,
+        )
     }
 }
 
@@ -274,9 +285,24 @@ mod tests {
         assert_eq!(
             j18,
             vec![
-                ThumbRoll, ThumbMcp, ThumbIp, ThumbIndexAbduction, IndexMcp, IndexPip, MiddleMcp,
-                MiddlePip, IndexMiddleAbduction, RingMcp, RingPip, MiddleRingAbduction, PinkyMcp,
-                PinkyPip, RingPinkyAbduction, PalmArch, WristPitch, WristYaw
+                ThumbRoll,
+                ThumbMcp,
+                ThumbIp,
+                ThumbIndexAbduction,
+                IndexMcp,
+                IndexPip,
+                MiddleMcp,
+                MiddlePip,
+                IndexMiddleAbduction,
+                RingMcp,
+                RingPip,
+                MiddleRingAbduction,
+                PinkyMcp,
+                PinkyPip,
+                RingPinkyAbduction,
+                PalmArch,
+                WristPitch,
+                WristYaw
             ]
         );
         assert_eq!(joints_of_mask(MASK_22).len(), 22);
@@ -286,12 +312,20 @@ mod tests {
     fn a_record_is_byte_exact() {
         let mut bytes = Vec::new();
         let values: Vec<u8> = (1..=18).collect();
-        encode_sample(b'S', &values, Some(STATUS_GLOVE_IN | STATUS_SWITCH), &mut bytes);
+        encode_sample(
+            b'S',
+            &values,
+            Some(STATUS_GLOVE_IN | STATUS_SWITCH),
+            &mut bytes,
+        );
         let mut expected = vec![b'S'];
         expected.extend(1..=18u8);
         expected.extend([0x03, 0x00]);
         assert_eq!(bytes, expected);
-        let framing = CyberGloveFraming { sensors: SensorCount::Eighteen, status_byte: true };
+        let framing = CyberGloveFraming {
+            sensors: SensorCount::Eighteen,
+            status_byte: true,
+        };
         let mut d = CyberGloveDecoder::new(framing);
         let recs = d.decode(&bytes);
         assert_eq!(recs.len(), 1);
@@ -300,7 +334,10 @@ mod tests {
 
     #[test]
     fn error_records_decode_and_zero_bytes_reject() {
-        let framing = CyberGloveFraming { sensors: SensorCount::Eighteen, status_byte: false };
+        let framing = CyberGloveFraming {
+            sensors: SensorCount::Eighteen,
+            status_byte: false,
+        };
         let mut d = CyberGloveDecoder::new(framing);
         let mut bytes = Vec::new();
         encode_fault(b'S', GloveFault::GloveUnplugged, &mut bytes);
@@ -310,7 +347,13 @@ mod tests {
         encode_sample(b'S', &[7; 18], None, &mut bytes);
         let recs = d.decode(&bytes);
         assert_eq!(recs.len(), 2);
-        assert_eq!(recs[0], CyberRecord::Fault { header: b'S', fault: GloveFault::GloveUnplugged });
+        assert_eq!(
+            recs[0],
+            CyberRecord::Fault {
+                header: b'S',
+                fault: GloveFault::GloveUnplugged
+            }
+        );
         assert_eq!(recs[1].values(), &[7; 18]);
         assert!(d.stats().rejected >= 1);
     }

@@ -75,7 +75,13 @@ pub struct StreamDecoder<F> {
 impl<F: Framing> StreamDecoder<F> {
     /// A decoder with nothing buffered.
     pub fn new(framing: F) -> Self {
-        StreamDecoder { framing, buf: Vec::new(), start: 0, in_sync: true, stats: DecodeStats::default() }
+        StreamDecoder {
+            framing,
+            buf: Vec::new(),
+            start: 0,
+            in_sync: true,
+            stats: DecodeStats::default(),
+        }
     }
 
     /// The framing (protocol configuration) in use.

@@ -10,12 +10,18 @@
 
 use std::time::Duration;
 
-use crate::cyberglove::{self, CyberGloveDecoder, CyberGloveFraming, CyberRecord, GloveFault, SensorCount};
+use crate::cyberglove::{
+    self, CyberGloveDecoder, CyberGloveFraming, CyberRecord, GloveFault, SensorCount,
+};
 use crate::decode::{DecodeStats, Framing, StreamDecoder};
 use crate::fastrak::{self, FastrakDecoder, FastrakFraming, Item, Units};
-use crate::fivedt::{self, Glove5Decoder, Glove5Framing, Glove16Decoder, Glove16Framing, Glove16Packet};
+use crate::fivedt::{
+    self, Glove5Decoder, Glove5Framing, Glove16Decoder, Glove16Framing, Glove16Packet,
+};
 use crate::flock::{self, FlockDecoder, FlockFraming};
-use crate::profile::{FastrakOrientation, GloveProfile, SensorCalibration, TrackerProfile, calibrate};
+use crate::profile::{
+    FastrakOrientation, GloveProfile, SensorCalibration, TrackerProfile, calibrate,
+};
 use crate::serial::SerialLink;
 use crate::{DeviceError, GloveSample, Joint, TrackerPose};
 
@@ -74,7 +80,11 @@ trait SerialProtocol: Send {
     type Sample;
     fn label(&self) -> String;
     /// The handshake after opening; must leave the device streaming.
-    fn start(&mut self, link: &mut SerialLink, decoder: &mut StreamDecoder<Self::Framing>) -> Result<(), DeviceError>;
+    fn start(
+        &mut self,
+        link: &mut SerialLink,
+        decoder: &mut StreamDecoder<Self::Framing>,
+    ) -> Result<(), DeviceError>;
     /// Stop streaming, best effort.
     fn stop(&mut self, link: &mut SerialLink);
     /// Converts a record; `Ok(None)` for a record that is not for us.
@@ -120,7 +130,11 @@ impl<P: SerialProtocol> SerialDevice<P> {
         Ok(())
     }
 
-    fn read_samples(&mut self, timeout: Duration, out: &mut Vec<P::Sample>) -> Result<(), DeviceError> {
+    fn read_samples(
+        &mut self,
+        timeout: Duration,
+        out: &mut Vec<P::Sample>,
+    ) -> Result<(), DeviceError> {
         let Some(link) = self.link.as_mut() else {
             return Err(DeviceError::Io {
                 device: self.port.clone(),
@@ -136,7 +150,9 @@ impl<P: SerialProtocol> SerialDevice<P> {
             match self.protocol.convert(record, &mut self.stats) {
                 Ok(Some(s)) => out.push(s),
                 Ok(None) => {}
-                Err(e) if e.is_disconnect() || matches!(e, DeviceError::BadAnswer { .. }) => failure = Some(e),
+                Err(e) if e.is_disconnect() || matches!(e, DeviceError::BadAnswer { .. }) => {
+                    failure = Some(e)
+                }
                 Err(_) => self.stats.invalid += 1,
             }
         }
@@ -150,7 +166,10 @@ impl<P: SerialProtocol> SerialDevice<P> {
     }
 
     fn device_stats(&self) -> DeviceStats {
-        DeviceStats { decode: self.decoder.stats(), ..self.stats }
+        DeviceStats {
+            decode: self.decoder.stats(),
+            ..self.stats
+        }
     }
 }
 
@@ -227,14 +246,24 @@ impl SerialProtocol for CyberGloveProtocol {
         format!("CyberGlove ({} sensors)", self.framing.sensors.count())
     }
 
-    fn start(&mut self, link: &mut SerialLink, decoder: &mut CyberGloveDecoder) -> Result<(), DeviceError> {
+    fn start(
+        &mut self,
+        link: &mut SerialLink,
+        decoder: &mut CyberGloveDecoder,
+    ) -> Result<(), DeviceError> {
         link.send(&[cyberglove::STOP])?;
         link.drain(Duration::from_millis(30), ANSWER_TIMEOUT)?;
         link.send(&[cyberglove::SET_STATUS, u8::from(self.framing.status_byte)])?;
-        link.expect(&[cyberglove::SET_STATUS, 0], ANSWER_TIMEOUT, "U (status byte)")?;
+        link.expect(
+            &[cyberglove::SET_STATUS, 0],
+            ANSWER_TIMEOUT,
+            "U (status byte)",
+        )?;
         link.send(&[cyberglove::POLL])?;
         let record = link.await_record(decoder, ANSWER_TIMEOUT, "G (poll)", |r| match r {
-            CyberRecord::Sample { header, .. } | CyberRecord::Fault { header, .. } => *header == cyberglove::POLL,
+            CyberRecord::Sample { header, .. } | CyberRecord::Fault { header, .. } => {
+                *header == cyberglove::POLL
+            }
         })?;
         if let CyberRecord::Fault { fault, .. } = record {
             return Err(DeviceError::BadAnswer {
@@ -250,12 +279,19 @@ impl SerialProtocol for CyberGloveProtocol {
         let _ = link.send(&[cyberglove::STOP]);
     }
 
-    fn convert(&self, record: CyberRecord, stats: &mut DeviceStats) -> Result<Option<GloveSample>, DeviceError> {
+    fn convert(
+        &self,
+        record: CyberRecord,
+        stats: &mut DeviceStats,
+    ) -> Result<Option<GloveSample>, DeviceError> {
         match record {
             CyberRecord::Sample { status, .. } => {
                 let raw: Vec<f64> = record.values().iter().map(|&v| f64::from(v)).collect();
                 let angles = calibrate(&self.calibration, &raw)?;
-                Ok(Some(GloveSample { angles, switch: status.map(|s| s & cyberglove::STATUS_SWITCH != 0) }))
+                Ok(Some(GloveSample {
+                    angles,
+                    switch: status.map(|s| s & cyberglove::STATUS_SWITCH != 0),
+                }))
             }
             CyberRecord::Fault { fault, .. } => {
                 stats.faults += 1;
@@ -296,7 +332,11 @@ impl SerialProtocol for Glove5Protocol {
     fn start(&mut self, link: &mut SerialLink, _: &mut Glove5Decoder) -> Result<(), DeviceError> {
         link.drain(Duration::from_millis(30), ANSWER_TIMEOUT)?;
         link.send(&[fivedt::GLOVE5_INIT])?;
-        link.expect(&[fivedt::GLOVE5_INIT_ANSWER], ANSWER_TIMEOUT, "A (initialise)")?;
+        link.expect(
+            &[fivedt::GLOVE5_INIT_ANSWER],
+            ANSWER_TIMEOUT,
+            "A (initialise)",
+        )?;
         link.send(&[fivedt::GLOVE5_INFO])?;
         link.read_exact(fivedt::GLOVE5_INFO_LEN, ANSWER_TIMEOUT, "G (information)")?;
         link.send(&[fivedt::GLOVE5_STREAM])
@@ -304,9 +344,16 @@ impl SerialProtocol for Glove5Protocol {
 
     fn stop(&mut self, _: &mut SerialLink) {}
 
-    fn convert(&self, r: fivedt::Glove5Record, _: &mut DeviceStats) -> Result<Option<GloveSample>, DeviceError> {
+    fn convert(
+        &self,
+        r: fivedt::Glove5Record,
+        _: &mut DeviceStats,
+    ) -> Result<Option<GloveSample>, DeviceError> {
         let raw = r.fingers.map(f64::from);
-        Ok(Some(GloveSample { angles: calibrate(&self.calibration, &raw)?, switch: None }))
+        Ok(Some(GloveSample {
+            angles: calibrate(&self.calibration, &raw)?,
+            switch: None,
+        }))
     }
 }
 
@@ -328,19 +375,32 @@ impl SerialProtocol for Glove16Protocol {
         "5DT Data Glove 16".into()
     }
 
-    fn start(&mut self, link: &mut SerialLink, decoder: &mut Glove16Decoder) -> Result<(), DeviceError> {
+    fn start(
+        &mut self,
+        link: &mut SerialLink,
+        decoder: &mut Glove16Decoder,
+    ) -> Result<(), DeviceError> {
         // The glove streams by itself: wait for one data packet.
-        link.await_record(decoder, ANSWER_TIMEOUT, "(stream)", |p| matches!(p, Glove16Packet::Data { .. }))?;
+        link.await_record(decoder, ANSWER_TIMEOUT, "(stream)", |p| {
+            matches!(p, Glove16Packet::Data { .. })
+        })?;
         Ok(())
     }
 
     fn stop(&mut self, _: &mut SerialLink) {}
 
-    fn convert(&self, p: Glove16Packet, stats: &mut DeviceStats) -> Result<Option<GloveSample>, DeviceError> {
+    fn convert(
+        &self,
+        p: Glove16Packet,
+        stats: &mut DeviceStats,
+    ) -> Result<Option<GloveSample>, DeviceError> {
         match p {
             Glove16Packet::Data { values, .. } => {
                 let raw = values.map(f64::from);
-                Ok(Some(GloveSample { angles: calibrate(&self.calibration, &raw)?, switch: None }))
+                Ok(Some(GloveSample {
+                    angles: calibrate(&self.calibration, &raw)?,
+                    switch: None,
+                }))
             }
             Glove16Packet::Info(_) => {
                 stats.ignored += 1;
@@ -367,7 +427,11 @@ impl SerialProtocol for FastrakProtocol {
         format!("Fastrak station {}", self.station)
     }
 
-    fn start(&mut self, link: &mut SerialLink, decoder: &mut FastrakDecoder) -> Result<(), DeviceError> {
+    fn start(
+        &mut self,
+        link: &mut SerialLink,
+        decoder: &mut FastrakDecoder,
+    ) -> Result<(), DeviceError> {
         link.send(&[fastrak::POLLED])?;
         link.drain(Duration::from_millis(30), ANSWER_TIMEOUT)?;
         let units = match self.units {
@@ -379,10 +443,15 @@ impl SerialProtocol for FastrakProtocol {
             fastrak::DataFormat::Binary => fastrak::BINARY,
         };
         link.send(&[units, format])?;
-        link.send(&fastrak::output_list_command(self.station, &self.framing.items))?;
+        link.send(&fastrak::output_list_command(
+            self.station,
+            &self.framing.items,
+        ))?;
         link.send(&[fastrak::POINT])?;
         let station = self.station;
-        link.await_record(decoder, ANSWER_TIMEOUT, "P (one record)", |r| r.station == station)?;
+        link.await_record(decoder, ANSWER_TIMEOUT, "P (one record)", |r| {
+            r.station == station
+        })?;
         link.send(&[fastrak::CONTINUOUS])
     }
 
@@ -390,7 +459,11 @@ impl SerialProtocol for FastrakProtocol {
         let _ = link.send(&[fastrak::POLLED]);
     }
 
-    fn convert(&self, r: fastrak::FastrakRecord, stats: &mut DeviceStats) -> Result<Option<TrackerPose>, DeviceError> {
+    fn convert(
+        &self,
+        r: fastrak::FastrakRecord,
+        stats: &mut DeviceStats,
+    ) -> Result<Option<TrackerPose>, DeviceError> {
         if r.station != self.station {
             stats.ignored += 1;
             return Ok(None);
@@ -415,7 +488,11 @@ impl SerialProtocol for FlockProtocol {
         "Flock of Birds".into()
     }
 
-    fn start(&mut self, link: &mut SerialLink, decoder: &mut FlockDecoder) -> Result<(), DeviceError> {
+    fn start(
+        &mut self,
+        link: &mut SerialLink,
+        decoder: &mut FlockDecoder,
+    ) -> Result<(), DeviceError> {
         link.send(&[flock::STOP])?;
         link.drain(Duration::from_millis(30), ANSWER_TIMEOUT)?;
         link.send(&[self.framing.mode.command(), flock::POINT])?;
@@ -427,7 +504,11 @@ impl SerialProtocol for FlockProtocol {
         let _ = link.send(&[flock::STOP]);
     }
 
-    fn convert(&self, r: flock::FlockRecord, _: &mut DeviceStats) -> Result<Option<TrackerPose>, DeviceError> {
+    fn convert(
+        &self,
+        r: flock::FlockRecord,
+        _: &mut DeviceStats,
+    ) -> Result<Option<TrackerPose>, DeviceError> {
         r.pose(self.conjugate).map(Some)
     }
 }
@@ -468,7 +549,9 @@ impl Glove for UltraUsbGlove {
         let info = api
             .device_list()
             .find(|d| self.usb.matches(d.vendor_id(), d.product_id()))
-            .ok_or_else(|| DeviceError::Hid(format!("no HID device matches {}", self.describe())))?;
+            .ok_or_else(|| {
+                DeviceError::Hid(format!("no HID device matches {}", self.describe()))
+            })?;
         let device = info.open_device(&api).map_err(Self::hid)?;
         self.device = Some(device);
         self.stats.starts += 1;
@@ -480,7 +563,9 @@ impl Glove for UltraUsbGlove {
             return Err(DeviceError::Hid("not started".into()));
         };
         let mut buf = [0u8; fivedt::ULTRA_REPORT_LEN + 1];
-        let n = device.read_timeout(&mut buf, timeout.as_millis().min(i32::MAX as u128) as i32).map_err(Self::hid)?;
+        let n = device
+            .read_timeout(&mut buf, timeout.as_millis().min(i32::MAX as u128) as i32)
+            .map_err(Self::hid)?;
         if n == 0 {
             return Ok(());
         }
@@ -491,7 +576,10 @@ impl Glove for UltraUsbGlove {
                 self.stats.decode.record_bytes += n as u64;
                 let raw = values.map(f64::from);
                 match calibrate(&self.calibration, &raw) {
-                    Ok(angles) => out.push(GloveSample { angles, switch: None }),
+                    Ok(angles) => out.push(GloveSample {
+                        angles,
+                        switch: None,
+                    }),
                     Err(_) => self.stats.invalid += 1,
                 }
             }
@@ -518,28 +606,60 @@ impl Glove for UltraUsbGlove {
 /// The glove backend a profile names (not yet started).
 pub fn open_glove(profile: &GloveProfile) -> Result<Box<dyn Glove>, DeviceError> {
     Ok(match profile {
-        GloveProfile::CyberGlove { port, baud, sensors, status_byte, calibration, .. } => {
-            let sensors = SensorCount::from_count(*sensors).ok_or_else(|| DeviceError::Profile {
-                name: port.clone(),
-                message: format!("a CyberGlove has 18 or 22 sensors, not {sensors}"),
-            })?;
-            let framing = CyberGloveFraming { sensors, status_byte: *status_byte };
-            let protocol = CyberGloveProtocol { framing, calibration: calibration.clone() };
+        GloveProfile::CyberGlove {
+            port,
+            baud,
+            sensors,
+            status_byte,
+            calibration,
+            ..
+        } => {
+            let sensors =
+                SensorCount::from_count(*sensors).ok_or_else(|| DeviceError::Profile {
+                    name: port.clone(),
+                    message: format!("a CyberGlove has 18 or 22 sensors, not {sensors}"),
+                })?;
+            let framing = CyberGloveFraming {
+                sensors,
+                status_byte: *status_byte,
+            };
+            let protocol = CyberGloveProtocol {
+                framing,
+                calibration: calibration.clone(),
+            };
             Box::new(SerialDevice::new(port, *baud, protocol, framing))
         }
-        GloveProfile::FiveDtGlove5 { port, baud, calibration, .. } => Box::new(SerialDevice::new(
+        GloveProfile::FiveDtGlove5 {
+            port,
+            baud,
+            calibration,
+            ..
+        } => Box::new(SerialDevice::new(
             port,
             *baud,
-            Glove5Protocol { calibration: calibration.clone() },
+            Glove5Protocol {
+                calibration: calibration.clone(),
+            },
             Glove5Framing,
         )),
-        GloveProfile::FiveDtGlove16 { port, baud, calibration, .. } => Box::new(SerialDevice::new(
+        GloveProfile::FiveDtGlove16 {
+            port,
+            baud,
+            calibration,
+            ..
+        } => Box::new(SerialDevice::new(
             port,
             *baud,
-            Glove16Protocol { calibration: calibration.clone() },
+            Glove16Protocol {
+                calibration: calibration.clone(),
+            },
             Glove16Framing,
         )),
-        GloveProfile::FiveDtUltraUsb { usb, report_id, calibration } => Box::new(UltraUsbGlove {
+        GloveProfile::FiveDtUltraUsb {
+            usb,
+            report_id,
+            calibration,
+        } => Box::new(UltraUsbGlove {
             usb: *usb,
             report_id: *report_id,
             calibration: calibration.clone(),
@@ -552,7 +672,15 @@ pub fn open_glove(profile: &GloveProfile) -> Result<Box<dyn Glove>, DeviceError>
 /// The tracker backend a profile names (not yet started).
 pub fn open_tracker(profile: &TrackerProfile) -> Result<Box<dyn Tracker>, DeviceError> {
     Ok(match profile {
-        TrackerProfile::Fastrak { port, baud, station, format, units, orientation, .. } => {
+        TrackerProfile::Fastrak {
+            port,
+            baud,
+            station,
+            format,
+            units,
+            orientation,
+            ..
+        } => {
             let orientation_item = match orientation {
                 FastrakOrientation::Quaternion => Item::Quaternion,
                 FastrakOrientation::Euler => Item::Euler,
@@ -561,12 +689,34 @@ pub fn open_tracker(profile: &TrackerProfile) -> Result<Box<dyn Tracker>, Device
                 format: (*format).into(),
                 items: vec![Item::Position, orientation_item, Item::CrLf],
             };
-            let protocol = FastrakProtocol { station: *station, units: (*units).into(), framing: framing.clone() };
+            let protocol = FastrakProtocol {
+                station: *station,
+                units: (*units).into(),
+                framing: framing.clone(),
+            };
             Box::new(SerialDevice::new(port, *baud, protocol, framing))
         }
-        TrackerProfile::Flock { port, baud, record, scale_inches, conjugate, .. } => {
-            let framing = FlockFraming { mode: (*record).into(), scale_inches: *scale_inches };
-            Box::new(SerialDevice::new(port, *baud, FlockProtocol { framing, conjugate: *conjugate }, framing))
+        TrackerProfile::Flock {
+            port,
+            baud,
+            record,
+            scale_inches,
+            conjugate,
+            ..
+        } => {
+            let framing = FlockFraming {
+                mode: (*record).into(),
+                scale_inches: *scale_inches,
+            };
+            Box::new(SerialDevice::new(
+                port,
+                *baud,
+                FlockProtocol {
+                    framing,
+                    conjugate: *conjugate,
+                },
+                framing,
+            ))
         }
     })
 }

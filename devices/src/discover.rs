@@ -76,7 +76,8 @@ fn serial_devices(p: &Profile) -> Vec<(String, Option<UsbMatch>)> {
 /// Whether a profile fits a serial port.
 pub fn serial_fits(profile: &Profile, path: &str, usb: Option<(u16, u16)>) -> bool {
     serial_devices(profile).iter().any(|(port, m)| {
-        same_path(port, path) || matches!((m, usb), (Some(m), Some((vid, pid))) if m.matches(vid, pid))
+        same_path(port, path)
+            || matches!((m, usb), (Some(m), Some((vid, pid))) if m.matches(vid, pid))
     })
 }
 
@@ -99,7 +100,12 @@ pub fn inventory(profiles: &[Profile]) -> Inventory {
                             .flatten()
                             .collect::<Vec<_>>()
                             .join(" ");
-                        (format!("USB {:04x}:{:04x} {product}", u.vid, u.pid).trim_end().to_string(), Some((u.vid, u.pid)))
+                        (
+                            format!("USB {:04x}:{:04x} {product}", u.vid, u.pid)
+                                .trim_end()
+                                .to_string(),
+                            Some((u.vid, u.pid)),
+                        )
                     }
                     serialport::SerialPortType::PciPort => ("PCI".to_string(), None),
                     serialport::SerialPortType::BluetoothPort => ("Bluetooth".to_string(), None),
@@ -110,7 +116,12 @@ pub fn inventory(profiles: &[Profile]) -> Inventory {
                     .filter(|p| serial_fits(p, &port.port_name, usb))
                     .map(|p| p.name.clone())
                     .collect();
-                inv.serial.push(SerialPortEntry { path: port.port_name, kind, usb, fits });
+                inv.serial.push(SerialPortEntry {
+                    path: port.port_name,
+                    kind,
+                    usb,
+                    fits,
+                });
             }
         }
         Err(e) => inv.serial_error = Some(e.to_string()),
@@ -124,8 +135,18 @@ pub fn inventory(profiles: &[Profile]) -> Inventory {
                     .flatten()
                     .collect::<Vec<_>>()
                     .join(" ");
-                let fits = profiles.iter().filter(|p| hid_fits(p, vid, pid)).map(|p| p.name.clone()).collect();
-                inv.hid.push(HidEntry { path: d.path().to_string_lossy().into_owned(), vid, pid, product, fits });
+                let fits = profiles
+                    .iter()
+                    .filter(|p| hid_fits(p, vid, pid))
+                    .map(|p| p.name.clone())
+                    .collect();
+                inv.hid.push(HidEntry {
+                    path: d.path().to_string_lossy().into_owned(),
+                    vid,
+                    pid,
+                    product,
+                    fits,
+                });
             }
         }
         Err(e) => inv.hid_error = Some(e.to_string()),

@@ -86,6 +86,9 @@ impl DeviceError {
     /// Whether the error means the device is gone (closed, hung up, unplugged) rather than
     /// merely slow or misbehaving.
     pub fn is_disconnect(&self) -> bool {
-        matches!(self, DeviceError::Open { .. } | DeviceError::Io { .. } | DeviceError::Hid(_))
+        matches!(
+            self,
+            DeviceError::Open { .. } | DeviceError::Io { .. } | DeviceError::Hid(_)
+        )
     }
 }

@@ -147,7 +147,10 @@ pub struct FastrakFraming {
 impl FastrakFraming {
     /// The configuration the backend uses: position, quaternion, CR LF.
     pub fn position_quaternion(format: DataFormat) -> Self {
-        FastrakFraming { format, items: vec![Item::Position, Item::Quaternion, Item::CrLf] }
+        FastrakFraming {
+            format,
+            items: vec![Item::Position, Item::Quaternion, Item::CrLf],
+        }
     }
 
     fn field_len(&self) -> usize {
@@ -162,7 +165,13 @@ impl FastrakFraming {
         3 + self
             .items
             .iter()
-            .map(|i| if *i == Item::CrLf { 2 } else { i.values() * self.field_len() })
+            .map(|i| {
+                if *i == Item::CrLf {
+                    2
+                } else {
+                    i.values() * self.field_len()
+                }
+            })
             .sum::<usize>()
     }
 }
@@ -188,7 +197,9 @@ impl FastrakRecord {
     /// values are out of range.
     pub fn pose(&self, units: Units) -> Result<TrackerPose, DeviceError> {
         let Some([x, y, z]) = self.position else {
-            return Err(DeviceError::InvalidValue("Fastrak record without position".into()));
+            return Err(DeviceError::InvalidValue(
+                "Fastrak record without position".into(),
+            ));
         };
         let orientation = match (self.quaternion, self.euler) {
             (Some([w, qx, qy, qz]), _) => DQuat::from_xyzw(qx, qy, qz, w),
@@ -199,7 +210,9 @@ impl FastrakRecord {
                 roll.to_radians(),
             ),
             (None, None) => {
-                return Err(DeviceError::InvalidValue("Fastrak record without orientation".into()));
+                return Err(DeviceError::InvalidValue(
+                    "Fastrak record without orientation".into(),
+                ));
             }
         };
         TrackerPose::new(DVec3::new(x, y, z) * units.metres(), orientation)
@@ -256,7 +269,11 @@ impl Framing for FastrakFraming {
         if w.len() < len {
             return Frame::NeedMore;
         }
-        let mut record = FastrakRecord { station: w[1] - b'0', error: w[2], ..Default::default() };
+        let mut record = FastrakRecord {
+            station: w[1] - b'0',
+            error: w[2],
+            ..Default::default()
+        };
         let mut at = 3;
         let field = self.field_len();
         for &item in &self.items {
@@ -324,7 +341,12 @@ pub fn encode_record(
         for &x in values {
             match framing.format {
                 DataFormat::Ascii => {
-                    let s = format!("{:>width$.prec$}", x, width = ASCII_FIELD, prec = item.decimals());
+                    let s = format!(
+                        "{:>width$.prec$}",
+                        x,
+                        width = ASCII_FIELD,
+                        prec = item.decimals()
+                    );
                     if s.len() != ASCII_FIELD {
                         return Err(DeviceError::InvalidValue(format!(
                             "{x} does not fit a {ASCII_FIELD}-character Fastrak field"
@@ -354,7 +376,9 @@ pub fn parse_output_list(body: &[u8]) -> Option<(u8, Vec<Item>)> {
     let s = std::str::from_utf8(body).ok()?;
     let mut parts = s.split(',');
     let station: u8 = parts.next()?.trim().parse().ok()?;
-    let items = parts.map(|p| p.trim().parse().ok().and_then(Item::from_code)).collect::<Option<Vec<_>>>()?;
+    let items = parts
+        .map(|p| p.trim().parse().ok().and_then(Item::from_code))
+        .collect::<Option<Vec<_>>>()?;
     ((1..=4).contains(&station) && !items.is_empty()).then_some((station, items))
 }
 
@@ -378,7 +402,10 @@ mod tests {
         };
         let mut b = Vec::new();
         encode_record(&framing, &rec, &mut b).unwrap();
-        assert_eq!(&b[..], &b"01   12.34  -5.50   0.00-179.99  45.00   3.25\r\n"[..]);
+        assert_eq!(
+            &b[..],
+            &b"01   12.34  -5.50   0.00-179.99  45.00   3.25\r\n"[..]
+        );
         let mut d = FastrakDecoder::new(framing);
         assert_eq!(d.decode(&b), vec![rec]);
     }
@@ -420,7 +447,10 @@ mod tests {
         let items = [Item::Position, Item::Quaternion, Item::CrLf];
         let c = output_list_command(1, &items);
         assert_eq!(c, b"O1,2,11,1\r");
-        assert_eq!(parse_output_list(&c[1..c.len() - 1]), Some((1, items.to_vec())));
+        assert_eq!(
+            parse_output_list(&c[1..c.len() - 1]),
+            Some((1, items.to_vec()))
+        );
         assert_eq!(parse_output_list(b"9,2"), None);
     }
 }

@@ -22,7 +22,10 @@
 //! (they are carried but not checked). 7-byte information packets `<`, `I` + 5 bytes (hardware
 //! version major, minor, hand, wireless flag, reserved) are interleaved. The sensors digitise to
 //! 12 bits, so a data packet with a value above 4095 is rejected as misframed (this is what
-//! keeps the decoder from locking onto `<D` inside data).
+//! keeps the decoder from locking onto `<D` inside data). A packet whose unchecked bytes (the
+//! data trailer, the information bytes) contain `<D` or `<I` is taken for a truncated packet
+//! swallowing the next header and rejected; when its last byte is `<`, the decoder waits for one
+//! more byte to decide.
 //!
 //! ## Data Glove Ultra (USB HID)
 //! Vendor id 0x5D70. Product-id bit 0 set means a left-hand glove; bit 4 set means the 5-sensor
@@ -86,8 +89,13 @@ pub const JOINTS_14: [Joint; 14] = [
 ];
 
 /// The joints the 5-sensor gloves' overall finger flexures are mapped to (the knuckle joints).
-pub const JOINTS_5: [Joint; 5] =
-    [Joint::ThumbMcp, Joint::IndexMcp, Joint::MiddleMcp, Joint::RingMcp, Joint::PinkyMcp];
+pub const JOINTS_5: [Joint; 5] = [
+    Joint::ThumbMcp,
+    Joint::IndexMcp,
+    Joint::MiddleMcp,
+    Joint::RingMcp,
+    Joint::PinkyMcp,
+];
 
 /// The Ultra values used by the 5-sensor model.
 pub const ULTRA_5_SENSOR_SLOTS: [usize; 5] = [0, 3, 6, 9, 12];
@@ -138,7 +146,14 @@ impl Framing for Glove5Framing {
         }
         let mut fingers = [0; 5];
         fingers.copy_from_slice(&w[1..6]);
-        Frame::Record(Glove5Record { fingers, pitch: w[6], roll: w[7] }, GLOVE5_LEN)
+        Frame::Record(
+            Glove5Record {
+                fingers,
+                pitch: w[6],
+                roll: w[7],
+            },
+            GLOVE5_LEN,
+        )
     }
 }
 
@@ -174,6 +189,22 @@ pub enum Glove16Packet {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Glove16Framing;
 
+/// Whether bytes `from..to` of a candidate packet hold the start of another packet (`<D` or
+/// `<I`), which means the candidate is a truncated packet swallowing the next one. `None` when
+/// the answer depends on the byte after the candidate, which has not arrived yet.
+fn swallows_header(w: &[u8], from: usize, to: usize) -> Option<bool> {
+    for i in from..to {
+        if w[i] == b'<' {
+            match w.get(i + 1) {
+                Some(b'D' | b'I') => return Some(true),
+                Some(_) => {}
+                None => return None,
+            }
+        }
+    }
+    Some(false)
+}
+
 impl Framing for Glove16Framing {
     type Record = Glove16Packet;
 
@@ -184,31 +215,43 @@ impl Framing for Glove16Framing {
         let Some(&kind) = w.get(1) else {
             return Frame::NeedMore;
         };
-        match kind {
+        let (len, body_from) = match kind {
             b'D' => {
                 // Check the high bytes as they arrive: each must be ≤ 0x0F.
                 let have = w.len().min(34);
                 if (2..have).step_by(2).any(|i| w[i] > (MAX_12_BIT >> 8) as u8) {
                     return Frame::Reject;
                 }
-                if w.len() < GLOVE16_DATA_LEN {
-                    return Frame::NeedMore;
-                }
-                let mut values = [0u16; 16];
-                for (i, v) in values.iter_mut().enumerate() {
-                    *v = u16::from_be_bytes([w[2 + 2 * i], w[3 + 2 * i]]);
-                }
-                Frame::Record(Glove16Packet::Data { values, trailer: [w[34], w[35]] }, GLOVE16_DATA_LEN)
+                // Only the unchecked trailer can hide a following header.
+                (GLOVE16_DATA_LEN, 34)
             }
-            b'I' => {
-                if w.len() < GLOVE16_INFO_LEN {
-                    return Frame::NeedMore;
-                }
-                let mut info = [0u8; 5];
-                info.copy_from_slice(&w[2..7]);
-                Frame::Record(Glove16Packet::Info(info), GLOVE16_INFO_LEN)
+            b'I' => (GLOVE16_INFO_LEN, 2),
+            _ => return Frame::Reject,
+        };
+        if w.len() < len {
+            return Frame::NeedMore;
+        }
+        match swallows_header(w, body_from, len) {
+            None => return Frame::NeedMore,
+            Some(true) => return Frame::Reject,
+            Some(false) => {}
+        }
+        if kind == b'D' {
+            let mut values = [0u16; 16];
+            for (i, v) in values.iter_mut().enumerate() {
+                *v = u16::from_be_bytes([w[2 + 2 * i], w[3 + 2 * i]]);
             }
-            _ => Frame::Reject,
+            Frame::Record(
+                Glove16Packet::Data {
+                    values,
+                    trailer: [w[34], w[35]],
+                },
+                len,
+            )
+        } else {
+            let mut info = [0u8; 5];
+            info.copy_from_slice(&w[2..7]);
+            Frame::Record(Glove16Packet::Info(info), len)
         }
     }
 }
@@ -245,14 +288,21 @@ pub struct UltraModel {
 impl UltraModel {
     /// The model a product id names.
     pub fn from_product_id(pid: u16) -> Self {
-        UltraModel { left_hand: pid & 0x01 != 0, five_sensors: pid & 0x10 != 0 }
+        UltraModel {
+            left_hand: pid & 0x01 != 0,
+            five_sensors: pid & 0x10 != 0,
+        }
     }
 }
 
 /// Decodes an Ultra input report into its 16 raw values (big-endian i16; value/4096 is the
 /// fraction of full scale). With `report_id`, the first byte is a report id and is skipped.
 pub fn decode_ultra_report(report: &[u8], report_id: bool) -> Result<[i16; 16], DeviceError> {
-    let data = if report_id { report.get(1..).unwrap_or(&[]) } else { report };
+    let data = if report_id {
+        report.get(1..).unwrap_or(&[])
+    } else {
+        report
+    };
     if data.len() < 32 {
         return Err(DeviceError::InvalidValue(format!(
             "5DT Ultra report of {} bytes (at least 32 data bytes expected)",
@@ -283,7 +333,11 @@ mod tests {
 
     #[test]
     fn glove5_record_is_byte_exact_with_its_checksum() {
-        let rec = Glove5Record { fingers: [1, 2, 4, 8, 16], pitch: 32, roll: 64 };
+        let rec = Glove5Record {
+            fingers: [1, 2, 4, 8, 16],
+            pitch: 32,
+            roll: 64,
+        };
         let mut b = Vec::new();
         encode_glove5(&rec, &mut b);
         assert_eq!(b, [0x80, 1, 2, 4, 8, 16, 32, 64, 127]);
@@ -299,13 +353,31 @@ mod tests {
         let mut b = Vec::new();
         let values: [u16; 16] = std::array::from_fn(|i| (i as u16) * 200);
         encode_glove16(&Glove16Packet::Info([1, 2, 1, 1, 0]), &mut b);
-        encode_glove16(&Glove16Packet::Data { values, trailer: [0, 0] }, &mut b);
+        encode_glove16(
+            &Glove16Packet::Data {
+                values,
+                trailer: [0, 0],
+            },
+            &mut b,
+        );
         let mut d = Glove16Decoder::new(Glove16Framing);
         let recs = d.decode(&b);
         assert_eq!(recs.len(), 2);
-        assert_eq!(recs[1], Glove16Packet::Data { values, trailer: [0, 0] });
+        assert_eq!(
+            recs[1],
+            Glove16Packet::Data {
+                values,
+                trailer: [0, 0]
+            }
+        );
         let mut bad = Vec::new();
-        encode_glove16(&Glove16Packet::Data { values: [0x1000; 16], trailer: [0, 0] }, &mut bad);
+        encode_glove16(
+            &Glove16Packet::Data {
+                values: [0x1000; 16],
+                trailer: [0, 0],
+            },
+            &mut bad,
+        );
         assert!(d.decode(&bad).is_empty());
     }
 

@@ -101,7 +101,13 @@ impl RecordMode {
     }
 
     const fn has_position(self) -> bool {
-        matches!(self, RecordMode::Position | RecordMode::PositionAngles | RecordMode::PositionMatrix | RecordMode::PositionQuaternion)
+        matches!(
+            self,
+            RecordMode::Position
+                | RecordMode::PositionAngles
+                | RecordMode::PositionMatrix
+                | RecordMode::PositionQuaternion
+        )
     }
 
     const fn orientation_words(self) -> usize {
@@ -149,17 +155,24 @@ impl FlockRecord {
     /// an orientation gets the identity; with `conjugate`, the quaternion (or matrix) is
     /// inverted to match the other handedness convention.
     pub fn pose(&self, conjugate: bool) -> Result<TrackerPose, DeviceError> {
-        let position = self.position.map_or(DVec3::ZERO, |p| DVec3::from_array(p) * 0.0254);
+        let position = self
+            .position
+            .map_or(DVec3::ZERO, |p| DVec3::from_array(p) * 0.0254);
         let q = match self.orientation {
             None => DQuat::IDENTITY,
-            Some(BirdOrientation::Angles([z, y, x])) => {
-                DQuat::from_euler(EulerRot::ZYX, z.to_radians(), y.to_radians(), x.to_radians())
-            }
+            Some(BirdOrientation::Angles([z, y, x])) => DQuat::from_euler(
+                EulerRot::ZYX,
+                z.to_radians(),
+                y.to_radians(),
+                x.to_radians(),
+            ),
             Some(BirdOrientation::Quaternion([w, x, y, z])) => DQuat::from_xyzw(x, y, z, w),
             Some(BirdOrientation::Matrix(m)) => {
                 let m = DMat3::from_cols_array(&m);
                 if !m.is_finite() || (m.determinant() - 1.0).abs() > 0.05 {
-                    return Err(DeviceError::InvalidValue("bird matrix is not a rotation".into()));
+                    return Err(DeviceError::InvalidValue(
+                        "bird matrix is not a rotation".into(),
+                    ));
                 }
                 DQuat::from_mat3(&m)
             }
@@ -223,7 +236,9 @@ impl Framing for FlockFraming {
         let o = &words[at..at + self.mode.orientation_words()];
         let unit = |k: usize| f64::from(o[k]) / 32768.0;
         record.orientation = match self.mode.orientation_words() {
-            3 => Some(BirdOrientation::Angles(std::array::from_fn(|k| f64::from(o[k]) * 180.0 / 32768.0))),
+            3 => Some(BirdOrientation::Angles(std::array::from_fn(|k| {
+                f64::from(o[k]) * 180.0 / 32768.0
+            }))),
             9 => {
                 let m: [f64; 9] = std::array::from_fn(unit);
                 // Each column of a rotation is a unit vector.
@@ -301,7 +316,10 @@ mod tests {
 
     #[test]
     fn position_quaternion_record_is_14_bytes_with_one_phasing_bit() {
-        let framing = FlockFraming { mode: RecordMode::PositionQuaternion, scale_inches: 36.0 };
+        let framing = FlockFraming {
+            mode: RecordMode::PositionQuaternion,
+            scale_inches: 36.0,
+        };
         let rec = FlockRecord {
             position: Some([9.0, -18.0, 4.5]),
             orientation: Some(BirdOrientation::Quaternion([0.5, -0.5, 0.5, 0.5])),
@@ -319,7 +337,10 @@ mod tests {
 
     #[test]
     fn a_truncated_record_is_rejected_by_the_next_phasing_bit() {
-        let framing = FlockFraming { mode: RecordMode::PositionAngles, scale_inches: 36.0 };
+        let framing = FlockFraming {
+            mode: RecordMode::PositionAngles,
+            scale_inches: 36.0,
+        };
         let rec = FlockRecord {
             position: Some([1.0, 2.0, 3.0]),
             orientation: Some(BirdOrientation::Angles([10.0, 20.0, 30.0])),

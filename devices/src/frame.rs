@@ -41,7 +41,9 @@ pub const ANGLE_LIMIT_RAD: f64 = std::f64::consts::PI;
 pub const QUATERNION_NORM_TOLERANCE: f64 = 0.02;
 
 /// Microseconds on the host's monotonic clock since the stream (or recording) started.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[derive(
+    Debug, Clone, Copy, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize,
+)]
 pub struct Timestamp(pub u64);
 
 impl Timestamp {
@@ -181,7 +183,10 @@ pub struct JointAngles {
 impl JointAngles {
     /// No joint measured.
     pub const fn new() -> Self {
-        JointAngles { angles: [0.0; Joint::COUNT], present: 0 }
+        JointAngles {
+            angles: [0.0; Joint::COUNT],
+            present: 0,
+        }
     }
 
     /// Sets one joint's angle after checking it is finite and within [`ANGLE_LIMIT_RAD`].
@@ -219,7 +224,9 @@ impl JointAngles {
 
     /// The measured joints and their angles, in [`Joint::ALL`] order.
     pub fn iter(&self) -> impl Iterator<Item = (Joint, f64)> + '_ {
-        Joint::ALL.into_iter().filter_map(|j| self.get(j).map(|a| (j, a)))
+        Joint::ALL
+            .into_iter()
+            .filter_map(|j| self.get(j).map(|a| (j, a)))
     }
 }
 
@@ -249,12 +256,17 @@ impl TrackerPose {
                 "tracker quaternion {orientation} has norm {norm} (allowed: 1 ± {QUATERNION_NORM_TOLERANCE})"
             )));
         }
-        Ok(TrackerPose { position, orientation: orientation / norm })
+        Ok(TrackerPose {
+            position,
+            orientation: orientation / norm,
+        })
     }
 
     /// The identity pose at the tracker's origin.
-    pub const IDENTITY: TrackerPose =
-        TrackerPose { position: DVec3::ZERO, orientation: DQuat::IDENTITY };
+    pub const IDENTITY: TrackerPose = TrackerPose {
+        position: DVec3::ZERO,
+        orientation: DQuat::IDENTITY,
+    };
 }
 
 /// A glove sample: calibrated angles and the glove's switch, if it reports one.

@@ -62,8 +62,8 @@ pub use decode::DecodeStats;
 pub use device::{DeviceStats, Glove, Tracker, open_glove, open_tracker};
 pub use error::DeviceError;
 pub use frame::{
-    ANGLE_LIMIT_RAD, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, POSITION_LIMIT_M, SourceState,
-    Timestamp, TrackerPose, buttons,
+    ANGLE_LIMIT_RAD, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, POSITION_LIMIT_M,
+    SourceState, Timestamp, TrackerPose, buttons,
 };
 pub use mouse::{MouseHand, ViewRay};
 pub use profile::{HandSize, Profile, WorldFromTracker};

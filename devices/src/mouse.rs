@@ -13,7 +13,9 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use crate::profile::MouseProfile;
-use crate::{DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose};
+use crate::{
+    DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose,
+};
 
 /// A view ray through the cursor.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,7 +56,10 @@ const STRAIGHT: [Joint; 3] = [Joint::IndexMcp, Joint::IndexPip, Joint::IndexDip]
 impl MouseHand {
     /// A hand at the profile's starting depth.
     pub fn new(config: MouseProfile) -> Self {
-        MouseHand { depth: config.depth, config }
+        MouseHand {
+            depth: config.depth,
+            config,
+        }
     }
 
     /// Current depth along the ray.
@@ -73,7 +78,10 @@ impl MouseHand {
     /// The joint angles of the pointing pose.
     pub fn pointing_pose(&self) -> JointAngles {
         let mut a = JointAngles::new();
-        let curl = self.config.curl.clamp(-crate::ANGLE_LIMIT_RAD, crate::ANGLE_LIMIT_RAD);
+        let curl = self
+            .config
+            .curl
+            .clamp(-crate::ANGLE_LIMIT_RAD, crate::ANGLE_LIMIT_RAD);
         for j in CURLED {
             // In range by the clamp above.
             let _ = a.set(j, curl);
@@ -86,15 +94,30 @@ impl MouseHand {
 
     /// The hand frame for a cursor ray and buttons at `time`. A non-finite or zero-length ray
     /// is an error (and no frame).
-    pub fn frame(&self, time: Timestamp, ray: ViewRay, buttons: MouseButtons) -> Result<HandFrame, DeviceError> {
+    pub fn frame(
+        &self,
+        time: Timestamp,
+        ray: ViewRay,
+        buttons: MouseButtons,
+    ) -> Result<HandFrame, DeviceError> {
         let Some(dir) = ray.direction.try_normalize() else {
-            return Err(DeviceError::InvalidValue(format!("view ray direction {}", ray.direction)));
+            return Err(DeviceError::InvalidValue(format!(
+                "view ray direction {}",
+                ray.direction
+            )));
         };
         if !ray.origin.is_finite() {
-            return Err(DeviceError::InvalidValue(format!("view ray origin {}", ray.origin)));
+            return Err(DeviceError::InvalidValue(format!(
+                "view ray origin {}",
+                ray.origin
+            )));
         }
         // Back of the hand toward world up, unless the ray is (nearly) vertical.
-        let up = if dir.cross(DVec3::Y).length_squared() > 1e-12 { DVec3::Y } else { DVec3::Z };
+        let up = if dir.cross(DVec3::Y).length_squared() > 1e-12 {
+            DVec3::Y
+        } else {
+            DVec3::Z
+        };
         let y = up.cross(dir).normalize();
         let z = dir.cross(y);
         let orientation = DQuat::from_mat3(&DMat3::from_cols(dir, y, z));
@@ -121,8 +144,13 @@ mod tests {
     #[test]
     fn the_hand_rides_the_ray_and_points_along_it() {
         let mut hand = MouseHand::new(MouseProfile::default());
-        let ray = ViewRay { origin: DVec3::new(0.0, 1.0, 2.0), direction: DVec3::new(0.0, 0.0, -3.0) };
-        let f = hand.frame(Timestamp(5), ray, crate::buttons::PRIMARY).unwrap();
+        let ray = ViewRay {
+            origin: DVec3::new(0.0, 1.0, 2.0),
+            direction: DVec3::new(0.0, 0.0, -3.0),
+        };
+        let f = hand
+            .frame(Timestamp(5), ray, crate::buttons::PRIMARY)
+            .unwrap();
         let p = f.pose.unwrap();
         assert!((p.position - DVec3::new(0.0, 1.0, 1.5)).length() < 1e-12);
         assert!((p.orientation * DVec3::X - DVec3::NEG_Z).length() < 1e-12);
@@ -130,11 +158,20 @@ mod tests {
         assert_eq!(f.joints.unwrap().get(Joint::IndexMcp), Some(0.0));
         hand.wheel(1000.0);
         assert_eq!(hand.depth(), 5.0);
-        let down = ViewRay { origin: DVec3::ZERO, direction: DVec3::NEG_Y };
+        let down = ViewRay {
+            origin: DVec3::ZERO,
+            direction: DVec3::NEG_Y,
+        };
         assert!(hand.frame(Timestamp(6), down, 0).is_ok());
-        let bad = ViewRay { origin: DVec3::ZERO, direction: DVec3::ZERO };
+        let bad = ViewRay {
+            origin: DVec3::ZERO,
+            direction: DVec3::ZERO,
+        };
         assert!(hand.frame(Timestamp(7), bad, 0).is_err());
-        let nan = ViewRay { origin: DVec3::NAN, direction: DVec3::X };
+        let nan = ViewRay {
+            origin: DVec3::NAN,
+            direction: DVec3::X,
+        };
         assert!(hand.frame(Timestamp(7), nan, 0).is_err());
     }
 }

@@ -252,11 +252,16 @@ impl GloveProfile {
     }
 
     fn validate(&self, name: &str) -> Result<(), DeviceError> {
-        let bad = |message: String| DeviceError::Profile { name: name.to_string(), message };
+        let bad = |message: String| DeviceError::Profile {
+            name: name.to_string(),
+            message,
+        };
         if let GloveProfile::CyberGlove { sensors, .. } = self
             && SensorCount::from_count(*sensors).is_none()
         {
-            return Err(bad(format!("a CyberGlove has 18 or 22 sensors, not {sensors}")));
+            return Err(bad(format!(
+                "a CyberGlove has 18 or 22 sensors, not {sensors}"
+            )));
         }
         let table = self.calibration();
         if table.len() != self.sensor_count() {
@@ -458,7 +463,10 @@ impl TrackerProfile {
     }
 
     fn validate(&self, name: &str) -> Result<(), DeviceError> {
-        let bad = |message: String| DeviceError::Profile { name: name.to_string(), message };
+        let bad = |message: String| DeviceError::Profile {
+            name: name.to_string(),
+            message,
+        };
         match self {
             TrackerProfile::Fastrak { station, baud, .. } => {
                 if !(1..=4).contains(station) {
@@ -468,7 +476,9 @@ impl TrackerProfile {
                     return Err(bad("baud rate 0".into()));
                 }
             }
-            TrackerProfile::Flock { scale_inches, baud, .. } => {
+            TrackerProfile::Flock {
+                scale_inches, baud, ..
+            } => {
                 if !(scale_inches.is_finite() && *scale_inches > 0.0) {
                     return Err(bad(format!("Flock scale {scale_inches} in")));
                 }
@@ -556,7 +566,11 @@ pub struct WorldFromTracker {
 
 impl Default for WorldFromTracker {
     fn default() -> Self {
-        WorldFromTracker { translation: [0.0; 3], rotation_wxyz: [1.0, 0.0, 0.0, 0.0], scale: 1.0 }
+        WorldFromTracker {
+            translation: [0.0; 3],
+            rotation_wxyz: [1.0, 0.0, 0.0, 0.0],
+            scale: 1.0,
+        }
     }
 }
 
@@ -575,7 +589,10 @@ impl WorldFromTracker {
     /// Maps a pose from tracker into world coordinates.
     pub fn apply(&self, pose: &TrackerPose) -> (DVec3, DQuat) {
         let r = self.rotation();
-        (self.translation() + self.scale * (r * pose.position), r * pose.orientation)
+        (
+            self.translation() + self.scale * (r * pose.position),
+            r * pose.orientation,
+        )
     }
 
     /// Checks that every number is finite, the rotation has unit norm and the scale is positive.
@@ -621,7 +638,11 @@ pub struct FingerLengths {
 
 impl FingerLengths {
     const fn new(proximal: f64, middle: f64, distal: f64) -> Self {
-        FingerLengths { proximal, middle, distal }
+        FingerLengths {
+            proximal,
+            middle,
+            distal,
+        }
     }
 }
 
@@ -684,8 +705,10 @@ impl HandSize {
 impl Profile {
     /// Parses and validates a profile from JSON text; `name` labels errors.
     pub fn from_json(text: &str, name: &str) -> Result<Profile, DeviceError> {
-        let p: Profile = serde_json::from_str(text)
-            .map_err(|e| DeviceError::Profile { name: name.to_string(), message: e.to_string() })?;
+        let p: Profile = serde_json::from_str(text).map_err(|e| DeviceError::Profile {
+            name: name.to_string(),
+            message: e.to_string(),
+        })?;
         p.validate(name)?;
         Ok(p)
     }
@@ -693,8 +716,10 @@ impl Profile {
     /// Reads and validates a profile file. A relative replay trace path is resolved against
     /// the profile's directory.
     pub fn load(path: &Path) -> Result<Profile, DeviceError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| DeviceError::File { path: path.to_path_buf(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|source| DeviceError::File {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let mut p = Profile::from_json(&text, &path.display().to_string())?;
         if let Input::Replay(r) = &mut p.input
             && Path::new(&r.trace).is_relative()
@@ -713,9 +738,15 @@ impl Profile {
     /// Checks everything serde cannot: format and version, sensor counts against calibration
     /// tables, ranges.
     pub fn validate(&self, name: &str) -> Result<(), DeviceError> {
-        let bad = |message: String| DeviceError::Profile { name: name.to_string(), message };
+        let bad = |message: String| DeviceError::Profile {
+            name: name.to_string(),
+            message,
+        };
         if self.format != PROFILE_FORMAT {
-            return Err(bad(format!("format is `{}`, expected `{PROFILE_FORMAT}`", self.format)));
+            return Err(bad(format!(
+                "format is `{}`, expected `{PROFILE_FORMAT}`",
+                self.format
+            )));
         }
         if self.version != PROFILE_VERSION {
             return Err(bad(format!(
@@ -726,12 +757,16 @@ impl Profile {
         if self.watchdog_ms == 0 {
             return Err(bad("watchdog_ms must be positive".into()));
         }
-        self.world_from_tracker.validate().map_err(|e| bad(e.to_string()))?;
+        self.world_from_tracker
+            .validate()
+            .map_err(|e| bad(e.to_string()))?;
         self.hand.validate().map_err(|e| bad(e.to_string()))?;
         match &self.input {
             Input::Devices { glove, tracker } => {
                 if glove.is_none() && tracker.is_none() {
-                    return Err(bad("`devices` input names neither a glove nor a tracker".into()));
+                    return Err(bad(
+                        "`devices` input names neither a glove nor a tracker".into()
+                    ));
                 }
                 if let Some(g) = glove {
                     g.validate(name)?;
@@ -742,7 +777,9 @@ impl Profile {
             }
             Input::Mouse(m) => {
                 let [lo, hi] = m.depth_range;
-                let ok = [m.depth, lo, hi, m.wheel_step, m.curl].iter().all(|x| x.is_finite())
+                let ok = [m.depth, lo, hi, m.wheel_step, m.curl]
+                    .iter()
+                    .all(|x| x.is_finite())
                     && 0.0 < lo
                     && lo <= m.depth
                     && m.depth <= hi
@@ -779,20 +816,38 @@ impl Profile {
 
 /// The shipped profiles, as (file stem, JSON text).
 const BUILTIN: [(&str, &str); 8] = [
-    ("cyberglove2-18", include_str!("../profiles/cyberglove2-18.json")),
-    ("cyberglove2-22", include_str!("../profiles/cyberglove2-22.json")),
-    ("5dt-glove5-serial", include_str!("../profiles/5dt-glove5-serial.json")),
-    ("5dt-ultra14-usb", include_str!("../profiles/5dt-ultra14-usb.json")),
+    (
+        "cyberglove2-18",
+        include_str!("../profiles/cyberglove2-18.json"),
+    ),
+    (
+        "cyberglove2-22",
+        include_str!("../profiles/cyberglove2-22.json"),
+    ),
+    (
+        "5dt-glove5-serial",
+        include_str!("../profiles/5dt-glove5-serial.json"),
+    ),
+    (
+        "5dt-ultra14-usb",
+        include_str!("../profiles/5dt-ultra14-usb.json"),
+    ),
     ("fastrak", include_str!("../profiles/fastrak.json")),
     ("flock", include_str!("../profiles/flock.json")),
-    ("cyberglove2-18-fastrak", include_str!("../profiles/cyberglove2-18-fastrak.json")),
+    (
+        "cyberglove2-18-fastrak",
+        include_str!("../profiles/cyberglove2-18-fastrak.json"),
+    ),
     ("mouse", include_str!("../profiles/mouse.json")),
 ];
 
 /// The profiles shipped in `devices/profiles/`, parsed. A shipped profile that failed to parse
 /// would be a build defect; the crate's tests parse every one.
 pub fn builtin() -> Vec<Profile> {
-    BUILTIN.iter().filter_map(|(name, text)| Profile::from_json(text, name).ok()).collect()
+    BUILTIN
+        .iter()
+        .filter_map(|(name, text)| Profile::from_json(text, name).ok())
+        .collect()
 }
 
 /// A profile by shipped name (`cyberglove2-18`) or by path to a JSON file.
@@ -807,7 +862,10 @@ pub fn resolve(name_or_path: &str) -> Result<Profile, DeviceError> {
     let names: Vec<&str> = BUILTIN.iter().map(|(n, _)| *n).collect();
     Err(DeviceError::Profile {
         name: name_or_path.to_string(),
-        message: format!("no such file, and not a shipped profile ({})", names.join(", ")),
+        message: format!(
+            "no such file, and not a shipped profile ({})",
+            names.join(", ")
+        ),
     })
 }
 
@@ -832,14 +890,27 @@ mod tests {
         assert!(e.contains("18 or 22"), "{e}");
         let unknown = text.replace("\"baud\"", "\"bauds\"");
         assert!(Profile::from_json(&unknown, "x").is_err());
-        assert!(resolve("no-such-profile").unwrap_err().to_string().contains("cyberglove2-18"));
+        assert!(
+            resolve("no-such-profile")
+                .unwrap_err()
+                .to_string()
+                .contains("cyberglove2-18")
+        );
     }
 
     #[test]
     fn calibration_is_offset_then_gain_and_rejects_wild_values() {
         let table = [
-            SensorCalibration { joint: Some(Joint::IndexMcp), offset: 50.0, gain: 0.01 },
-            SensorCalibration { joint: None, offset: 0.0, gain: 1.0 },
+            SensorCalibration {
+                joint: Some(Joint::IndexMcp),
+                offset: 50.0,
+                gain: 0.01,
+            },
+            SensorCalibration {
+                joint: None,
+                offset: 0.0,
+                gain: 1.0,
+            },
         ];
         let a = calibrate(&table, &[150.0, 9.0]).unwrap();
         assert!((a.get(Joint::IndexMcp).unwrap() - 1.0).abs() < 1e-12);

@@ -19,7 +19,9 @@ pub struct SerialLink {
 
 impl std::fmt::Debug for SerialLink {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("SerialLink").field("name", &self.name).finish()
+        f.debug_struct("SerialLink")
+            .field("name", &self.name)
+            .finish()
     }
 }
 
@@ -30,8 +32,15 @@ impl SerialLink {
         let port = serialport::new(path, baud)
             .timeout(timeout)
             .open()
-            .map_err(|source| DeviceError::Open { port: path.to_string(), source })?;
-        Ok(SerialLink { port, name: path.to_string(), timeout })
+            .map_err(|source| DeviceError::Open {
+                port: path.to_string(),
+                source,
+            })?;
+        Ok(SerialLink {
+            port,
+            name: path.to_string(),
+            timeout,
+        })
     }
 
     /// The port path.
@@ -40,7 +49,10 @@ impl SerialLink {
     }
 
     fn io(&self, source: std::io::Error) -> DeviceError {
-        DeviceError::Io { device: self.name.clone(), source }
+        DeviceError::Io {
+            device: self.name.clone(),
+            source,
+        }
     }
 
     /// Writes all bytes.
@@ -54,13 +66,20 @@ impl SerialLink {
     pub fn read_some(&mut self, buf: &mut [u8], timeout: Duration) -> Result<usize, DeviceError> {
         let timeout = timeout.max(Duration::from_millis(1));
         if timeout != self.timeout {
-            self.port.set_timeout(timeout).map_err(|e| self.io(e.into()))?;
+            self.port
+                .set_timeout(timeout)
+                .map_err(|e| self.io(e.into()))?;
             self.timeout = timeout;
         }
         match self.port.read(buf) {
-            Ok(0) => Err(self.io(std::io::Error::new(ErrorKind::UnexpectedEof, "the port closed"))),
+            Ok(0) => Err(self.io(std::io::Error::new(
+                ErrorKind::UnexpectedEof,
+                "the port closed",
+            ))),
             Ok(n) => Ok(n),
-            Err(e) if e.kind() == ErrorKind::TimedOut || e.kind() == ErrorKind::Interrupted => Ok(0),
+            Err(e) if e.kind() == ErrorKind::TimedOut || e.kind() == ErrorKind::Interrupted => {
+                Ok(0)
+            }
             Err(e) => Err(self.io(e)),
         }
     }
@@ -79,7 +98,12 @@ impl SerialLink {
 
     /// Reads until the bytes `answer` have arrived in order (anything before them is skipped),
     /// or fails after `timeout`.
-    pub fn expect(&mut self, answer: &[u8], timeout: Duration, command: &str) -> Result<(), DeviceError> {
+    pub fn expect(
+        &mut self,
+        answer: &[u8],
+        timeout: Duration,
+        command: &str,
+    ) -> Result<(), DeviceError> {
         let end = Instant::now() + timeout;
         let mut seen: Vec<u8> = Vec::new();
         let mut buf = [0u8; 256];
@@ -97,14 +121,22 @@ impl SerialLink {
                 return Err(DeviceError::BadAnswer {
                     device: self.name.clone(),
                     command: command.to_string(),
-                    detail: format!("{} bytes without the expected answer {answer:02x?}", seen.len()),
+                    detail: format!(
+                        "{} bytes without the expected answer {answer:02x?}",
+                        seen.len()
+                    ),
                 });
             }
         }
     }
 
     /// Reads exactly `n` bytes within `timeout`.
-    pub fn read_exact(&mut self, n: usize, timeout: Duration, command: &str) -> Result<Vec<u8>, DeviceError> {
+    pub fn read_exact(
+        &mut self,
+        n: usize,
+        timeout: Duration,
+        command: &str,
+    ) -> Result<Vec<u8>, DeviceError> {
         let end = Instant::now() + timeout;
         let mut out = vec![0u8; n];
         let mut have = 0;

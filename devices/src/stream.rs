@@ -27,7 +27,10 @@ use std::time::{Duration, Instant};
 use crate::device::{DeviceStats, Glove, Tracker, open_glove, open_tracker};
 use crate::profile::{Input, Profile};
 use crate::trace::Trace;
-use crate::{DeviceError, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose, buttons};
+use crate::{
+    DeviceError, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, SourceState, Timestamp,
+    TrackerPose, buttons,
+};
 
 /// How a device thread waits for data before checking its stop flag and watchdog.
 const POLL: Duration = Duration::from_millis(20);
@@ -49,7 +52,13 @@ pub struct StreamOptions {
 
 impl Default for StreamOptions {
     fn default() -> Self {
-        StreamOptions { glove_port: None, tracker_port: None, capacity: 1024, watchdog: None, retry: Duration::from_millis(250) }
+        StreamOptions {
+            glove_port: None,
+            tracker_port: None,
+            capacity: 1024,
+            watchdog: None,
+            retry: Duration::from_millis(250),
+        }
     }
 }
 
@@ -114,10 +123,27 @@ impl Shared {
     fn emit(&self, m: &Merge, tracker_fresh: bool, glove_fresh: bool) {
         let frame = HandFrame {
             time: Timestamp::since(self.start),
-            pose: if m.tracker == SourceState::Ok { m.pose } else { None },
-            joints: if m.glove == SourceState::Ok { m.angles } else { None },
-            buttons: if m.switch && m.glove == SourceState::Ok { buttons::PRIMARY } else { 0 },
-            status: FrameStatus { tracker: m.tracker, glove: m.glove, tracker_fresh, glove_fresh },
+            pose: if m.tracker == SourceState::Ok {
+                m.pose
+            } else {
+                None
+            },
+            joints: if m.glove == SourceState::Ok {
+                m.angles
+            } else {
+                None
+            },
+            buttons: if m.switch && m.glove == SourceState::Ok {
+                buttons::PRIMARY
+            } else {
+                0
+            },
+            status: FrameStatus {
+                tracker: m.tracker,
+                glove: m.glove,
+                tracker_fresh,
+                glove_fresh,
+            },
         };
         self.send(frame);
     }
@@ -156,7 +182,12 @@ impl Source {
     }
 
     /// Reads and publishes; returns the number of samples.
-    fn read_and_publish(&mut self, shared: &Shared, gloves: &mut Vec<GloveSample>, poses: &mut Vec<TrackerPose>) -> Result<usize, DeviceError> {
+    fn read_and_publish(
+        &mut self,
+        shared: &Shared,
+        gloves: &mut Vec<GloveSample>,
+        poses: &mut Vec<TrackerPose>,
+    ) -> Result<usize, DeviceError> {
         match self {
             Source::Glove(g) => {
                 gloves.clear();
@@ -205,33 +236,43 @@ enum Phase {
 }
 
 fn run_source(mut source: Source, shared: Arc<Shared>, watchdog: Duration, retry: Duration) {
-    let mut phase = Phase::Running { last_data: Instant::now() };
+    let mut phase = Phase::Running {
+        last_data: Instant::now(),
+    };
     let mut gloves = Vec::new();
     let mut poses = Vec::new();
     while !shared.stop.load(Ordering::Relaxed) {
         match phase {
-            Phase::Running { last_data } => match source.read_and_publish(&shared, &mut gloves, &mut poses) {
-                Ok(0) if last_data.elapsed() > watchdog => {
-                    shared.watchdog_trips.fetch_add(1, Ordering::Relaxed);
-                    source.set_state(&shared, SourceState::Silent);
-                    source.stop();
-                    phase = Phase::Restart { at: Instant::now() };
+            Phase::Running { last_data } => {
+                match source.read_and_publish(&shared, &mut gloves, &mut poses) {
+                    Ok(0) if last_data.elapsed() > watchdog => {
+                        shared.watchdog_trips.fetch_add(1, Ordering::Relaxed);
+                        source.set_state(&shared, SourceState::Silent);
+                        source.stop();
+                        phase = Phase::Restart { at: Instant::now() };
+                    }
+                    Ok(0) => {}
+                    Ok(_) => {
+                        phase = Phase::Running {
+                            last_data: Instant::now(),
+                        }
+                    }
+                    Err(e) => {
+                        shared.note_error(&e);
+                        let state = if e.is_disconnect() {
+                            shared.disconnects.fetch_add(1, Ordering::Relaxed);
+                            SourceState::Disconnected
+                        } else {
+                            SourceState::Silent
+                        };
+                        source.set_state(&shared, state);
+                        source.stop();
+                        phase = Phase::Restart {
+                            at: Instant::now() + retry,
+                        };
+                    }
                 }
-                Ok(0) => {}
-                Ok(_) => phase = Phase::Running { last_data: Instant::now() },
-                Err(e) => {
-                    shared.note_error(&e);
-                    let state = if e.is_disconnect() {
-                        shared.disconnects.fetch_add(1, Ordering::Relaxed);
-                        SourceState::Disconnected
-                    } else {
-                        SourceState::Silent
-                    };
-                    source.set_state(&shared, state);
-                    source.stop();
-                    phase = Phase::Restart { at: Instant::now() + retry };
-                }
-            },
+            }
             Phase::Restart { at } => {
                 let now = Instant::now();
                 if now < at {
@@ -239,13 +280,19 @@ fn run_source(mut source: Source, shared: Arc<Shared>, watchdog: Duration, retry
                     continue;
                 }
                 match source.start() {
-                    Ok(()) => phase = Phase::Running { last_data: Instant::now() },
+                    Ok(()) => {
+                        phase = Phase::Running {
+                            last_data: Instant::now(),
+                        }
+                    }
                     Err(e) => {
                         shared.note_error(&e);
                         if e.is_disconnect() {
                             source.set_state(&shared, SourceState::Disconnected);
                         }
-                        phase = Phase::Restart { at: Instant::now() + retry };
+                        phase = Phase::Restart {
+                            at: Instant::now() + retry,
+                        };
                     }
                 }
             }
@@ -271,7 +318,9 @@ pub struct HandStream {
 
 impl std::fmt::Debug for HandStream {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("HandStream").field("sources", &self.description).finish()
+        f.debug_struct("HandStream")
+            .field("sources", &self.description)
+            .finish()
     }
 }
 
@@ -281,7 +330,9 @@ impl HandStream {
     /// silent stream. The mouse profile is refused: its hand is driven by the window through
     /// [`MouseHand`](crate::MouseHand).
     pub fn open(profile: &Profile, options: &StreamOptions) -> Result<HandStream, DeviceError> {
-        let watchdog = options.watchdog.unwrap_or(Duration::from_millis(profile.watchdog_ms));
+        let watchdog = options
+            .watchdog
+            .unwrap_or(Duration::from_millis(profile.watchdog_ms));
         match &profile.input {
             Input::Devices { glove, tracker } => {
                 let glove = match glove {
@@ -308,7 +359,12 @@ impl HandStream {
             }
             Input::Replay(r) => {
                 let trace = Trace::read(Path::new(&r.trace))?;
-                Ok(HandStream::replay(trace, r.speed, r.repeat, options.capacity))
+                Ok(HandStream::replay(
+                    trace,
+                    r.speed,
+                    r.repeat,
+                    options.capacity,
+                ))
             }
             Input::Mouse(_) => Err(DeviceError::Unsupported(
                 "the mouse hand is driven by the window (MouseHand), not opened as a stream".into(),
@@ -325,7 +381,9 @@ impl HandStream {
         options: &StreamOptions,
     ) -> Result<HandStream, DeviceError> {
         if glove.is_none() && tracker.is_none() {
-            return Err(DeviceError::Unsupported("a stream needs a glove or a tracker".into()));
+            return Err(DeviceError::Unsupported(
+                "a stream needs a glove or a tracker".into(),
+            ));
         }
         let mut sources = Vec::new();
         let mut description = Vec::new();
@@ -364,10 +422,19 @@ impl HandStream {
                 std::thread::Builder::new()
                     .name("nendo-device".into())
                     .spawn(move || run_source(s, shared, watchdog, retry))
-                    .map_err(|e| DeviceError::Io { device: "device thread".into(), source: e })
+                    .map_err(|e| DeviceError::Io {
+                        device: "device thread".into(),
+                        source: e,
+                    })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(HandStream { rx, shared, threads, joints, description })
+        Ok(HandStream {
+            rx,
+            shared,
+            threads,
+            joints,
+            description,
+        })
     }
 
     /// Plays a trace back in real time (scaled by `speed`) as a stream: the recorded-trace mock
@@ -377,42 +444,61 @@ impl HandStream {
         let shared = Arc::new(Shared::new(tx, Merge::default()));
         let joints = trace.header.joints.clone();
         let worker = Arc::clone(&shared);
-        let speed = if speed.is_finite() && speed > 0.0 { speed } else { 1.0 };
-        let thread = std::thread::Builder::new().name("nendo-replay".into()).spawn(move || {
-            let frames = trace.frames;
-            let Some(first) = frames.first().map(|f| f.time.as_micros()) else {
-                worker.finished.store(true, Ordering::Relaxed);
-                return;
-            };
-            let span = frames.last().map_or(0, |f| f.time.as_micros() - first);
-            let period = if frames.len() > 1 { span / (frames.len() as u64 - 1) } else { 0 };
-            let mut offset = 0u64;
-            let t0 = Instant::now();
-            loop {
-                for f in &frames {
-                    let t = f.time.as_micros() - first + offset;
-                    let due = t0 + Duration::from_secs_f64(t as f64 * 1e-6 / speed);
-                    loop {
-                        if worker.stop.load(Ordering::Relaxed) {
-                            return;
+        let speed = if speed.is_finite() && speed > 0.0 {
+            speed
+        } else {
+            1.0
+        };
+        let thread = std::thread::Builder::new()
+            .name("nendo-replay".into())
+            .spawn(move || {
+                let frames = trace.frames;
+                let Some(first) = frames.first().map(|f| f.time.as_micros()) else {
+                    worker.finished.store(true, Ordering::Relaxed);
+                    return;
+                };
+                let span = frames.last().map_or(0, |f| f.time.as_micros() - first);
+                let period = if frames.len() > 1 {
+                    span / (frames.len() as u64 - 1)
+                } else {
+                    0
+                };
+                let mut offset = 0u64;
+                let t0 = Instant::now();
+                loop {
+                    for f in &frames {
+                        let t = f.time.as_micros() - first + offset;
+                        let due = t0 + Duration::from_secs_f64(t as f64 * 1e-6 / speed);
+                        loop {
+                            if worker.stop.load(Ordering::Relaxed) {
+                                return;
+                            }
+                            let now = Instant::now();
+                            if now >= due {
+                                break;
+                            }
+                            std::thread::sleep((due - now).min(POLL));
                         }
-                        let now = Instant::now();
-                        if now >= due {
-                            break;
-                        }
-                        std::thread::sleep((due - now).min(POLL));
+                        worker.send(HandFrame {
+                            time: Timestamp(t),
+                            ..*f
+                        });
                     }
-                    worker.send(HandFrame { time: Timestamp(t), ..*f });
+                    if !repeat {
+                        break;
+                    }
+                    offset += span + period.max(1);
                 }
-                if !repeat {
-                    break;
-                }
-                offset += span + period.max(1);
-            }
-            worker.finished.store(true, Ordering::Relaxed);
-        });
+                worker.finished.store(true, Ordering::Relaxed);
+            });
         let threads = thread.into_iter().collect();
-        HandStream { rx, shared, threads, joints, description: vec!["trace replay".into()] }
+        HandStream {
+            rx,
+            shared,
+            threads,
+            joints,
+            description: vec!["trace replay".into()],
+        }
     }
 
     /// The next frame, if one is waiting.

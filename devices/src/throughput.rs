@@ -8,7 +8,9 @@
 use std::time::Instant;
 
 use crate::cyberglove::{CyberGloveDecoder, CyberGloveFraming, SensorCount};
-use crate::emulator::{CyberGloveModel, DeviceModel, FastrakModel, FlockModel, Glove5Model, Glove16Model};
+use crate::emulator::{
+    CyberGloveModel, DeviceModel, FastrakModel, FlockModel, Glove5Model, Glove16Model,
+};
 use crate::fastrak::{self, FastrakDecoder, FastrakFraming};
 use crate::fivedt::{self, Glove5Decoder, Glove5Framing, Glove16Decoder, Glove16Framing};
 use crate::flock::{self, FlockDecoder, FlockFraming, RecordMode};
@@ -73,8 +75,16 @@ pub fn sample_stream(protocol: BenchProtocol, records: usize) -> Vec<u8> {
         }
     };
     match protocol {
-        BenchProtocol::CyberGlove18 => stream(&mut CyberGloveModel::new(SensorCount::Eighteen), &[b'U', 1], &mut out),
-        BenchProtocol::CyberGlove22 => stream(&mut CyberGloveModel::new(SensorCount::TwentyTwo), &[b'U', 1], &mut out),
+        BenchProtocol::CyberGlove18 => stream(
+            &mut CyberGloveModel::new(SensorCount::Eighteen),
+            &[b'U', 1],
+            &mut out,
+        ),
+        BenchProtocol::CyberGlove22 => stream(
+            &mut CyberGloveModel::new(SensorCount::TwentyTwo),
+            &[b'U', 1],
+            &mut out,
+        ),
         BenchProtocol::FiveDtGlove5 => stream(&mut Glove5Model::new(), b"", &mut out),
         BenchProtocol::FiveDtGlove16 => stream(&mut Glove16Model::new(), b"", &mut out),
         BenchProtocol::FiveDtUltraHid => {
@@ -93,7 +103,11 @@ pub fn sample_stream(protocol: BenchProtocol, records: usize) -> Vec<u8> {
 /// Decodes a stream of `protocol` pushed in pieces of `chunk` bytes; returns the number of
 /// samples (data records; 5DT information packets are decoded but not counted).
 pub fn decode_stream(protocol: BenchProtocol, bytes: &[u8], chunk: usize) -> usize {
-    fn run<F: crate::decode::Framing>(d: crate::decode::StreamDecoder<F>, bytes: &[u8], chunk: usize) -> usize {
+    fn run<F: crate::decode::Framing>(
+        d: crate::decode::StreamDecoder<F>,
+        bytes: &[u8],
+        chunk: usize,
+    ) -> usize {
         run_counting(d, bytes, chunk, |_| true)
     }
     fn run_counting<F: crate::decode::Framing>(
@@ -111,30 +125,44 @@ pub fn decode_stream(protocol: BenchProtocol, bytes: &[u8], chunk: usize) -> usi
         }
         n
     }
-    let cyber = |sensors| CyberGloveDecoder::new(CyberGloveFraming { sensors, status_byte: true });
+    let cyber = |sensors| {
+        CyberGloveDecoder::new(CyberGloveFraming {
+            sensors,
+            status_byte: true,
+        })
+    };
     match protocol {
         BenchProtocol::CyberGlove18 => run(cyber(SensorCount::Eighteen), bytes, chunk),
         BenchProtocol::CyberGlove22 => run(cyber(SensorCount::TwentyTwo), bytes, chunk),
         BenchProtocol::FiveDtGlove5 => run(Glove5Decoder::new(Glove5Framing), bytes, chunk),
-        BenchProtocol::FiveDtGlove16 => run_counting(Glove16Decoder::new(Glove16Framing), bytes, chunk, |p| {
-            matches!(p, fivedt::Glove16Packet::Data { .. })
-        }),
+        BenchProtocol::FiveDtGlove16 => {
+            run_counting(Glove16Decoder::new(Glove16Framing), bytes, chunk, |p| {
+                matches!(p, fivedt::Glove16Packet::Data { .. })
+            })
+        }
         BenchProtocol::FiveDtUltraHid => bytes
             .chunks(fivedt::ULTRA_REPORT_LEN)
             .filter(|r| fivedt::decode_ultra_report(r, false).is_ok())
             .count(),
         BenchProtocol::FastrakAscii => run(
-            FastrakDecoder::new(FastrakFraming::position_quaternion(fastrak::DataFormat::Ascii)),
+            FastrakDecoder::new(FastrakFraming::position_quaternion(
+                fastrak::DataFormat::Ascii,
+            )),
             bytes,
             chunk,
         ),
         BenchProtocol::FastrakBinary => run(
-            FastrakDecoder::new(FastrakFraming::position_quaternion(fastrak::DataFormat::Binary)),
+            FastrakDecoder::new(FastrakFraming::position_quaternion(
+                fastrak::DataFormat::Binary,
+            )),
             bytes,
             chunk,
         ),
         BenchProtocol::FlockPositionQuaternion => run(
-            FlockDecoder::new(FlockFraming { mode: RecordMode::PositionQuaternion, scale_inches: flock::DEFAULT_SCALE_INCHES }),
+            FlockDecoder::new(FlockFraming {
+                mode: RecordMode::PositionQuaternion,
+                scale_inches: flock::DEFAULT_SCALE_INCHES,
+            }),
             bytes,
             chunk,
         ),
@@ -196,7 +224,12 @@ mod tests {
         for p in BenchProtocol::ALL {
             let bytes = sample_stream(p, 300);
             for chunk in [1, 7, 64, 4096] {
-                assert_eq!(decode_stream(p, &bytes, chunk), 300, "{} in pieces of {chunk}", p.name());
+                assert_eq!(
+                    decode_stream(p, &bytes, chunk),
+                    300,
+                    "{} in pieces of {chunk}",
+                    p.name()
+                );
             }
         }
     }

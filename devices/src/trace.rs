@@ -42,7 +42,9 @@ use std::path::{Path, PathBuf};
 use glam::{DQuat, DVec3};
 
 use crate::profile::{HandSize, WorldFromTracker};
-use crate::{DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose};
+use crate::{
+    DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose,
+};
 
 /// The format name on the first line.
 pub const TRACE_FORMAT: &str = "nendo-hand-trace";
@@ -157,7 +159,11 @@ pub fn format_header(h: &TraceHeader) -> String {
         "world_from_tracker {}",
         serde_json::to_string(&h.world_from_tracker).unwrap_or_default()
     );
-    let _ = writeln!(s, "hand {}", serde_json::to_string(&h.hand).unwrap_or_default());
+    let _ = writeln!(
+        s,
+        "hand {}",
+        serde_json::to_string(&h.hand).unwrap_or_default()
+    );
     s.push_str("joints");
     for j in &h.joints {
         s.push(' ');
@@ -185,11 +191,19 @@ impl Trace {
         let first = lines.next().map(|(_, l)| l).unwrap_or("");
         let mut words = first.split_whitespace();
         if words.next() != Some(TRACE_FORMAT) {
-            return Err(err(1, format!("not a nendo hand trace (expected `{TRACE_FORMAT} {TRACE_VERSION}`)")));
+            return Err(err(
+                1,
+                format!("not a nendo hand trace (expected `{TRACE_FORMAT} {TRACE_VERSION}`)"),
+            ));
         }
         match words.next().map(str::parse::<u32>) {
             Some(Ok(TRACE_VERSION)) => {}
-            Some(Ok(v)) => return Err(err(1, format!("trace version {v}; this nendo reads version {TRACE_VERSION}"))),
+            Some(Ok(v)) => {
+                return Err(err(
+                    1,
+                    format!("trace version {v}; this nendo reads version {TRACE_VERSION}"),
+                ));
+            }
             _ => return Err(err(1, "missing or malformed version".into())),
         }
         let mut header = TraceHeader::default();
@@ -202,15 +216,21 @@ impl Trace {
             match key {
                 "profile" => header.profile = Some(rest.to_string()),
                 "world_from_tracker" => {
-                    let w: WorldFromTracker = serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?;
+                    let w: WorldFromTracker =
+                        serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?;
                     w.validate().map_err(|e| err(n, e.to_string()))?;
                     header.world_from_tracker = w;
                 }
-                "hand" => header.hand = serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?,
+                "hand" => {
+                    header.hand = serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?
+                }
                 "joints" => {
                     header.joints = rest
                         .split_whitespace()
-                        .map(|w| Joint::from_name(w).ok_or_else(|| err(n, format!("unknown joint `{w}`"))))
+                        .map(|w| {
+                            Joint::from_name(w)
+                                .ok_or_else(|| err(n, format!("unknown joint `{w}`")))
+                        })
                         .collect::<Result<_, _>>()?;
                     let mut seen = 0u32;
                     for j in &header.joints {
@@ -228,15 +248,24 @@ impl Trace {
             }
         }
         if !in_frames {
-            return Err(err(text.lines().count().max(1), "the header never ends (no `frames` line)".into()));
+            return Err(err(
+                text.lines().count().max(1),
+                "the header never ends (no `frames` line)".into(),
+            ));
         }
         let mut frames = Vec::new();
         let mut last = 0u64;
         for (n, line) in lines.by_ref() {
             if let Some(count) = line.strip_prefix("end ") {
-                let count: usize = count.trim().parse().map_err(|_| err(n, format!("malformed end line `{line}`")))?;
+                let count: usize = count
+                    .trim()
+                    .parse()
+                    .map_err(|_| err(n, format!("malformed end line `{line}`")))?;
                 if count != frames.len() {
-                    return Err(err(n, format!("end says {count} frames, the trace has {}", frames.len())));
+                    return Err(err(
+                        n,
+                        format!("end says {count} frames, the trace has {}", frames.len()),
+                    ));
                 }
                 if let Some((m, extra)) = lines.find(|(_, l)| !l.trim().is_empty()) {
                     return Err(err(m, format!("text after the end line: `{extra}`")));
@@ -250,13 +279,18 @@ impl Trace {
             last = frame.time.as_micros();
             frames.push(frame);
         }
-        Err(err(text.lines().count() + 1, "the trace is truncated (no `end` line)".into()))
+        Err(err(
+            text.lines().count() + 1,
+            "the trace is truncated (no `end` line)".into(),
+        ))
     }
 
     /// Reads a trace file.
     pub fn read(path: &Path) -> Result<Trace, DeviceError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| DeviceError::File { path: path.to_path_buf(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|source| DeviceError::File {
+            path: path.to_path_buf(),
+            source,
+        })?;
         Trace::parse(&text)
     }
 
@@ -294,7 +328,8 @@ fn parse_state(word: Option<&str>) -> Result<(SourceState, bool), String> {
         Some(t) => (t, true),
         None => (w, false),
     };
-    let state = SourceState::from_token(token).ok_or_else(|| format!("unknown source state `{w}`"))?;
+    let state =
+        SourceState::from_token(token).ok_or_else(|| format!("unknown source state `{w}`"))?;
     Ok((state, fresh))
 }
 
@@ -308,7 +343,11 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
         .map_err(|_| "the time is not a whole number of microseconds".to_string())?;
     let (tracker, tracker_fresh) = parse_state(w.next())?;
     let (glove, glove_fresh) = parse_state(w.next())?;
-    let buttons: u32 = w.next().ok_or("the line ends early")?.parse().map_err(|_| "malformed buttons".to_string())?;
+    let buttons: u32 = w
+        .next()
+        .ok_or("the line ends early")?
+        .parse()
+        .map_err(|_| "malformed buttons".to_string())?;
     if w.next() != Some("P") {
         return Err("expected `P` before the pose".into());
     }
@@ -325,7 +364,10 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
         let orientation = DQuat::from_xyzw(v[4], v[5], v[6], v[3]);
         // Validate, but keep the quaternion exactly as written so the trace round-trips.
         TrackerPose::new(position, orientation).map_err(|e| e.to_string())?;
-        Some(TrackerPose { position, orientation })
+        Some(TrackerPose {
+            position,
+            orientation,
+        })
     };
     if w.next() != Some("J") {
         return Err("expected `J` before the joint angles".into());
@@ -334,12 +376,17 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
     let angles = if rest == ["-"] {
         None
     } else if rest.len() != joints.len() {
-        return Err(format!("{} joint columns, the header names {}", rest.len(), joints.len()));
+        return Err(format!(
+            "{} joint columns, the header names {}",
+            rest.len(),
+            joints.len()
+        ));
     } else {
         let mut a = JointAngles::new();
         for (&j, word) in joints.iter().zip(&rest) {
             if *word != "?" {
-                a.set(j, parse_number(Some(word))?).map_err(|e| e.to_string())?;
+                a.set(j, parse_number(Some(word))?)
+                    .map_err(|e| e.to_string())?;
             }
         }
         Some(a)
@@ -349,7 +396,12 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
         pose,
         joints: angles,
         buttons,
-        status: FrameStatus { tracker, glove, tracker_fresh, glove_fresh },
+        status: FrameStatus {
+            tracker,
+            glove,
+            tracker_fresh,
+            glove_fresh,
+        },
     })
 }
 
@@ -368,12 +420,26 @@ pub struct TraceWriter {
 impl TraceWriter {
     /// Starts a trace at `path` (nothing appears there until [`TraceWriter::finish`]).
     pub fn create(path: &Path, header: TraceHeader) -> Result<TraceWriter, DeviceError> {
-        let file_name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let file_name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let tmp = path.with_file_name(format!(".{file_name}.tmp-{}", std::process::id()));
-        let io = |source| DeviceError::File { path: tmp.clone(), source };
+        let io = |source| DeviceError::File {
+            path: tmp.clone(),
+            source,
+        };
         let mut out = BufWriter::new(File::create(&tmp).map_err(io)?);
-        out.write_all(format_header(&header).as_bytes()).map_err(io)?;
-        Ok(TraceWriter { out: Some(out), tmp, path: path.to_path_buf(), joints: header.joints, count: 0, line: String::new() })
+        out.write_all(format_header(&header).as_bytes())
+            .map_err(io)?;
+        Ok(TraceWriter {
+            out: Some(out),
+            tmp,
+            path: path.to_path_buf(),
+            joints: header.joints,
+            count: 0,
+            line: String::new(),
+        })
     }
 
     /// Appends a frame.
@@ -387,7 +453,10 @@ impl TraceWriter {
             });
         };
         out.write_all(self.line.as_bytes())
-            .map_err(|source| DeviceError::File { path: self.tmp.clone(), source })?;
+            .map_err(|source| DeviceError::File {
+                path: self.tmp.clone(),
+                source,
+            })?;
         self.count += 1;
         Ok(())
     }
@@ -400,12 +469,17 @@ impl TraceWriter {
     /// Writes the `end` line, flushes, syncs and renames the file into place. Returns the number
     /// of frames.
     pub fn finish(mut self) -> Result<u64, DeviceError> {
-        let io = |source, path: &Path| DeviceError::File { path: path.to_path_buf(), source };
+        let io = |source, path: &Path| DeviceError::File {
+            path: path.to_path_buf(),
+            source,
+        };
         let Some(mut out) = self.out.take() else {
             return Ok(self.count);
         };
         writeln!(out, "end {}", self.count).map_err(|e| io(e, &self.tmp))?;
-        let file = out.into_inner().map_err(|e| io(e.into_error(), &self.tmp))?;
+        let file = out
+            .into_inner()
+            .map_err(|e| io(e.into_error(), &self.tmp))?;
         file.sync_all().map_err(|e| io(e, &self.tmp))?;
         drop(file);
         std::fs::rename(&self.tmp, &self.path).map_err(|e| io(e, &self.path))?;

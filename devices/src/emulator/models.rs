@@ -5,11 +5,11 @@ use std::time::Duration;
 use glam::{DQuat, DVec3, EulerRot};
 
 use super::DeviceModel;
+use crate::TrackerPose;
 use crate::cyberglove::{self, SensorCount};
 use crate::fastrak::{self, DataFormat, FastrakFraming, FastrakRecord, Item, Units};
 use crate::fivedt::{self, Glove5Record, Glove16Packet};
 use crate::flock::{self, BirdOrientation, FlockFraming, FlockRecord, RecordMode};
-use crate::TrackerPose;
 
 /// A CyberGlove: answers `G`, streams on `S`, stops on ^C, sets the status byte with `U`.
 /// Power-on state: not streaming, no status byte.
@@ -39,12 +39,19 @@ impl CyberGloveModel {
     /// The raw sensor values of record `k`: sensor `i` is `1 + (k + 7i) mod 255`, so sensor 0
     /// gives `k` away and no value is ever 0.
     pub fn values_at(sensors: SensorCount, k: u64) -> Vec<u8> {
-        (0..sensors.count() as u64).map(|i| 1 + ((k + 7 * i) % 255) as u8).collect()
+        (0..sensors.count() as u64)
+            .map(|i| 1 + ((k + 7 * i) % 255) as u8)
+            .collect()
     }
 
     /// The status byte of record `k`: glove in, switch pressed during every other 50 records.
     pub fn status_at(k: u64) -> u8 {
-        cyberglove::STATUS_GLOVE_IN | if (k / 50) % 2 == 1 { cyberglove::STATUS_SWITCH } else { 0 }
+        cyberglove::STATUS_GLOVE_IN
+            | if (k / 50) % 2 == 1 {
+                cyberglove::STATUS_SWITCH
+            } else {
+                0
+            }
     }
 
     fn record(&mut self, header: u8, out: &mut Vec<u8>) {
@@ -197,7 +204,13 @@ impl DeviceModel for Glove16Model {
             fivedt::encode_glove16(&Glove16Packet::Info([1, 0, 1, 1, 0]), out);
         }
         let values = Self::values_at(self.k);
-        fivedt::encode_glove16(&Glove16Packet::Data { values, trailer: [0, 0] }, out);
+        fivedt::encode_glove16(
+            &Glove16Packet::Data {
+                values,
+                trailer: [0, 0],
+            },
+            out,
+        );
         self.k += 1;
         self.since_info += 1;
     }
@@ -207,10 +220,17 @@ impl DeviceModel for Glove16Model {
 /// the hand turning about a tilted axis. Position in metres.
 fn path_at(k: u64) -> TrackerPose {
     let t = k as f64 * 0.01;
-    let position = DVec3::new(0.3 + 0.1 * t.sin(), 0.05 * (1.3 * t).cos(), -0.2 + 0.05 * (0.7 * t).sin());
+    let position = DVec3::new(
+        0.3 + 0.1 * t.sin(),
+        0.05 * (1.3 * t).cos(),
+        -0.2 + 0.05 * (0.7 * t).sin(),
+    );
     let axis = DVec3::new(0.3, 1.0, 0.2).normalize();
     let orientation = DQuat::from_axis_angle(axis, 0.8 * (0.5 * t).sin());
-    TrackerPose { position, orientation }
+    TrackerPose {
+        position,
+        orientation,
+    }
 }
 
 /// A Fastrak: `c`/`C` polled/continuous, `P` one record, `F`/`f` ASCII/binary, `U`/`u`
@@ -269,7 +289,10 @@ impl FastrakModel {
             euler: Some([az.to_degrees(), el.to_degrees(), roll.to_degrees()]),
             quaternion: Some([q.w, q.x, q.y, q.z]),
         };
-        let framing = FastrakFraming { format: self.format, items: self.items.clone() };
+        let framing = FastrakFraming {
+            format: self.format,
+            items: self.items.clone(),
+        };
         // The path stays well inside the ASCII field widths, so this cannot fail.
         let _ = fastrak::encode_record(&framing, &record, out);
         self.k += 1;
@@ -342,7 +365,10 @@ impl FlockModel {
     /// A bird at 100 Hz.
     pub fn new() -> Self {
         FlockModel {
-            framing: FlockFraming { mode: RecordMode::PositionAngles, scale_inches: flock::DEFAULT_SCALE_INCHES },
+            framing: FlockFraming {
+                mode: RecordMode::PositionAngles,
+                scale_inches: flock::DEFAULT_SCALE_INCHES,
+            },
             streaming: false,
             k: 0,
         }
@@ -364,17 +390,22 @@ impl FlockModel {
         let (z, y, x) = q.to_euler(EulerRot::ZYX);
         let orientation = match self.framing.mode {
             RecordMode::Position => None,
-            RecordMode::Angles | RecordMode::PositionAngles => {
-                Some(BirdOrientation::Angles([z.to_degrees(), y.to_degrees(), x.to_degrees()]))
-            }
-            RecordMode::Matrix | RecordMode::PositionMatrix => {
-                Some(BirdOrientation::Matrix(glam::DMat3::from_quat(q).to_cols_array()))
-            }
+            RecordMode::Angles | RecordMode::PositionAngles => Some(BirdOrientation::Angles([
+                z.to_degrees(),
+                y.to_degrees(),
+                x.to_degrees(),
+            ])),
+            RecordMode::Matrix | RecordMode::PositionMatrix => Some(BirdOrientation::Matrix(
+                glam::DMat3::from_quat(q).to_cols_array(),
+            )),
             RecordMode::Quaternion | RecordMode::PositionQuaternion => {
                 Some(BirdOrientation::Quaternion([q.w, q.x, q.y, q.z]))
             }
         };
-        let record = FlockRecord { position: Some((pose.position / 0.0254).to_array()), orientation };
+        let record = FlockRecord {
+            position: Some((pose.position / 0.0254).to_array()),
+            orientation,
+        };
         flock::encode_record(&self.framing, &record, out);
         self.k += 1;
     }

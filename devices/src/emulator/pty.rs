@@ -56,7 +56,13 @@ fn open_pty() -> std::io::Result<(Pty, String)> {
     cfmakeraw(&mut t);
     tcsetattr(slave.as_raw_fd(), SetArg::TCSANOW, &t)?;
     fcntl(master.as_raw_fd(), FcntlArg::F_SETFL(OFlag::O_NONBLOCK))?;
-    Ok((Pty { master, _slave: slave }, name))
+    Ok((
+        Pty {
+            master,
+            _slave: slave,
+        },
+        name,
+    ))
 }
 
 fn point_link(link: &Path, target: &str) -> std::io::Result<()> {
@@ -96,7 +102,10 @@ pub struct PtyEmulator {
 
 impl std::fmt::Debug for PtyEmulator {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("PtyEmulator").field("device", &self.name).field("path", &self.link).finish()
+        f.debug_struct("PtyEmulator")
+            .field("device", &self.name)
+            .field("path", &self.link)
+            .finish()
     }
 }
 
@@ -109,7 +118,10 @@ impl PtyEmulator {
         let link = dir.join("tty");
         let (pty, target) = open_pty()?;
         point_link(&link, &target)?;
-        let control = Arc::new(Mutex::new(Control { ptys_opened: 1, ..Control::default() }));
+        let control = Arc::new(Mutex::new(Control {
+            ptys_opened: 1,
+            ..Control::default()
+        }));
         let name = model.name();
         let thread = {
             let control = Arc::clone(&control);
@@ -118,7 +130,13 @@ impl PtyEmulator {
                 .name(format!("emulator {name}"))
                 .spawn(move || run(model, Some(pty), &link, &control))?
         };
-        Ok(PtyEmulator { dir, link, control, thread: Some(thread), name })
+        Ok(PtyEmulator {
+            dir,
+            link,
+            control,
+            thread: Some(thread),
+            name,
+        })
     }
 
     /// The device path to open (a symbolic link to the current pty).
@@ -199,7 +217,12 @@ fn run(mut model: impl DeviceModel, mut pty: Option<Pty>, link: &Path, control: 
             if c.stop {
                 return;
             }
-            (c.silent, c.unplugged, std::mem::take(&mut c.inject), c.corrupt_every)
+            (
+                c.silent,
+                c.unplugged,
+                std::mem::take(&mut c.inject),
+                c.corrupt_every,
+            )
         };
         if unplugged {
             if pty.take().is_some() {
@@ -210,23 +233,29 @@ fn run(mut model: impl DeviceModel, mut pty: Option<Pty>, link: &Path, control: 
         }
         let p = match &mut pty {
             Some(p) => p,
-            None => match open_pty().and_then(|(p, target)| point_link(link, &target).map(|()| p)) {
-                Ok(p) => {
-                    lock(control).ptys_opened += 1;
-                    pty.insert(p)
+            None => {
+                match open_pty().and_then(|(p, target)| point_link(link, &target).map(|()| p)) {
+                    Ok(p) => {
+                        lock(control).ptys_opened += 1;
+                        pty.insert(p)
+                    }
+                    Err(_) => {
+                        std::thread::sleep(Duration::from_millis(10));
+                        continue;
+                    }
                 }
-                Err(_) => {
-                    std::thread::sleep(Duration::from_millis(10));
-                    continue;
-                }
-            },
+            }
         };
         let now = Instant::now();
         let streaming = model.streaming() && !silent;
         if !streaming {
             next_due = now;
         }
-        let wait_ms = if streaming { next_due.saturating_duration_since(now).as_millis().min(5) as i32 } else { 5 };
+        let wait_ms = if streaming {
+            next_due.saturating_duration_since(now).as_millis().min(5) as i32
+        } else {
+            5
+        };
         let mut fds = [PollFd::new(p.master.as_raw_fd(), PollFlags::POLLIN)];
         let _ = poll(&mut fds, wait_ms);
         reply.clear();

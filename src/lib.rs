@@ -13,7 +13,8 @@
 //! | [`surface`] | patch grids in five topologies, connected control-point groups, deformation by shape functions through the Bernstein inverse, G1 regulation, continuity measures | `curve`, glam |
 //! | `model` | the `nendo-model` JSON document (surface + curves), validated reading, atomic writing | `curve`, `surface`, serde |
 //! | `hand` | the kinematic hand and its contact with the surface, turning device frames into operations | `surface`, `nendo_devices` |
-//! | `render`, `app` | the wgpu renderer and the egui window | everything above; nothing depends on them |
+//! | [`mesh`] | tessellation of the exact patches within a tolerance, seam G1 error per vertex, ray picking, OBJ / STL / GLB writers | `curve`, `surface`, glam |
+//! | `render`, `app` | the wgpu renderer (CPU tessellation from `mesh`, drawn as clay) and the egui window; feature `gui` | everything above; nothing depends on them |
 //! | [`cli`] | the headless subcommands of the `nendo` binary | everything |
 //! | [`bench`] | the measurement suites behind `nendo bench` | everything |
 //!
@@ -23,7 +24,12 @@
 //! module below them in this table.
 #![warn(missing_docs)]
 
+#[cfg(feature = "gui")]
+pub mod app;
 pub mod bench;
 pub mod cli;
 pub mod curve;
 pub mod surface;
+pub mod mesh;
+#[cfg(feature = "gui")]
+pub mod render;

@@ -1,0 +1,105 @@
+// The patch surface shaded as clay: soft, matte, readable form.
+//
+// Lighting (linear colour; the sRGB target encodes it): a hemisphere ambient (sky above, warm
+// ground below, world up = +Z), a key light fixed relative to the camera with wrapped diffuse
+// (no hard terminator), a faint rim, no specular. Normals are flipped towards the viewer, so
+// the surface reads the same from either side. Optional overlays: the G1 seam heat map and the
+// tool footprint (the ring where the distance to the finger axis equals the finger radius —
+// exactly the samples the push shape function reaches).
+
+// Keep in sync with `render::gpu_data::Globals`.
+struct Globals {
+    clip_from_world: mat4x4<f32>,
+    eye: vec3<f32>,
+    heat_max_deg: f32,
+    key_light: vec3<f32>,
+    heat_on: f32,
+    clay: vec4<f32>,
+    tool_center: vec3<f32>,
+    tool_radius: f32,
+    tool_axis: vec3<f32>,
+    tool_on: f32,
+    viewport: vec2<f32>,
+    line_depth_bias: f32,
+    pad: f32,
+};
+
+@group(0) @binding(0) var<uniform> globals: Globals;
+
+// Keep in sync with `render::gpu_data::SurfaceVertex`.
+struct VertexIn {
+    @location(0) position: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    // [G1 angle of the nearest seam in degrees, weight of the heat band].
+    @location(2) seam: vec2<f32>,
+};
+
+struct VertexOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) seam: vec2<f32>,
+};
+
+@vertex
+fn vs_main(in: VertexIn) -> VertexOut {
+    var out: VertexOut;
+    out.clip = globals.clip_from_world * vec4<f32>(in.position, 1.0);
+    out.world = in.position;
+    out.normal = in.normal;
+    out.seam = in.seam;
+    return out;
+}
+
+// Blue → cyan → yellow → red for t in [0, 1].
+fn heat_ramp(t: f32) -> vec3<f32> {
+    let c0 = vec3<f32>(0.05, 0.15, 0.85);
+    let c1 = vec3<f32>(0.0, 0.75, 0.8);
+    let c2 = vec3<f32>(0.95, 0.85, 0.1);
+    let c3 = vec3<f32>(0.9, 0.05, 0.02);
+    if t < 0.3333 {
+        return mix(c0, c1, t * 3.0);
+    } else if t < 0.6667 {
+        return mix(c1, c2, (t - 0.3333) * 3.0);
+    }
+    return mix(c2, c3, (t - 0.6667) * 3.0);
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
+    let to_eye = normalize(globals.eye - in.world);
+    var n = normalize(in.normal);
+    if dot(n, to_eye) < 0.0 {
+        n = -n;
+    }
+    var albedo = globals.clay.rgb;
+
+    if globals.heat_on > 0.5 && in.seam.x > 0.0 {
+        let t = clamp(in.seam.x / max(globals.heat_max_deg, 1e-6), 0.0, 1.0);
+        // Errors below 1 % of the scale fade out (rounding noise on G1 seams); above, the
+        // colour says how large the error is and the band fades away from the seam.
+        let visible = clamp(in.seam.x / max(0.01 * globals.heat_max_deg, 1e-9), 0.0, 1.0);
+        albedo = mix(albedo, heat_ramp(t), 0.9 * visible * clamp(in.seam.y * 1.5, 0.0, 1.0));
+    }
+
+    let up = n.z;
+    let sky = vec3<f32>(0.58, 0.6, 0.66);
+    let ground = vec3<f32>(0.26, 0.22, 0.2);
+    let ambient = mix(ground, sky, 0.5 + 0.5 * up);
+    let wrap = 0.35;
+    let diffuse = max((dot(n, globals.key_light) + wrap) / (1.0 + wrap), 0.0);
+    let rim = pow(1.0 - max(dot(n, to_eye), 0.0), 3.0) * 0.12;
+    var colour = albedo * (0.42 * ambient + 0.95 * diffuse) + vec3<f32>(rim);
+
+    if globals.tool_on > 0.5 {
+        let d = in.world - globals.tool_center;
+        let along = dot(d, globals.tool_axis);
+        let r = length(d - along * globals.tool_axis);
+        let width = max(fwidth(r) * 1.5, 1e-5);
+        let ring = 1.0 - smoothstep(0.0, width, abs(r - globals.tool_radius));
+        let inside = select(0.0, 0.12, r < globals.tool_radius);
+        let tint = vec3<f32>(0.15, 0.45, 0.95);
+        colour = mix(colour, tint, max(ring * 0.9, inside));
+    }
+    return vec4<f32>(colour, 1.0);
+}

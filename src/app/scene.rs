@@ -1,0 +1,121 @@
+//! Turning the document into what the renderer draws: the tessellated surface with its seam
+//! angles, patch boundaries, the control net, curves with their control polygons, the hand and
+//! the probe sphere. Shared by the window and `nendo render`.
+
+use glam::{DVec3, Vec3};
+use std::time::Instant;
+
+use crate::mesh::{PatchPoints, Tessellation, TriMesh, seam_angles_deg, seam_bands, tessellate};
+use crate::render::{LineBatch, Rgba};
+
+/// What to draw besides the clay.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Overlays {
+    /// Patch boundaries as lines.
+    pub patch_edges: bool,
+    /// The control net of the patches.
+    pub control_net: bool,
+    /// The G1 heat map along seams.
+    pub heat_map: bool,
+    /// Seam angle drawn red, degrees.
+    pub heat_max_deg: f32,
+    /// Curves' control polygons.
+    pub control_polygons: bool,
+}
+
+impl Default for Overlays {
+    fn default() -> Self {
+        Self {
+            patch_edges: true,
+            control_net: false,
+            heat_map: false,
+            heat_max_deg: 1.0,
+            control_polygons: true,
+        }
+    }
+}
+
+/// The tessellated surface and what was measured while making it.
+#[derive(Debug, Clone, Default)]
+pub struct SurfaceDisplay {
+    /// The tessellation (with its patch blocks, for picking).
+    pub mesh: TriMesh,
+    /// Seam heat per vertex, `[angle°, weight]` (see [`seam_bands`]).
+    pub seam_heat: Vec<[f32; 2]>,
+    /// Largest seam angle, degrees.
+    pub max_seam_deg: f32,
+    /// Time spent tessellating, milliseconds.
+    pub tessellate_ms: f64,
+}
+
+impl SurfaceDisplay {
+    /// Width of the heat band on each side of a seam, as a fraction of the patch.
+    pub const HEAT_BAND: f32 = 0.15;
+
+    /// Tessellates `patches` and measures the seams.
+    #[must_use]
+    pub fn new(patches: &[PatchPoints], tessellation: &Tessellation) -> Self {
+        let start = Instant::now();
+        let mesh = tessellate(patches, tessellation);
+        let tessellate_ms = start.elapsed().as_secs_f64() * 1e3;
+        let seam_deg = seam_angles_deg(&mesh);
+        let max_seam_deg = seam_deg.iter().copied().fold(0.0, f32::max);
+        let seam_heat = seam_bands(&mesh, &seam_deg, Self::HEAT_BAND);
+        Self {
+            mesh,
+            seam_heat,
+            max_seam_deg,
+            tessellate_ms,
+        }
+    }
+
+    /// Adds the patch boundaries (the tessellation's own edge vertices, so the lines lie exactly
+    /// on the drawn surface).
+    pub fn patch_edges(&self, lines: &mut LineBatch) {
+        let at = |v: u32| self.mesh.positions[v as usize];
+        for b in &self.mesh.blocks {
+            lines.polyline((0..=b.m_u).map(|k| at(b.vertex(k, 0))), Rgba::PATCH_EDGE);
+            lines.polyline(
+                (0..=b.m_u).map(|k| at(b.vertex(k, b.m_v))),
+                Rgba::PATCH_EDGE,
+            );
+            lines.polyline((0..=b.m_v).map(|l| at(b.vertex(0, l))), Rgba::PATCH_EDGE);
+            lines.polyline(
+                (0..=b.m_v).map(|l| at(b.vertex(b.m_u, l))),
+                Rgba::PATCH_EDGE,
+            );
+        }
+    }
+}
+
+/// Adds the control net of `patches`: every row and column of each patch's 4 × 4 points.
+pub fn control_net(patches: &[PatchPoints], lines: &mut LineBatch) {
+    for p in patches {
+        for a in 0..4 {
+            lines.polyline((0..4).map(|b| p[4 * a + b].as_vec3()), Rgba::CONTROL_NET);
+            lines.polyline((0..4).map(|b| p[4 * b + a].as_vec3()), Rgba::CONTROL_NET);
+        }
+    }
+}
+
+/// Adds a curve drawn through `samples` and, optionally, its control polygon.
+pub fn curve(samples: &[DVec3], control: Option<&[DVec3]>, highlight: bool, lines: &mut LineBatch) {
+    let colour = if highlight {
+        Rgba::HIGHLIGHT
+    } else {
+        Rgba::CURVE
+    };
+    lines.polyline(samples.iter().map(|p| p.as_vec3()), colour);
+    if let Some(control) = control {
+        lines.polyline(control.iter().map(|p| p.as_vec3()), Rgba::CONTROL_POLYGON);
+    }
+}
+
+/// The bounds of `mesh` and of extra points (curves), `None` when there is nothing.
+#[must_use]
+pub fn scene_bounds(mesh: &TriMesh, extra: &[DVec3]) -> Option<(Vec3, Vec3)> {
+    let extra = extra.iter().map(|p| p.as_vec3());
+    let mut all = mesh.positions.iter().copied().chain(extra);
+    let first = all.next()?;
+    Some(all.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+}

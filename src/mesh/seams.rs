@@ -1,0 +1,142 @@
+//! The G1 error along patch seams, per mesh vertex, for the heat map.
+//!
+//! Where patches meet, the tessellation puts bit-identical vertices on both sides of the seam
+//! (see [`super::tessellate`]), each carrying its own patch's exact normal. The angle between
+//! those normals is the G1 error of SPEC §9 sampled at the mesh's seam vertices; at a pole the
+//! largest angle among all the patches around it is the spread of their tangent planes. Normals
+//! are compared as lines (`acos |n₁·n₂|`), so neighbouring patches parametrised in opposite
+//! orientations still read 0° where they are tangent-continuous.
+
+use std::collections::HashMap;
+
+use super::tessellate::{TriMesh, position_key};
+
+/// Per-vertex seam angle in degrees: for a vertex on a patch boundary, the largest angle
+/// between its normal and the normal of any coincident vertex of another patch; 0 elsewhere.
+/// Needs the blocks of a freshly tessellated mesh (an empty result for a welded one).
+#[must_use]
+pub fn seam_angles_deg(mesh: &TriMesh) -> Vec<f32> {
+    let mut angles = vec![0.0f32; mesh.positions.len()];
+    if mesh.blocks.is_empty() {
+        return Vec::new();
+    }
+    let mut at: HashMap<[u32; 3], Vec<(u32, u32)>> = HashMap::new();
+    for block in &mesh.blocks {
+        for k in 0..=block.m_u {
+            for l in 0..=block.m_v {
+                if k == 0 || l == 0 || k == block.m_u || l == block.m_v {
+                    let v = block.vertex(k, l);
+                    at.entry(position_key(mesh.positions[v as usize]))
+                        .or_default()
+                        .push((block.patch, v));
+                }
+            }
+        }
+    }
+    for group in at.values() {
+        for (i, &(patch_a, a)) in group.iter().enumerate() {
+            for &(patch_b, b) in &group[i + 1..] {
+                if patch_a == patch_b {
+                    continue;
+                }
+                let cos = mesh.normals[a as usize]
+                    .dot(mesh.normals[b as usize])
+                    .abs()
+                    .min(1.0);
+                let deg = cos.acos().to_degrees();
+                angles[a as usize] = angles[a as usize].max(deg);
+                angles[b as usize] = angles[b as usize].max(deg);
+            }
+        }
+    }
+    angles
+}
+
+/// Spreads the seam angles of [`seam_angles_deg`] into bands for a heat map: for each vertex,
+/// `[angle, weight]` of the strongest nearby seam, where a vertex at parameter distance `d`
+/// from a patch edge gets that edge's angle (at the same position along the edge) with weight
+/// `max(0, 1 − d / width)`. The band is `width` of the patch wide on each side whatever the
+/// tessellation density.
+#[must_use]
+pub fn seam_bands(mesh: &TriMesh, angles_deg: &[f32], width: f32) -> Vec<[f32; 2]> {
+    let mut bands = vec![[0.0f32; 2]; mesh.positions.len()];
+    if angles_deg.len() != mesh.positions.len() {
+        return bands;
+    }
+    let width = width.max(1e-6);
+    let fall = |d: f32| (1.0 - d / width).max(0.0);
+    for b in &mesh.blocks {
+        let (mu, mv) = (b.m_u as f32, b.m_v as f32);
+        for k in 0..=b.m_u {
+            for l in 0..=b.m_v {
+                let (u, v) = (k as f32 / mu, l as f32 / mv);
+                let candidates = [
+                    (angles_deg[b.vertex(k, 0) as usize], fall(v)),
+                    (angles_deg[b.vertex(k, b.m_v) as usize], fall(1.0 - v)),
+                    (angles_deg[b.vertex(0, l) as usize], fall(u)),
+                    (angles_deg[b.vertex(b.m_u, l) as usize], fall(1.0 - u)),
+                ];
+                let best = candidates
+                    .into_iter()
+                    .filter(|(a, w)| *a > 0.0 && *w > 0.0)
+                    .max_by(|x, y| (x.0 * x.1).total_cmp(&(y.0 * y.1)));
+                if let Some((a, w)) = best {
+                    bands[b.vertex(k, l) as usize] = [a, w];
+                }
+            }
+        }
+    }
+    bands
+}
+
+/// Largest seam angle in degrees (0 for a single patch or a welded mesh).
+#[must_use]
+pub fn max_seam_angle_deg(mesh: &TriMesh) -> f32 {
+    seam_angles_deg(mesh).into_iter().fold(0.0, f32::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::{Tessellation, tessellate};
+    use glam::DVec3;
+
+    fn patch(f: impl Fn(f64, f64) -> DVec3, x0: f64) -> [DVec3; 16] {
+        std::array::from_fn(|k| f(x0 + (k / 4) as f64 / 3.0, (k % 4) as f64 / 3.0))
+    }
+
+    #[test]
+    fn a_smooth_join_reads_zero_and_a_fold_reads_its_angle() {
+        let flat = |x: f64, y: f64| DVec3::new(x, y, 0.0);
+        let smooth = tessellate(
+            &[patch(flat, 0.0), patch(flat, 1.0)],
+            &Tessellation::DISPLAY,
+        );
+        assert!(max_seam_angle_deg(&smooth) < 1e-3);
+        // The right patch rises at 30° from the seam x = 1: a crease of 30°.
+        let t = 30f64.to_radians().tan();
+        let folded = |x: f64, y: f64| DVec3::new(x, y, if x > 1.0 { (x - 1.0) * t } else { 0.0 });
+        let mesh = tessellate(
+            &[patch(folded, 0.0), patch(folded, 1.0)],
+            &Tessellation::DISPLAY,
+        );
+        let a = max_seam_angle_deg(&mesh);
+        assert!((a - 30.0).abs() < 1e-3, "{a}");
+        let angles = seam_angles_deg(&mesh);
+        let b = mesh.blocks[0];
+        assert_eq!(
+            angles[b.vertex(0, 1) as usize],
+            0.0,
+            "the outer edge is no seam"
+        );
+        assert!((angles[b.vertex(b.m_u, 1) as usize] - 30.0).abs() < 1e-3);
+        // The band reaches a fifth into each patch, carrying the seam's angle.
+        let bands = seam_bands(&mesh, &angles, 0.2);
+        let inside = bands[b.vertex(b.m_u - 1, 1) as usize];
+        assert!(
+            (inside[0] - 30.0).abs() < 1e-3 && inside[1] > 0.0 && inside[1] < 1.0,
+            "{inside:?}"
+        );
+        assert_eq!(bands[b.vertex(0, 1) as usize], [0.0, 0.0]);
+    }
+}

@@ -1,0 +1,57 @@
+//! A GPU buffer that grows to fit what is written into it.
+
+/// A vertex, index or instance buffer rewritten whole when its content changes, and recreated
+/// (one and a half times larger) only when the content outgrows it.
+#[derive(Debug)]
+pub(crate) struct GrowBuffer {
+    label: &'static str,
+    usage: wgpu::BufferUsages,
+    buffer: Option<wgpu::Buffer>,
+    /// Bytes of valid content.
+    len: u64,
+}
+
+impl GrowBuffer {
+    pub(crate) fn new(label: &'static str, usage: wgpu::BufferUsages) -> Self {
+        Self {
+            label,
+            usage: usage | wgpu::BufferUsages::COPY_DST,
+            buffer: None,
+            len: 0,
+        }
+    }
+
+    /// Replaces the content with `bytes`.
+    pub(crate) fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) {
+        self.len = bytes.len() as u64;
+        if bytes.is_empty() {
+            return;
+        }
+        // Copies must be 4-byte multiples.
+        let needed = (self.len + 3) & !3;
+        if self.buffer.as_ref().is_none_or(|b| b.size() < needed) {
+            let size = (needed + needed / 2).max(256);
+            self.buffer = Some(device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(self.label),
+                size,
+                usage: self.usage,
+                mapped_at_creation: false,
+            }));
+        }
+        if let Some(buffer) = &self.buffer {
+            if bytes.len() % 4 == 0 {
+                queue.write_buffer(buffer, 0, bytes);
+            } else {
+                let mut padded = bytes.to_vec();
+                padded.resize(needed as usize, 0);
+                queue.write_buffer(buffer, 0, &padded);
+            }
+        }
+    }
+
+    /// The buffer's content as a slice, if there is any.
+    pub(crate) fn slice(&self) -> Option<wgpu::BufferSlice<'_>> {
+        let buffer = self.buffer.as_ref()?;
+        (self.len > 0).then(|| buffer.slice(..self.len))
+    }
+}

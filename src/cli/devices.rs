@@ -1,0 +1,110 @@
+//! `nendo devices`: the serial ports and HID devices present, and which profiles fit each.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args as ClapArgs;
+use nendo_devices::discover;
+use nendo_devices::profile::{self, Input, Profile};
+
+/// Arguments of `nendo devices`.
+#[derive(Debug, ClapArgs)]
+pub struct Args {
+    /// A directory of further profile JSON files to match, besides the shipped ones.
+    #[arg(long)]
+    pub profiles: Option<PathBuf>,
+}
+
+/// Runs `nendo devices`.
+pub fn run(args: Args) -> ExitCode {
+    let mut profiles = profile::builtin();
+    if let Some(dir) = &args.profiles {
+        match load_dir(dir, &mut profiles) {
+            Ok(()) => {}
+            Err(e) => {
+                eprintln!("nendo devices: {e:#}");
+                return ExitCode::FAILURE;
+            }
+        }
+    }
+    let inv = discover::inventory(&profiles);
+    print!("{}", render(&inv, &profiles));
+    ExitCode::SUCCESS
+}
+
+fn load_dir(dir: &std::path::Path, profiles: &mut Vec<Profile>) -> anyhow::Result<()> {
+    let entries = std::fs::read_dir(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
+    let mut paths: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    paths.sort();
+    for p in paths {
+        profiles.push(Profile::load(&p)?);
+    }
+    Ok(())
+}
+
+fn fits(list: &[String]) -> String {
+    if list.is_empty() {
+        "no profile fits".to_string()
+    } else {
+        format!("fits: {}", list.join(", "))
+    }
+}
+
+fn render(inv: &discover::Inventory, profiles: &[Profile]) -> String {
+    let mut s = String::from("Serial ports:\n");
+    if let Some(e) = &inv.serial_error {
+        s.push_str(&format!("  cannot list serial ports: {e}\n"));
+    } else if inv.serial.is_empty() {
+        s.push_str("  (none)\n");
+    }
+    for p in &inv.serial {
+        s.push_str(&format!("  {}  [{}]  {}\n", p.path, p.kind, fits(&p.fits)));
+    }
+    s.push_str("HID devices:\n");
+    if let Some(e) = &inv.hid_error {
+        s.push_str(&format!("  cannot list HID devices: {e}\n"));
+    } else if inv.hid.is_empty() {
+        s.push_str("  (none)\n");
+    }
+    for h in &inv.hid {
+        s.push_str(&format!(
+            "  {:04x}:{:04x} {}  {}  {}\n",
+            h.vid,
+            h.pid,
+            h.product,
+            h.path,
+            fits(&h.fits)
+        ));
+    }
+    s.push_str("Profiles:\n");
+    for p in profiles {
+        let wants = match &p.input {
+            Input::Devices { .. } => {
+                let mut parts = Vec::new();
+                if let Some(g) = p.glove() {
+                    parts.push(match (g.port(), g.usb()) {
+                        (Some(port), _) => format!("{} on {port}", g.protocol()),
+                        (None, Some(u)) => format!(
+                            "{} on USB {:04x}:{}",
+                            g.protocol(),
+                            u.vid,
+                            u.pid.map_or("*".into(), |x| format!("{x:04x}"))
+                        ),
+                        (None, None) => g.protocol().to_string(),
+                    });
+                }
+                if let Some(t) = p.tracker() {
+                    parts.push(format!("{} on {}", t.protocol(), t.port()));
+                }
+                parts.join(" + ")
+            }
+            Input::Mouse(_) => "the mouse (in the window)".to_string(),
+            Input::Replay(r) => format!("replay of {}", r.trace),
+        };
+        s.push_str(&format!("  {:<24} {wants}\n", p.name));
+    }
+    s
+}

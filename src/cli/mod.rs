@@ -4,6 +4,8 @@ use clap::{Parser, Subcommand};
 
 pub mod bench;
 pub mod closest;
+pub mod devices;
+pub mod record;
 use std::process::ExitCode;
 
 /// nendo (粘土) — a clay-like modeller of exact Bezier surfaces and curves.
@@ -22,6 +24,10 @@ pub enum Command {
     Bench(bench::Args),
     /// Closest point, pick, probe sphere and ray queries on curves, as JSON Lines (`--batch`).
     Closest(closest::Args),
+    /// List serial ports and HID devices, and which device profile fits each.
+    Devices(devices::Args),
+    /// Record hand frames from the devices of a profile into a trace file.
+    Record(record::Args),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -34,5 +40,7 @@ pub fn run() -> ExitCode {
         }
         Some(Command::Bench(args)) => bench::run(args),
         Some(Command::Closest(args)) => closest::run(args),
+        Some(Command::Devices(args)) => devices::run(args),
+        Some(Command::Record(args)) => record::run(args),
     }
 }

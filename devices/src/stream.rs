@@ -19,7 +19,7 @@
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::mpsc::{Receiver, RecvTimeoutError, SyncSender, TrySendError, sync_channel};
+use std::sync::mpsc::{Receiver, SyncSender, TrySendError, sync_channel};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -491,7 +491,15 @@ impl HandStream {
                 }
                 worker.finished.store(true, Ordering::Relaxed);
             });
-        let threads = thread.into_iter().collect();
+        let threads = match thread {
+            Ok(t) => vec![t],
+            Err(e) => {
+                // No thread, no frames: say so rather than pretend to play.
+                shared.note_error(&DeviceError::Io { device: "replay thread".into(), source: e });
+                shared.finished.store(true, Ordering::Relaxed);
+                Vec::new()
+            }
+        };
         HandStream {
             rx,
             shared,
@@ -508,10 +516,7 @@ impl HandStream {
 
     /// The next frame, waiting at most `timeout`.
     pub fn next_timeout(&self, timeout: Duration) -> Option<HandFrame> {
-        match self.rx.recv_timeout(timeout) {
-            Ok(f) => Some(f),
-            Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => None,
-        }
+        self.rx.recv_timeout(timeout).ok()
     }
 
     /// Every frame waiting now (call once per UI frame).

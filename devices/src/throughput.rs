@@ -28,7 +28,7 @@ pub enum BenchProtocol {
     FiveDtGlove16,
     /// 5DT Data Glove Ultra USB HID reports (64 bytes).
     FiveDtUltraHid,
-    /// Fastrak ASCII, position + quaternion + CR LF (58 bytes).
+    /// Fastrak ASCII, position + quaternion + CR LF (54 bytes).
     FastrakAscii,
     /// Fastrak binary, position + quaternion + CR LF (33 bytes).
     FastrakBinary,
@@ -121,6 +121,7 @@ pub fn decode_stream(protocol: BenchProtocol, bytes: &[u8], chunk: usize) -> usi
         for piece in bytes.chunks(chunk.max(1)) {
             d.push(piece, &mut out);
             n += out.iter().filter(|r| counts(r)).count();
+            std::hint::black_box(&out);
             out.clear();
         }
         n
@@ -142,7 +143,8 @@ pub fn decode_stream(protocol: BenchProtocol, bytes: &[u8], chunk: usize) -> usi
         }
         BenchProtocol::FiveDtUltraHid => bytes
             .chunks(fivedt::ULTRA_REPORT_LEN)
-            .filter(|r| fivedt::decode_ultra_report(r, false).is_ok())
+            .filter_map(|r| fivedt::decode_ultra_report(r, false).ok())
+            .map(|values| std::hint::black_box(values))
             .count(),
         BenchProtocol::FastrakAscii => run(
             FastrakDecoder::new(FastrakFraming::position_quaternion(

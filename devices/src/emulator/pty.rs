@@ -284,7 +284,7 @@ fn run(mut model: impl DeviceModel, mut pty: Option<Pty>, link: &Path, control: 
             model.next_record(&mut record);
             streamed += 1;
             if let Some(n) = corrupt_every
-                && streamed % n == 0
+                && streamed.is_multiple_of(n)
                 && !record.is_empty()
             {
                 let i = (streamed as usize * 7) % record.len();

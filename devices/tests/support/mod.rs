@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use glam::{DMat3, DQuat, DVec3};
-use rand::{Rng, RngCore};
+use rand::Rng;
 
 use nendo_devices::cyberglove::{self, CyberGloveDecoder, CyberGloveFraming, SensorCount};
 use nendo_devices::decode::{DecodeStats, Framing, StreamDecoder};

@@ -495,7 +495,10 @@ impl HandStream {
             Ok(t) => vec![t],
             Err(e) => {
                 // No thread, no frames: say so rather than pretend to play.
-                shared.note_error(&DeviceError::Io { device: "replay thread".into(), source: e });
+                shared.note_error(&DeviceError::Io {
+                    device: "replay thread".into(),
+                    source: e,
+                });
                 shared.finished.store(true, Ordering::Relaxed);
                 Vec::new()
             }

@@ -143,8 +143,7 @@ pub fn decode_stream(protocol: BenchProtocol, bytes: &[u8], chunk: usize) -> usi
         }
         BenchProtocol::FiveDtUltraHid => bytes
             .chunks(fivedt::ULTRA_REPORT_LEN)
-            .filter_map(|r| fivedt::decode_ultra_report(r, false).ok())
-            .map(|values| std::hint::black_box(values))
+            .filter(|r| std::hint::black_box(fivedt::decode_ultra_report(r, false)).is_ok())
             .count(),
         BenchProtocol::FastrakAscii => run(
             FastrakDecoder::new(FastrakFraming::position_quaternion(

@@ -7,6 +7,8 @@
 
 use std::time::Instant;
 
+pub mod sculpt;
+
 /// Repeated timing of a closure, reporting the median of per-batch means.
 #[derive(Debug, Clone, Copy)]
 pub struct Stopwatch {

@@ -16,7 +16,10 @@ pub struct Args {
 
 /// The benchmark suites.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Suite {}
+pub enum Suite {
+    /// One push on planes and spheres of growing size: median time and the 40x40 / 10x10 ratio.
+    Sculpt,
+}
 
 /// Runs `nendo bench`.
 pub fn run(args: Args) -> ExitCode {
@@ -24,5 +27,10 @@ pub fn run(args: Args) -> ExitCode {
         eprintln!("nendo bench: --scale must be a positive number");
         return ExitCode::from(2);
     }
-    match args.suite {}
+    match args.suite {
+        Suite::Sculpt => {
+            print!("{}", crate::bench::sculpt::report(args.scale));
+            ExitCode::SUCCESS
+        }
+    }
 }

@@ -3,9 +3,11 @@
 use clap::{Parser, Subcommand};
 
 pub mod bench;
+pub mod check;
 pub mod closest;
 pub mod devices;
 pub mod record;
+pub mod sculpt;
 use std::process::ExitCode;
 
 /// nendo (粘土) — a clay-like modeller of exact Bezier surfaces and curves.
@@ -22,12 +24,16 @@ pub struct Cli {
 pub enum Command {
     /// Run a measurement suite and print its table.
     Bench(bench::Args),
+    /// Print a model's continuity report (G0 gap, G1 angles, pole spread) as JSON.
+    Check(check::Args),
     /// Closest point, pick, probe sphere and ray queries on curves, as JSON Lines (`--batch`).
     Closest(closest::Args),
     /// List serial ports and HID devices, and which device profile fits each.
     Devices(devices::Args),
     /// Record hand frames from the devices of a profile into a trace file.
     Record(record::Args),
+    /// Build a primitive or read a model, apply push / drag operations, write the model.
+    Sculpt(sculpt::Args),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -39,8 +45,10 @@ pub fn run() -> ExitCode {
             ExitCode::from(2)
         }
         Some(Command::Bench(args)) => bench::run(args),
+        Some(Command::Check(args)) => check::run(args),
         Some(Command::Closest(args)) => closest::run(args),
         Some(Command::Devices(args)) => devices::run(args),
         Some(Command::Record(args)) => record::run(args),
+        Some(Command::Sculpt(args)) => sculpt::run(args),
     }
 }

@@ -386,6 +386,42 @@ impl Grid {
         self.ratios_v[q]
     }
 
+    /// Every u grid line's reference spacing ratio (see [`Grid::ratio_u`]).
+    #[must_use]
+    pub fn ratios_u(&self) -> &[f64] {
+        &self.ratios_u
+    }
+
+    /// Every v grid line's reference spacing ratio (see [`Grid::ratio_v`]).
+    #[must_use]
+    pub fn ratios_v(&self) -> &[f64] {
+        &self.ratios_v
+    }
+
+    /// Replaces the reference spacing ratios (e.g. those saved with a model, so that
+    /// regulation after reading behaves exactly as before writing). Entries for lines that are
+    /// not shared are ignored and set to 1.
+    ///
+    /// # Errors
+    /// [`SurfaceError::WrongCount`] unless there is one ratio per grid line
+    /// ([`Grid::vertices_u`], [`Grid::vertices_v`]); [`SurfaceError::BadParameter`] for a ratio
+    /// that is not a positive finite number.
+    pub fn set_ratios(&mut self, u: &[f64], v: &[f64]) -> Result<(), SurfaceError> {
+        for (got, expected) in [(u.len(), self.vertices_u()), (v.len(), self.vertices_v())] {
+            if got != expected {
+                return Err(SurfaceError::WrongCount { what: "spacing ratios", expected, got });
+            }
+        }
+        if let Some(&bad) = u.iter().chain(v).find(|r| !(r.is_finite() && **r > 0.0)) {
+            return Err(SurfaceError::BadParameter { name: "spacing ratio", value: bad });
+        }
+        self.ratios_u =
+            (0..u.len()).map(|k| if self.u_line_shared(k) { u[k] } else { 1.0 }).collect();
+        self.ratios_v =
+            (0..v.len()).map(|q| if self.v_line_shared(q) { v[q] } else { 1.0 }).collect();
+        Ok(())
+    }
+
     /// True when u grid line `k` is shared by two patches (not an open boundary).
     #[must_use]
     pub fn u_line_shared(&self, k: usize) -> bool {

@@ -5,21 +5,35 @@
 //!   (plane, cylinder, hemisphere, sphere, torus); [`Patch`] evaluates one patch.
 //! - [`Primitive`]: the starting shapes ([`primitive`]).
 //! - [`Group`] / [`Pole`]: the connected control-point groups regulation works on ([`group`]).
+//! - [`Op`] (push / pull / drag) and its [`Finger`]: the shape functions ([`shape_fn`]).
+//! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]).
+//! - [`deform`] / [`Sculptor`]: finger → reachable patches → Bernstein inverse ([`inverse`])
+//!   → [`Regulation`] ([`regulate`]), returning what was [`Touched`].
 //!
 //! Geometry only: this module uses nothing but glam, std and [`crate::curve`].
 
 pub mod bounds;
+pub mod continuity;
+pub mod deform;
 pub mod error;
 pub mod grid;
 pub mod group;
+pub mod inverse;
 pub mod patch;
+pub mod plane_fit;
 pub mod primitive;
+pub mod regulate;
+pub mod shape_fn;
 pub mod topology;
 
 pub use bounds::Aabb;
+pub use continuity::{ContinuityReport, PoleReport};
+pub use deform::{Sculptor, Touched, deform};
 pub use error::SurfaceError;
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
 pub use patch::{Patch, PatchFrame, PatchPoints};
 pub use primitive::{Ideal, Primitive, PrimitiveParams};
+pub use regulate::Regulation;
+pub use shape_fn::{Finger, Op};
 pub use topology::Topology;

@@ -49,6 +49,17 @@ pub fn cubic_basis_derivative(t: f64) -> [f64; 4] {
     [-3.0 * s * s, 3.0 * s * s - 6.0 * t * s, 6.0 * t * s - 3.0 * t * t, 3.0 * t * t]
 }
 
+/// `Σ_k w_k x_k` for weights that sum to one (`partition`) or to zero, exact when the four
+/// points are equal (a collapsed row at a pole evaluates to the pole itself, and its
+/// derivative along the row to zero).
+#[inline]
+fn combine(x: [DVec3; 4], w: [f64; 4], partition: bool) -> DVec3 {
+    if x[0] == x[1] && x[1] == x[2] && x[2] == x[3] {
+        return if partition { x[0] } else { DVec3::ZERO };
+    }
+    x[0] * w[0] + x[1] * w[1] + x[2] * w[2] + x[3] * w[3]
+}
+
 impl Patch {
     /// A patch from its 16 control points.
     #[must_use]
@@ -72,15 +83,11 @@ impl Patch {
     pub fn eval(&self, u: f64, v: f64) -> DVec3 {
         let bu = cubic_basis(u);
         let bv = cubic_basis(v);
-        let mut s = DVec3::ZERO;
-        for i in 0..4 {
-            let mut row = DVec3::ZERO;
-            for j in 0..4 {
-                row += self.points[4 * i + j] * bv[j];
-            }
-            s += row * bu[i];
+        let mut rows = [DVec3::ZERO; 4];
+        for (i, r) in rows.iter_mut().enumerate() {
+            *r = combine(self.row(i), bv, true);
         }
-        s
+        combine(rows, bu, true)
     }
 
     /// The point, `S_u`, `S_v` and `S_uv` at `(u, v)`.
@@ -90,22 +97,23 @@ impl Patch {
         let bv = cubic_basis(v);
         let du = cubic_basis_derivative(u);
         let dv = cubic_basis_derivative(v);
-        let mut f =
-            PatchFrame { point: DVec3::ZERO, du: DVec3::ZERO, dv: DVec3::ZERO, duv: DVec3::ZERO };
+        let mut rows = [DVec3::ZERO; 4];
+        let mut rows_dv = [DVec3::ZERO; 4];
         for i in 0..4 {
-            let mut row = DVec3::ZERO;
-            let mut row_dv = DVec3::ZERO;
-            for j in 0..4 {
-                let p = self.points[4 * i + j];
-                row += p * bv[j];
-                row_dv += p * dv[j];
-            }
-            f.point += row * bu[i];
-            f.du += row * du[i];
-            f.dv += row_dv * bu[i];
-            f.duv += row_dv * du[i];
+            rows[i] = combine(self.row(i), bv, true);
+            rows_dv[i] = combine(self.row(i), dv, false);
         }
-        f
+        PatchFrame {
+            point: combine(rows, bu, true),
+            du: combine(rows, du, false),
+            dv: combine(rows_dv, bu, true),
+            duv: combine(rows_dv, du, false),
+        }
+    }
+
+    #[inline]
+    fn row(&self, i: usize) -> [DVec3; 4] {
+        [self.points[4 * i], self.points[4 * i + 1], self.points[4 * i + 2], self.points[4 * i + 3]]
     }
 
     /// The unit normal `unit(S_u × S_v)` at `(u, v)`, with the limit taken along collapsed
@@ -115,7 +123,7 @@ impl Patch {
     pub fn normal(&self, u: f64, v: f64) -> Option<DVec3> {
         let f = self.frame(u, v);
         let scale = self.size();
-        if !(scale > 0.0) {
+        if scale.is_nan() || scale <= 0.0 {
             return None;
         }
         let tiny = 1e-9 * scale;

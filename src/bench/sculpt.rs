@@ -1,0 +1,132 @@
+//! `nendo bench sculpt`: the cost of one push — samples, flows, Bernstein inverse and (per
+//! column) regulation — on grids of growing size with the same finger, so that the ratio
+//! 40 × 40 / 10 × 10 shows whether the cost follows the touched area (target ≤ 1.5) rather
+//! than the patch count.
+//!
+//! Set-up: planes of 10 × 10, 20 × 20 and 40 × 40 unit patches pushed at `(0.5, 0.5, 0)` along
+//! −z, and spheres of radius 3 with 8 × 4 and 32 × 16 patches pushed at latitude 30°, longitude
+//! 20° along the inward normal; finger radius 1.25 side, depth 0.5 side. Pushes alternate
+//! with pulls of the same depth so the surface stays bounded over the repetitions. Times are
+//! medians over batches ([`super::Stopwatch`]) of the mean time per operation.
+
+use glam::DVec3;
+use std::hint::black_box;
+
+use super::{Stopwatch, Table};
+use crate::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor};
+
+/// One benchmark case: a grid and the push applied to it.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// Row label.
+    pub name: String,
+    /// The starting grid.
+    pub grid: Grid,
+    /// The push (its pull twin is the same with the depth negated).
+    pub push: Op,
+}
+
+/// The cases of the suite (see the module docs).
+///
+/// # Panics
+/// Never for these fixed parameters (the primitives are valid).
+#[must_use]
+pub fn cases() -> Vec<Case> {
+    let mut out = Vec::new();
+    for m in [10, 20, 40] {
+        let grid = Primitive::Plane
+            .build(&PrimitiveParams { patches: Some((m, m)), ..PrimitiveParams::default() })
+            .unwrap_or_else(|e| panic!("plane {m}: {e}"));
+        let push =
+            Op::Push { at: DVec3::new(0.5, 0.5, 0.0), dir: -DVec3::Z, depth: 0.5, radius: 1.25 };
+        out.push(Case { name: format!("plane {m} x {m}"), grid, push });
+    }
+    let (lat, lon) = (30f64.to_radians(), 20f64.to_radians());
+    let at = DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()) * 3.0;
+    for (m, n) in [(8, 4), (32, 16)] {
+        let grid = Primitive::Sphere
+            .build(&PrimitiveParams {
+                patches: Some((m, n)),
+                radius: Some(3.0),
+                ..PrimitiveParams::default()
+            })
+            .unwrap_or_else(|e| panic!("sphere {m}: {e}"));
+        let push = Op::Push { at, dir: -at, depth: 0.5, radius: 1.25 };
+        out.push(Case { name: format!("sphere {m} x {n}"), grid, push });
+    }
+    out
+}
+
+/// The same operation with its depth negated.
+#[must_use]
+pub fn reversed(op: &Op) -> Op {
+    match op.clone() {
+        Op::Push { at, dir, depth, radius } => Op::Push { at, dir, depth: -depth, radius },
+        Op::Drag { path, dir, depth, radius } => Op::Drag { path, dir, depth: -depth, radius },
+    }
+}
+
+/// Median nanoseconds per operation of alternating push / pull on a copy of the case's grid,
+/// and the number of patches one push changes.
+#[must_use]
+pub fn time_push(case: &Case, regulation: Regulation, calls_per_batch: usize) -> (f64, usize) {
+    let mut grid = case.grid.clone();
+    let mut sculptor = Sculptor::new();
+    let pull = reversed(&case.push);
+    let touched = match sculptor.apply(&mut grid.clone(), &case.push, regulation) {
+        Ok(t) => t.patches.len(),
+        Err(_) => 0,
+    };
+    let ops = [case.push.clone(), pull];
+    let fingers: Vec<_> = ops.iter().filter_map(|o| o.finger().ok()).collect();
+    if fingers.len() != 2 {
+        return (f64::NAN, touched);
+    }
+    let watch = Stopwatch { batches: 21, calls_per_batch };
+    let ns = watch.median_ns(|k| {
+        black_box(sculptor.apply_finger(&mut grid, &fingers[k % 2], regulation));
+    });
+    (ns, touched)
+}
+
+/// The suite's table; `scale` scales the repetitions.
+#[must_use]
+pub fn report(scale: f64) -> String {
+    let calls = ((400.0 * scale).round() as usize).max(2) & !1;
+    let methods = Regulation::ALL;
+    let mut header = vec!["case".to_string(), "patches".into(), "touched".into()];
+    for r in methods {
+        header.push(format!("{r} (µs)"));
+    }
+    let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
+    let mut t = Table::new(&header_refs);
+    let mut medians: Vec<Vec<f64>> = Vec::new();
+    for case in cases() {
+        let mut row = vec![case.name.clone(), case.grid.patch_count().to_string()];
+        let mut times = Vec::new();
+        let mut touched = 0;
+        for r in methods {
+            let (ns, tp) = time_push(&case, r, calls);
+            if r == Regulation::None {
+                touched = tp;
+            }
+            times.push(ns);
+        }
+        row.push(touched.to_string());
+        row.extend(times.iter().map(|ns| format!("{:.2}", ns / 1e3)));
+        t.row(row);
+        medians.push(times);
+    }
+    let mut ratio = vec!["ratio 40x40 / 10x10".to_string(), String::new(), String::new()];
+    ratio.extend((0..methods.len()).map(|k| format!("{:.2}", medians[2][k] / medians[0][k])));
+    t.row(ratio);
+    let mut ratio = vec!["ratio sphere 32x16 / 8x4".to_string(), String::new(), String::new()];
+    ratio.extend((0..methods.len()).map(|k| format!("{:.2}", medians[4][k] / medians[3][k])));
+    t.row(ratio);
+    format!(
+        "One push (and its pull twin), finger r_f = 1.25 side, depth 0.5 side; median time per \
+         operation, by regulation method.\nTargets: plane 10x10 without regulation <= 10 µs, with \
+         regulation <= 20 µs; ratio 40x40 / 10x10 <= 1.5.\n{}",
+        t.render()
+    )
+}

@@ -1,0 +1,159 @@
+//! `nendo sculpt` and `nendo check` end to end.
+
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn nendo() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_nendo"))
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("nendo-cli-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn check(path: &PathBuf) -> Value {
+    let out = nendo().arg("check").arg(path).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn sculpt_replays_operations_and_check_reports_on_the_result() {
+    let dir = temp_dir("sculpt");
+    let ops = dir.join("ops.jsonl");
+    std::fs::write(
+        &ops,
+        "{\"op\":\"push\",\"at\":[0.5,0.5,0],\"dir\":[0,0,-1],\"depth\":0.5,\"radius\":1.25}\n\n\
+         {\"op\":\"drag\",\"path\":[[-3,-3,0],[-1,-3,0]],\"dir\":[0,0,-1],\"depth\":-0.2,\"radius\":0.8}\n",
+    )
+    .unwrap();
+    let out_path = dir.join("out.json");
+    let out = nendo()
+        .args([
+            "sculpt",
+            "--primitive",
+            "plane",
+            "--patches",
+            "10x10",
+            "--regulation",
+            "none",
+            "--ops",
+        ])
+        .arg(&ops)
+        .arg("--out")
+        .arg(&out_path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("2 operations"));
+    let model: Value = serde_json::from_str(&std::fs::read_to_string(&out_path).unwrap()).unwrap();
+    assert_eq!(model["surface"]["topology"], "plane");
+    assert_eq!(model["surface"]["patches"].as_array().unwrap().len(), 100);
+    let r = check(&out_path);
+    assert_eq!(r["patches"], 100);
+    assert_eq!(r["shared_edges"], 180);
+    assert_eq!(r["g0_gap"], 0.0);
+    assert!(r["g1_max_deg"].as_f64().unwrap() > 1.0, "the inverse alone creases the dent: {r}");
+    assert_eq!(r["poles"].as_array().unwrap().len(), 0);
+
+    // Continue from the model.
+    let again = dir.join("again.json");
+    let out = nendo()
+        .args(["sculpt", "--model"])
+        .arg(&out_path)
+        .arg("--ops")
+        .arg(&ops)
+        .arg("--out")
+        .arg(&again)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_bad_operation_line_is_reported_by_number_and_nothing_is_written() {
+    let dir = temp_dir("badop");
+    let ops = dir.join("ops.jsonl");
+    std::fs::write(
+        &ops,
+        "{\"op\":\"push\",\"at\":[0,0,3],\"dir\":[0,0,-1],\"depth\":0.5,\"radius\":1.25}\n\
+         {\"op\":\"push\",\"at\":[0,0,3],\"dir\":[0,0,-1],\"depth\":0.5,\"radius\":1.25}\n\
+         {\"op\":\"push\",\"at\":[0,0,3],\"dir\":[0,0,-1],\"depth\":0.5}\n",
+    )
+    .unwrap();
+    let out_path = dir.join("out.json");
+    let out = nendo()
+        .args(["sculpt", "--primitive", "sphere", "--ops"])
+        .arg(&ops)
+        .arg("--out")
+        .arg(&out_path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("line 3") && err.contains("radius") && err.contains("nothing written"),
+        "{err}"
+    );
+    assert!(!out_path.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn primitives_from_the_command_line_are_checked() {
+    let dir = temp_dir("prims");
+    for (args, topology, poles) in [
+        (vec!["--primitive", "sphere"], "sphere", 2),
+        (vec!["--primitive", "tube"], "hemisphere", 1),
+        (
+            vec![
+                "--primitive",
+                "torus",
+                "--radius",
+                "4",
+                "--minor-radius",
+                "1.5",
+                "--patches",
+                "12x6",
+            ],
+            "torus",
+            0,
+        ),
+        (vec!["--primitive", "cylinder", "--radius", "2", "--height", "5"], "cylinder", 0),
+    ] {
+        let out_path = dir.join(format!("{topology}.json"));
+        let out = nendo().arg("sculpt").args(&args).arg("--out").arg(&out_path).output().unwrap();
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        let r = check(&out_path);
+        assert_eq!(r["topology"], topology);
+        assert_eq!(r["poles"].as_array().unwrap().len(), poles);
+        assert!(r["g1_max_deg"].as_f64().unwrap() < 1e-9, "{r}");
+        for p in r["poles"].as_array().unwrap() {
+            assert!(p["spread_deg"].as_f64().unwrap() < 1e-9, "{r}");
+        }
+    }
+    // Odd counts around a closed direction are refused with a clear message.
+    let out = nendo()
+        .args(["sculpt", "--primitive", "sphere", "--patches", "7x4", "--out"])
+        .arg(dir.join("x.json"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("even"));
+    // A broken model file is refused by check.
+    let bad = dir.join("bad.json");
+    std::fs::write(
+        &bad,
+        "{\"format\":\"nendo-model\",\"version\":1,\"surface\":{\"topology\":\"plane\"}}",
+    )
+    .unwrap();
+    let out = nendo().arg("check").arg(&bad).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("patches_u"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,6 +1,88 @@
-//! The modeller window: winit + egui over the wgpu renderer.
+//! The modeller window: winit + egui over the wgpu renderer, modelling with the mouse alone
+//! (and, through `nendo-devices`, a glove and tracker).
+//!
+//! ## Controls
+//!
+//! | input | does |
+//! |---|---|
+//! | left button | the active tool (see [`tools`]): push / pull (drag sets the depth, click uses the panel's), draw a line, grab / split / tangent-edit curves |
+//! | right drag | orbit |
+//! | middle drag, Shift + right drag | pan |
+//! | wheel | zoom; while a tool is pressed: the depth (push, line) or the grab depth (curves) |
+//! | Ctrl+Z / Ctrl+Shift+Z (Ctrl+Y) | undo / redo |
+//! | Ctrl+S / Ctrl+O | save / open |
+//! | F | frame the model |
+//!
+//! Input egui takes (a panel, a text field, a dialog) never reaches the tools.
+//!
+//! ## Parts
+//!
+//! | module | what it is |
+//! |---|---|
+//! | [`camera`] | the orbit camera and the named views |
+//! | [`scene`] | the document turned into what the renderer draws |
+//! | [`document`], [`history`] | the model being edited, undo / redo |
+//! | [`autosave`] | autosave and crash recovery |
+//! | [`tools`], [`curve_edit`] | the mouse tools and the curve edits they make |
+//! | [`modeller`], `panels` | the modeller's state, input handling and egui panels |
+//! | [`file_dialog`] | the egui file dialog |
+//! | [`live`] | the device loop on its own thread |
+//! | [`window`] | winit, the surface, egui and the renderer together |
 
+pub mod autosave;
 pub mod camera;
+pub mod curve_edit;
+pub mod document;
+pub mod file_dialog;
+pub mod history;
+pub mod live;
+pub mod modeller;
+mod panels;
 pub mod scene;
+pub mod tools;
+pub mod window;
 
 pub use camera::{OrbitCamera, ViewPreset};
+pub use document::Document;
+pub use modeller::Modeller;
+pub use window::WindowApp;
+
+use std::path::PathBuf;
+
+use crate::model::Model;
+use crate::surface::{Primitive, PrimitiveParams};
+
+/// How the window starts.
+#[derive(Debug, Clone, Default)]
+pub struct WindowOptions {
+    /// A model file to open; without one, the paper's 10 × 10 plane.
+    pub model: Option<PathBuf>,
+    /// The autosave file; `None` for the default (see [`autosave`]).
+    pub autosave: Option<PathBuf>,
+    /// Do not autosave at all.
+    pub no_autosave: bool,
+    /// Do not offer to recover an earlier autosave (it is left in place until overwritten).
+    pub no_recover: bool,
+}
+
+/// Opens the modeller window and runs it until it closes.
+///
+/// # Errors
+/// When the model cannot be read, or no window or GPU can be had.
+pub fn run(options: WindowOptions) -> anyhow::Result<()> {
+    let doc = match &options.model {
+        Some(path) => {
+            Document::open(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+        }
+        None => Document::new(Model::new(
+            Primitive::Plane.build(&PrimitiveParams::default())?,
+        )),
+    };
+    let autosave = if options.no_autosave {
+        None
+    } else {
+        options.autosave.clone().or_else(autosave::default_path)
+    };
+    let modeller = Modeller::new(doc, autosave, !options.no_recover);
+    WindowApp::new(modeller).run()
+}

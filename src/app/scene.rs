@@ -5,7 +5,10 @@
 use glam::{DVec3, Vec3};
 use std::time::Instant;
 
+use crate::curve::json::DynCurve;
+use crate::curve::{Curve, Point};
 use crate::mesh::{PatchPoints, Tessellation, TriMesh, seam_angles_deg, seam_bands, tessellate};
+use crate::model::Model;
 use crate::render::{LineBatch, Rgba};
 
 /// What to draw besides the clay.
@@ -118,4 +121,65 @@ pub fn scene_bounds(mesh: &TriMesh, extra: &[DVec3]) -> Option<(Vec3, Vec3)> {
     let mut all = mesh.positions.iter().copied().chain(extra);
     let first = all.next()?;
     Some(all.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+}
+
+/// Adds the lines of a model: patch boundaries, the control net, and the curves with their
+/// control polygons, as `overlays` asks.
+pub fn model_lines(
+    model: &Model,
+    patches: &[PatchPoints],
+    display: &SurfaceDisplay,
+    overlays: &Overlays,
+    lines: &mut LineBatch,
+) {
+    if overlays.patch_edges {
+        display.patch_edges(lines);
+    }
+    if overlays.control_net {
+        control_net(patches, lines);
+    }
+    for c in &model.curves {
+        let samples = curve_samples(c, 24);
+        let control = curve_control_points(c);
+        curve(
+            &samples,
+            overlays.control_polygons.then_some(control.as_slice()),
+            false,
+            lines,
+        );
+    }
+}
+
+/// Points along a curve, `per_segment` per Bezier segment (2D curves in the plane z = 0).
+#[must_use]
+pub fn curve_samples(c: &DynCurve, per_segment: usize) -> Vec<DVec3> {
+    fn samples<P: Point>(
+        c: &Curve<P>,
+        per_segment: usize,
+        lift: impl Fn(P) -> DVec3,
+    ) -> Vec<DVec3> {
+        let per_segment = per_segment.max(1);
+        let segments = c.segments();
+        let mut out = Vec::with_capacity(segments.len() * per_segment + 1);
+        for (k, seg) in segments.iter().enumerate() {
+            let first = if k == 0 { 0 } else { 1 };
+            for i in first..=per_segment {
+                out.push(lift(seg.bezier.eval(i as f64 / per_segment as f64)));
+            }
+        }
+        out
+    }
+    match c {
+        DynCurve::D2(c) => samples(c, per_segment, |p| p.extend(0.0)),
+        DynCurve::D3(c) => samples(c, per_segment, |p| p),
+    }
+}
+
+/// The control points of a curve (2D curves in the plane z = 0).
+#[must_use]
+pub fn curve_control_points(c: &DynCurve) -> Vec<DVec3> {
+    match c {
+        DynCurve::D2(c) => c.points().iter().map(|p| p.extend(0.0)).collect(),
+        DynCurve::D3(c) => c.points().to_vec(),
+    }
 }

@@ -7,6 +7,7 @@
 
 use std::time::Instant;
 
+pub mod render;
 pub mod sculpt;
 
 /// Repeated timing of a closure, reporting the median of per-batch means.

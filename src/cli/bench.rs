@@ -19,6 +19,8 @@ pub struct Args {
 pub enum Suite {
     /// One push on planes and spheres of growing size: median time and the 40x40 / 10x10 ratio.
     Sculpt,
+    /// Tessellation of 100 / 1 600 sculpted patches and headless 1280x720 frames.
+    Render,
 }
 
 /// Runs `nendo bench`.
@@ -30,6 +32,10 @@ pub fn run(args: Args) -> ExitCode {
     match args.suite {
         Suite::Sculpt => {
             print!("{}", crate::bench::sculpt::report(args.scale));
+            ExitCode::SUCCESS
+        }
+        Suite::Render => {
+            print!("{}", crate::bench::render::report(args.scale));
             ExitCode::SUCCESS
         }
     }

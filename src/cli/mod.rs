@@ -6,17 +6,24 @@ pub mod bench;
 pub mod check;
 pub mod closest;
 pub mod devices;
+pub mod export;
 pub mod record;
+#[cfg(feature = "gui")]
+pub mod render;
 pub mod sculpt;
+pub mod window;
 use std::process::ExitCode;
 
 /// nendo (粘土) — a clay-like modeller of exact Bezier surfaces and curves.
 #[derive(Debug, Parser)]
-#[command(name = "nendo", version, about, long_about = None)]
+#[command(name = "nendo", version, about, long_about = None, args_conflicts_with_subcommands = true)]
 pub struct Cli {
     /// The subcommand; without one, the modeller window opens.
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// The window's options (without a subcommand).
+    #[command(flatten)]
+    pub window: window::Args,
 }
 
 /// Every subcommand of the `nendo` binary.
@@ -30,8 +37,13 @@ pub enum Command {
     Closest(closest::Args),
     /// List serial ports and HID devices, and which device profile fits each.
     Devices(devices::Args),
+    /// Write a model's surface as a mesh (OBJ with normals, binary STL, GLB) within a tolerance.
+    Export(export::Args),
     /// Record hand frames from the devices of a profile into a trace file.
     Record(record::Args),
+    /// Draw a model to a PNG with the window's renderer, offscreen.
+    #[cfg(feature = "gui")]
+    Render(render::Args),
     /// Build a primitive or read a model, apply push / drag operations, write the model.
     Sculpt(sculpt::Args),
 }
@@ -40,15 +52,15 @@ pub enum Command {
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        None => {
-            eprintln!("nendo: no subcommand given; see `nendo --help`");
-            ExitCode::from(2)
-        }
+        None => window::run(cli.window),
         Some(Command::Bench(args)) => bench::run(args),
         Some(Command::Check(args)) => check::run(args),
         Some(Command::Closest(args)) => closest::run(args),
         Some(Command::Devices(args)) => devices::run(args),
+        Some(Command::Export(args)) => export::run(args),
         Some(Command::Record(args)) => record::run(args),
+        #[cfg(feature = "gui")]
+        Some(Command::Render(args)) => render::run(args),
         Some(Command::Sculpt(args)) => sculpt::run(args),
     }
 }

@@ -48,12 +48,13 @@ pub struct Tessellation {
 }
 
 impl Tessellation {
-    /// What the modeller draws: 1/500 side, at least 4 segments per patch edge so that shading
-    /// and the seam heat map stay smooth on flat patches.
+    /// What the modeller draws: 1/100 side — about a pixel when ten sides fill a 1280-pixel
+    /// view — with at least 4 segments per patch edge so that shading and the seam heat map
+    /// stay smooth on flat patches.
     pub const DISPLAY: Self = Self {
-        tolerance: 2e-3,
+        tolerance: 1e-2,
         min_segments: 4,
-        max_segments: 48,
+        max_segments: 32,
     };
 
     /// The default for exported meshes: 1/1000 side, as few triangles as the tolerance allows.
@@ -439,7 +440,12 @@ fn push_patch(mesh: &mut TriMesh, p: &PatchPoints, block: &PatchBlock) {
     let [e_v0, e_v1, e_u0, e_u1] = edges(p).map(|(e, _)| canonical(&e));
     let on_edge = |(edge, reversed): &([DVec3; 4], bool), k: u32, m: u32| -> DVec3 {
         let k = if *reversed { m - k } else { k };
-        bernstein::eval(edge, f64::from(k) / f64::from(m))
+        // The ends are the corner control points themselves: `a + (b − a)·1` need not be `b`.
+        match k {
+            0 => edge[0],
+            k if k == m => edge[3],
+            k => bernstein::eval(edge, f64::from(k) / f64::from(m)),
+        }
     };
     let bv: Vec<([f64; 4], [f64; 4])> = (0..=m_v)
         .map(|l| cubic_basis(f64::from(l) / f64::from(m_v)))

@@ -39,7 +39,7 @@ impl GrowBuffer {
             }));
         }
         if let Some(buffer) = &self.buffer {
-            if bytes.len() % 4 == 0 {
+            if bytes.len().is_multiple_of(4) {
                 queue.write_buffer(buffer, 0, bytes);
             } else {
                 let mut padded = bytes.to_vec();

@@ -1,0 +1,366 @@
+//! The live device loop: a glove + tracker stream (or a recorded trace played back) read on
+//! its own thread, so that a slow window frame never drops a device sample.
+//!
+//! `nendo_devices::HandStream` decodes each device on background threads into a bounded
+//! channel; the loop here drains that channel continuously into an unbounded inbox (and, when
+//! recording, into a trace file), and the window takes everything in the inbox once per frame.
+//! However long a frame takes, every sample is kept, in order.
+//!
+//! Turning frames into a hand and the hand's contact into operations is the `hand` part of the
+//! library; until it exists, the window shows the stream's status and rate and the tracked
+//! hand position, and sculpts with the mouse only.
+
+use glam::{DQuat, DVec3};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use nendo_devices::discover::{Inventory, inventory};
+use nendo_devices::{
+    HandFrame, HandStream, Profile, SourceState, StreamOptions, Trace, TraceHeader, TraceWriter,
+    profile,
+};
+
+use super::tools::ToolSettings;
+use crate::render::{LineBatch, Rgba, SphereInstance};
+use crate::surface::{Grid, Op};
+
+/// What the loop thread shares with the window.
+#[derive(Debug, Default)]
+struct Shared {
+    inbox: Mutex<Vec<HandFrame>>,
+    stop: AtomicBool,
+    frames: AtomicU64,
+    status: Mutex<LoopStatus>,
+}
+
+#[derive(Debug, Clone, Default)]
+struct LoopStatus {
+    tracker: SourceState,
+    glove: SourceState,
+    last_error: Option<String>,
+    finished: bool,
+    recorded: Option<Result<u64, String>>,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// A running device session.
+#[derive(Debug)]
+struct Session {
+    describe: String,
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
+    world_from_tracker: nendo_devices::WorldFromTracker,
+    started: Instant,
+}
+
+impl Session {
+    /// Starts the loop on `stream`; with `record`, every frame also goes to a trace file whose
+    /// header names `profile`.
+    fn start(
+        stream: HandStream,
+        world_from_tracker: nendo_devices::WorldFromTracker,
+        record: Option<(PathBuf, &Profile)>,
+    ) -> Result<Session, String> {
+        let describe = stream.describe();
+        let shared = Arc::new(Shared::default());
+        let mut writer = match record {
+            Some((path, profile)) => {
+                let header = TraceHeader {
+                    profile: Some(profile.name.clone()),
+                    world_from_tracker: profile.world_from_tracker,
+                    hand: profile.hand,
+                    joints: stream.joints().to_vec(),
+                };
+                Some(TraceWriter::create(&path, header).map_err(|e| e.to_string())?)
+            }
+            None => None,
+        };
+        let worker = Arc::clone(&shared);
+        let thread = std::thread::Builder::new()
+            .name("nendo live input".into())
+            .spawn(move || {
+                while !worker.stop.load(Ordering::Relaxed) {
+                    let mut batch = Vec::new();
+                    if let Some(first) = stream.next_timeout(Duration::from_millis(20)) {
+                        batch.push(first);
+                        batch.extend(stream.drain());
+                    }
+                    if let Some(w) = &mut writer {
+                        for f in &batch {
+                            if let Err(e) = w.push(f) {
+                                lock(&worker.status).last_error = Some(format!("recording: {e}"));
+                            }
+                        }
+                    }
+                    worker
+                        .frames
+                        .fetch_add(batch.len() as u64, Ordering::Relaxed);
+                    lock(&worker.inbox).extend(batch);
+                    let (tracker, glove) = stream.states();
+                    let mut status = lock(&worker.status);
+                    status.tracker = tracker;
+                    status.glove = glove;
+                    if let Some(e) = stream.last_error() {
+                        status.last_error = Some(e);
+                    }
+                    if stream.finished() {
+                        status.finished = true;
+                        break;
+                    }
+                }
+                let recorded = writer.map(|w| w.finish().map_err(|e| e.to_string()));
+                lock(&worker.status).recorded = recorded;
+                stream.close();
+            })
+            .map_err(|e| format!("cannot start the input thread: {e}"))?;
+        Ok(Session {
+            describe,
+            shared,
+            thread: Some(thread),
+            world_from_tracker,
+            started: Instant::now(),
+        })
+    }
+
+    fn stop(&mut self) {
+        self.shared.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Session {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+/// The device panel's state and the live session.
+#[derive(Debug, Default)]
+pub struct LiveInput {
+    profiles: Vec<Profile>,
+    selected: usize,
+    inventory: Option<Inventory>,
+    session: Option<Session>,
+    record_to: String,
+    /// The latest frame, for display.
+    last: Option<HandFrame>,
+    /// Frames taken by the window, and when counting started.
+    rate: (u64, Option<Instant>, f64),
+    message: Option<String>,
+    /// A trace file to replay, chosen in the panel.
+    pub(super) trace_path: String,
+}
+
+impl LiveInput {
+    /// True while a session runs.
+    #[must_use]
+    pub fn is_connected(&self) -> bool {
+        self.session.is_some()
+    }
+
+    /// Stops the session, if any.
+    pub fn disconnect(&mut self) {
+        if let Some(mut s) = self.session.take() {
+            s.stop();
+            if let Some(Some(r)) = Some(lock(&s.shared.status).recorded.clone()) {
+                self.message = Some(match r {
+                    Ok(n) => format!("trace recorded: {n} frames"),
+                    Err(e) => format!("trace recording failed: {e}"),
+                });
+            }
+        }
+    }
+
+    fn record_path(&self) -> Option<PathBuf> {
+        let t = self.record_to.trim();
+        (!t.is_empty()).then(|| PathBuf::from(t))
+    }
+
+    /// Opens the devices of the selected profile.
+    fn connect(&mut self) {
+        let Some(profile) = self.profiles.get(self.selected).cloned() else {
+            return;
+        };
+        self.disconnect();
+        match HandStream::open(&profile, &StreamOptions::default()) {
+            Ok(stream) => match Session::start(
+                stream,
+                profile.world_from_tracker,
+                self.record_path().map(|p| (p, &profile)),
+            ) {
+                Ok(s) => {
+                    self.session = Some(s);
+                    self.message = None;
+                }
+                Err(e) => self.message = Some(e),
+            },
+            Err(e) => self.message = Some(e.to_string()),
+        }
+        self.rate = (0, Some(Instant::now()), 0.0);
+    }
+
+    /// Plays a recorded trace as if it came from the devices.
+    fn replay(&mut self, path: &Path) {
+        self.disconnect();
+        match Trace::read(path) {
+            Ok(trace) => {
+                let world = trace.header.world_from_tracker;
+                let stream = HandStream::replay(trace, 1.0, false, 1024);
+                match Session::start(stream, world, None) {
+                    Ok(s) => self.session = Some(s),
+                    Err(e) => self.message = Some(e),
+                }
+            }
+            Err(e) => self.message = Some(format!("{}: {e}", path.display())),
+        }
+        self.rate = (0, Some(Instant::now()), 0.0);
+    }
+
+    /// Takes every frame the loop received since the last call. Returns the operations they
+    /// produce (none until the hand model exists; see the module docs).
+    pub fn poll(&mut self, _surface: &Grid, _settings: &ToolSettings) -> Vec<Op> {
+        let Some(session) = &self.session else {
+            return Vec::new();
+        };
+        let frames = std::mem::take(&mut *lock(&session.shared.inbox));
+        if let Some(last) = frames.last() {
+            self.last = Some(*last);
+        }
+        let (count, since, _) = &mut self.rate;
+        *count += frames.len() as u64;
+        if let Some(t) = since {
+            let secs = t.elapsed().as_secs_f64();
+            if secs >= 1.0 {
+                self.rate = (0, Some(Instant::now()), *count as f64 / secs);
+            }
+        }
+        if lock(&session.shared.status).finished {
+            self.message = Some("the stream ended".into());
+            self.disconnect();
+        }
+        Vec::new()
+    }
+
+    /// Draws the tracked hand: the sensor's position and its axes (+X along the middle
+    /// finger, +Z out of the back of the hand), in the profile's world frame.
+    pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
+        let (Some(session), Some(frame)) = (&self.session, &self.last) else {
+            return;
+        };
+        let Some(pose) = frame.pose else { return };
+        let (position, orientation): (DVec3, DQuat) = session.world_from_tracker.apply(&pose);
+        spheres.push(SphereInstance {
+            center: position.as_vec3().to_array(),
+            radius: 0.25,
+            colour: [0.9, 0.9, 0.92, 1.0],
+        });
+        for (axis, colour) in [(DVec3::X, Rgba::HAND), (DVec3::Z, Rgba::HIGHLIGHT)] {
+            let end = position + orientation * axis;
+            lines.segment(position.as_vec3(), end.as_vec3(), colour);
+        }
+    }
+
+    /// The device panel.
+    pub fn ui(&mut self, ui: &mut egui::Ui) {
+        if self.profiles.is_empty() {
+            self.profiles = profile::builtin();
+        }
+        let names: Vec<String> = self.profiles.iter().map(|p| p.name.clone()).collect();
+        egui::ComboBox::from_label("profile")
+            .selected_text(names.get(self.selected).cloned().unwrap_or_default())
+            .show_ui(ui, |ui| {
+                for (i, name) in names.iter().enumerate() {
+                    ui.selectable_value(&mut self.selected, i, name);
+                }
+            });
+        if let Some(p) = self.profiles.get(self.selected) {
+            ui.small(&p.description);
+        }
+        ui.horizontal(|ui| {
+            ui.label("record trace to");
+            ui.text_edit_singleline(&mut self.record_to);
+        });
+        ui.horizontal(|ui| {
+            if self.session.is_none() {
+                if ui.button("Connect").clicked() {
+                    self.connect();
+                }
+            } else if ui.button("Disconnect").clicked() {
+                self.disconnect();
+            }
+            if ui.button("List ports").clicked() {
+                self.inventory = Some(inventory(&self.profiles));
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("trace");
+            ui.text_edit_singleline(&mut self.trace_path);
+            if ui.button("Replay").clicked() && !self.trace_path.trim().is_empty() {
+                let path = PathBuf::from(self.trace_path.trim());
+                self.replay(&path);
+            }
+        });
+        if let Some(inv) = &self.inventory {
+            egui::CollapsingHeader::new(format!(
+                "ports ({} serial, {} HID)",
+                inv.serial.len(),
+                inv.hid.len()
+            ))
+            .default_open(true)
+            .show(ui, |ui| {
+                for s in &inv.serial {
+                    ui.small(format!("{}  {}", s.path, s.fits.join(", ")));
+                }
+                if let Some(e) = &inv.serial_error {
+                    ui.small(format!("serial: {e}"));
+                }
+                for h in &inv.hid {
+                    ui.small(format!(
+                        "{:04x}:{:04x} {}  {}",
+                        h.vid,
+                        h.pid,
+                        h.product,
+                        h.fits.join(", ")
+                    ));
+                }
+                if let Some(e) = &inv.hid_error {
+                    ui.small(format!("HID: {e}"));
+                }
+            });
+        }
+        match &self.session {
+            Some(s) => {
+                let status = lock(&s.shared.status).clone();
+                ui.label(format!(
+                    "{} — {:.0} s",
+                    s.describe,
+                    s.started.elapsed().as_secs_f64()
+                ));
+                ui.label(format!(
+                    "tracker {:?}, glove {:?}; {} frames, {:.1} frames/s",
+                    status.tracker,
+                    status.glove,
+                    s.shared.frames.load(Ordering::Relaxed),
+                    self.rate.2
+                ));
+                if let Some(e) = status.last_error {
+                    ui.colored_label(egui::Color32::from_rgb(230, 90, 70), e);
+                }
+            }
+            None => {
+                ui.label("not connected");
+            }
+        }
+        if let Some(m) = &self.message {
+            ui.small(m);
+        }
+    }
+}

@@ -1,0 +1,684 @@
+//! The mouse tools: what a left-button gesture in the viewport does.
+//!
+//! | tool | gesture |
+//! |---|---|
+//! | push / pull | press on the surface; drag to set the depth (the drag length at the surface's distance), or click for the panel's depth; the wheel adds depth while pressed; release applies |
+//! | draw a line | press on the surface and drag along it; release presses the finger along the stroke |
+//! | grab curve | press near a curve (ray closest point) and drag: the grabbed point follows the cursor at its depth; the wheel moves it nearer / farther; the probe sphere shows the reach |
+//! | split curve | click on a curve: it splits there |
+//! | tangent | drag a control point next to a joint of two curves: the other side follows, collinear |
+//!
+//! Tools read the surface, the curves and the camera through a [`ToolContext`] and answer with
+//! [`Edit`]s for the document; they draw their previews into the scene.
+
+use glam::{DVec3, Vec2};
+
+use super::camera::OrbitCamera;
+use super::curve_edit::{Grab, Joint, joint_points, joints, split, tangent_edit};
+use crate::curve::Curve;
+use crate::mesh::{PatchPoints, Ray, SurfaceHit, TriMesh, pick};
+use crate::render::{LineBatch, Rgba, SphereInstance, ToolFootprint};
+use crate::surface::Op;
+
+/// The tools.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Tool {
+    /// Press a dent.
+    Push,
+    /// Pull a bump.
+    Pull,
+    /// Draw a groove (or a ridge) along a stroke.
+    DrawLine,
+    /// Grab a curve anywhere and move it.
+    GrabCurve,
+    /// Split a curve where clicked.
+    SplitCurve,
+    /// Edit the tangent at a joint of two curves.
+    Tangent,
+}
+
+impl Tool {
+    /// Every tool, in panel order.
+    pub const ALL: [Tool; 6] = [
+        Tool::Push,
+        Tool::Pull,
+        Tool::DrawLine,
+        Tool::GrabCurve,
+        Tool::SplitCurve,
+        Tool::Tangent,
+    ];
+
+    /// The tool's name in the panel.
+    #[must_use]
+    pub fn label(self) -> &'static str {
+        match self {
+            Tool::Push => "Push",
+            Tool::Pull => "Pull",
+            Tool::DrawLine => "Draw a line",
+            Tool::GrabCurve => "Grab curve",
+            Tool::SplitCurve => "Split curve",
+            Tool::Tangent => "Tangent",
+        }
+    }
+
+    /// True for the tools that sculpt the surface.
+    #[must_use]
+    pub fn sculpts(self) -> bool {
+        matches!(self, Tool::Push | Tool::Pull | Tool::DrawLine)
+    }
+}
+
+/// The finger and probe sizes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ToolSettings {
+    /// Finger radius `r_f` (side).
+    pub radius: f64,
+    /// Depth of a click (push / pull) and of a stroke (side).
+    pub depth: f64,
+    /// Draw ridges instead of grooves.
+    pub ridge: bool,
+    /// Radius of the probe sphere (side).
+    pub probe_radius: f64,
+}
+
+impl Default for ToolSettings {
+    fn default() -> Self {
+        // The paper's deviation experiment uses r_f = 1.25 side.
+        Self {
+            radius: 1.25,
+            depth: 0.3,
+            ridge: false,
+            probe_radius: 0.35,
+        }
+    }
+}
+
+/// What the document should do.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Edit {
+    /// Apply a sculpting operation.
+    Sculpt(Op),
+    /// Record the model for undo before the curve edits that follow.
+    BeginCurveEdit(&'static str),
+    /// Replace the model's curve `index` by `with` (two curves: a split).
+    ReplaceCurve {
+        /// Index in the model's curves.
+        index: usize,
+        /// The new curve(s).
+        with: Vec<Curve<DVec3>>,
+    },
+}
+
+/// What the tools may look at.
+#[derive(Debug, Clone, Copy)]
+pub struct ToolContext<'a> {
+    /// The camera.
+    pub camera: &'a OrbitCamera,
+    /// Viewport size in pixels.
+    pub viewport: Vec2,
+    /// The surface's patches.
+    pub patches: &'a [PatchPoints],
+    /// Their tessellation (for picking).
+    pub mesh: &'a TriMesh,
+    /// The model's 3D curves with their indices in the model.
+    pub curves: &'a [(usize, &'a Curve<DVec3>)],
+}
+
+impl ToolContext<'_> {
+    fn ray(&self, pixel: Vec2) -> Ray {
+        self.camera.ray(pixel, self.viewport)
+    }
+
+    fn pick_surface(&self, pixel: Vec2) -> Option<SurfaceHit> {
+        pick(self.patches, self.mesh, &self.ray(pixel))
+    }
+
+    /// World units per pixel at distance `t` from the eye.
+    fn units_per_pixel_at(&self, t: f64) -> f64 {
+        2.0 * t * f64::from((0.5 * self.camera.fov_y).tan()) / f64::from(self.viewport.y.max(1.0))
+    }
+
+    /// The nearest curve to the ray through `pixel`, within `PICK_PIXELS` on screen:
+    /// `(position in `curves`, u, point, ray parameter)`.
+    fn pick_curve(&self, pixel: Vec2) -> Option<(usize, f64, DVec3, f64)> {
+        let ray = self.ray(pixel);
+        let mut best: Option<(f64, (usize, f64, DVec3, f64))> = None;
+        for (slot, (_, curve)) in self.curves.iter().enumerate() {
+            let Some(near) = curve.ray_closest(ray.origin, ray.direction) else {
+                continue;
+            };
+            let score = near.distance / self.units_per_pixel_at(near.ray_t.max(1e-6));
+            if score <= PICK_PIXELS && best.is_none_or(|(s, _)| score < s) {
+                best = Some((score, (slot, near.u, near.point, near.ray_t)));
+            }
+        }
+        best.map(|(_, b)| b)
+    }
+
+    /// Projects a world point to viewport pixels (`None` behind the camera).
+    fn project(&self, p: DVec3) -> Option<Vec2> {
+        let view = self.camera.view(self.viewport.x / self.viewport.y.max(1.0));
+        let clip = view.clip_from_world * p.as_vec3().extend(1.0);
+        (clip.w > 0.0).then(|| {
+            let ndc = clip.truncate() / clip.w;
+            Vec2::new(
+                (ndc.x + 1.0) * 0.5 * self.viewport.x,
+                (1.0 - ndc.y) * 0.5 * self.viewport.y,
+            )
+        })
+    }
+
+    /// The joint handle nearest to `pixel` within `PICK_PIXELS`: `(joint, left side)`, with
+    /// joints indexed in `curves`.
+    fn pick_handle(&self, pixel: Vec2) -> Option<(Joint, bool)> {
+        let curves: Vec<Curve<DVec3>> = self.curves.iter().map(|(_, c)| (*c).clone()).collect();
+        let mut best: Option<(f32, (Joint, bool))> = None;
+        for joint in joints(&curves) {
+            let Some((ql, _, qr)) = joint_points(&curves, joint) else {
+                continue;
+            };
+            for (p, left) in [(ql, true), (qr, false)] {
+                let Some(s) = self.project(p) else { continue };
+                let d = s.distance(pixel);
+                if d <= PICK_PIXELS as f32 && best.is_none_or(|(b, _)| d < b) {
+                    best = Some((d, (joint, left)));
+                }
+            }
+        }
+        best.map(|(_, b)| b)
+    }
+}
+
+/// How close (in pixels) the cursor must be to a curve or a handle to pick it.
+pub const PICK_PIXELS: f64 = 10.0;
+
+/// A drag shorter than this (pixels) is a click.
+const CLICK_PIXELS: f32 = 4.0;
+
+/// The gesture in progress.
+#[derive(Debug, Clone, PartialEq, Default)]
+enum Gesture {
+    /// Nothing pressed.
+    #[default]
+    Idle,
+    /// Push or pull: pressed on the surface at `hit`.
+    Press {
+        hit: SurfaceHit,
+        facing: DVec3,
+        start: Vec2,
+        cursor: Vec2,
+        wheel_depth: f64,
+    },
+    /// Draw a line: the stroke so far.
+    Stroke {
+        path: Vec<DVec3>,
+        facing: DVec3,
+        wheel_depth: f64,
+    },
+    /// A curve grabbed: its index in the model, the grab, the depth along the view ray.
+    Grab {
+        index: usize,
+        grab: Grab<DVec3>,
+        ray_t: f64,
+        cursor: Vec2,
+    },
+    /// A joint handle dragged: model indices of the two curves.
+    Tangent {
+        left_index: usize,
+        right_index: usize,
+        left_side: bool,
+        ray_t: f64,
+        pair: [Curve<DVec3>; 2],
+    },
+}
+
+/// What is under the cursor while nothing is pressed.
+#[derive(Debug, Clone, PartialEq, Default)]
+struct Hover {
+    surface: Option<SurfaceHit>,
+    /// `(model index, u, point)` of the curve under the cursor.
+    curve: Option<(usize, f64, DVec3)>,
+}
+
+/// The active tool and its gesture.
+#[derive(Debug, Clone, Default)]
+pub struct ToolState {
+    gesture: Gesture,
+    hover: Hover,
+}
+
+impl ToolState {
+    /// True while a gesture is in progress (the tool then owns the wheel).
+    #[must_use]
+    pub fn busy(&self) -> bool {
+        self.gesture != Gesture::Idle
+    }
+
+    /// Forgets the gesture and the hover (tool change, model change).
+    pub fn cancel(&mut self) {
+        self.gesture = Gesture::Idle;
+        self.hover = Hover::default();
+    }
+
+    /// The cursor moved to `pixel` with nothing pressed.
+    pub fn hover(&mut self, tool: Tool, ctx: &ToolContext<'_>, pixel: Vec2) {
+        self.hover = Hover::default();
+        if tool.sculpts() {
+            self.hover.surface = ctx.pick_surface(pixel);
+        } else if let Some((slot, u, point, _)) = ctx.pick_curve(pixel) {
+            self.hover.curve = Some((ctx.curves[slot].0, u, point));
+        }
+    }
+
+    /// The left button went down at `pixel`.
+    pub fn press(&mut self, tool: Tool, ctx: &ToolContext<'_>, pixel: Vec2) -> Vec<Edit> {
+        self.gesture = Gesture::Idle;
+        match tool {
+            Tool::Push | Tool::Pull | Tool::DrawLine => {
+                let Some(hit) = ctx.pick_surface(pixel) else {
+                    return Vec::new();
+                };
+                let facing = facing_normal(&hit, ctx);
+                self.gesture = if tool == Tool::DrawLine {
+                    Gesture::Stroke {
+                        path: vec![hit.point],
+                        facing,
+                        wheel_depth: 0.0,
+                    }
+                } else {
+                    Gesture::Press {
+                        hit,
+                        facing,
+                        start: pixel,
+                        cursor: pixel,
+                        wheel_depth: 0.0,
+                    }
+                };
+                Vec::new()
+            }
+            Tool::GrabCurve => {
+                let Some((slot, u, _, ray_t)) = ctx.pick_curve(pixel) else {
+                    return Vec::new();
+                };
+                let (index, curve) = ctx.curves[slot];
+                self.gesture = Gesture::Grab {
+                    index,
+                    grab: Grab::new(curve, u),
+                    ray_t,
+                    cursor: pixel,
+                };
+                vec![Edit::BeginCurveEdit("grab curve")]
+            }
+            Tool::SplitCurve => {
+                let Some((slot, u, _, _)) = ctx.pick_curve(pixel) else {
+                    return Vec::new();
+                };
+                let (index, curve) = ctx.curves[slot];
+                match split(curve, u) {
+                    Ok((a, b)) => vec![
+                        Edit::BeginCurveEdit("split curve"),
+                        Edit::ReplaceCurve {
+                            index,
+                            with: vec![a, b],
+                        },
+                    ],
+                    Err(_) => Vec::new(),
+                }
+            }
+            Tool::Tangent => {
+                let Some((joint, left_side)) = ctx.pick_handle(pixel) else {
+                    return Vec::new();
+                };
+                let (left_index, left) = ctx.curves[joint.left];
+                let (right_index, right) = ctx.curves[joint.right];
+                let Some((ql, _, qr)) =
+                    joint_points(&[left.clone(), right.clone()], Joint { left: 0, right: 1 })
+                else {
+                    return Vec::new();
+                };
+                let handle = if left_side { ql } else { qr };
+                let ray_t = (handle - ctx.camera.eye().as_dvec3()).length();
+                self.gesture = Gesture::Tangent {
+                    left_index,
+                    right_index,
+                    left_side,
+                    ray_t,
+                    pair: [left.clone(), right.clone()],
+                };
+                vec![Edit::BeginCurveEdit("tangent")]
+            }
+        }
+    }
+
+    /// The cursor moved to `pixel` with the left button down.
+    pub fn drag(
+        &mut self,
+        ctx: &ToolContext<'_>,
+        settings: &ToolSettings,
+        pixel: Vec2,
+    ) -> Vec<Edit> {
+        match &mut self.gesture {
+            Gesture::Idle => Vec::new(),
+            Gesture::Press { cursor, .. } => {
+                *cursor = pixel;
+                Vec::new()
+            }
+            Gesture::Stroke { path, .. } => {
+                if let Some(hit) = ctx.pick_surface(pixel) {
+                    let last = path.last().copied().unwrap_or(hit.point);
+                    if (hit.point - last).length() >= 0.2 * settings.radius {
+                        path.push(hit.point);
+                    }
+                }
+                Vec::new()
+            }
+            Gesture::Grab {
+                index,
+                grab,
+                ray_t,
+                cursor,
+            } => {
+                *cursor = pixel;
+                let target = ctx.ray(pixel).at(*ray_t);
+                match grab.moved_to(target) {
+                    Ok(curve) => vec![Edit::ReplaceCurve {
+                        index: *index,
+                        with: vec![curve],
+                    }],
+                    Err(_) => Vec::new(),
+                }
+            }
+            Gesture::Tangent {
+                left_index,
+                right_index,
+                left_side,
+                ray_t,
+                pair,
+            } => {
+                let target = ctx.ray(pixel).at(*ray_t);
+                match tangent_edit(pair, Joint { left: 0, right: 1 }, *left_side, target) {
+                    Ok((l, r)) => {
+                        *pair = [l.clone(), r.clone()];
+                        vec![
+                            Edit::ReplaceCurve {
+                                index: *left_index,
+                                with: vec![l],
+                            },
+                            Edit::ReplaceCurve {
+                                index: *right_index,
+                                with: vec![r],
+                            },
+                        ]
+                    }
+                    Err(_) => Vec::new(),
+                }
+            }
+        }
+    }
+
+    /// The left button went up at `pixel`.
+    pub fn release(
+        &mut self,
+        tool: Tool,
+        ctx: &ToolContext<'_>,
+        settings: &ToolSettings,
+        pixel: Vec2,
+    ) -> Vec<Edit> {
+        let edits = match std::mem::take(&mut self.gesture) {
+            Gesture::Press {
+                hit,
+                facing,
+                start,
+                wheel_depth,
+                ..
+            } => {
+                let depth = press_depth(ctx, settings, &hit, start, pixel) + wheel_depth;
+                let sign = if tool == Tool::Pull { -1.0 } else { 1.0 };
+                vec![Edit::Sculpt(Op::Push {
+                    at: hit.point,
+                    dir: -facing,
+                    depth: sign * depth,
+                    radius: settings.radius,
+                })]
+            }
+            Gesture::Stroke {
+                path,
+                facing,
+                wheel_depth,
+            } if path.len() >= 2 => {
+                let depth = settings.depth + wheel_depth;
+                let sign = if settings.ridge { -1.0 } else { 1.0 };
+                vec![Edit::Sculpt(Op::Drag {
+                    path,
+                    dir: -facing,
+                    depth: sign * depth,
+                    radius: settings.radius,
+                })]
+            }
+            _ => Vec::new(),
+        };
+        self.hover(tool, ctx, pixel);
+        edits
+    }
+
+    /// Wheel notches (positive: away from the user) during a gesture; false when no gesture
+    /// takes the wheel (the camera zooms then).
+    pub fn wheel(&mut self, settings: &ToolSettings, steps: f32) -> bool {
+        match &mut self.gesture {
+            Gesture::Press { wheel_depth, .. } | Gesture::Stroke { wheel_depth, .. } => {
+                *wheel_depth =
+                    (*wheel_depth + 0.05 * settings.radius * f64::from(steps)).max(-settings.depth);
+                true
+            }
+            Gesture::Grab { ray_t, .. } | Gesture::Tangent { ray_t, .. } => {
+                *ray_t *= (-0.04 * f64::from(steps)).exp();
+                true
+            }
+            Gesture::Idle => false,
+        }
+    }
+
+    /// For a grab in progress, the edit that moves the curve after a wheel step.
+    pub fn regrab(&mut self, ctx: &ToolContext<'_>) -> Vec<Edit> {
+        match &self.gesture {
+            Gesture::Grab { cursor, .. } => {
+                let cursor = *cursor;
+                self.drag(ctx, &ToolSettings::default(), cursor)
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// The footprint to draw on the surface, if the tool shows one now.
+    #[must_use]
+    pub fn footprint(
+        &self,
+        tool: Tool,
+        ctx: &ToolContext<'_>,
+        settings: &ToolSettings,
+    ) -> Option<ToolFootprint> {
+        let (point, facing) = match &self.gesture {
+            Gesture::Press { hit, facing, .. } => (hit.point, *facing),
+            Gesture::Stroke { path, facing, .. } => (*path.last()?, *facing),
+            Gesture::Idle if tool.sculpts() => {
+                let hit = self.hover.surface?;
+                (hit.point, facing_normal(&hit, ctx))
+            }
+            _ => return None,
+        };
+        Some(ToolFootprint {
+            center: point.as_vec3(),
+            axis: facing.as_vec3(),
+            radius: settings.radius as f32,
+        })
+    }
+
+    /// Adds the gesture's preview: the finger's travel, the stroke, the probe sphere, handles.
+    pub fn preview(
+        &self,
+        tool: Tool,
+        ctx: &ToolContext<'_>,
+        settings: &ToolSettings,
+        lines: &mut LineBatch,
+        spheres: &mut Vec<SphereInstance>,
+    ) {
+        let marker = |p: DVec3, r: f64, colour: [f32; 4]| SphereInstance {
+            center: p.as_vec3().to_array(),
+            radius: r as f32,
+            colour,
+        };
+        match &self.gesture {
+            Gesture::Press {
+                hit,
+                facing,
+                start,
+                cursor,
+                wheel_depth,
+            } => {
+                let depth = press_depth(ctx, settings, hit, *start, *cursor) + wheel_depth;
+                let sign = if tool == Tool::Pull { -1.0 } else { 1.0 };
+                let tip = hit.point - *facing * (sign * depth);
+                lines.segment(hit.point.as_vec3(), tip.as_vec3(), Rgba::HIGHLIGHT);
+                spheres.push(marker(tip, 0.06 * settings.radius, [0.95, 0.3, 0.1, 1.0]));
+            }
+            Gesture::Stroke { path, .. } => {
+                lines.polyline(path.iter().map(|p| p.as_vec3()), Rgba::HIGHLIGHT);
+            }
+            Gesture::Grab {
+                grab,
+                ray_t,
+                cursor,
+                ..
+            } => {
+                let at = ctx.ray(*cursor).at(*ray_t);
+                spheres.push(marker(at, settings.probe_radius, [0.35, 0.6, 1.0, 0.3]));
+                let _ = grab;
+            }
+            Gesture::Tangent { pair, .. } => {
+                if let Some((ql, q, qr)) = joint_points(pair, Joint { left: 0, right: 1 }) {
+                    lines.polyline([ql, q, qr].map(|p| p.as_vec3()), Rgba::HIGHLIGHT);
+                }
+            }
+            Gesture::Idle => {
+                if let Some((index, _, point)) = self.hover.curve {
+                    if matches!(tool, Tool::GrabCurve) {
+                        spheres.push(marker(point, settings.probe_radius, [0.35, 0.6, 1.0, 0.3]));
+                        // The parts of the curve inside the probe sphere.
+                        if let Some((_, curve)) = ctx.curves.iter().find(|(i, _)| *i == index) {
+                            for (a, b) in curve.sphere_intervals(point, settings.probe_radius) {
+                                let samples = (0..=16)
+                                    .map(|k| curve.eval(a + (b - a) * k as f64 / 16.0).as_vec3());
+                                lines.polyline(samples, Rgba::HIGHLIGHT);
+                            }
+                        }
+                    } else {
+                        spheres.push(marker(point, 0.08, [0.95, 0.3, 0.1, 1.0]));
+                    }
+                }
+            }
+        }
+        if tool == Tool::Tangent {
+            let curves: Vec<Curve<DVec3>> = ctx.curves.iter().map(|(_, c)| (*c).clone()).collect();
+            for joint in joints(&curves) {
+                if let Some((ql, q, qr)) = joint_points(&curves, joint) {
+                    for p in [ql, qr] {
+                        spheres.push(marker(p, 0.07, [0.2, 0.5, 1.0, 1.0]));
+                    }
+                    spheres.push(marker(q, 0.09, [0.95, 0.75, 0.1, 1.0]));
+                }
+            }
+        }
+    }
+}
+
+/// The surface normal at a hit, turned towards the viewer.
+fn facing_normal(hit: &SurfaceHit, ctx: &ToolContext<'_>) -> DVec3 {
+    let to_eye = ctx.camera.eye().as_dvec3() - hit.point;
+    if hit.normal.dot(to_eye) >= 0.0 {
+        hit.normal
+    } else {
+        -hit.normal
+    }
+}
+
+/// Depth of a push: the drag length at the hit's distance, or the panel's depth for a click.
+fn press_depth(
+    ctx: &ToolContext<'_>,
+    settings: &ToolSettings,
+    hit: &SurfaceHit,
+    start: Vec2,
+    cursor: Vec2,
+) -> f64 {
+    let drag = start.distance(cursor);
+    if drag < CLICK_PIXELS {
+        settings.depth
+    } else {
+        f64::from(drag) * ctx.units_per_pixel_at(hit.t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::camera::ViewPreset;
+    use crate::mesh::{Tessellation, tessellate};
+    use crate::surface::{Primitive, PrimitiveParams};
+
+    #[test]
+    fn a_click_on_the_plane_pushes_it_away_from_the_viewer() {
+        let patches = Primitive::Plane
+            .build(&PrimitiveParams::default())
+            .expect("plane")
+            .patches();
+        let mesh = tessellate(&patches, &Tessellation::DISPLAY);
+        let viewport = Vec2::new(800.0, 600.0);
+        let camera =
+            OrbitCamera::framing(ViewPreset::Iso, &mesh.positions, viewport.x / viewport.y);
+        let ctx = ToolContext {
+            camera: &camera,
+            viewport,
+            patches: &patches,
+            mesh: &mesh,
+            curves: &[],
+        };
+        let settings = ToolSettings::default();
+        let mut state = ToolState::default();
+        let centre = viewport / 2.0;
+        assert!(state.press(Tool::Push, &ctx, centre).is_empty());
+        let edits = state.release(Tool::Push, &ctx, &settings, centre);
+        let [
+            Edit::Sculpt(Op::Push {
+                at,
+                dir,
+                depth,
+                radius,
+            }),
+        ] = edits.as_slice()
+        else {
+            panic!("one push expected, got {edits:?}");
+        };
+        assert!(at.z.abs() < 1e-9 && *depth == settings.depth && *radius == settings.radius);
+        assert!(
+            dir.dot(DVec3::Z) < -0.999,
+            "into the plane, away from a viewer above: {dir}"
+        );
+        // A drag sets the depth from its length; pull reverses it.
+        state.press(Tool::Pull, &ctx, centre);
+        let edits = state.release(Tool::Pull, &ctx, &settings, centre + Vec2::new(0.0, 80.0));
+        let [Edit::Sculpt(Op::Push { depth, .. })] = edits.as_slice() else {
+            panic!("{edits:?}")
+        };
+        assert!(*depth < -0.1, "{depth}");
+        // Outside the surface nothing happens.
+        assert!(
+            state
+                .press(Tool::Push, &ctx, Vec2::new(2.0, 2.0))
+                .is_empty()
+        );
+        assert!(
+            state
+                .release(Tool::Push, &ctx, &settings, Vec2::new(2.0, 2.0))
+                .is_empty()
+        );
+    }
+}

@@ -1,0 +1,434 @@
+//! The winit window: owns the surface, the GPU and the egui integration, feeds input to the
+//! [`Modeller`] and draws its scene and panels.
+//!
+//! Each frame: egui runs the panels (which leave a rectangle for the 3D view), the modeller
+//! brings its tessellation up to date and builds lines and spheres, the renderer draws the scene
+//! into that rectangle (multisampled, through an sRGB view of the swapchain texture), and egui
+//! draws on top. Pointer input reaches the modeller only when egui did not consume it — except
+//! the moves and the release of a gesture the viewport started, so a drag never sticks.
+
+use anyhow::{Context as _, anyhow};
+use glam::Vec2;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use winit::application::ApplicationHandler;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::window::{Window, WindowId};
+
+use super::modeller::{Button, Modeller, PointerInput};
+use crate::render::{FrameTargets, GpuContext, LineBatch, Renderer, SphereInstance};
+
+/// Samples per pixel of the 3D view on a GPU. On a software adapter (Mesa's lavapipe or
+/// llvmpipe) multisampling costs about three times the frame (`nendo bench render`), so the
+/// view is drawn with one sample there.
+const SAMPLES: u32 = 4;
+
+/// Samples per pixel for an adapter.
+fn samples_for(adapter: &wgpu::Adapter) -> u32 {
+    if adapter.get_info().device_type == wgpu::DeviceType::Cpu {
+        1
+    } else {
+        SAMPLES
+    }
+}
+
+/// Everything that needs the window to exist.
+struct Gfx {
+    window: Arc<Window>,
+    surface: wgpu::Surface<'static>,
+    gpu: GpuContext,
+    config: wgpu::SurfaceConfiguration,
+    /// The sRGB view format the scene is drawn through (the surface's own format is what egui
+    /// expects).
+    scene_format: wgpu::TextureFormat,
+    renderer: Renderer,
+    targets: FrameTargets,
+    /// Samples per pixel of the 3D view.
+    samples: u32,
+    egui_state: egui_winit::State,
+    egui_renderer: egui_wgpu::Renderer,
+    lines: LineBatch,
+    spheres: Vec<SphereInstance>,
+    uploaded_surface: Option<u64>,
+    /// The 3D view in physical pixels: origin and size.
+    viewport: (Vec2, Vec2),
+    /// The cursor in window pixels.
+    cursor: Vec2,
+    /// The window title last set.
+    title: String,
+}
+
+/// The window application.
+pub struct WindowApp {
+    modeller: Modeller,
+    gfx: Option<Gfx>,
+    egui_ctx: egui::Context,
+    error: Option<anyhow::Error>,
+    next_redraw: Option<Instant>,
+}
+
+impl WindowApp {
+    /// A window for `modeller`.
+    #[must_use]
+    pub fn new(modeller: Modeller) -> Self {
+        Self {
+            modeller,
+            gfx: None,
+            egui_ctx: egui::Context::default(),
+            error: None,
+            next_redraw: None,
+        }
+    }
+
+    /// Opens the window and runs until it closes.
+    ///
+    /// # Errors
+    /// When no window or GPU can be had, or the event loop fails.
+    pub fn run(mut self) -> anyhow::Result<()> {
+        let event_loop = EventLoop::new().context("cannot open a window (is DISPLAY set?)")?;
+        event_loop.set_control_flow(ControlFlow::Wait);
+        event_loop
+            .run_app(&mut self)
+            .context("the window's event loop failed")?;
+        match self.error {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    fn create_gfx(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<Gfx> {
+        let attributes = Window::default_attributes()
+            .with_title(self.modeller.title())
+            .with_inner_size(winit::dpi::LogicalSize::new(1280.0, 800.0));
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .context("cannot create the window")?,
+        );
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
+                Box::new(event_loop.owned_display_handle()),
+            ));
+        let surface = instance
+            .create_surface(Arc::clone(&window))
+            .context("cannot create a drawing surface")?;
+        let gpu = GpuContext::with_instance(instance, Some(&surface))?;
+        let size = window.inner_size();
+        let mut config = surface
+            .get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1))
+            .ok_or_else(|| anyhow!("the GPU adapter cannot draw into this window"))?;
+        let caps = surface.get_capabilities(&gpu.adapter);
+        config.format =
+            egui_wgpu::preferred_framebuffer_format(&caps.formats).unwrap_or(config.format);
+        let scene_format = config.format.add_srgb_suffix();
+        if scene_format != config.format {
+            config.view_formats = vec![scene_format];
+        }
+        config.present_mode = wgpu::PresentMode::AutoVsync;
+        surface.configure(&gpu.device, &config);
+
+        let samples = samples_for(&gpu.adapter);
+        let renderer = Renderer::new(&gpu.device, scene_format, samples);
+        let targets = FrameTargets::new(
+            &gpu.device,
+            scene_format,
+            [config.width, config.height],
+            samples,
+        );
+        let egui_state = egui_winit::State::new(
+            self.egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            window.theme(),
+            Some(gpu.device.limits().max_texture_dimension_2d as usize),
+        );
+        let egui_renderer = egui_wgpu::Renderer::new(
+            &gpu.device,
+            config.format,
+            egui_wgpu::RendererOptions::default(),
+        );
+        eprintln!(
+            "nendo: drawing with {}, {samples} sample(s) per pixel",
+            gpu.describe()
+        );
+        Ok(Gfx {
+            window,
+            surface,
+            gpu,
+            config,
+            scene_format,
+            renderer,
+            targets,
+            samples,
+            egui_state,
+            egui_renderer,
+            lines: LineBatch::new(),
+            spheres: Vec::new(),
+            uploaded_surface: None,
+            viewport: (Vec2::ZERO, Vec2::ONE),
+            cursor: Vec2::ZERO,
+            title: String::new(),
+        })
+    }
+
+    fn resize(gfx: &mut Gfx, width: u32, height: u32) {
+        if width == 0 || height == 0 {
+            return;
+        }
+        gfx.config.width = width;
+        gfx.config.height = height;
+        gfx.surface.configure(&gfx.gpu.device, &gfx.config);
+        gfx.targets = FrameTargets::new(
+            &gfx.gpu.device,
+            gfx.scene_format,
+            [width, height],
+            gfx.samples,
+        );
+    }
+
+    /// Runs one frame: UI, scene, drawing. Returns how long egui wants to wait before the next.
+    fn redraw(&mut self) -> Option<Duration> {
+        let gfx = self.gfx.as_mut()?;
+        let start = Instant::now();
+        self.modeller.tick(start);
+
+        let raw = gfx.egui_state.take_egui_input(&gfx.window);
+        let mut view_rect = egui::Rect::NOTHING;
+        let modeller = &mut self.modeller;
+        let full = self.egui_ctx.run_ui(raw, |ui| view_rect = modeller.ui(ui));
+        gfx.egui_state
+            .handle_platform_output(&gfx.window, full.platform_output);
+        let ppp = full.pixels_per_point;
+        let (width, height) = (gfx.config.width as f32, gfx.config.height as f32);
+        let min = Vec2::new(view_rect.min.x * ppp, view_rect.min.y * ppp)
+            .clamp(Vec2::ZERO, Vec2::new(width, height));
+        let max = Vec2::new(view_rect.max.x * ppp, view_rect.max.y * ppp)
+            .clamp(min, Vec2::new(width, height));
+        let size = (max - min).max(Vec2::ONE);
+        gfx.viewport = (min, size);
+        self.modeller.set_viewport(size);
+        self.modeller.refresh();
+        let title = self.modeller.title();
+        if title != gfx.title {
+            gfx.window.set_title(&title);
+            gfx.title = title;
+        }
+
+        let device = &gfx.gpu.device;
+        let queue = &gfx.gpu.queue;
+        if gfx.uploaded_surface != self.modeller.surface_revision() {
+            let display = self.modeller.surface();
+            gfx.renderer
+                .set_surface(device, queue, &display.mesh, &display.seam_heat);
+            gfx.uploaded_surface = self.modeller.surface_revision();
+        }
+        let style = self.modeller.scene(&mut gfx.lines, &mut gfx.spheres);
+        gfx.renderer.set_lines(device, queue, &gfx.lines);
+        gfx.renderer.set_spheres(device, queue, &gfx.spheres);
+        let view = self.modeller.camera().view(size.x / size.y);
+        gfx.renderer.prepare(queue, &view, &style, size.to_array());
+
+        let frame = match gfx.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                gfx.surface.configure(device, &gfx.config);
+                apply_textures(&mut gfx.egui_renderer, device, queue, &full.textures_delta);
+                return Some(Duration::ZERO);
+            }
+            _ => {
+                apply_textures(&mut gfx.egui_renderer, device, queue, &full.textures_delta);
+                return Some(Duration::from_millis(16));
+            }
+        };
+        let scene_view = frame.texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(gfx.scene_format),
+            ..Default::default()
+        });
+        let ui_view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("nendo frame"),
+        });
+        {
+            let mut pass = gfx.targets.begin_pass(&mut encoder, &scene_view);
+            pass.set_viewport(min.x, min.y, size.x, size.y, 0.0, 1.0);
+            gfx.renderer.draw(&mut pass);
+        }
+
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [gfx.config.width, gfx.config.height],
+            pixels_per_point: ppp,
+        };
+        let primitives = self.egui_ctx.tessellate(full.shapes, ppp);
+        for (id, deltas) in &full.textures_delta.set {
+            for delta in deltas {
+                gfx.egui_renderer.update_texture(device, queue, *id, delta);
+            }
+        }
+        let extra =
+            gfx.egui_renderer
+                .update_buffers(device, queue, &mut encoder, &primitives, &screen);
+        {
+            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("nendo ui"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &ui_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            gfx.egui_renderer
+                .render(&mut pass.forget_lifetime(), &primitives, &screen);
+        }
+        for id in &full.textures_delta.free {
+            gfx.egui_renderer.free_texture(id);
+        }
+        queue.submit(extra.into_iter().chain([encoder.finish()]));
+        gfx.window.pre_present_notify();
+        queue.present(frame);
+        self.modeller
+            .record_frame_time(start.elapsed().as_secs_f64() * 1e3);
+
+        let delay = full
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .map_or(Duration::MAX, |v| v.repaint_delay);
+        Some(if self.modeller.animating() {
+            delay.min(Duration::from_millis(16))
+        } else {
+            delay
+        })
+    }
+
+    fn pointer(&mut self, input: PointerInput) {
+        self.modeller.pointer(input);
+        if let Some(gfx) = &self.gfx {
+            gfx.window.request_redraw();
+        }
+    }
+}
+
+/// Applies egui's texture changes (and frees) when a frame is skipped, so none is lost.
+fn apply_textures(
+    renderer: &mut egui_wgpu::Renderer,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    delta: &egui::TexturesDelta,
+) {
+    for (id, deltas) in &delta.set {
+        for d in deltas {
+            renderer.update_texture(device, queue, *id, d);
+        }
+    }
+    for id in &delta.free {
+        renderer.free_texture(id);
+    }
+}
+
+impl ApplicationHandler for WindowApp {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_some() {
+            return;
+        }
+        match self.create_gfx(event_loop) {
+            Ok(gfx) => {
+                gfx.window.request_redraw();
+                self.gfx = Some(gfx);
+            }
+            Err(e) => {
+                self.error = Some(e);
+                event_loop.exit();
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(gfx) = self.gfx.as_mut() else { return };
+        let response = gfx.egui_state.on_window_event(&gfx.window, &event);
+        // egui-winit asks for a repaint on every RedrawRequested; following it would redraw
+        // forever. Redraws are scheduled from egui's repaint delay instead (see `redraw`).
+        if response.repaint && !matches!(event, WindowEvent::RedrawRequested) {
+            gfx.window.request_redraw();
+        }
+        let owns = self.modeller.owns_pointer();
+        let (origin, _) = gfx.viewport;
+        match event {
+            WindowEvent::CloseRequested => {
+                self.modeller.request_close();
+                gfx.window.request_redraw();
+            }
+            WindowEvent::Resized(size) => {
+                Self::resize(gfx, size.width, size.height);
+                gfx.window.request_redraw();
+            }
+            WindowEvent::RedrawRequested => {
+                let delay = self.redraw();
+                self.next_redraw = delay.and_then(|d| Instant::now().checked_add(d));
+            }
+            WindowEvent::ModifiersChanged(m) => self.modeller.shift = m.state().shift_key(),
+            WindowEvent::CursorMoved { position, .. } => {
+                gfx.cursor = Vec2::new(position.x as f32, position.y as f32);
+                if !response.consumed || owns {
+                    let p = gfx.cursor - origin;
+                    self.pointer(PointerInput::Moved(p));
+                }
+            }
+            WindowEvent::CursorLeft { .. } => self.pointer(PointerInput::Left),
+            WindowEvent::MouseInput { state, button, .. } => {
+                let button = match button {
+                    MouseButton::Left => Button::Left,
+                    MouseButton::Right => Button::Right,
+                    MouseButton::Middle => Button::Middle,
+                    _ => return,
+                };
+                let p = gfx.cursor - origin;
+                match state {
+                    ElementState::Pressed if !response.consumed => {
+                        self.pointer(PointerInput::Pressed(button, p))
+                    }
+                    ElementState::Released if owns || !response.consumed => {
+                        self.pointer(PointerInput::Released(button, p))
+                    }
+                    _ => {}
+                }
+            }
+            WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                self.pointer(PointerInput::Wheel(steps));
+            }
+            _ => {}
+        }
+        if self.modeller.wants_to_quit() {
+            self.modeller.on_exit();
+            event_loop.exit();
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(gfx) = &self.gfx else { return };
+        match self.next_redraw {
+            Some(t) if t <= Instant::now() => {
+                self.next_redraw = None;
+                gfx.window.request_redraw();
+                event_loop.set_control_flow(ControlFlow::Wait);
+            }
+            Some(t) => event_loop.set_control_flow(ControlFlow::WaitUntil(t)),
+            None => event_loop.set_control_flow(ControlFlow::Wait),
+        }
+    }
+}

@@ -1,0 +1,67 @@
+//! `nendo export MODEL.json OUT.(obj|stl|glb) [--tolerance T]`: the model's surface as a mesh,
+//! tessellated by the library's own mesher within the tolerance.
+
+use clap::Args as ClapArgs;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use crate::mesh::{MeshFormat, Tessellation, save_mesh, tessellate};
+use crate::model::Model;
+
+/// Arguments of `nendo export`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct Args {
+    /// The model (nendo-model JSON).
+    pub model: PathBuf,
+    /// The mesh file; its extension (.obj, .stl, .glb) chooses the format.
+    pub out: PathBuf,
+    /// Largest distance between the mesh and the surface, in model units (sides).
+    #[arg(long, default_value_t = Tessellation::EXPORT.tolerance)]
+    pub tolerance: f64,
+}
+
+/// Runs `nendo export`.
+pub fn run(args: Args) -> ExitCode {
+    if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
+        eprintln!("nendo export: --tolerance must be a positive number");
+        return ExitCode::from(2);
+    }
+    let format = match MeshFormat::from_path(&args.out) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("nendo export: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let loaded = match Model::read(&args.model) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("nendo export: {}: {e}", args.model.display());
+            return ExitCode::FAILURE;
+        }
+    };
+    let patches = loaded.model.surface.patches();
+    let settings = Tessellation::with_tolerance(args.tolerance);
+    let raw = tessellate(&patches, &settings);
+    let mesh = raw.welded();
+    if let Err(e) = save_mesh(&args.out, format, &mesh) {
+        eprintln!("nendo export: {}: {e}", args.out.display());
+        return ExitCode::FAILURE;
+    }
+    println!(
+        "{}: {} patches, {} vertices, {} triangles, error bound {:.3e} (tolerance {})",
+        args.out.display(),
+        patches.len(),
+        mesh.positions.len(),
+        mesh.triangle_count(),
+        raw.error_bound,
+        args.tolerance
+    );
+    if raw.error_bound > args.tolerance {
+        eprintln!(
+            "nendo export: warning: {} segments per patch edge could not reach the tolerance",
+            settings.max_segments
+        );
+    }
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,138 @@
+//! `nendo render MODEL.json --png OUT.png [--size WxH] [--view iso]`: draws a model headless
+//! with the window's renderer (offscreen, on any wgpu adapter — Mesa's lavapipe without a GPU).
+
+use clap::Args as ClapArgs;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use crate::app::ViewPreset;
+use crate::app::scene::{Overlays, SurfaceDisplay, curve_control_points, model_lines};
+use crate::mesh::Tessellation;
+use crate::model::Model;
+use crate::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
+
+/// Arguments of `nendo render`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct Args {
+    /// The model (nendo-model JSON).
+    pub model: PathBuf,
+    /// Where to write the image.
+    #[arg(long, value_name = "OUT.png")]
+    pub png: PathBuf,
+    /// Image size in pixels, `WIDTHxHEIGHT`.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Where to look from: front, back, left, right, top, bottom, iso.
+    #[arg(long, default_value = "iso")]
+    pub view: ViewPreset,
+    /// Colour the seams by their G1 error.
+    #[arg(long)]
+    pub heat: bool,
+    /// Seam angle drawn red, degrees.
+    #[arg(long, default_value_t = 1.0)]
+    pub heat_max: f32,
+    /// Draw the control net.
+    #[arg(long)]
+    pub control_net: bool,
+    /// Leave out the patch boundaries.
+    #[arg(long)]
+    pub no_edges: bool,
+    /// Samples per pixel (1 or 4).
+    #[arg(long, default_value_t = 4, value_parser = parse_samples)]
+    pub samples: u32,
+}
+
+/// Parses a sample count: 1 or 4 (what every adapter supports).
+fn parse_samples(s: &str) -> Result<u32, String> {
+    match s.trim() {
+        "1" => Ok(1),
+        "4" => Ok(4),
+        _ => Err(format!("{s:?}: samples per pixel must be 1 or 4")),
+    }
+}
+
+/// Parses `WIDTHxHEIGHT` (each 1..=8192).
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1280x720"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=8192).contains(n))
+    };
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(format!(
+            "{s:?}: width and height must be whole numbers from 1 to 8192"
+        )),
+    }
+}
+
+/// Runs `nendo render`.
+pub fn run(args: Args) -> ExitCode {
+    match render(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("nendo render: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn render(args: &Args) -> anyhow::Result<()> {
+    let loaded =
+        Model::read(&args.model).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+    let model = loaded.model;
+    let patches = model.surface.patches();
+    let display = SurfaceDisplay::new(&patches, &Tessellation::DISPLAY);
+    let overlays = Overlays {
+        patch_edges: !args.no_edges,
+        control_net: args.control_net,
+        heat_map: args.heat,
+        heat_max_deg: args.heat_max,
+        control_polygons: true,
+    };
+    let mut lines = LineBatch::new();
+    model_lines(&model, &patches, &display, &overlays, &mut lines);
+
+    let start = Instant::now();
+    let gpu = GpuContext::headless()?;
+    let mut renderer = Renderer::new(&gpu.device, OFFSCREEN_FORMAT, args.samples);
+    renderer.set_surface(&gpu.device, &gpu.queue, &display.mesh, &display.seam_heat);
+    renderer.set_lines(&gpu.device, &gpu.queue, &lines);
+    let (w, h) = args.size;
+    let aspect = w as f32 / h as f32;
+    let mut points = display.mesh.positions.clone();
+    for c in &model.curves {
+        points.extend(curve_control_points(c).into_iter().map(|p| p.as_vec3()));
+    }
+    let camera = crate::app::OrbitCamera::framing(args.view, &points, aspect);
+    let style = Style {
+        heat_map: args.heat,
+        heat_max_deg: args.heat_max,
+        ..Style::default()
+    };
+    renderer.prepare(
+        &gpu.queue,
+        &camera.view(aspect),
+        &style,
+        [w as f32, h as f32],
+    );
+    let image = Offscreen::new(&gpu.device, [w, h], args.samples).render(&gpu, &renderer)?;
+    image.save_png(&args.png)?;
+    eprintln!(
+        "{}: {}x{} from {}, {} patches, {} triangles, on {} in {:.0} ms",
+        args.png.display(),
+        w,
+        h,
+        args.view,
+        patches.len(),
+        display.mesh.triangle_count(),
+        gpu.describe(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(())
+}

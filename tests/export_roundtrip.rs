@@ -1,0 +1,279 @@
+//! Meshes written by the library's own mesher read back with independent readers (`tobj`,
+//! `stl_io`, `gltf`) and checked: same vertices and triangles, unit normals, a closed sphere
+//! with the right volume, and `nendo export` on the command line.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::process::Command;
+
+use glam::{DVec3, Vec3};
+use nendo::mesh::{MeshFormat, Tessellation, TriMesh, save_mesh, tessellate};
+use nendo::model::Model;
+use nendo::surface::{Op, Primitive, PrimitiveParams, deform};
+
+const TOLERANCE: f64 = 1e-3;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("nendo-export-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// The paper's sphere (8 × 4 patches, radius 3, two poles), welded.
+fn sphere_mesh() -> TriMesh {
+    let grid = Primitive::Sphere
+        .build(&PrimitiveParams::default())
+        .expect("sphere");
+    tessellate(&grid.patches(), &Tessellation::with_tolerance(TOLERANCE)).welded()
+}
+
+/// Every undirected edge is shared by exactly two triangles, traversed once each way.
+fn assert_closed_and_oriented(positions: &[Vec3], indices: &[u32]) {
+    let mut directed: HashMap<(u32, u32), usize> = HashMap::new();
+    for t in indices.chunks_exact(3) {
+        for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+            *directed.entry((a, b)).or_default() += 1;
+        }
+    }
+    for (&(a, b), &n) in &directed {
+        assert_eq!(n, 1, "edge {a}->{b} used {n} times in one direction");
+        assert_eq!(
+            directed.get(&(b, a)),
+            Some(&1),
+            "edge {a}-{b} at {:?} is on a hole",
+            positions[a as usize]
+        );
+    }
+}
+
+/// Volume enclosed by a closed triangle mesh (divergence theorem).
+fn volume(positions: &[Vec3], indices: &[u32]) -> f64 {
+    indices
+        .chunks_exact(3)
+        .map(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| positions[i as usize].as_dvec3());
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
+}
+
+#[test]
+fn sphere_is_closed_round_and_outward() {
+    let mesh = sphere_mesh();
+    assert_closed_and_oriented(&mesh.positions, &mesh.indices);
+    let r = 3.0f64;
+    let exact = 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+    let v = volume(&mesh.positions, &mesh.indices);
+    // Chords cut inside by at most the tolerance over the area; the cubic arcs of the
+    // primitive deviate from the circle by ~1e-5 of the radius.
+    let area = 4.0 * std::f64::consts::PI * r * r;
+    assert!(
+        (v - exact).abs() <= area * TOLERANCE + 1e-3,
+        "volume {v} vs {exact}"
+    );
+    assert!(
+        v > 0.0,
+        "triangles wind counter-clockwise seen from outside"
+    );
+    for (p, n) in mesh.positions.iter().zip(&mesh.normals) {
+        let radial = p.as_dvec3().length();
+        assert!((radial - r).abs() < 1e-3, "vertex off the sphere: {radial}");
+        assert!((n.length() - 1.0).abs() < 1e-5);
+        assert!(
+            n.as_dvec3().dot(p.as_dvec3() / radial) > 0.999,
+            "normal not radial at {p}"
+        );
+    }
+}
+
+#[test]
+fn obj_stl_glb_read_back_the_same_mesh() {
+    let dir = temp_dir("formats");
+    // A sphere, and a pushed plane (an open surface with a dent).
+    let mut plane = Primitive::Plane
+        .build(&PrimitiveParams::default())
+        .expect("plane");
+    let op = Op::Push {
+        at: DVec3::new(0.5, 0.5, 0.0),
+        dir: -DVec3::Z,
+        depth: 0.6,
+        radius: 1.25,
+    };
+    deform(&mut plane, &op, Default::default()).expect("push");
+    let pushed = tessellate(&plane.patches(), &Tessellation::with_tolerance(TOLERANCE)).welded();
+    for (name, mesh) in [("sphere", sphere_mesh()), ("pushed", pushed)] {
+        // OBJ
+        let obj = dir.join(format!("{name}.obj"));
+        save_mesh(&obj, MeshFormat::Obj, &mesh).expect("write OBJ");
+        let options = tobj::LoadOptions {
+            single_index: true,
+            triangulate: true,
+            ..Default::default()
+        };
+        let (models, _) = tobj::load_obj(&obj, &options).expect("tobj reads it");
+        assert_eq!(models.len(), 1);
+        let m = &models[0].mesh;
+        assert_eq!(m.indices.len(), mesh.indices.len(), "{name}: OBJ triangles");
+        assert_eq!(
+            m.positions.len(),
+            3 * mesh.positions.len(),
+            "{name}: OBJ vertices"
+        );
+        assert_eq!(
+            m.normals.len(),
+            m.positions.len(),
+            "{name}: OBJ has a normal per vertex"
+        );
+        for (k, &i) in m.indices.iter().enumerate() {
+            let i = i as usize;
+            let p = Vec3::new(
+                m.positions[3 * i],
+                m.positions[3 * i + 1],
+                m.positions[3 * i + 2],
+            );
+            let n = Vec3::new(m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]);
+            let j = mesh.indices[k] as usize;
+            assert_eq!(
+                p, mesh.positions[j],
+                "{name}: OBJ position (shortest round-trip text is exact)"
+            );
+            assert_eq!(n, mesh.normals[j], "{name}: OBJ normal");
+        }
+
+        // Binary STL
+        let stl = dir.join(format!("{name}.stl"));
+        save_mesh(&stl, MeshFormat::Stl, &mesh).expect("write STL");
+        let bytes = std::fs::read(&stl).expect("read STL");
+        assert_eq!(
+            bytes.len(),
+            84 + 50 * mesh.triangle_count(),
+            "{name}: binary STL size"
+        );
+        let read = stl_io::read_stl(&mut std::fs::File::open(&stl).expect("open"))
+            .expect("stl_io reads it");
+        assert_eq!(
+            read.faces.len(),
+            mesh.triangle_count(),
+            "{name}: STL triangles"
+        );
+        assert_eq!(
+            read.vertices.len(),
+            mesh.positions.len(),
+            "{name}: STL distinct vertices"
+        );
+        for (face, t) in read.faces.iter().zip(mesh.triangles()) {
+            let got: [Vec3; 3] = face.vertices.map(|i| Vec3::from_array(read.vertices[i].0));
+            let want = t.map(|i| mesh.positions[i as usize]);
+            assert_eq!(got, want, "{name}: STL triangle");
+            let n = Vec3::from_array(face.normal.0);
+            let geometric = (want[1] - want[0]).cross(want[2] - want[0]).normalize();
+            assert!((n - geometric).length() < 1e-5, "{name}: STL facet normal");
+        }
+
+        // GLB
+        let glb = dir.join(format!("{name}.glb"));
+        save_mesh(&glb, MeshFormat::Glb, &mesh).expect("write GLB");
+        let bytes = std::fs::read(&glb).expect("read GLB");
+        let gltf = gltf::Gltf::from_slice(&bytes).expect("gltf validates it");
+        let blob = gltf.blob.as_deref().expect("a BIN chunk");
+        let gmesh = gltf.meshes().next().expect("one mesh");
+        let primitive = gmesh.primitives().next().expect("one primitive");
+        assert_eq!(primitive.mode(), gltf::mesh::Mode::Triangles);
+        let reader = primitive.reader(|_| Some(blob));
+        let positions: Vec<Vec3> = reader
+            .read_positions()
+            .expect("positions")
+            .map(Vec3::from_array)
+            .collect();
+        let normals: Vec<Vec3> = reader
+            .read_normals()
+            .expect("normals")
+            .map(Vec3::from_array)
+            .collect();
+        let indices: Vec<u32> = reader.read_indices().expect("indices").into_u32().collect();
+        assert_eq!(positions, mesh.positions, "{name}: GLB positions");
+        assert_eq!(normals, mesh.normals, "{name}: GLB normals");
+        assert_eq!(indices, mesh.indices, "{name}: GLB indices");
+        let bounds = primitive.bounding_box();
+        let (lo, hi) = mesh.bounds().expect("bounds");
+        assert_eq!(
+            (Vec3::from_array(bounds.min), Vec3::from_array(bounds.max)),
+            (lo, hi)
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn export_command_writes_the_mesh_and_rejects_bad_input() {
+    let dir = temp_dir("cli");
+    let model_path = dir.join("torus.nendo.json");
+    let torus = Primitive::Torus
+        .build(&PrimitiveParams::default())
+        .expect("torus");
+    Model::new(torus).write(&model_path).expect("write model");
+    let out = dir.join("torus.glb");
+    let status = Command::new(env!("CARGO_BIN_EXE_nendo"))
+        .args([
+            "export",
+            model_path.to_str().expect("utf-8"),
+            out.to_str().expect("utf-8"),
+            "--tolerance",
+            "0.002",
+        ])
+        .output()
+        .expect("nendo runs");
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let bytes = std::fs::read(&out).expect("the GLB exists");
+    let gltf = gltf::Gltf::from_slice(&bytes).expect("valid GLB");
+    let primitive = gltf
+        .meshes()
+        .next()
+        .and_then(|m| m.primitives().next())
+        .expect("a primitive");
+    let reader = primitive.reader(|_| gltf.blob.as_deref());
+    let positions: Vec<Vec3> = reader
+        .read_positions()
+        .expect("positions")
+        .map(Vec3::from_array)
+        .collect();
+    let indices: Vec<u32> = reader.read_indices().expect("indices").into_u32().collect();
+    // A torus is closed: watertight across its two closed seams.
+    assert_closed_and_oriented(&positions, &indices);
+
+    for (args, code) in [
+        (
+            vec![
+                "export",
+                model_path.to_str().unwrap_or(""),
+                "x.obj",
+                "--tolerance",
+                "0",
+            ],
+            2,
+        ),
+        (
+            vec!["export", model_path.to_str().unwrap_or(""), "x.ply"],
+            2,
+        ),
+        (vec!["export", "/nonexistent/model.json", "x.obj"], 1),
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_nendo"))
+            .args(&args)
+            .current_dir(&dir)
+            .output()
+            .expect("nendo runs");
+        assert_eq!(
+            o.status.code(),
+            Some(code),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(!o.stderr.is_empty(), "{args:?} explains itself");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

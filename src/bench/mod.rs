@@ -7,6 +7,8 @@
 
 use std::time::Instant;
 
+pub mod closest;
+pub mod reference;
 pub mod render;
 pub mod sculpt;
 

@@ -17,6 +17,8 @@ pub struct Args {
 /// The benchmark suites.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Suite {
+    /// Closest point by Bezier clipping vs sampling and Newton; picking among 1 000 curves.
+    Closest,
     /// One push on planes and spheres of growing size: median time and the 40x40 / 10x10 ratio.
     Sculpt,
     /// Tessellation of 100 / 1 600 sculpted patches and headless 1280x720 frames.
@@ -30,6 +32,11 @@ pub fn run(args: Args) -> ExitCode {
         return ExitCode::from(2);
     }
     match args.suite {
+        Suite::Closest => {
+            print!("{}", crate::bench::closest::report(args.scale, &[]));
+            println!("(kurbo's CubicBez::nearest joins this table in `cargo bench --bench closest`.)");
+            ExitCode::SUCCESS
+        }
         Suite::Sculpt => {
             print!("{}", crate::bench::sculpt::report(args.scale));
             ExitCode::SUCCESS

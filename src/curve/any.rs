@@ -201,86 +201,114 @@ pub fn pick<P: Point>(curves: &[Curve<P>], q: P, r_max: f64) -> Option<Picked<P>
     best
 }
 
-/// Curves prepared for repeated queries: each curve's Bezier segments and their control boxes
-/// are computed once. Picking visits the boxes first (a lower bound on the distance to the
-/// curves inside), queries the curve with the nearest box to get a tight `R_max`, then the
-/// remaining curves whose boxes are within it.
+/// Curves prepared for repeated picking: every curve's Bezier segments with their control
+/// boxes, in a bounding-volume hierarchy (median splits along the longest axis, up to
+/// [`CurveSet::LEAF`] segments per leaf). A pick visits the nodes nearest first and skips every
+/// node whose box lies farther than the best distance so far (the `R_max` of seed 000 §3), so
+/// its cost follows the curves near the query, not the size of the set.
 #[derive(Debug, Clone)]
 pub struct CurveSet<P> {
-    segments: Vec<Segment<P>>,
+    /// Segments in leaf order, each with the index of its curve.
+    segments: Vec<(Segment<P>, usize)>,
     seg_boxes: Vec<(P, P)>,
-    /// For curve `i`, its segments are `segments[first[i]..first[i + 1]]`.
-    first: Vec<usize>,
-    boxes: Vec<(P, P)>,
+    nodes: Vec<Node<P>>,
+    curves: usize,
+}
+
+/// A node of the hierarchy: a leaf holds `segments[first..first + count]`; an inner node
+/// (`count == 0`) has its first child next to it and its second at `first`.
+#[derive(Debug, Clone, Copy)]
+struct Node<P> {
+    lo: P,
+    hi: P,
+    first: usize,
+    count: usize,
 }
 
 impl<P: Point> CurveSet<P> {
+    /// Largest number of segments in a leaf.
+    pub const LEAF: usize = 4;
+
     /// Prepares a set of curves.
     #[must_use]
     pub fn new(curves: &[Curve<P>]) -> Self {
-        let mut s = Self { segments: Vec::new(), seg_boxes: Vec::new(), first: vec![0], boxes: Vec::new() };
-        for c in curves {
+        let mut items: Vec<(Segment<P>, usize, (P, P))> = Vec::new();
+        for (i, c) in curves.iter().enumerate() {
             for seg in c.segments().iter() {
-                s.seg_boxes.push(seg.bezier.control_bounds());
-                s.segments.push(seg.clone());
+                let b = seg.bezier.control_bounds();
+                items.push((seg.clone(), i, b));
             }
-            s.first.push(s.segments.len());
-            s.boxes.push(c.control_bounds());
         }
-        s
+        let mut nodes = Vec::new();
+        if !items.is_empty() {
+            build(&mut items, 0, &mut nodes);
+        }
+        let seg_boxes = items.iter().map(|it| it.2).collect();
+        let segments = items.into_iter().map(|(s, i, _)| (s, i)).collect();
+        Self { segments, seg_boxes, nodes, curves: curves.len() }
     }
 
     /// Number of curves.
     #[must_use]
     pub fn len(&self) -> usize {
-        self.boxes.len()
+        self.curves
     }
 
     /// True when the set holds no curve.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.boxes.is_empty()
+        self.curves == 0
     }
 
-    fn closest_in(&self, i: usize, q: P, r: f64, stats: &mut ClipStats) -> Option<Nearest<P>> {
-        let range = self.first[i]..self.first[i + 1];
-        closest_in_segments(&self.segments[range.clone()], Some(&self.seg_boxes[range]), q, r, stats)
-    }
-
-    /// The nearest curve to `q` within `r_max`, counting the clipping work into `stats`.
+    /// The nearest curve to `q` within `r_max`, counting the clipping work into `stats`. Of
+    /// two curves at exactly the same distance, the one with the smaller index is picked.
     pub fn pick_with_stats(&self, q: P, r_max: f64, stats: &mut ClipStats) -> Option<Picked<P>> {
-        if !q.is_finite_coeff() || r_max.is_nan() || r_max < 0.0 {
+        if !q.is_finite_coeff() || r_max.is_nan() || r_max < 0.0 || self.nodes.is_empty() {
             return None;
         }
-        // The curve whose box is nearest gives a first, usually tight, R_max.
-        let mut seed = None;
-        let mut seed_lb = f64::INFINITY;
-        for (i, &(lo, hi)) in self.boxes.iter().enumerate() {
-            let lb = box_distance_squared(lo, hi, q);
-            if lb < seed_lb {
-                seed_lb = lb;
-                seed = Some(i);
-            }
-        }
-        let seed = seed?;
+        let mut best: Option<Picked<P>> = None;
         let mut r = r_max;
-        let mut best = self.closest_in(seed, q, r, stats).map(|n| Picked { index: seed, nearest: n });
-        if let Some(b) = best {
-            r = b.nearest.distance;
-        }
-        for (i, &(lo, hi)) in self.boxes.iter().enumerate() {
-            if i == seed || box_distance_squared(lo, hi, q) > r * r {
+        let mut stack = [0usize; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = self.nodes[stack[top]];
+            let idx = stack[top];
+            if q.box_distance_squared(node.lo, node.hi) > r * r {
                 continue;
             }
-            if let Some(n) = self.closest_in(i, q, r, stats) {
-                let better = match best {
-                    None => true,
-                    Some(b) => n.distance < b.nearest.distance || (n.distance == b.nearest.distance && i < b.index),
-                };
-                if better {
-                    r = n.distance;
-                    best = Some(Picked { index: i, nearest: n });
+            if node.count > 0 {
+                for k in node.first..node.first + node.count {
+                    let (lo, hi) = self.seg_boxes[k];
+                    if q.box_distance_squared(lo, hi) > r * r {
+                        continue;
+                    }
+                    let (seg, curve) = &self.segments[k];
+                    if let Some(mut n) = closest_bezier_with_stats(&seg.bezier, q, r, stats) {
+                        n.u = seg.to_global(n.u);
+                        let better = match best {
+                            None => true,
+                            Some(b) => {
+                                n.distance < b.nearest.distance || (n.distance == b.nearest.distance && *curve < b.index)
+                            }
+                        };
+                        if better {
+                            r = n.distance;
+                            best = Some(Picked { index: *curve, nearest: n });
+                        }
+                    }
                 }
+                continue;
+            }
+            // Visit the nearer child first: push it last.
+            let (a, b) = (idx + 1, node.first);
+            let da = q.box_distance_squared(self.nodes[a].lo, self.nodes[a].hi);
+            let db = q.box_distance_squared(self.nodes[b].lo, self.nodes[b].hi);
+            let (near, far) = if da <= db { (a, b) } else { (b, a) };
+            if top + 2 <= stack.len() {
+                stack[top] = far;
+                stack[top + 1] = near;
+                top += 2;
             }
         }
         best
@@ -291,6 +319,38 @@ impl<P: Point> CurveSet<P> {
     pub fn pick(&self, q: P, r_max: f64) -> Option<Picked<P>> {
         self.pick_with_stats(q, r_max, &mut ClipStats::default())
     }
+}
+
+/// Builds the hierarchy over `items` (reordering them into leaf order); `offset` is the index
+/// of `items[0]` in the whole list. Returns the index of the node made.
+fn build<P: Point>(items: &mut [(Segment<P>, usize, (P, P))], offset: usize, nodes: &mut Vec<Node<P>>) -> usize {
+    let (mut lo, mut hi) = items[0].2;
+    for it in items.iter() {
+        lo = lo.min_by_coord(it.2.0);
+        hi = hi.max_by_coord(it.2.1);
+    }
+    let me = nodes.len();
+    nodes.push(Node { lo, hi, first: offset, count: items.len() });
+    if items.len() <= CurveSet::<P>::LEAF {
+        return me;
+    }
+    // Split at the median box centre along the longest axis of the centres' extent.
+    let centre = |it: &(Segment<P>, usize, (P, P))| (it.2.0 + it.2.1) * 0.5;
+    let (mut clo, mut chi) = (centre(&items[0]), centre(&items[0]));
+    for it in items.iter() {
+        clo = clo.min_by_coord(centre(it));
+        chi = chi.max_by_coord(centre(it));
+    }
+    let ext = chi - clo;
+    let axis = (0..P::DIM).fold(0, |a, i| if ext.coord(i) > ext.coord(a) { i } else { a });
+    let mid = items.len() / 2;
+    items.select_nth_unstable_by(mid, |x, y| centre(x).coord(axis).total_cmp(&centre(y).coord(axis)));
+    let (left, right) = items.split_at_mut(mid);
+    build(left, offset, nodes);
+    let second = build(right, offset + mid, nodes);
+    nodes[me].count = 0;
+    nodes[me].first = second;
+    me
 }
 
 /// Checks a query radius: non-negative (infinity allowed), not NaN.

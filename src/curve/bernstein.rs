@@ -28,7 +28,22 @@ const fn pascal() -> [[u64; MAX_BINOMIAL + 1]; MAX_BINOMIAL + 1] {
     t
 }
 
-static PASCAL: [[u64; MAX_BINOMIAL + 1]; MAX_BINOMIAL + 1] = pascal();
+const fn pascal_f64() -> [[f64; MAX_BINOMIAL + 1]; MAX_BINOMIAL + 1] {
+    let t = pascal();
+    let mut f = [[0.0; MAX_BINOMIAL + 1]; MAX_BINOMIAL + 1];
+    let mut n = 0;
+    while n <= MAX_BINOMIAL {
+        let mut k = 0;
+        while k <= n {
+            f[n][k] = t[n][k] as f64;
+            k += 1;
+        }
+        n += 1;
+    }
+    f
+}
+
+static PASCAL: [[f64; MAX_BINOMIAL + 1]; MAX_BINOMIAL + 1] = pascal_f64();
 
 /// The binomial coefficient `C(n, k)` as `f64`; zero when `k > n`.
 ///
@@ -46,10 +61,21 @@ pub fn binomial(n: usize, k: usize) -> f64 {
         return 0.0;
     }
     if n <= MAX_BINOMIAL {
-        return PASCAL[n][k] as f64;
+        return PASCAL[n][k];
     }
     let k = k.min(n - k);
     (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+}
+
+/// Row `n` of Pascal's triangle, `C(n, 0..=n)` (zeros beyond), for loops that need many
+/// binomials of one degree.
+///
+/// # Panics
+/// If `n > MAX_BINOMIAL`.
+#[inline]
+#[must_use]
+pub fn binomial_row(n: usize) -> &'static [f64; MAX_BINOMIAL + 1] {
+    &PASCAL[n]
 }
 
 /// The Bernstein basis polynomial `B_i^n(t) = C(n,i) t^i (1-t)^(n-i)`.
@@ -106,15 +132,18 @@ pub fn basis_all(n: usize, t: f64, out: &mut [f64]) {
 #[must_use]
 pub fn eval<T: Coeff>(c: &[T], t: f64) -> T {
     debug_assert!(!c.is_empty());
-    let n = c.len();
-    if n <= 64 {
-        let mut buf = [T::ZERO; 64];
-        buf[..n].copy_from_slice(c);
-        casteljau_in_place(&mut buf[..n], t)
-    } else {
-        let mut buf = c.to_vec();
-        casteljau_in_place(&mut buf, t)
+    macro_rules! fixed {
+        ($($n:literal)*) => {
+            match c.len() {
+                $($n => {
+                    let mut buf: [T; $n] = c.try_into().unwrap_or([T::ZERO; $n]);
+                    casteljau_in_place(&mut buf, t)
+                })*
+                _ => casteljau_in_place(&mut c.to_vec(), t),
+            }
+        };
     }
+    fixed!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21)
 }
 
 #[inline]
@@ -139,22 +168,26 @@ pub fn eval_scalar_fast(c: &[f64], t: f64) -> f64 {
     if n == 0 {
         return c[0];
     }
+    if n > MAX_BINOMIAL {
+        return eval(c, t);
+    }
+    let row = &PASCAL[n];
     if t <= 0.5 {
         let s = 1.0 - t;
         let r = t / s;
         // Horner on Σ c_i C(n,i) r^i, from the top.
         let mut acc = c[n];
         for i in (0..n).rev() {
-            acc = acc * r + c[i] * binomial(n, i);
+            acc = acc * r + c[i] * row[i];
         }
-        acc * powi(s, n)
+        acc * s.powi(n as i32)
     } else {
         let r = (1.0 - t) / t;
         let mut acc = c[0];
         for i in 1..=n {
-            acc = acc * r + c[i] * binomial(n, i);
+            acc = acc * r + c[i] * row[i];
         }
-        acc * powi(t, n)
+        acc * t.powi(n as i32)
     }
 }
 

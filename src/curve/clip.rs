@@ -32,126 +32,251 @@ pub fn widen(lo: f64, hi: f64) -> (f64, f64) {
     (if lo < 0.0 { 0.0 } else { lo }, if hi > 1.0 { 1.0 } else { hi })
 }
 
-/// The part `[lo, hi]` of `[0,1]` over which the convex hull of the control points
-/// `(k/m, c_k)` has a point with `y ≤ 0`; `None` when every `c_k > 0`.
+/// The part `[lo, hi]` of `[0,1]` over which the convex hull of the points
+/// `(k/m, σ (c_k − level))` has a point with `y ≤ 0` (`σ = ±1`); `None` when every value is
+/// positive.
 ///
-/// The left end is `0` if `c_0 ≤ 0`, otherwise the leftmost point where a hull edge from a
-/// positive control point to a non-positive one crosses `y = 0`; the right end likewise.
+/// That is where the hull's *lower* boundary is `≤ 0`. The lower boundary is built by Andrew's
+/// monotone chain (the points are already sorted by `x`), then scanned from each end for its
+/// first crossing of `y = 0`: `O(m)`.
+///
+/// # Panics
+/// If `c` has more than 64 coefficients.
+#[inline]
 #[must_use]
-pub fn hull_nonpositive(c: &[f64]) -> Option<(f64, f64)> {
+pub fn hull_range(c: &[f64], level: f64, sign: f64) -> Option<(f64, f64)> {
     let m = c.len() - 1;
-    let first = c.iter().position(|&v| v <= 0.0)?;
-    let last = m - c.iter().rev().position(|&v| v <= 0.0).unwrap_or(0);
+    // The lower hull's vertices (x, y), built left to right.
+    let mut hx = [0.0f64; 64];
+    let mut hy = [0.0f64; 64];
+    let mut h = 0usize;
+    let mut any = false;
+    let mut x = 0.0f64;
+    for &ck in c {
+        let y = sign * (ck - level);
+        any |= y <= 0.0;
+        // Pop while the last two hull points and (x, y) do not turn counter-clockwise.
+        while h >= 2 {
+            let cross = (hx[h - 1] - hx[h - 2]) * (y - hy[h - 2]) - (hy[h - 1] - hy[h - 2]) * (x - hx[h - 2]);
+            if cross > 0.0 {
+                break;
+            }
+            h -= 1;
+        }
+        hx[h] = x;
+        hy[h] = y;
+        h += 1;
+        x += 1.0;
+    }
+    if !any {
+        return None;
+    }
     if m == 0 {
         return Some((0.0, 1.0));
     }
-    let inv_m = 1.0 / m as f64;
-    let lo = if first == 0 {
+    let lo = if hy[0] <= 0.0 {
         0.0
     } else {
-        let mut lo = first as f64 * inv_m;
-        for i in 0..first {
-            // c_i > 0 here.
-            for (j, &cj) in c.iter().enumerate().skip(first) {
-                if cj <= 0.0 {
-                    let x = (i as f64 + (j - i) as f64 * c[i] / (c[i] - cj)) * inv_m;
-                    if x < lo {
-                        lo = x;
-                    }
-                }
-            }
+        let mut i = 0;
+        while hy[i + 1] > 0.0 {
+            i += 1;
         }
-        lo
+        hx[i] + (hx[i + 1] - hx[i]) * hy[i] / (hy[i] - hy[i + 1])
     };
-    let hi = if last == m {
-        1.0
+    let hi = if hy[h - 1] <= 0.0 {
+        m as f64
     } else {
-        let mut hi = last as f64 * inv_m;
-        for i in last + 1..=m {
-            for (j, &cj) in c.iter().enumerate().take(last + 1) {
-                if cj <= 0.0 {
-                    let x = (i as f64 - (i - j) as f64 * c[i] / (c[i] - cj)) * inv_m;
-                    if x > hi {
-                        hi = x;
-                    }
-                }
-            }
+        let mut i = h - 2;
+        while hy[i] > 0.0 {
+            i -= 1;
         }
-        hi
+        hx[i] + (hx[i + 1] - hx[i]) * hy[i] / (hy[i] - hy[i + 1])
     };
-    Some((lo.max(0.0), hi.min(1.0)))
+    let inv_m = 1.0 / m as f64;
+    let (lo, hi) = (lo * inv_m, hi * inv_m);
+    Some((if lo < 0.0 { 0.0 } else { lo }, if hi > 1.0 { 1.0 } else { hi }))
 }
 
-/// Like [`hull_nonpositive`] for `c_k − level`, without allocating.
+/// A cheaper enclosure of [`hull_below`]: the part of `[0,1]` outside of which
+/// `f = Σ c_k B_k^m` certainly stays above `level`, from the two supporting lines of the
+/// control polygon's hull through its end points. Every control point lies on or above the line
+/// from `(0, c_0)` with the least slope `min_k m (c_k − c_0)/k`, hence so does the hull and the
+/// graph of `f`; `f` cannot reach `level` before that line does (and likewise from the right
+/// end). Where the hull's first edge reaches the level this is the exact hull clip; otherwise
+/// it is a little wider. `O(m)`, no allocation. `None` when every coefficient is above `level`.
+#[inline]
+#[must_use]
+pub fn end_lines_below(c: &[f64], level: f64) -> Option<(f64, f64)> {
+    let m = c.len() - 1;
+    let (c0, cm) = (c[0] - level, c[m] - level);
+    let mut any = c0 <= 0.0 || cm <= 0.0;
+    // Least slopes from each end, in units of the coefficient index.
+    let mut left = f64::INFINITY;
+    let mut right = f64::INFINITY;
+    for k in 1..m {
+        let v = c[k] - level;
+        any |= v <= 0.0;
+        let from_left = (v - c0) / k as f64;
+        let from_right = (v - cm) / (m - k) as f64;
+        if from_left < left {
+            left = from_left;
+        }
+        if from_right < right {
+            right = from_right;
+        }
+    }
+    if !any {
+        return None;
+    }
+    if m == 0 {
+        return Some((0.0, 1.0));
+    }
+    let end_slope = (cm - c0) / m as f64;
+    if end_slope < left {
+        left = end_slope;
+    }
+    if -end_slope < right {
+        right = -end_slope;
+    }
+    let lo = if c0 <= 0.0 { 0.0 } else { -c0 / left / m as f64 };
+    let hi = if cm <= 0.0 { 1.0 } else { 1.0 + cm / right / m as f64 };
+    Some((if lo < 0.0 { 0.0 } else { lo }, if hi > 1.0 { 1.0 } else { hi }))
+}
+
+/// The part of `[0,1]` where the convex hull of `(k/m, c_k)` has a point with `y ≤ 0`.
+#[inline]
+#[must_use]
+pub fn hull_nonpositive(c: &[f64]) -> Option<(f64, f64)> {
+    hull_range(c, 0.0, 1.0)
+}
+
+/// The part of `[0,1]` where the convex hull of `(k/m, c_k)` has a point with `y ≤ level`.
+#[inline]
 #[must_use]
 pub fn hull_below(c: &[f64], level: f64) -> Option<(f64, f64)> {
-    let mut buf = [0.0; 64];
-    let n = c.len().min(64);
-    for (b, &v) in buf.iter_mut().zip(c) {
-        *b = v - level;
-    }
-    hull_nonpositive(&buf[..n])
+    hull_range(c, level, 1.0)
 }
 
 /// The part of `[0,1]` where the convex hull of `(k/m, c_k)` meets `y = 0`: the intersection of
 /// the ranges where it meets `y ≤ 0` and `y ≥ 0` (for a convex set, a vertical line that meets
 /// both half-planes meets the line between them).
+#[inline]
 #[must_use]
 pub fn hull_zero(c: &[f64]) -> Option<(f64, f64)> {
-    let (a, b) = hull_nonpositive(c)?;
-    let mut neg = [0.0; 64];
-    let n = c.len().min(64);
-    for (b, &v) in neg.iter_mut().zip(c) {
-        *b = -v;
-    }
-    let (c2, d2) = hull_nonpositive(&neg[..n])?;
+    let (a, b) = hull_range(c, 0.0, 1.0)?;
+    let (c2, d2) = hull_range(c, 0.0, -1.0)?;
     let lo = if a > c2 { a } else { c2 };
     let hi = if b < d2 { b } else { d2 };
     (lo <= hi).then_some((lo, hi))
 }
 
-/// The root of `f = Σ c_k B_k^m` in `[0,1]` when `c_0` and `c_m` have strictly opposite signs
-/// and `f` is known to have exactly one root there (one sign change in the coefficients):
-/// Newton's method safeguarded by the bracket, falling back to bisection whenever a step leaves
-/// the bracket. Returns the root and the number of iterations.
+/// Newton iterations stop when a step is below this (in the function's own `[0,1]`).
+pub const NEWTON_STEP: f64 = 1e-14;
+
+/// A Newton step (inside the bracket) below this ends the iteration: the error left after it
+/// is of the order of its square times the root's curvature ratio.
+pub const NEWTON_QUADRATIC: f64 = 1e-9;
+
+/// The root of `f = Σ c_k B_k^m` in `[lo, hi] ⊆ [0,1]`, where `f` is known to have exactly one
+/// root, of odd multiplicity, that changes sign from the sign of `c_0` (one sign change in the
+/// coefficients; `[lo, hi]` from a clip, or `[0,1]`): Newton's method from `start`, safeguarded
+/// by the bracket, which every evaluation tightens, falling back to bisection whenever a step
+/// would leave it. Returns the root and the number of iterations.
+///
+/// `f` and `f'` are evaluated together by the scaled Horner scheme of
+/// [`bernstein::eval_scalar_fast`].
 #[must_use]
-pub fn bracketed_root(c: &[f64]) -> (f64, u32) {
-    let m = c.len() - 1;
-    let c0 = c[0];
-    let cm = c[m];
-    debug_assert!(c0 * cm < 0.0);
-    let mut d = [0.0; 64];
-    for k in 0..m.min(64) {
-        d[k] = c[k + 1] - c[k];
-    }
-    let d = &d[..m.min(64)];
-    let (mut lo, mut hi) = (0.0f64, 1.0f64);
-    let neg_at_lo = c0 < 0.0;
-    let mut s = c0 / (c0 - cm);
+pub fn bracketed_root(c: &[f64], mut lo: f64, mut hi: f64, start: f64) -> (f64, u32) {
+    let neg_before_root = c[0] < 0.0;
+    let mut s = if start > lo && start < hi { start } else { 0.5 * (lo + hi) };
     let mut iters = 0;
-    while iters < 200 {
+    while iters < 100 {
         iters += 1;
-        let v = bernstein::eval_scalar_fast(c, s);
+        let (v, dv) = value_and_slope(c, s);
         if v == 0.0 {
             return (s, iters);
         }
-        if (v < 0.0) == neg_at_lo {
+        if (v < 0.0) == neg_before_root {
             lo = s;
         } else {
             hi = s;
         }
-        let dv = bernstein::eval_scalar_fast(d, s) * m as f64;
-        let mut next = s - v / dv;
-        if !(next > lo && next < hi) {
-            next = 0.5 * (lo + hi);
+        let step = v / dv;
+        let next = s - step;
+        if next > lo && next < hi {
+            s = next;
+            // Newton converges quadratically: after a step below NEWTON_QUADRATIC the error
+            // is of the order of its square, far below rounding.
+            if step.abs() <= NEWTON_QUADRATIC {
+                return (s, iters);
+            }
+        } else if step.abs() <= NEWTON_STEP {
+            return (s, iters); // within rounding of the root, on the bracket's edge
+        } else {
+            s = 0.5 * (lo + hi);
         }
-        let step = (next - s).abs();
-        s = next;
-        if step <= 4.0 * f64::EPSILON * s.abs().max(f64::MIN_POSITIVE) || hi - lo <= 2.0 * f64::EPSILON {
+        if hi - lo <= NEWTON_STEP {
             break;
         }
     }
     (s, iters)
+}
+
+/// `f(t) = Σ c_k C(m,k) t^k (1−t)^(m−k)` and
+/// `f'(t) = m Σ (c_{k+1} − c_k) C(m−1,k) t^k (1−t)^(m−1−k)`, by Horner's scheme in `t/(1−t)`
+/// (or `(1−t)/t` past one half, so that the ratio stays at most one).
+#[inline]
+fn value_and_slope(c: &[f64], t: f64) -> (f64, f64) {
+    let m = c.len() - 1;
+    if m == 0 {
+        return (c[0], 0.0);
+    }
+    if m > bernstein::MAX_BINOMIAL {
+        let d = bernstein::derivative(c);
+        return (bernstein::eval(c, t), bernstein::eval(&d, t));
+    }
+    let bm = bernstein::binomial_row(m);
+    let bd = bernstein::binomial_row(m - 1);
+    let s = 1.0 - t;
+    let (v, d, pm1, last) = if t <= 0.5 {
+        let r = t / s;
+        let mut v = c[m];
+        let mut d = c[m] - c[m - 1];
+        for k in (0..m - 1).rev() {
+            v = v * r + c[k + 1] * bm[k + 1];
+            d = d * r + (c[k + 1] - c[k]) * bd[k];
+        }
+        v = v * r + c[0];
+        (v, d, s.powi(m as i32 - 1), s)
+    } else {
+        let r = s / t;
+        let mut v = c[0];
+        let mut d = c[1] - c[0];
+        for k in 1..m {
+            v = v * r + c[k] * bm[k];
+            d = d * r + (c[k + 1] - c[k]) * bd[k];
+        }
+        v = v * r + c[m];
+        (v, d, t.powi(m as i32 - 1), t)
+    };
+    (v * pm1 * last, d * pm1 * m as f64)
+}
+
+/// [`bracketed_root`] on all of `[0,1]`, for a function with exactly one sign change in its
+/// coefficients, started where the control polygon crosses zero (between the two coefficients
+/// that change sign): a good first guess that improves as intervals shrink.
+#[must_use]
+pub fn clipped_root(c: &[f64]) -> (f64, u32) {
+    let m = c.len() - 1;
+    let mut start = 0.5;
+    for k in 0..m {
+        let (a, b) = (c[k], c[k + 1]);
+        if (a <= 0.0 && b > 0.0) || (a >= 0.0 && b < 0.0) {
+            start = (k as f64 + a / (a - b)) / m as f64;
+            break;
+        }
+    }
+    bracketed_root(c, 0.0, 1.0, start)
 }
 
 /// All roots of `f = Σ c_k B_k^m` in `[0,1]` where `f` changes sign (and exact zeros at the
@@ -197,7 +322,7 @@ pub fn roots(c: &[f64], out: &mut Vec<f64>) {
             }
             let (w0, wm) = (wk[0], wk[n - 1]);
             if v == 1 && w0 != 0.0 && wm != 0.0 {
-                let (s, _) = bracketed_root(wk);
+                let (s, _) = clipped_root(wk);
                 out.push(a + s * (b - a));
                 break;
             }

@@ -34,9 +34,6 @@ use super::bezier::{Bezier, MAX_DEGREE};
 use super::clip;
 use super::point::Point;
 
-/// Working size for `f` (degree `2n ≤ 2 · MAX_DEGREE`).
-const F_CAP: usize = 2 * MAX_DEGREE + 1;
-
 /// Width (in the curve's parameter) below which an interval that still holds several sign
 /// changes of `g` is taken as converged: reached only at multiple roots of `g`.
 const U_WIDTH: f64 = 1e-12;
@@ -75,43 +72,110 @@ impl ClipStats {
     }
 }
 
+const W: usize = MAX_DEGREE + 1;
+
+/// `C(n,i) C(n,j) / C(2n,i+j)` for `n ≤ MAX_DEGREE`: the weights of the product formula.
+static PRODUCT_WEIGHTS: [[[f64; W]; W]; W] = product_weights();
+
+const fn product_weights() -> [[[f64; W]; W]; W] {
+    // Pascal's triangle up to 2 · MAX_DEGREE, exactly in f64 (all values < 2^53).
+    const R: usize = 2 * MAX_DEGREE + 1;
+    let mut c = [[0.0f64; R]; R];
+    let mut n = 0;
+    while n < R {
+        c[n][0] = 1.0;
+        let mut k = 1;
+        while k <= n {
+            c[n][k] = c[n - 1][k - 1] + if k < n { c[n - 1][k] } else { 0.0 };
+            k += 1;
+        }
+        n += 1;
+    }
+    let mut w = [[[0.0f64; W]; W]; W];
+    let mut n = 0;
+    while n < W {
+        let mut i = 0;
+        while i <= n {
+            let mut j = 0;
+            while j <= n {
+                w[n][i][j] = c[n][i] * c[n][j] / c[2 * n][i + j];
+                j += 1;
+            }
+            i += 1;
+        }
+        n += 1;
+    }
+    w
+}
+
 /// `f_k` of `|C(u) − Q|²` for the translated control points `p` (SPEC §2, the product formula
-/// with `p_i·p_j`), written into `out[..2n+1]`.
+/// `f_k = Σ_{i+j=k} C(n,i) C(n,j)/C(2n,k) p_i·p_j`), written into `out[..2n+1]`.
+///
+/// # Panics
+/// If `p` has more than `MAX_DEGREE + 1` points or `out` fewer than `2n + 1` entries.
+#[inline]
 pub(crate) fn distance_squared_coeffs<P: Point>(p: &[P], out: &mut [f64]) {
     let n = p.len() - 1;
-    let m = 2 * n;
-    for o in out.iter_mut().take(m + 1) {
+    let w = &PRODUCT_WEIGHTS[n];
+    for o in out.iter_mut().take(2 * n + 1) {
         *o = 0.0;
     }
     for i in 0..=n {
-        let wi = bernstein::binomial(n, i);
-        out[2 * i] += wi * wi * p[i].dot(p[i]);
+        out[2 * i] += w[i][i] * p[i].dot(p[i]);
         for j in i + 1..=n {
-            out[i + j] += 2.0 * wi * bernstein::binomial(n, j) * p[i].dot(p[j]);
+            out[i + j] += 2.0 * w[i][j] * p[i].dot(p[j]);
         }
-    }
-    for (k, o) in out.iter_mut().enumerate().take(m + 1) {
-        *o /= bernstein::binomial(m, k);
     }
 }
 
-/// Global minimum of the Bernstein function `f` (coefficients on `[0,1]`) over `[a0, b0]`,
-/// among values below `bound` (strictly): returns `(u, f(u))`, or `None` when `f ≥ bound` on
-/// the whole interval. Steps 3–6 of the module documentation; `f`'s end values at `a0`, `b0`
-/// are candidates.
-pub(crate) fn minimize_below(f: &[f64], a0: f64, b0: f64, bound: f64, stats: &mut ClipStats) -> Option<(f64, f64)> {
-    let len = f.len();
-    let m = len - 1;
+/// A small stack of pending intervals that only allocates past 16 entries.
+struct IntervalStack {
+    small: [(f64, f64); 16],
+    len: usize,
+    spill: Vec<(f64, f64)>,
+}
+
+impl IntervalStack {
+    #[inline]
+    fn new() -> Self {
+        Self { small: [(0.0, 0.0); 16], len: 0, spill: Vec::new() }
+    }
+    #[inline]
+    fn push(&mut self, iv: (f64, f64)) {
+        if self.len < self.small.len() {
+            self.small[self.len] = iv;
+            self.len += 1;
+        } else {
+            self.spill.push(iv);
+        }
+    }
+    #[inline]
+    fn pop(&mut self) -> Option<(f64, f64)> {
+        if let Some(iv) = self.spill.pop() {
+            return Some(iv);
+        }
+        if self.len == 0 {
+            return None;
+        }
+        self.len -= 1;
+        Some(self.small[self.len])
+    }
+}
+
+/// Global minimum of the Bernstein function `f` (coefficients on `[0,1]`, `F = 2n + 1` of them)
+/// over `[a0, b0]`, among values below `bound` (strictly): returns `(u, f(u))`, or `None` when
+/// `f ≥ bound` on the whole interval. Steps 3–6 of the module documentation; `f`'s values at
+/// the ends of every interval examined are candidates.
+fn minimize_fixed<const F: usize>(f: &[f64; F], a0: f64, b0: f64, bound: f64, stats: &mut ClipStats) -> Option<(f64, f64)> {
+    let m = F - 1;
     let mut best_f = bound;
     let mut best_u = f64::NAN;
-    let mut w = [0.0; F_CAP];
-    let mut g = [0.0; F_CAP];
-    let mut stack = [(0.0f64, 0.0f64); 48];
-    let mut top = 0usize;
+    let mut w = *f;
+    let mut g = [0.0; F];
+    let mut stack = IntervalStack::new();
     let mut steps = 0u32;
     let (mut a, mut b) = (a0, b0);
-    w[..len].copy_from_slice(f);
-    bernstein::restrict_in_place(&mut w[..len], a, b);
+    bernstein::restrict_in_place(&mut w, a, b);
     loop {
         'interval: loop {
             steps += 1;
@@ -119,17 +183,16 @@ pub(crate) fn minimize_below(f: &[f64], a0: f64, b0: f64, bound: f64, stats: &mu
             if steps > MAX_STEPS {
                 break 'interval;
             }
-            let wk = &w[..len];
-            if wk[0] < best_f {
-                best_f = wk[0];
+            if w[0] < best_f {
+                best_f = w[0];
                 best_u = a;
             }
-            if wk[m] < best_f {
-                best_f = wk[m];
+            if w[m] < best_f {
+                best_f = w[m];
                 best_u = b;
             }
-            let mut low = wk[0];
-            for &v in &wk[1..] {
+            let mut low = w[0];
+            for &v in &w[1..] {
                 if v < low {
                     low = v;
                 }
@@ -138,7 +201,7 @@ pub(crate) fn minimize_below(f: &[f64], a0: f64, b0: f64, bound: f64, stats: &mu
                 break 'interval;
             }
             for k in 0..m {
-                g[k] = wk[k + 1] - wk[k];
+                g[k] = w[k + 1] - w[k];
             }
             let gk = &g[..m];
             let changes = bernstein::sign_changes(gk);
@@ -151,9 +214,9 @@ pub(crate) fn minimize_below(f: &[f64], a0: f64, b0: f64, bound: f64, stats: &mu
                     break 'interval; // a maximum inside; both ends already counted
                 }
                 if gk[0] != 0.0 && gk[m - 1] != 0.0 {
-                    let (s, it) = clip::bracketed_root(gk);
+                    let (s, it) = clip::clipped_root(gk);
                     stats.newton += it;
-                    let v = bernstein::eval_scalar_fast(wk, s);
+                    let v = bernstein::eval_scalar_fast(&w, s);
                     if v < best_f {
                         best_f = v;
                         best_u = a + s * (b - a);
@@ -161,8 +224,8 @@ pub(crate) fn minimize_below(f: &[f64], a0: f64, b0: f64, bound: f64, stats: &mu
                     break 'interval;
                 }
             }
-            let Some((l1, h1)) = clip::hull_zero(gk) else { break 'interval };
-            let Some((l2, h2)) = clip::hull_below(wk, best_f) else { break 'interval };
+            let (l1, h1) = (0.0, 1.0);
+            let Some((l2, h2)) = clip::end_lines_below(&w, best_f) else { break 'interval };
             let lo = if l1 > l2 { l1 } else { l2 };
             let hi = if h1 < h2 { h1 } else { h2 };
             if lo > hi {
@@ -172,7 +235,7 @@ pub(crate) fn minimize_below(f: &[f64], a0: f64, b0: f64, bound: f64, stats: &mu
             let span = b - a;
             if (hi - lo) * span < U_WIDTH {
                 let s = 0.5 * (lo + hi);
-                let v = bernstein::eval_scalar_fast(wk, s);
+                let v = bernstein::eval_scalar_fast(&w, s);
                 if v < best_f {
                     best_f = v;
                     best_u = a + s * span;
@@ -180,34 +243,69 @@ pub(crate) fn minimize_below(f: &[f64], a0: f64, b0: f64, bound: f64, stats: &mu
                 break 'interval;
             }
             if hi - lo > 0.8 {
+                // The clip removed less than 20 %: split the interval (the curve) in two.
                 stats.splits += 1;
                 let mid = 0.5 * (lo + hi);
-                if top < stack.len() {
-                    stack[top] = (a + mid * span, a + hi * span);
-                    top += 1;
-                    bernstein::restrict_in_place(&mut w[..len], lo, mid);
-                    b = a + mid * span;
-                    a += lo * span;
-                    continue 'interval;
-                }
+                stack.push((a + mid * span, a + hi * span));
+                bernstein::restrict_in_place(&mut w, lo, mid);
+                b = a + mid * span;
+                a += lo * span;
+                continue 'interval;
             }
-            bernstein::restrict_in_place(&mut w[..len], lo, hi);
+            bernstein::restrict_in_place(&mut w, lo, hi);
             b = a + hi * span;
             a += lo * span;
         }
-        if top == 0 {
-            break;
-        }
-        top -= 1;
-        (a, b) = stack[top];
-        w[..len].copy_from_slice(f);
-        bernstein::restrict_in_place(&mut w[..len], a, b);
+        let Some(next) = stack.pop() else { break };
+        (a, b) = next;
+        w = *f;
+        bernstein::restrict_in_place(&mut w, a, b);
     }
     best_u.is_finite().then_some((best_u, best_f))
 }
 
+/// Calls `$body` with `F` bound, as a const, to the odd length `2n + 1` of a degree-`2n`
+/// Bernstein function (`n ≤ MAX_DEGREE`); evaluates `$none` for any other length.
+macro_rules! with_product_len {
+    ($len:expr, $F:ident => $body:expr, $none:expr) => {
+        match $len {
+            1 => { const $F: usize = 1; $body }
+            3 => { const $F: usize = 3; $body }
+            5 => { const $F: usize = 5; $body }
+            7 => { const $F: usize = 7; $body }
+            9 => { const $F: usize = 9; $body }
+            11 => { const $F: usize = 11; $body }
+            13 => { const $F: usize = 13; $body }
+            15 => { const $F: usize = 15; $body }
+            17 => { const $F: usize = 17; $body }
+            19 => { const $F: usize = 19; $body }
+            21 => { const $F: usize = 21; $body }
+            23 => { const $F: usize = 23; $body }
+            25 => { const $F: usize = 25; $body }
+            27 => { const $F: usize = 27; $body }
+            29 => { const $F: usize = 29; $body }
+            31 => { const $F: usize = 31; $body }
+            33 => { const $F: usize = 33; $body }
+            35 => { const $F: usize = 35; $body }
+            37 => { const $F: usize = 37; $body }
+            39 => { const $F: usize = 39; $body }
+            41 => { const $F: usize = 41; $body }
+            _ => $none,
+        }
+    };
+}
+
+/// [`minimize_fixed`] for a slice of odd length `2n + 1 ≤ 2 MAX_DEGREE + 1`.
+pub(crate) fn minimize_below(f: &[f64], a0: f64, b0: f64, bound: f64, stats: &mut ClipStats) -> Option<(f64, f64)> {
+    with_product_len!(f.len(), F => {
+        let arr: &[f64; F] = f.try_into().ok()?;
+        minimize_fixed::<F>(arr, a0, b0, bound, stats)
+    }, None)
+}
+
 /// The part of `[0,1]` where the curve `p` (translated control points) lies inside the band
 /// `|p(u)·L| ≤ d` perpendicular to its chord; `[0,1]` when the chord is degenerate.
+#[inline]
 fn chord_band<P: Point>(p: &[P], d: f64) -> Option<(f64, f64)> {
     let n = p.len() - 1;
     let chord = p[n] - p[0];
@@ -221,21 +319,79 @@ fn chord_band<P: Point>(p: &[P], d: f64) -> Option<(f64, f64)> {
         *si = pi.dot(l);
     }
     let s = &s[..=n];
-    let (a1, b1) = clip::hull_below(s, d)?;
-    let mut neg = [0.0; MAX_DEGREE + 1];
-    for (ni, &si) in neg.iter_mut().zip(s) {
-        *ni = -si;
-    }
-    let (a2, b2) = clip::hull_below(&neg[..=n], d)?;
+    let (a1, b1) = clip::hull_range(s, d, 1.0)?;
+    let (a2, b2) = clip::hull_range(s, -d, -1.0)?;
     let lo = if a1 > a2 { a1 } else { a2 };
     let hi = if b1 < b2 { b1 } else { b2 };
-    (lo <= hi).then_some((lo, hi))
+    (lo <= hi).then_some(clip::widen(lo, hi))
+}
+
+/// The parameter of the closest point (steps 1–2, then [`minimize_fixed`]).
+#[inline]
+fn closest_u<P: Point, const F: usize>(pts: &[P], q: P, r_max: f64, stats: &mut ClipStats) -> Option<f64> {
+    let n = pts.len() - 1;
+    debug_assert_eq!(F, 2 * n + 1);
+    let mut buf = [P::ZERO; MAX_DEGREE + 1];
+    for (pi, &c) in buf.iter_mut().zip(pts) {
+        *pi = c - q;
+    }
+    let p = &buf[..=n];
+    // Step 1: the end points are candidates; d_min bounds the search.
+    let d0 = p[0].length();
+    let dn = p[n].length();
+    let mut d_min = r_max;
+    let mut best = None;
+    if d0 <= d_min {
+        d_min = d0;
+        best = Some(0.0);
+    }
+    if dn < d_min {
+        d_min = dn;
+        best = Some(1.0);
+    }
+    if n == 0 || !(d_min > 0.0) {
+        return best;
+    }
+    // Step 2: the band perpendicular to the chord.
+    // Step 2: the band perpendicular to the chord, where R_max is what bounds the search (a
+    // pick among many curves, a probe). When d_min comes from an end point the band seldom
+    // removes anything and costs more than it saves (measured: `nendo bench closest`).
+    let (lo, hi) = if d_min < d0 && d_min < dn {
+        match chord_band(p, d_min) {
+            Some(band) => band,
+            None => return best,
+        }
+    } else {
+        (0.0, 1.0)
+    };
+    let mut f = [0.0; F];
+    distance_squared_coeffs(p, &mut f);
+    let mut bound = if d_min.is_finite() { d_min * d_min } else { f64::INFINITY };
+    // A first true value of f where its smallest coefficient sits: usually close to the
+    // minimum, it tightens the bound for every clip that follows.
+    let mut k_min = 0;
+    for k in 1..F {
+        if f[k] < f[k_min] {
+            k_min = k;
+        }
+    }
+    let u_seed = (k_min as f64 / (F - 1) as f64).clamp(lo, hi);
+    let f_seed = bernstein::eval_scalar_fast(&f, u_seed);
+    let mut seeded = None;
+    if f_seed < bound {
+        bound = f_seed;
+        seeded = Some(u_seed);
+    }
+    match minimize_fixed::<F>(&f, lo, hi, bound, stats) {
+        Some((u, _)) => Some(u),
+        None => seeded.or(best),
+    }
 }
 
 /// The closest point of a Bezier curve to `q` no farther than `r_max` (pass `f64::INFINITY`
 /// for no limit), with the work counted into `stats`. `None` when nothing lies within `r_max`
-/// or when the query is not finite. Ties (two equally close points) resolve to the smaller `u`
-/// found first, deterministically.
+/// or when the query is not finite. Ties (two equally close points) resolve to the point found
+/// first (the left one of a symmetric pair), deterministically.
 pub fn closest_bezier_with_stats<P: Point>(
     curve: &Bezier<P>,
     q: P,
@@ -246,38 +402,7 @@ pub fn closest_bezier_with_stats<P: Point>(
         return None;
     }
     let pts = curve.points();
-    let n = pts.len() - 1;
-    let mut p = [P::ZERO; MAX_DEGREE + 1];
-    for (pi, &c) in p.iter_mut().zip(pts) {
-        *pi = c - q;
-    }
-    let p = &p[..=n];
-    let d0 = p[0].length();
-    let dn = p[n].length();
-    // Step 1: the end points are candidates; d_min bounds the search.
-    let mut d_min = r_max;
-    let mut best: Option<f64> = None;
-    if d0 <= d_min {
-        d_min = d0;
-        best = Some(0.0);
-    }
-    if dn < d_min {
-        d_min = dn;
-        best = Some(1.0);
-    }
-    let mut result_u = best;
-    if n > 0 && d_min > 0.0 {
-        // Step 2: the band perpendicular to the chord.
-        if let Some((lo, hi)) = chord_band(p, d_min) {
-            let mut f = [0.0; F_CAP];
-            distance_squared_coeffs(p, &mut f);
-            let bound = if d_min.is_finite() { d_min * d_min } else { f64::INFINITY };
-            if let Some((u, _)) = minimize_below(&f[..=2 * n], lo, hi, bound, stats) {
-                result_u = Some(u);
-            }
-        }
-    }
-    let u = result_u?;
+    let u = with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(pts, q, r_max, stats), None)?;
     let point = curve.eval(u);
     let distance = (point - q).length();
     (distance <= r_max).then_some(Nearest { u, point, distance })
@@ -301,17 +426,5 @@ pub fn closest_bezier<P: Point>(curve: &Bezier<P>, q: P, r_max: f64) -> Option<N
 /// squared distance to anything inside the box (the control points' box holds the curve).
 #[inline]
 pub(crate) fn box_distance_squared<P: Point>(lo: P, hi: P, q: P) -> f64 {
-    let mut s = 0.0;
-    for i in 0..P::DIM {
-        let (l, h, x) = (lo.coord(i), hi.coord(i), q.coord(i));
-        let d = if x < l {
-            l - x
-        } else if x > h {
-            x - h
-        } else {
-            0.0
-        };
-        s += d * d;
-    }
-    s
+    q.box_distance_squared(lo, hi)
 }

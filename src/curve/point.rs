@@ -54,6 +54,10 @@ pub trait Point: Coeff + Neg<Output = Self> + Send + Sync + 'static {
     #[must_use]
     fn max_by_coord(self, other: Self) -> Self;
 
+    /// Squared distance from `self` to the axis-aligned box `[lo, hi]` (zero inside it): a
+    /// lower bound for the squared distance to anything the box contains.
+    fn box_distance_squared(self, lo: Self, hi: Self) -> f64;
+
     /// Squared length.
     #[inline]
     fn length_squared(self) -> f64 {
@@ -82,6 +86,11 @@ impl Coeff for DVec2 {
 
 impl Point for DVec2 {
     const DIM: usize = 2;
+    #[inline]
+    fn box_distance_squared(self, lo: Self, hi: Self) -> f64 {
+        let d = (lo - self).max(self - hi).max(DVec2::ZERO);
+        d.dot(d)
+    }
     #[inline]
     fn dot(self, other: Self) -> f64 {
         DVec2::dot(self, other)
@@ -122,6 +131,11 @@ impl Coeff for DVec3 {
 
 impl Point for DVec3 {
     const DIM: usize = 3;
+    #[inline]
+    fn box_distance_squared(self, lo: Self, hi: Self) -> f64 {
+        let d = (lo - self).max(self - hi).max(DVec3::ZERO);
+        d.dot(d)
+    }
     #[inline]
     fn dot(self, other: Self) -> f64 {
         DVec3::dot(self, other)

@@ -1,61 +1,12 @@
 //! Independent references for the curve queries: dense sampling of the curve followed by a
-//! golden-section polish of every sampled local minimum. Nothing here uses Bezier clipping.
+//! golden-section polish of every sampled local minimum (`nendo::bench::reference`). Nothing
+//! here uses Bezier clipping.
 
 #![allow(dead_code)]
 
 use nendo::curve::{Curve, Point};
 
-/// Golden-section search for a minimum of `f` on `[a, b]`.
-pub fn golden(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> (f64, f64) {
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = b - r * (b - a);
-    let mut d = a + r * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..200 {
-        if (b - a).abs() < 1e-15 {
-            break;
-        }
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - r * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + r * (b - a);
-            fd = f(d);
-        }
-    }
-    let u = 0.5 * (a + b);
-    (u, f(u))
-}
-
-/// Minimum of `dist(u)` over `[lo, hi]` by `samples` samples and a golden-section polish of each
-/// sampled local minimum (ends included). Returns `(u, value)`.
-pub fn sampled_min(dist: &impl Fn(f64) -> f64, lo: f64, hi: f64, samples: usize) -> (f64, f64) {
-    let us: Vec<f64> = (0..=samples).map(|i| lo + (hi - lo) * i as f64 / samples as f64).collect();
-    let ds: Vec<f64> = us.iter().map(|&u| dist(u)).collect();
-    let mut best = (us[0], ds[0]);
-    if ds[samples] < best.1 {
-        best = (us[samples], ds[samples]);
-    }
-    for i in 0..=samples {
-        let left = if i == 0 { f64::INFINITY } else { ds[i - 1] };
-        let right = if i == samples { f64::INFINITY } else { ds[i + 1] };
-        if ds[i] <= left && ds[i] <= right {
-            let a = us[i.saturating_sub(1)];
-            let b = us[(i + 1).min(samples)];
-            let cand = golden(dist, a, b);
-            if cand.1 < best.1 {
-                best = cand;
-            }
-        }
-    }
-    best
-}
+pub use nendo::bench::reference::sampled_min;
 
 /// Reference closest distance from `q` to the curve.
 pub fn closest<P: Point>(c: &Curve<P>, q: P) -> (f64, f64) {

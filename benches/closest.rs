@@ -5,11 +5,11 @@
 //! `nendo::bench::closest::report` with kurbo added as a baseline (the library itself does not
 //! depend on kurbo), then runs the criterion groups.
 
-use criterion::{criterion_group, BenchmarkId, Criterion};
+use criterion::{BenchmarkId, Criterion, criterion_group};
 use glam::DVec2;
 use kurbo::{CubicBez, ParamCurveNearest, Point as KPoint};
-use nendo::bench::closest::{cases, report, Baseline, Spread};
-use nendo::curve::{closest_bezier, Bezier, Curve, CurveSet};
+use nendo::bench::closest::{Baseline, Spread, cases, report};
+use nendo::curve::{Bezier, Curve, CurveSet, closest_bezier};
 use std::hint::black_box;
 
 fn to_kurbo(c: &Bezier<DVec2>) -> CubicBez {
@@ -19,14 +19,20 @@ fn to_kurbo(c: &Bezier<DVec2>) -> CubicBez {
 }
 
 fn kurbo_distance(c: &Bezier<DVec2>, q: DVec2) -> f64 {
-    to_kurbo(c).nearest(KPoint::new(q.x, q.y), 1e-9).distance_sq.sqrt()
+    to_kurbo(c)
+        .nearest(KPoint::new(q.x, q.y), 1e-9)
+        .distance_sq
+        .sqrt()
 }
 
 fn benches(c: &mut Criterion) {
     let mut g = c.benchmark_group("closest");
     for (name, spread) in [("spread", Spread::Around), ("close", Spread::Close)] {
         let set = cases::<DVec2>(256, 3, spread, 11);
-        let kset: Vec<(CubicBez, KPoint)> = set.iter().map(|c| (to_kurbo(&c.curve), KPoint::new(c.q.x, c.q.y))).collect();
+        let kset: Vec<(CubicBez, KPoint)> = set
+            .iter()
+            .map(|c| (to_kurbo(&c.curve), KPoint::new(c.q.x, c.q.y)))
+            .collect();
         g.bench_function(BenchmarkId::new("clipping 2D cubic", name), |b| {
             b.iter(|| {
                 for c in &set {
@@ -63,11 +69,16 @@ fn benches(c: &mut Criterion) {
         .enumerate()
         .map(|(i, c)| {
             let shift = DVec2::new((i % 32) as f64 * 1.25, (i / 32) as f64 * 1.25);
-            Curve::Bezier(Bezier::new(c.curve.points().iter().map(|&p| p + shift).collect()))
+            Curve::Bezier(Bezier::new(
+                c.curve.points().iter().map(|&p| p + shift).collect(),
+            ))
         })
         .collect();
     let cs = CurveSet::new(&curves);
-    let qs: Vec<DVec2> = set9.iter().map(|c| c.q * 10.0 + DVec2::splat(20.0)).collect();
+    let qs: Vec<DVec2> = set9
+        .iter()
+        .map(|c| c.q * 10.0 + DVec2::splat(20.0))
+        .collect();
     g.bench_function("pick among 1000 2D cubics", |b| {
         b.iter(|| {
             for &q in &qs {
@@ -83,9 +94,14 @@ criterion_group!(closest_benches, benches);
 fn main() {
     let quick = std::env::args().any(|a| a == "--test" || a == "--list");
     if !quick {
-        let kurbo = Baseline { name: "kurbo 0.13 CubicBez::nearest (accuracy 1e-9)", distance: &kurbo_distance };
+        let kurbo = Baseline {
+            name: "kurbo 0.13 CubicBez::nearest (accuracy 1e-9)",
+            distance: &kurbo_distance,
+        };
         print!("{}", report(1.0, &[kurbo]));
     }
     closest_benches();
-    criterion::Criterion::default().configure_from_args().final_summary();
+    criterion::Criterion::default()
+        .configure_from_args()
+        .final_summary();
 }

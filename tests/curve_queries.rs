@@ -5,7 +5,7 @@
 mod support;
 
 use glam::{DVec2, DVec3};
-use nendo::curve::{pick, BSpline, Bezier, Curve, CurveSet, Point};
+use nendo::curve::{BSpline, Bezier, Curve, CurveSet, Point, pick};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use support::reference;
@@ -22,13 +22,17 @@ fn random_point<P: Point>(rng: &mut ChaCha8Rng, scale: f64) -> P {
 }
 
 fn random_bezier<P: Point>(rng: &mut ChaCha8Rng, degree: usize) -> Curve<P> {
-    Curve::Bezier(Bezier::new((0..=degree).map(|_| random_point(rng, 1.0)).collect()))
+    Curve::Bezier(Bezier::new(
+        (0..=degree).map(|_| random_point(rng, 1.0)).collect(),
+    ))
 }
 
 fn random_bspline<P: Point>(rng: &mut ChaCha8Rng, degree: usize) -> Curve<P> {
     let n = degree + 1 + rng.gen_range(0..5);
     let clamped = rng.gen_bool(0.5);
-    let mut knots: Vec<f64> = (0..n + degree + 1).map(|_| rng.gen_range(0.0..1.0)).collect();
+    let mut knots: Vec<f64> = (0..n + degree + 1)
+        .map(|_| rng.gen_range(0.0..1.0))
+        .collect();
     knots.sort_by(f64::total_cmp);
     if clamped {
         for k in knots.iter_mut().take(degree + 1) {
@@ -51,7 +55,11 @@ fn random_bspline<P: Point>(rng: &mut ChaCha8Rng, degree: usize) -> Curve<P> {
 }
 
 fn random_curve<P: Point>(rng: &mut ChaCha8Rng, degree: usize) -> Curve<P> {
-    if rng.gen_bool(0.3) { random_bspline(rng, degree.min(6)) } else { random_bezier(rng, degree) }
+    if rng.gen_bool(0.3) {
+        random_bspline(rng, degree.min(6))
+    } else {
+        random_bezier(rng, degree)
+    }
 }
 
 fn check_closest<P: Point>(rng: &mut ChaCha8Rng, cases: usize) -> usize {
@@ -62,16 +70,25 @@ fn check_closest<P: Point>(rng: &mut ChaCha8Rng, cases: usize) -> usize {
         let spread = if rng.gen_bool(0.2) { 5.0 } else { 1.5 };
         let q: P = random_point(rng, spread);
         let (u_ref, d_ref) = reference::closest(&c, q);
-        let rmax = if rng.gen_bool(0.4) { rng.gen_range(0.0..2.0) } else { f64::INFINITY };
+        let rmax = if rng.gen_bool(0.4) {
+            rng.gen_range(0.0..2.0)
+        } else {
+            f64::INFINITY
+        };
         let got = c.closest(q, rmax);
         if d_ref > rmax * (1.0 + 1e-9) + 1e-12 {
-            assert!(got.is_none() || got.is_some_and(|n| n.distance <= rmax), "case {case}: beyond rmax");
+            assert!(
+                got.is_none() || got.is_some_and(|n| n.distance <= rmax),
+                "case {case}: beyond rmax"
+            );
             continue;
         }
         if (d_ref - rmax).abs() < 1e-9 {
             continue; // on the boundary: either answer is right
         }
-        let n = got.unwrap_or_else(|| panic!("case {case}: deg {degree} q {q:?} expected {d_ref} (u {u_ref}), got none"));
+        let n = got.unwrap_or_else(|| {
+            panic!("case {case}: deg {degree} q {q:?} expected {d_ref} (u {u_ref}), got none")
+        });
         assert!(
             n.distance <= d_ref + tol(d_ref),
             "case {case}: deg {degree} {c:?} q {q:?}: got {} at u {}, reference {d_ref} at u {u_ref}",
@@ -79,8 +96,17 @@ fn check_closest<P: Point>(rng: &mut ChaCha8Rng, cases: usize) -> usize {
             n.u
         );
         // Our answer is a point of the curve, so it cannot be much below the true minimum.
-        assert!(n.distance >= d_ref - 1e-6 * d_ref.max(1.0), "case {case}: reference missed a minimum");
-        assert!((c.eval(n.u) - n.point).length() < 1e-12, "case {case}: {c:?} u {} point {:?} eval {:?}", n.u, n.point, c.eval(n.u));
+        assert!(
+            n.distance >= d_ref - 1e-6 * d_ref.max(1.0),
+            "case {case}: reference missed a minimum"
+        );
+        assert!(
+            (c.eval(n.u) - n.point).length() < 1e-12,
+            "case {case}: {c:?} u {} point {:?} eval {:?}",
+            n.u,
+            n.point,
+            c.eval(n.u)
+        );
         assert!(((n.point - q).length() - n.distance).abs() < 1e-12);
         checked += 1;
     }
@@ -106,10 +132,16 @@ fn pick_matches_reference() {
                 let mut c = random_curve::<DVec2>(&mut rng, deg);
                 let shift = random_point::<DVec2>(&mut rng, 6.0);
                 c = match c {
-                    Curve::Bezier(b) => Curve::Bezier(Bezier::new(b.points().iter().map(|&p| p + shift).collect())),
+                    Curve::Bezier(b) => {
+                        Curve::Bezier(Bezier::new(b.points().iter().map(|&p| p + shift).collect()))
+                    }
                     Curve::BSpline(s) => Curve::BSpline(
-                        BSpline::try_new(s.degree(), s.knots().to_vec(), s.points().iter().map(|&p| p + shift).collect())
-                            .expect("shifted spline is valid"),
+                        BSpline::try_new(
+                            s.degree(),
+                            s.knots().to_vec(),
+                            s.points().iter().map(|&p| p + shift).collect(),
+                        )
+                        .expect("shifted spline is valid"),
                     ),
                 };
                 c
@@ -118,7 +150,11 @@ fn pick_matches_reference() {
         let q: DVec2 = random_point(&mut rng, 7.0);
         let refs: Vec<f64> = curves.iter().map(|c| reference::closest(c, q).1).collect();
         let best = refs.iter().copied().fold(f64::INFINITY, f64::min);
-        let rmax = if case % 3 == 0 { rng.gen_range(0.0..3.0) } else { f64::INFINITY };
+        let rmax = if case % 3 == 0 {
+            rng.gen_range(0.0..3.0)
+        } else {
+            f64::INFINITY
+        };
         let set = CurveSet::new(&curves);
         for got in [pick(&curves, q, rmax), set.pick(q, rmax)] {
             if best > rmax + 1e-9 {
@@ -129,7 +165,11 @@ fn pick_matches_reference() {
                 continue;
             }
             let p = got.unwrap_or_else(|| panic!("case {case}: expected a pick at {best}"));
-            assert!(p.nearest.distance <= best + tol(best), "case {case}: {} vs {best}", p.nearest.distance);
+            assert!(
+                p.nearest.distance <= best + tol(best),
+                "case {case}: {} vs {best}",
+                p.nearest.distance
+            );
             assert!((refs[p.index] - p.nearest.distance).abs() <= 1e-6 * best.max(1.0));
         }
     }
@@ -169,11 +209,17 @@ fn compare_sphere<P: Point>(c: &Curve<P>, q: P, r: f64) -> (Result<(), String>, 
     }
     let got = c.sphere_intervals(q, r);
     if got.len() != want.len() {
-        return (Err(format!("{c:?} q {q:?} r {r}: got {got:?}, want {want:?}")), false);
+        return (
+            Err(format!("{c:?} q {q:?} r {r}: got {got:?}, want {want:?}")),
+            false,
+        );
     }
     for (g, w) in got.iter().zip(&want) {
         if (g.0 - w.0).abs() > 1e-9 || (g.1 - w.1).abs() > 1e-9 {
-            return (Err(format!("{c:?} q {q:?} r {r}: got {got:?}, want {want:?}")), false);
+            return (
+                Err(format!("{c:?} q {q:?} r {r}: got {got:?}, want {want:?}")),
+                false,
+            );
         }
     }
     (Ok(()), false)
@@ -192,8 +238,15 @@ fn ray_matches_reference() {
         }
         let (_, d_ref) = reference::ray(&c, o, d);
         let r = c.ray_closest(o, d).expect("finite ray");
-        assert!(r.distance <= d_ref + tol(d_ref), "case {case}: {} vs {d_ref}", r.distance);
-        assert!(r.distance >= d_ref - 1e-6 * d_ref.max(1.0), "case {case}: reference missed");
+        assert!(
+            r.distance <= d_ref + tol(d_ref),
+            "case {case}: {} vs {d_ref}",
+            r.distance
+        );
+        assert!(
+            r.distance >= d_ref - 1e-6 * d_ref.max(1.0),
+            "case {case}: reference missed"
+        );
         assert!(r.ray_t >= 0.0);
         let on_ray = o + d * r.ray_t;
         assert!(((r.point - on_ray).length() - r.distance).abs() < 1e-9);
@@ -221,10 +274,12 @@ fn query_on_the_curve() {
 #[test]
 fn query_at_an_end_point() {
     let c = cubic2([[0.0, 0.0], [1.0, 2.0], [2.0, -1.0], [3.0, 1.0]]);
-    let n = nendo::curve::closest_bezier(&c, DVec2::new(0.0, 0.0), f64::INFINITY).expect("unbounded");
+    let n =
+        nendo::curve::closest_bezier(&c, DVec2::new(0.0, 0.0), f64::INFINITY).expect("unbounded");
     assert_eq!((n.u, n.distance), (0.0, 0.0));
     // Beyond the end, the end point is the closest.
-    let n = nendo::curve::closest_bezier(&c, DVec2::new(4.0, 2.0), f64::INFINITY).expect("unbounded");
+    let n =
+        nendo::curve::closest_bezier(&c, DVec2::new(4.0, 2.0), f64::INFINITY).expect("unbounded");
     assert_eq!(n.u, 1.0);
     assert!((n.distance - 2f64.sqrt()).abs() < 1e-12);
 }
@@ -234,7 +289,10 @@ fn query_at_a_cusp() {
     // P1 − P0 and P3 − P2 crossed symmetrically gives a cusp at u = 1/2.
     let c = cubic2([[0.0, 0.0], [2.0, 1.0], [0.0, 1.0], [2.0, 0.0]]);
     let cusp = c.eval(0.5);
-    assert!(c.eval_derivative(0.5, 1).length() < 1e-12, "the test curve has a cusp");
+    assert!(
+        c.eval_derivative(0.5, 1).length() < 1e-12,
+        "the test curve has a cusp"
+    );
     let n = nendo::curve::closest_bezier(&c, cusp, f64::INFINITY).expect("unbounded");
     assert!(n.distance < 1e-9 && (n.u - 0.5).abs() < 1e-4);
     let q = cusp + DVec2::new(0.0, 0.3);
@@ -254,19 +312,30 @@ fn query_on_the_axis_of_a_symmetric_curve_has_two_equal_minima() {
     let b = nendo::curve::closest_bezier(&c, q, f64::INFINITY).expect("unbounded");
     assert_eq!(a, b);
     assert!((a.distance - d_ref).abs() < 1e-9);
-    let mirror = nendo::curve::closest_bezier(&c, q, f64::INFINITY).map(|n| 1.0 - n.u).expect("unbounded");
+    let mirror = nendo::curve::closest_bezier(&c, q, f64::INFINITY)
+        .map(|n| 1.0 - n.u)
+        .expect("unbounded");
     assert!((c.eval(mirror) - q).length() - a.distance < 1e-9);
 }
 
 #[test]
 fn straight_line_with_collinear_control_points() {
     // Control points out of order along one line: the curve doubles back on itself.
-    let c = Bezier::new(vec![DVec3::ZERO, DVec3::new(3.0, 0.0, 0.0), DVec3::new(1.0, 0.0, 0.0), DVec3::new(2.0, 0.0, 0.0)]);
+    let c = Bezier::new(vec![
+        DVec3::ZERO,
+        DVec3::new(3.0, 0.0, 0.0),
+        DVec3::new(1.0, 0.0, 0.0),
+        DVec3::new(2.0, 0.0, 0.0),
+    ]);
     for &x in &[-1.0, 0.5, 1.2, 1.9, 2.5, 4.0] {
         let q = DVec3::new(x, 1.0, 0.0);
         let (_, d_ref) = reference::closest(&Curve::Bezier(c.clone()), q);
         let n = nendo::curve::closest_bezier(&c, q, f64::INFINITY).expect("unbounded");
-        assert!((n.distance - d_ref).abs() < 1e-9, "x {x}: {} vs {d_ref}", n.distance);
+        assert!(
+            (n.distance - d_ref).abs() < 1e-9,
+            "x {x}: {} vs {d_ref}",
+            n.distance
+        );
     }
 }
 
@@ -286,13 +355,21 @@ fn query_far_outside_rmax() {
     assert!(nendo::curve::closest_bezier(&c, DVec2::new(100.0, 100.0), 5.0).is_none());
     let curves = vec![Curve::Bezier(c)];
     assert!(pick(&curves, DVec2::new(100.0, 100.0), 5.0).is_none());
-    assert!(CurveSet::new(&curves).pick(DVec2::new(100.0, 100.0), 5.0).is_none());
+    assert!(
+        CurveSet::new(&curves)
+            .pick(DVec2::new(100.0, 100.0), 5.0)
+            .is_none()
+    );
 }
 
 #[test]
 fn tangential_sphere() {
     // A parabola-like arch touching the circle of radius 1 at its apex from outside.
-    let c = Curve::Bezier(Bezier::new(vec![DVec2::new(-1.0, 3.0), DVec2::new(0.0, -1.0), DVec2::new(1.0, 3.0)]));
+    let c = Curve::Bezier(Bezier::new(vec![
+        DVec2::new(-1.0, 3.0),
+        DVec2::new(0.0, -1.0),
+        DVec2::new(1.0, 3.0),
+    ]));
     let iv = c.sphere_intervals(DVec2::ZERO, 1.0);
     assert_eq!(iv.len(), 1, "{iv:?}");
     assert!((iv[0].0 - 0.5).abs() < 1e-6 && (iv[0].1 - 0.5).abs() < 1e-6);
@@ -304,8 +381,15 @@ fn tangential_sphere() {
 
 #[test]
 fn bspline_parameters_are_reported_in_the_bspline_domain() {
-    let pts: Vec<DVec2> = (0..7).map(|i| DVec2::new(i as f64, if i % 2 == 0 { 0.0 } else { 1.0 })).collect();
-    let s = BSpline::try_new(3, vec![2.0, 2.0, 2.0, 2.0, 3.0, 4.0, 5.0, 6.0, 6.0, 6.0, 6.0], pts).expect("valid");
+    let pts: Vec<DVec2> = (0..7)
+        .map(|i| DVec2::new(i as f64, if i % 2 == 0 { 0.0 } else { 1.0 }))
+        .collect();
+    let s = BSpline::try_new(
+        3,
+        vec![2.0, 2.0, 2.0, 2.0, 3.0, 4.0, 5.0, 6.0, 6.0, 6.0, 6.0],
+        pts,
+    )
+    .expect("valid");
     let c = Curve::BSpline(s.clone());
     let q = s.eval(4.6) + DVec2::new(0.0, 0.0);
     let n = c.closest(q, f64::INFINITY).expect("unbounded");

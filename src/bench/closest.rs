@@ -9,7 +9,7 @@
 
 use super::reference::sampled_min;
 use super::{Stopwatch, Table};
-use crate::curve::{closest_bezier_with_stats, Bezier, ClipStats, Curve, CurveSet, Point};
+use crate::curve::{Bezier, ClipStats, Curve, CurveSet, Point, closest_bezier_with_stats};
 use glam::{DVec2, DVec3};
 use std::hint::black_box;
 
@@ -78,7 +78,11 @@ pub fn cases<P: Point>(count: usize, degree: usize, spread: Spread, seed: u64) -
             };
             let f = |u: f64| (curve.eval(u) - q).length();
             let (_, reference) = sampled_min(&f, 0.0, 1.0, 2000);
-            Case { curve, q, reference }
+            Case {
+                curve,
+                q,
+                reference,
+            }
         })
         .collect()
 }
@@ -101,7 +105,9 @@ pub fn sampled_distance<P: Point>(c: &Bezier<P>, q: P, samples: usize) -> f64 {
 pub fn newton_distance<P: Point>(c: &Bezier<P>, q: P) -> f64 {
     let d1 = c.hodograph();
     let d2 = d1.hodograph();
-    let mut best = (c.eval(0.0) - q).length_squared().min((c.eval(1.0) - q).length_squared());
+    let mut best = (c.eval(0.0) - q)
+        .length_squared()
+        .min((c.eval(1.0) - q).length_squared());
     for k in 0..8 {
         let mut u = (k as f64 + 0.5) / 8.0;
         for _ in 0..30 {
@@ -146,22 +152,35 @@ pub struct Row {
     pub max_error: f64,
 }
 
-fn measure<P: Point>(label: String, cases: &[Case<P>], batches: usize, f: &dyn Fn(&Bezier<P>, P) -> f64) -> Row {
+fn measure<P: Point>(
+    label: String,
+    cases: &[Case<P>],
+    batches: usize,
+    f: &dyn Fn(&Bezier<P>, P) -> f64,
+) -> Row {
     let mut max_error = 0.0f64;
     for c in cases {
         let d = f(&c.curve, c.q);
         max_error = max_error.max((d - c.reference) / c.reference.max(1.0));
     }
-    let sw = Stopwatch { batches, calls_per_batch: cases.len() };
+    let sw = Stopwatch {
+        batches,
+        calls_per_batch: cases.len(),
+    };
     let ns = sw.median_ns(|k| {
         let c = &cases[k % cases.len()];
         black_box(f(black_box(&c.curve), black_box(c.q)));
     });
-    Row { label, ns, max_error }
+    Row {
+        label,
+        ns,
+        max_error,
+    }
 }
 
 fn clip_distance<P: Point>(c: &Bezier<P>, q: P) -> f64 {
-    closest_bezier_with_stats(c, q, f64::INFINITY, &mut ClipStats::default()).map_or(f64::INFINITY, |n| n.distance)
+    closest_bezier_with_stats(c, q, f64::INFINITY, &mut ClipStats::default())
+        .map_or(f64::INFINITY, |n| n.distance)
 }
 
 fn histogram<P: Point>(cases: &[Case<P>]) -> (Vec<usize>, f64, f64) {
@@ -189,65 +208,171 @@ pub fn report(scale: f64, baselines: &[Baseline<'_>]) -> String {
     let nonic3: Vec<Case<DVec3>> = cases(count, 9, Spread::Around, 5);
 
     let mut rows: Vec<Row> = Vec::new();
-    let clip2 = measure("2D cubic, spread: Bezier clipping".into(), &spread2, batches, &clip_distance);
-    let clip2c = measure("2D cubic, close:  Bezier clipping".into(), &close2, batches, &clip_distance);
+    let clip2 = measure(
+        "2D cubic, spread: Bezier clipping".into(),
+        &spread2,
+        batches,
+        &clip_distance,
+    );
+    let clip2c = measure(
+        "2D cubic, close:  Bezier clipping".into(),
+        &close2,
+        batches,
+        &clip_distance,
+    );
     rows.push(clip2.clone());
     let mut ratios = Vec::new();
     for b in baselines {
-        let r = measure(format!("2D cubic, spread: {}", b.name), &spread2, batches, b.distance);
-        ratios.push(format!("2D cubic spread: clipping / {} = {:.2} (target ≤ 0.5)", b.name, clip2.ns / r.ns));
+        let r = measure(
+            format!("2D cubic, spread: {}", b.name),
+            &spread2,
+            batches,
+            b.distance,
+        );
+        ratios.push(format!(
+            "2D cubic spread: clipping / {} = {:.2} (target ≤ 0.5)",
+            b.name,
+            clip2.ns / r.ns
+        ));
         rows.push(r);
     }
-    let s1001 = measure("2D cubic, spread: 1001-sample search".into(), &spread2, batches, &|c, q| sampled_distance(c, q, 1000));
-    let newton = measure("2D cubic, spread: Newton from 8 seeds".into(), &spread2, batches, &|c, q| newton_distance(c, q));
+    let s1001 = measure(
+        "2D cubic, spread: 1001-sample search".into(),
+        &spread2,
+        batches,
+        &|c, q| sampled_distance(c, q, 1000),
+    );
+    let newton = measure(
+        "2D cubic, spread: Newton from 8 seeds".into(),
+        &spread2,
+        batches,
+        &|c, q| newton_distance(c, q),
+    );
     rows.push(s1001.clone());
     rows.push(newton);
     rows.push(clip2c.clone());
     for b in baselines {
-        let r = measure(format!("2D cubic, close:  {}", b.name), &close2, batches, b.distance);
-        ratios.push(format!("2D cubic close: clipping / {} = {:.2} (target ≤ 0.7)", b.name, clip2c.ns / r.ns));
+        let r = measure(
+            format!("2D cubic, close:  {}", b.name),
+            &close2,
+            batches,
+            b.distance,
+        );
+        ratios.push(format!(
+            "2D cubic close: clipping / {} = {:.2} (target ≤ 0.7)",
+            b.name,
+            clip2c.ns / r.ns
+        ));
         rows.push(r);
     }
-    rows.push(measure("2D cubic, close:  1001-sample search".into(), &close2, batches, &|c, q| sampled_distance(c, q, 1000)));
-    let clip3 = measure("3D cubic, spread: Bezier clipping".into(), &spread3, batches, &clip_distance);
+    rows.push(measure(
+        "2D cubic, close:  1001-sample search".into(),
+        &close2,
+        batches,
+        &|c, q| sampled_distance(c, q, 1000),
+    ));
+    let clip3 = measure(
+        "3D cubic, spread: Bezier clipping".into(),
+        &spread3,
+        batches,
+        &clip_distance,
+    );
     rows.push(clip3.clone());
-    rows.push(measure("3D cubic, spread: 1001-sample search".into(), &spread3, batches, &|c, q| sampled_distance(c, q, 1000)));
-    rows.push(measure("3D cubic, spread: Newton from 8 seeds".into(), &spread3, batches, &|c, q| newton_distance(c, q)));
-    let clip9 = measure("2D degree 9, spread: Bezier clipping".into(), &nonic, batches, &clip_distance);
+    rows.push(measure(
+        "3D cubic, spread: 1001-sample search".into(),
+        &spread3,
+        batches,
+        &|c, q| sampled_distance(c, q, 1000),
+    ));
+    rows.push(measure(
+        "3D cubic, spread: Newton from 8 seeds".into(),
+        &spread3,
+        batches,
+        &|c, q| newton_distance(c, q),
+    ));
+    let clip9 = measure(
+        "2D degree 9, spread: Bezier clipping".into(),
+        &nonic,
+        batches,
+        &clip_distance,
+    );
     rows.push(clip9.clone());
-    let s9 = measure("2D degree 9, spread: 1001-sample search".into(), &nonic, batches, &|c, q| sampled_distance(c, q, 1000));
+    let s9 = measure(
+        "2D degree 9, spread: 1001-sample search".into(),
+        &nonic,
+        batches,
+        &|c, q| sampled_distance(c, q, 1000),
+    );
     rows.push(s9.clone());
-    rows.push(measure("2D degree 9, spread: Newton from 8 seeds".into(), &nonic, batches, &|c, q| newton_distance(c, q)));
-    rows.push(measure("3D degree 9, spread: Bezier clipping".into(), &nonic3, batches, &clip_distance));
+    rows.push(measure(
+        "2D degree 9, spread: Newton from 8 seeds".into(),
+        &nonic,
+        batches,
+        &|c, q| newton_distance(c, q),
+    ));
+    rows.push(measure(
+        "3D degree 9, spread: Bezier clipping".into(),
+        &nonic3,
+        batches,
+        &clip_distance,
+    ));
 
     // Picking among 1 000 curves scattered over a 40 × 40 square.
     let mut rng = SplitMix::new(6);
     let curves: Vec<Curve<DVec2>> = (0..1000)
         .map(|_| {
             let centre = DVec2::new(rng.range(0.0, 40.0), rng.range(0.0, 40.0));
-            Curve::Bezier(Bezier::new((0..4).map(|_| centre + rng.point::<DVec2>(1.0)).collect()))
+            Curve::Bezier(Bezier::new(
+                (0..4).map(|_| centre + rng.point::<DVec2>(1.0)).collect(),
+            ))
         })
         .collect();
     let set = CurveSet::new(&curves);
-    let queries: Vec<DVec2> = (0..count).map(|_| DVec2::new(rng.range(0.0, 40.0), rng.range(0.0, 40.0))).collect();
-    let pick_ns = Stopwatch { batches, calls_per_batch: queries.len() }.median_ns(|k| {
+    let queries: Vec<DVec2> = (0..count)
+        .map(|_| DVec2::new(rng.range(0.0, 40.0), rng.range(0.0, 40.0)))
+        .collect();
+    let pick_ns = Stopwatch {
+        batches,
+        calls_per_batch: queries.len(),
+    }
+    .median_ns(|k| {
         black_box(set.pick(black_box(queries[k % queries.len()]), f64::INFINITY));
     });
 
-    let mut t = Table::new(&["case: method", "ns/query (median)", "max error vs reference"]);
+    let mut t = Table::new(&[
+        "case: method",
+        "ns/query (median)",
+        "max error vs reference",
+    ]);
     for r in &rows {
-        t.row(vec![r.label.clone(), format!("{:.0}", r.ns), format!("{:.1e}", r.max_error)]);
+        t.row(vec![
+            r.label.clone(),
+            format!("{:.0}", r.ns),
+            format!("{:.1e}", r.max_error),
+        ]);
     }
-    t.row(vec!["pick among 1 000 2D cubics (CurveSet)".into(), format!("{pick_ns:.0}"), "-".into()]);
-    let mut out = format!("nendo bench closest — {count} random cases per set, medians of {batches} batches\n\n");
+    t.row(vec![
+        "pick among 1 000 2D cubics (CurveSet)".into(),
+        format!("{pick_ns:.0}"),
+        "-".into(),
+    ]);
+    let mut out = format!(
+        "nendo bench closest — {count} random cases per set, medians of {batches} batches\n\n"
+    );
     out.push_str(&t.render());
     out.push('\n');
     for r in ratios {
         out.push_str(&r);
         out.push('\n');
     }
-    out.push_str(&format!("3D cubic clipping: {:.0} ns/query (target ≤ 200)\n", clip3.ns));
-    out.push_str(&format!("pick among 1 000 / one 2D query = {:.1} (target ≤ 20)\n", pick_ns / clip2.ns));
+    out.push_str(&format!(
+        "3D cubic clipping: {:.0} ns/query (target ≤ 200)\n",
+        clip3.ns
+    ));
+    out.push_str(&format!(
+        "pick among 1 000 / one 2D query = {:.1} (target ≤ 20)\n",
+        pick_ns / clip2.ns
+    ));
     out.push_str(&format!(
         "speed-up over the 1001-sample search (parameter precision 1e-3; clipping runs to ~1e-12): cubic {:.0}×, degree 9 {:.0}× (paper: ~100× at 1e-3)\n",
         s1001.ns / clip2.ns,
@@ -261,6 +386,9 @@ pub fn report(scale: f64, baselines: &[Baseline<'_>]) -> String {
         ));
     }
     let (h, mean_clips, _) = histogram(&nonic);
-    out.push_str(&format!("clipping iterations, degree 9: mean {mean_clips:.2}; histogram 1..11+: {:?}\n", &h[1..]));
+    out.push_str(&format!(
+        "clipping iterations, degree 9: mean {mean_clips:.2}; histogram 1..11+: {:?}\n",
+        &h[1..]
+    ));
     out
 }

@@ -33,7 +33,9 @@ pub fn golden(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64) -> (f64, f64) {
 /// polish around every sampled local minimum (ends included). Returns `(argmin, min)`.
 pub fn sampled_min(f: &impl Fn(f64) -> f64, lo: f64, hi: f64, samples: usize) -> (f64, f64) {
     let samples = samples.max(2);
-    let us: Vec<f64> = (0..=samples).map(|i| lo + (hi - lo) * i as f64 / samples as f64).collect();
+    let us: Vec<f64> = (0..=samples)
+        .map(|i| lo + (hi - lo) * i as f64 / samples as f64)
+        .collect();
     let vs: Vec<f64> = us.iter().map(|&u| f(u)).collect();
     let mut best = (us[0], vs[0]);
     if vs[samples] < best.1 {
@@ -41,7 +43,11 @@ pub fn sampled_min(f: &impl Fn(f64) -> f64, lo: f64, hi: f64, samples: usize) ->
     }
     for i in 0..=samples {
         let left = if i == 0 { f64::INFINITY } else { vs[i - 1] };
-        let right = if i == samples { f64::INFINITY } else { vs[i + 1] };
+        let right = if i == samples {
+            f64::INFINITY
+        } else {
+            vs[i + 1]
+        };
         if vs[i] <= left && vs[i] <= right {
             let cand = golden(f, us[i.saturating_sub(1)], us[(i + 1).min(samples)]);
             if cand.1 < best.1 {

@@ -12,11 +12,11 @@
 //! A line that cannot be answered gets `{"error":"<what is wrong>"}`; later lines are still
 //! answered, and the exit status is 1 if any line failed. Blank lines are skipped.
 
-use crate::curve::json::{curve_from_json, point_to_json, typed_point, DynCurve};
-use crate::curve::{check_radius, pick, Curve, CurveError, Point};
+use crate::curve::json::{DynCurve, curve_from_json, point_to_json, typed_point};
+use crate::curve::{Curve, CurveError, Point, check_radius, pick};
 use clap::Args as ClapArgs;
 use glam::{DVec2, DVec3};
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 use std::io::{self, BufRead, Write};
 use std::process::ExitCode;
 
@@ -31,7 +31,9 @@ pub struct Args {
 /// Runs `nendo closest`.
 pub fn run(args: Args) -> ExitCode {
     if !args.batch {
-        eprintln!("nendo closest: only --batch mode exists: JSON Lines requests on stdin (see `nendo closest --help`)");
+        eprintln!(
+            "nendo closest: only --batch mode exists: JSON Lines requests on stdin (see `nendo closest --help`)"
+        );
         return ExitCode::from(2);
     }
     let stdin = io::stdin();
@@ -79,19 +81,32 @@ pub fn answer_lines(input: impl BufRead, mut output: impl Write) -> io::Result<u
 /// Answers one request line.
 pub fn answer(line: &str) -> Result<Value, String> {
     let req: Value = serde_json::from_str(line).map_err(|e| format!("malformed JSON: {e}"))?;
-    let op = req.get("op").and_then(Value::as_str).ok_or("missing \"op\" (closest, pick, sphere or ray)")?;
+    let op = req
+        .get("op")
+        .and_then(Value::as_str)
+        .ok_or("missing \"op\" (closest, pick, sphere or ray)")?;
     let e = |e: CurveError| e.to_string();
     match op {
         "closest" => {
             let curve = curve_from_json(field(&req, "curve")?).map_err(e)?;
             let rmax = rmax(&req)?;
             match curve {
-                DynCurve::D2(c) => closest_reply(&c, typed_point(field(&req, "point")?, "point").map_err(e)?, rmax),
-                DynCurve::D3(c) => closest_reply(&c, typed_point(field(&req, "point")?, "point").map_err(e)?, rmax),
+                DynCurve::D2(c) => closest_reply(
+                    &c,
+                    typed_point(field(&req, "point")?, "point").map_err(e)?,
+                    rmax,
+                ),
+                DynCurve::D3(c) => closest_reply(
+                    &c,
+                    typed_point(field(&req, "point")?, "point").map_err(e)?,
+                    rmax,
+                ),
             }
         }
         "pick" => {
-            let list = field(&req, "curves")?.as_array().ok_or("\"curves\" must be an array")?;
+            let list = field(&req, "curves")?
+                .as_array()
+                .ok_or("\"curves\" must be an array")?;
             let mut curves = Vec::with_capacity(list.len());
             for (i, c) in list.iter().enumerate() {
                 curves.push(curve_from_json(c).map_err(|err| format!("curve {i}: {err}"))?);
@@ -100,14 +115,22 @@ pub fn answer(line: &str) -> Result<Value, String> {
             let q = field(&req, "point")?;
             match curves.first().map(DynCurve::dim) {
                 None => Ok(json!({ "index": null })),
-                Some(2) => pick_reply::<DVec2>(&same_dim(curves, |c| match c {
-                    DynCurve::D2(c) => Some(c),
-                    DynCurve::D3(_) => None,
-                })?, typed_point(q, "point").map_err(e)?, rmax),
-                Some(_) => pick_reply::<DVec3>(&same_dim(curves, |c| match c {
-                    DynCurve::D3(c) => Some(c),
-                    DynCurve::D2(_) => None,
-                })?, typed_point(q, "point").map_err(e)?, rmax),
+                Some(2) => pick_reply::<DVec2>(
+                    &same_dim(curves, |c| match c {
+                        DynCurve::D2(c) => Some(c),
+                        DynCurve::D3(_) => None,
+                    })?,
+                    typed_point(q, "point").map_err(e)?,
+                    rmax,
+                ),
+                Some(_) => pick_reply::<DVec3>(
+                    &same_dim(curves, |c| match c {
+                        DynCurve::D3(c) => Some(c),
+                        DynCurve::D2(_) => None,
+                    })?,
+                    typed_point(q, "point").map_err(e)?,
+                    rmax,
+                ),
             }
         }
         "sphere" => {
@@ -116,8 +139,12 @@ pub fn answer(line: &str) -> Result<Value, String> {
             check_radius("radius", radius).map_err(e)?;
             let c = field(&req, "center")?;
             let iv = match curve {
-                DynCurve::D2(cv) => cv.sphere_intervals(typed_point(c, "center").map_err(e)?, radius),
-                DynCurve::D3(cv) => cv.sphere_intervals(typed_point(c, "center").map_err(e)?, radius),
+                DynCurve::D2(cv) => {
+                    cv.sphere_intervals(typed_point(c, "center").map_err(e)?, radius)
+                }
+                DynCurve::D3(cv) => {
+                    cv.sphere_intervals(typed_point(c, "center").map_err(e)?, radius)
+                }
             };
             Ok(json!({ "intervals": iv.iter().map(|&(a, b)| json!([a, b])).collect::<Vec<_>>() }))
         }
@@ -128,7 +155,9 @@ pub fn answer(line: &str) -> Result<Value, String> {
                 DynCurve::D3(c) => ray_reply(&c, &req),
             }
         }
-        other => Err(format!("unknown op {other:?}; expected closest, pick, sphere or ray")),
+        other => Err(format!(
+            "unknown op {other:?}; expected closest, pick, sphere or ray"
+        )),
     }
 }
 
@@ -137,8 +166,14 @@ fn field<'a>(req: &'a Value, name: &str) -> Result<&'a Value, String> {
 }
 
 fn number(req: &Value, name: &str) -> Result<f64, String> {
-    let v = field(req, name)?.as_f64().ok_or_else(|| format!("\"{name}\" must be a number"))?;
-    if v.is_finite() { Ok(v) } else { Err(format!("\"{name}\" is not a finite number")) }
+    let v = field(req, name)?
+        .as_f64()
+        .ok_or_else(|| format!("\"{name}\" must be a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("\"{name}\" is not a finite number"))
+    }
 }
 
 fn rmax(req: &Value) -> Result<f64, String> {
@@ -151,7 +186,10 @@ fn rmax(req: &Value) -> Result<f64, String> {
     }
 }
 
-fn same_dim<P: Point>(curves: Vec<DynCurve>, take: impl Fn(DynCurve) -> Option<Curve<P>>) -> Result<Vec<Curve<P>>, String> {
+fn same_dim<P: Point>(
+    curves: Vec<DynCurve>,
+    take: impl Fn(DynCurve) -> Option<Curve<P>>,
+) -> Result<Vec<Curve<P>>, String> {
     curves
         .into_iter()
         .enumerate()
@@ -185,6 +223,10 @@ fn ray_reply<P: Point>(c: &Curve<P>, req: &Value) -> Result<Value, String> {
     if d.length_squared() == 0.0 {
         return Err(CurveError::ZeroVector("dir").to_string());
     }
-    let r = c.ray_closest(o, d).ok_or("the ray query has no answer (non-finite input)")?;
-    Ok(json!({ "u": r.u, "point": point_to_json(r.point), "ray_t": r.ray_t, "distance": r.distance }))
+    let r = c
+        .ray_closest(o, d)
+        .ok_or("the ray query has no answer (non-finite input)")?;
+    Ok(
+        json!({ "u": r.u, "point": point_to_json(r.point), "ray_t": r.ray_t, "distance": r.distance }),
+    )
 }

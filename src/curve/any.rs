@@ -6,10 +6,10 @@
 
 use super::bezier::Bezier;
 use super::bspline::{BSpline, Segment};
-use super::closest::{box_distance_squared, closest_bezier_with_stats, ClipStats, Nearest};
+use super::closest::{ClipStats, Nearest, box_distance_squared, closest_bezier_with_stats};
 use super::error::CurveError;
 use super::point::Point;
-use super::ray::{ray_closest_bezier_with_stats, RayNearest};
+use super::ray::{RayNearest, ray_closest_bezier_with_stats};
 use super::sphere::sphere_intervals_bezier;
 use std::borrow::Cow;
 
@@ -75,7 +75,11 @@ impl<P: Point> Curve<P> {
     #[must_use]
     pub fn segments(&self) -> Cow<'_, [Segment<P>]> {
         match self {
-            Curve::Bezier(b) => Cow::Owned(vec![Segment { bezier: b.clone(), start: 0.0, end: 1.0 }]),
+            Curve::Bezier(b) => Cow::Owned(vec![Segment {
+                bezier: b.clone(),
+                start: 0.0,
+                end: 1.0,
+            }]),
             Curve::BSpline(s) => Cow::Owned(s.to_bezier_segments()),
         }
     }
@@ -87,10 +91,17 @@ impl<P: Point> Curve<P> {
     }
 
     /// [`Self::closest`], counting the clipping work.
-    pub fn closest_with_stats(&self, q: P, r_max: f64, stats: &mut ClipStats) -> Option<Nearest<P>> {
+    pub fn closest_with_stats(
+        &self,
+        q: P,
+        r_max: f64,
+        stats: &mut ClipStats,
+    ) -> Option<Nearest<P>> {
         match self {
             Curve::Bezier(b) => closest_bezier_with_stats(b, q, r_max, stats),
-            Curve::BSpline(s) => closest_in_segments(&s.to_bezier_segments(), None, q, r_max, stats),
+            Curve::BSpline(s) => {
+                closest_in_segments(&s.to_bezier_segments(), None, q, r_max, stats)
+            }
         }
     }
 
@@ -116,7 +127,8 @@ impl<P: Point> Curve<P> {
         let mut best: Option<RayNearest<P>> = None;
         let mut stats = ClipStats::default();
         for seg in self.segments().iter() {
-            if let Some(mut r) = ray_closest_bezier_with_stats(&seg.bezier, origin, dir, &mut stats) {
+            if let Some(mut r) = ray_closest_bezier_with_stats(&seg.bezier, origin, dir, &mut stats)
+            {
                 r.u = seg.to_global(r.u);
                 if best.is_none_or(|b| r.distance < b.distance) {
                     best = Some(r);
@@ -245,7 +257,12 @@ impl<P: Point> CurveSet<P> {
         }
         let seg_boxes = items.iter().map(|it| it.2).collect();
         let segments = items.into_iter().map(|(s, i, _)| (s, i)).collect();
-        Self { segments, seg_boxes, nodes, curves: curves.len() }
+        Self {
+            segments,
+            seg_boxes,
+            nodes,
+            curves: curves.len(),
+        }
     }
 
     /// Number of curves.
@@ -289,12 +306,16 @@ impl<P: Point> CurveSet<P> {
                         let better = match best {
                             None => true,
                             Some(b) => {
-                                n.distance < b.nearest.distance || (n.distance == b.nearest.distance && *curve < b.index)
+                                n.distance < b.nearest.distance
+                                    || (n.distance == b.nearest.distance && *curve < b.index)
                             }
                         };
                         if better {
                             r = n.distance;
-                            best = Some(Picked { index: *curve, nearest: n });
+                            best = Some(Picked {
+                                index: *curve,
+                                nearest: n,
+                            });
                         }
                     }
                 }
@@ -323,14 +344,23 @@ impl<P: Point> CurveSet<P> {
 
 /// Builds the hierarchy over `items` (reordering them into leaf order); `offset` is the index
 /// of `items[0]` in the whole list. Returns the index of the node made.
-fn build<P: Point>(items: &mut [(Segment<P>, usize, (P, P))], offset: usize, nodes: &mut Vec<Node<P>>) -> usize {
+fn build<P: Point>(
+    items: &mut [(Segment<P>, usize, (P, P))],
+    offset: usize,
+    nodes: &mut Vec<Node<P>>,
+) -> usize {
     let (mut lo, mut hi) = items[0].2;
     for it in items.iter() {
         lo = lo.min_by_coord(it.2.0);
         hi = hi.max_by_coord(it.2.1);
     }
     let me = nodes.len();
-    nodes.push(Node { lo, hi, first: offset, count: items.len() });
+    nodes.push(Node {
+        lo,
+        hi,
+        first: offset,
+        count: items.len(),
+    });
     if items.len() <= CurveSet::<P>::LEAF {
         return me;
     }
@@ -344,7 +374,9 @@ fn build<P: Point>(items: &mut [(Segment<P>, usize, (P, P))], offset: usize, nod
     let ext = chi - clo;
     let axis = (0..P::DIM).fold(0, |a, i| if ext.coord(i) > ext.coord(a) { i } else { a });
     let mid = items.len() / 2;
-    items.select_nth_unstable_by(mid, |x, y| centre(x).coord(axis).total_cmp(&centre(y).coord(axis)));
+    items.select_nth_unstable_by(mid, |x, y| {
+        centre(x).coord(axis).total_cmp(&centre(y).coord(axis))
+    });
     let (left, right) = items.split_at_mut(mid);
     build(left, offset, nodes);
     let second = build(right, offset + mid, nodes);

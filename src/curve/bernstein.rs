@@ -112,9 +112,9 @@ pub fn basis_all(n: usize, t: f64, out: &mut [f64]) {
     out[0] = 1.0;
     for j in 1..=n {
         let mut saved = 0.0;
-        for k in 0..j {
-            let tmp = out[k];
-            out[k] = saved + s * tmp;
+        for o in out.iter_mut().take(j) {
+            let tmp = *o;
+            *o = saved + s * tmp;
             saved = t * tmp;
         }
         out[j] = saved;
@@ -200,11 +200,11 @@ pub fn subdivide_into<T: Coeff>(c: &[T], t: f64, left: &mut [T], right: &mut [T]
     let n = c.len();
     right[..n].copy_from_slice(c);
     left[0] = c[0];
-    for r in 1..n {
+    for (r, l) in left.iter_mut().enumerate().take(n).skip(1) {
         for i in 0..n - r {
             right[i] = right[i].lerp_to(right[i + 1], t);
         }
-        left[r] = right[0];
+        *l = right[0];
     }
 }
 
@@ -409,8 +409,8 @@ mod tests {
                 basis_all(n, t, &mut out);
                 let s: f64 = out[..=n].iter().sum();
                 assert!((s - 1.0).abs() < 1e-14);
-                for i in 0..=n {
-                    assert!((out[i] - basis(n, i, t)).abs() < 1e-14);
+                for (i, &o) in out.iter().enumerate().take(n + 1) {
+                    assert!((o - basis(n, i, t)).abs() < 1e-14);
                 }
             }
         }
@@ -434,7 +434,11 @@ mod tests {
             assert!((x - y).abs() < 1e-12);
         }
         let t = 0.3f64;
-        let p: f64 = a.iter().enumerate().map(|(k, ak)| ak * t.powi(k as i32)).sum();
+        let p: f64 = a
+            .iter()
+            .enumerate()
+            .map(|(k, ak)| ak * t.powi(k as i32))
+            .sum();
         assert!((p - eval(&c, t)).abs() < 1e-13);
     }
 

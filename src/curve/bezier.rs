@@ -36,10 +36,15 @@ impl<P: Point> Bezier<P> {
             return Err(CurveError::Empty);
         }
         if points.len() > Self::MAX_DEGREE + 1 {
-            return Err(CurveError::DegreeTooHigh { degree: points.len() - 1, max: Self::MAX_DEGREE });
+            return Err(CurveError::DegreeTooHigh {
+                degree: points.len() - 1,
+                max: Self::MAX_DEGREE,
+            });
         }
         if let Some(i) = points.iter().position(|p| !p.is_finite_coeff()) {
-            return Err(CurveError::NotFinite { what: format!("control point {i}") });
+            return Err(CurveError::NotFinite {
+                what: format!("control point {i}"),
+            });
         }
         Ok(Self { points })
     }
@@ -90,7 +95,9 @@ impl<P: Point> Bezier<P> {
     /// (the zero point for a degree-0 curve).
     #[must_use]
     pub fn hodograph(&self) -> Self {
-        Self { points: bernstein::derivative(&self.points) }
+        Self {
+            points: bernstein::derivative(&self.points),
+        }
     }
 
     /// Splits at `t ∈ [0,1]` into the curves on `[0,t]` and `[t,1]` (de Casteljau subdivision).
@@ -103,7 +110,9 @@ impl<P: Point> Bezier<P> {
     /// The piece on `[a,b]` (`0 ≤ a ≤ b ≤ 1`), reparameterised to `[0,1]`.
     #[must_use]
     pub fn restrict(&self, a: f64, b: f64) -> Self {
-        Self { points: bernstein::restrict(&self.points, a, b) }
+        Self {
+            points: bernstein::restrict(&self.points, a, b),
+        }
     }
 
     /// The same curve one degree higher (fails only above [`Self::MAX_DEGREE`]).
@@ -135,10 +144,15 @@ impl<P: Point> Bezier<P> {
     /// finite.
     pub fn set_point(&mut self, k: usize, p: P) -> Result<(), CurveError> {
         if k >= self.points.len() {
-            return Err(CurveError::Index { index: k, len: self.points.len() });
+            return Err(CurveError::Index {
+                index: k,
+                len: self.points.len(),
+            });
         }
         if !p.is_finite_coeff() {
-            return Err(CurveError::NotFinite { what: format!("control point {k}") });
+            return Err(CurveError::NotFinite {
+                what: format!("control point {k}"),
+            });
         }
         self.points[k] = p;
         Ok(())
@@ -165,7 +179,12 @@ mod tests {
 
     #[test]
     fn elevation_keeps_shape() {
-        let c = Bezier::new(vec![DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 2.0), DVec3::Y]);
+        let c = Bezier::new(vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::new(1.0, 1.0, 2.0),
+            DVec3::Y,
+        ]);
         let e = c.elevate().expect("degree 4 is supported");
         for k in 0..=10 {
             let t = k as f64 / 10.0;

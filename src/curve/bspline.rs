@@ -59,20 +59,34 @@ impl<P: Point> BSpline<P> {
             return Err(CurveError::ZeroDegree);
         }
         if degree > Bezier::<P>::MAX_DEGREE {
-            return Err(CurveError::DegreeTooHigh { degree, max: Bezier::<P>::MAX_DEGREE });
+            return Err(CurveError::DegreeTooHigh {
+                degree,
+                max: Bezier::<P>::MAX_DEGREE,
+            });
         }
         if points.is_empty() {
             return Err(CurveError::Empty);
         }
         if points.len() < degree + 1 {
-            return Err(CurveError::TooFewPoints { degree, needed: degree + 1, got: points.len() });
+            return Err(CurveError::TooFewPoints {
+                degree,
+                needed: degree + 1,
+                got: points.len(),
+            });
         }
         let expected = points.len() + degree + 1;
         if knots.len() != expected {
-            return Err(CurveError::KnotCount { degree, points: points.len(), expected, got: knots.len() });
+            return Err(CurveError::KnotCount {
+                degree,
+                points: points.len(),
+                expected,
+                got: knots.len(),
+            });
         }
         if let Some(i) = knots.iter().position(|k| !k.is_finite()) {
-            return Err(CurveError::NotFinite { what: format!("knot {i}") });
+            return Err(CurveError::NotFinite {
+                what: format!("knot {i}"),
+            });
         }
         if let Some(i) = (1..knots.len()).find(|&i| knots[i] < knots[i - 1]) {
             return Err(CurveError::KnotsDecreasing { index: i });
@@ -88,16 +102,30 @@ impl<P: Point> BSpline<P> {
                 j += 1;
             }
             // Inside the domain a knot of multiplicity p + 1 would break the curve apart.
-            let max = if knots[i] > start && knots[i] < end { degree } else { degree + 1 };
+            let max = if knots[i] > start && knots[i] < end {
+                degree
+            } else {
+                degree + 1
+            };
             if j - i > max {
-                return Err(CurveError::KnotMultiplicity { value: knots[i], multiplicity: j - i, max });
+                return Err(CurveError::KnotMultiplicity {
+                    value: knots[i],
+                    multiplicity: j - i,
+                    max,
+                });
             }
             i = j;
         }
         if let Some(i) = points.iter().position(|p| !p.is_finite_coeff()) {
-            return Err(CurveError::NotFinite { what: format!("control point {i}") });
+            return Err(CurveError::NotFinite {
+                what: format!("control point {i}"),
+            });
         }
-        Ok(Self { degree, knots, points })
+        Ok(Self {
+            degree,
+            knots,
+            points,
+        })
     }
 
     /// A clamped uniform B-spline (end knots of multiplicity `p + 1`, interior knots evenly
@@ -105,7 +133,11 @@ impl<P: Point> BSpline<P> {
     pub fn clamped_uniform(degree: usize, points: Vec<P>) -> Result<Self, CurveError> {
         let n = points.len();
         if n < degree + 1 {
-            return Err(CurveError::TooFewPoints { degree, needed: degree + 1, got: n });
+            return Err(CurveError::TooFewPoints {
+                degree,
+                needed: degree + 1,
+                got: n,
+            });
         }
         let spans = n - degree;
         let mut knots = vec![0.0; degree + 1];
@@ -186,7 +218,11 @@ impl<P: Point> BSpline<P> {
             for j in (r..=p).rev() {
                 let i = k - p + j;
                 let denom = self.knots[i + p + 1 - r] - self.knots[i];
-                let alpha = if denom > 0.0 { (u - self.knots[i]) / denom } else { 0.0 };
+                let alpha = if denom > 0.0 {
+                    (u - self.knots[i]) / denom
+                } else {
+                    0.0
+                };
                 d[j] = d[j - 1].lerp_to(d[j], alpha);
             }
         }
@@ -225,7 +261,11 @@ impl<P: Point> BSpline<P> {
                     self.blossom(k, &us[..p])
                 })
                 .collect();
-            out.push(Segment { bezier: Bezier::new(pts), start: a, end: b });
+            out.push(Segment {
+                bezier: Bezier::new(pts),
+                start: a,
+                end: b,
+            });
         }
         out
     }
@@ -238,12 +278,19 @@ impl<P: Point> BSpline<P> {
     pub fn insert_knot(&self, t: f64) -> Result<Self, CurveError> {
         let (a, b) = self.domain();
         if !t.is_finite() || t < a || t > b {
-            return Err(CurveError::OutOfDomain { t, range: format!("the domain [{a}, {b}]") });
+            return Err(CurveError::OutOfDomain {
+                t,
+                range: format!("the domain [{a}, {b}]"),
+            });
         }
         let p = self.degree;
         let mult = self.knots.iter().filter(|&&k| k == t).count();
-        if mult >= p + 1 || ((t == a || t == b) && mult >= p) {
-            return Err(CurveError::KnotMultiplicity { value: t, multiplicity: mult + 1, max: p });
+        if mult > p || ((t == a || t == b) && mult >= p) {
+            return Err(CurveError::KnotMultiplicity {
+                value: t,
+                multiplicity: mult + 1,
+                max: p,
+            });
         }
         let k = self.span(t);
         let n = self.points.len();
@@ -255,7 +302,11 @@ impl<P: Point> BSpline<P> {
                 self.points[i - 1]
             } else {
                 let denom = self.knots[i + p] - self.knots[i];
-                let alpha = if denom > 0.0 { (t - self.knots[i]) / denom } else { 0.0 };
+                let alpha = if denom > 0.0 {
+                    (t - self.knots[i]) / denom
+                } else {
+                    0.0
+                };
                 self.points[i - 1].lerp_to(self.points[i], alpha)
             };
             q.push(pt);
@@ -264,7 +315,11 @@ impl<P: Point> BSpline<P> {
         knots.extend_from_slice(&self.knots[..=k]);
         knots.push(t);
         knots.extend_from_slice(&self.knots[k + 1..]);
-        Ok(Self { degree: p, knots, points: q })
+        Ok(Self {
+            degree: p,
+            knots,
+            points: q,
+        })
     }
 
     /// Splits the curve at `t` (strictly inside the domain) into two B-splines covering
@@ -273,7 +328,10 @@ impl<P: Point> BSpline<P> {
     pub fn split(&self, t: f64) -> Result<(Self, Self), CurveError> {
         let (a, b) = self.domain();
         if !t.is_finite() || t <= a || t >= b {
-            return Err(CurveError::OutOfDomain { t, range: format!("the open domain ({a}, {b})") });
+            return Err(CurveError::OutOfDomain {
+                t,
+                range: format!("the open domain ({a}, {b})"),
+            });
         }
         let p = self.degree;
         let mut s = self.clone();
@@ -318,7 +376,12 @@ mod tests {
             DVec2::new(4.0, 0.0),
             DVec2::new(5.0, 1.0),
         ];
-        BSpline::try_new(3, vec![0.0, 0.1, 0.2, 0.3, 0.5, 0.5, 0.9, 1.0, 1.1, 1.3], pts).expect("valid")
+        BSpline::try_new(
+            3,
+            vec![0.0, 0.1, 0.2, 0.3, 0.5, 0.5, 0.9, 1.0, 1.1, 1.3],
+            pts,
+        )
+        .expect("valid")
     }
 
     /// Cox–de Boor recursion: an independent reference for evaluation.
@@ -345,7 +408,15 @@ mod tests {
         s.points()
             .iter()
             .enumerate()
-            .map(|(i, &p)| p * n(s.knots(), i, s.degree(), if last { b - 1e-15 } else { t }, false))
+            .map(|(i, &p)| {
+                p * n(
+                    s.knots(),
+                    i,
+                    s.degree(),
+                    if last { b - 1e-15 } else { t },
+                    false,
+                )
+            })
             .fold(DVec2::ZERO, |a, b| a + b)
     }
 
@@ -381,7 +452,10 @@ mod tests {
             assert_eq!(r.points().len(), s.points().len() + 1);
             for k in 0..=30 {
                 let u = 0.3 + 0.6 * k as f64 / 30.0;
-                assert!((r.eval(u) - s.eval(u)).length() < 1e-12, "insert {t}, eval {u}");
+                assert!(
+                    (r.eval(u) - s.eval(u)).length() < 1e-12,
+                    "insert {t}, eval {u}"
+                );
             }
         }
     }
@@ -404,18 +478,34 @@ mod tests {
     #[test]
     fn validation_errors() {
         let p = vec![DVec2::ZERO; 4];
-        assert!(matches!(BSpline::try_new(3, vec![0.0; 7], p.clone()), Err(CurveError::KnotCount { .. })));
+        assert!(matches!(
+            BSpline::try_new(3, vec![0.0; 7], p.clone()),
+            Err(CurveError::KnotCount { .. })
+        ));
         assert!(matches!(
             BSpline::try_new(3, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 0.5, 1.0], p.clone()),
             Err(CurveError::KnotsDecreasing { index: 6 })
         ));
-        assert!(matches!(BSpline::try_new(3, vec![0.0; 8], p.clone()), Err(CurveError::EmptyDomain { .. })));
+        assert!(matches!(
+            BSpline::try_new(3, vec![0.0; 8], p.clone()),
+            Err(CurveError::EmptyDomain { .. })
+        ));
         let interior = vec![0.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0];
         assert!(matches!(
             BSpline::try_new(3, interior, vec![DVec2::ZERO; 8]),
-            Err(CurveError::KnotMultiplicity { max: 3, multiplicity: 4, .. })
+            Err(CurveError::KnotMultiplicity {
+                max: 3,
+                multiplicity: 4,
+                ..
+            })
         ));
-        assert!(matches!(BSpline::try_new(0, vec![0.0; 5], p.clone()), Err(CurveError::ZeroDegree)));
-        assert!(matches!(BSpline::try_new(4, vec![0.0; 9], p), Err(CurveError::TooFewPoints { .. })));
+        assert!(matches!(
+            BSpline::try_new(0, vec![0.0; 5], p.clone()),
+            Err(CurveError::ZeroDegree)
+        ));
+        assert!(matches!(
+            BSpline::try_new(4, vec![0.0; 9], p),
+            Err(CurveError::TooFewPoints { .. })
+        ));
     }
 }

@@ -29,7 +29,10 @@ pub const CLIP_MARGIN: f64 = 1e-10;
 pub fn widen(lo: f64, hi: f64) -> (f64, f64) {
     let lo = lo - CLIP_MARGIN;
     let hi = hi + CLIP_MARGIN;
-    (if lo < 0.0 { 0.0 } else { lo }, if hi > 1.0 { 1.0 } else { hi })
+    (
+        if lo < 0.0 { 0.0 } else { lo },
+        if hi > 1.0 { 1.0 } else { hi },
+    )
 }
 
 /// The part `[lo, hi]` of `[0,1]` over which the convex hull of the points
@@ -57,7 +60,8 @@ pub fn hull_range(c: &[f64], level: f64, sign: f64) -> Option<(f64, f64)> {
         any |= y <= 0.0;
         // Pop while the last two hull points and (x, y) do not turn counter-clockwise.
         while h >= 2 {
-            let cross = (hx[h - 1] - hx[h - 2]) * (y - hy[h - 2]) - (hy[h - 1] - hy[h - 2]) * (x - hx[h - 2]);
+            let cross = (hx[h - 1] - hx[h - 2]) * (y - hy[h - 2])
+                - (hy[h - 1] - hy[h - 2]) * (x - hx[h - 2]);
             if cross > 0.0 {
                 break;
             }
@@ -94,7 +98,10 @@ pub fn hull_range(c: &[f64], level: f64, sign: f64) -> Option<(f64, f64)> {
     };
     let inv_m = 1.0 / m as f64;
     let (lo, hi) = (lo * inv_m, hi * inv_m);
-    Some((if lo < 0.0 { 0.0 } else { lo }, if hi > 1.0 { 1.0 } else { hi }))
+    Some((
+        if lo < 0.0 { 0.0 } else { lo },
+        if hi > 1.0 { 1.0 } else { hi },
+    ))
 }
 
 /// A cheaper enclosure of [`hull_below`]: the part of `[0,1]` outside of which
@@ -113,8 +120,8 @@ pub fn end_lines_below(c: &[f64], level: f64) -> Option<(f64, f64)> {
     // Least slopes from each end, in units of the coefficient index.
     let mut left = f64::INFINITY;
     let mut right = f64::INFINITY;
-    for k in 1..m {
-        let v = c[k] - level;
+    for (k, &ck) in c.iter().enumerate().take(m).skip(1) {
+        let v = ck - level;
         any |= v <= 0.0;
         let from_left = (v - c0) / k as f64;
         let from_right = (v - cm) / (m - k) as f64;
@@ -138,9 +145,20 @@ pub fn end_lines_below(c: &[f64], level: f64) -> Option<(f64, f64)> {
     if -end_slope < right {
         right = -end_slope;
     }
-    let lo = if c0 <= 0.0 { 0.0 } else { -c0 / left / m as f64 };
-    let hi = if cm <= 0.0 { 1.0 } else { 1.0 + cm / right / m as f64 };
-    Some((if lo < 0.0 { 0.0 } else { lo }, if hi > 1.0 { 1.0 } else { hi }))
+    let lo = if c0 <= 0.0 {
+        0.0
+    } else {
+        -c0 / left / m as f64
+    };
+    let hi = if cm <= 0.0 {
+        1.0
+    } else {
+        1.0 + cm / right / m as f64
+    };
+    Some((
+        if lo < 0.0 { 0.0 } else { lo },
+        if hi > 1.0 { 1.0 } else { hi },
+    ))
 }
 
 /// The part of `[0,1]` where the convex hull of `(k/m, c_k)` has a point with `y ≤ 0`.
@@ -188,7 +206,11 @@ pub const NEWTON_QUADRATIC: f64 = 1e-9;
 #[must_use]
 pub fn bracketed_root(c: &[f64], mut lo: f64, mut hi: f64, start: f64) -> (f64, u32) {
     let neg_before_root = c[0] < 0.0;
-    let mut s = if start > lo && start < hi { start } else { 0.5 * (lo + hi) };
+    let mut s = if start > lo && start < hi {
+        start
+    } else {
+        0.5 * (lo + hi)
+    };
     let mut iters = 0;
     while iters < 100 {
         iters += 1;

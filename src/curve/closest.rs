@@ -138,7 +138,11 @@ struct IntervalStack {
 impl IntervalStack {
     #[inline]
     fn new() -> Self {
-        Self { small: [(0.0, 0.0); 16], len: 0, spill: Vec::new() }
+        Self {
+            small: [(0.0, 0.0); 16],
+            len: 0,
+            spill: Vec::new(),
+        }
     }
     #[inline]
     fn push(&mut self, iv: (f64, f64)) {
@@ -166,7 +170,13 @@ impl IntervalStack {
 /// over `[a0, b0]`, among values below `bound` (strictly): returns `(u, f(u))`, or `None` when
 /// `f ≥ bound` on the whole interval. Steps 3–6 of the module documentation; `f`'s values at
 /// the ends of every interval examined are candidates.
-fn minimize_fixed<const F: usize>(f: &[f64; F], a0: f64, b0: f64, bound: f64, stats: &mut ClipStats) -> Option<(f64, f64)> {
+fn minimize_fixed<const F: usize>(
+    f: &[f64; F],
+    a0: f64,
+    b0: f64,
+    bound: f64,
+    stats: &mut ClipStats,
+) -> Option<(f64, f64)> {
     let m = F - 1;
     let mut best_f = bound;
     let mut best_u = f64::NAN;
@@ -197,7 +207,7 @@ fn minimize_fixed<const F: usize>(f: &[f64; F], a0: f64, b0: f64, bound: f64, st
                     low = v;
                 }
             }
-            if !(low < best_f) || m == 0 {
+            if low >= best_f || low.is_nan() || m == 0 {
                 break 'interval;
             }
             for k in 0..m {
@@ -225,7 +235,9 @@ fn minimize_fixed<const F: usize>(f: &[f64; F], a0: f64, b0: f64, bound: f64, st
                 }
             }
             let (l1, h1) = (0.0, 1.0);
-            let Some((l2, h2)) = clip::end_lines_below(&w, best_f) else { break 'interval };
+            let Some((l2, h2)) = clip::end_lines_below(&w, best_f) else {
+                break 'interval;
+            };
             let lo = if l1 > l2 { l1 } else { l2 };
             let hi = if h1 < h2 { h1 } else { h2 };
             if lo > hi {
@@ -269,34 +281,103 @@ fn minimize_fixed<const F: usize>(f: &[f64; F], a0: f64, b0: f64, bound: f64, st
 macro_rules! with_product_len {
     ($len:expr, $F:ident => $body:expr, $none:expr) => {
         match $len {
-            1 => { const $F: usize = 1; $body }
-            3 => { const $F: usize = 3; $body }
-            5 => { const $F: usize = 5; $body }
-            7 => { const $F: usize = 7; $body }
-            9 => { const $F: usize = 9; $body }
-            11 => { const $F: usize = 11; $body }
-            13 => { const $F: usize = 13; $body }
-            15 => { const $F: usize = 15; $body }
-            17 => { const $F: usize = 17; $body }
-            19 => { const $F: usize = 19; $body }
-            21 => { const $F: usize = 21; $body }
-            23 => { const $F: usize = 23; $body }
-            25 => { const $F: usize = 25; $body }
-            27 => { const $F: usize = 27; $body }
-            29 => { const $F: usize = 29; $body }
-            31 => { const $F: usize = 31; $body }
-            33 => { const $F: usize = 33; $body }
-            35 => { const $F: usize = 35; $body }
-            37 => { const $F: usize = 37; $body }
-            39 => { const $F: usize = 39; $body }
-            41 => { const $F: usize = 41; $body }
+            1 => {
+                const $F: usize = 1;
+                $body
+            }
+            3 => {
+                const $F: usize = 3;
+                $body
+            }
+            5 => {
+                const $F: usize = 5;
+                $body
+            }
+            7 => {
+                const $F: usize = 7;
+                $body
+            }
+            9 => {
+                const $F: usize = 9;
+                $body
+            }
+            11 => {
+                const $F: usize = 11;
+                $body
+            }
+            13 => {
+                const $F: usize = 13;
+                $body
+            }
+            15 => {
+                const $F: usize = 15;
+                $body
+            }
+            17 => {
+                const $F: usize = 17;
+                $body
+            }
+            19 => {
+                const $F: usize = 19;
+                $body
+            }
+            21 => {
+                const $F: usize = 21;
+                $body
+            }
+            23 => {
+                const $F: usize = 23;
+                $body
+            }
+            25 => {
+                const $F: usize = 25;
+                $body
+            }
+            27 => {
+                const $F: usize = 27;
+                $body
+            }
+            29 => {
+                const $F: usize = 29;
+                $body
+            }
+            31 => {
+                const $F: usize = 31;
+                $body
+            }
+            33 => {
+                const $F: usize = 33;
+                $body
+            }
+            35 => {
+                const $F: usize = 35;
+                $body
+            }
+            37 => {
+                const $F: usize = 37;
+                $body
+            }
+            39 => {
+                const $F: usize = 39;
+                $body
+            }
+            41 => {
+                const $F: usize = 41;
+                $body
+            }
             _ => $none,
         }
     };
 }
 
 /// [`minimize_fixed`] for a slice of odd length `2n + 1 ≤ 2 MAX_DEGREE + 1`.
-pub(crate) fn minimize_below(f: &[f64], a0: f64, b0: f64, bound: f64, stats: &mut ClipStats) -> Option<(f64, f64)> {
+pub(crate) fn minimize_below(
+    f: &[f64],
+    a0: f64,
+    b0: f64,
+    bound: f64,
+    stats: &mut ClipStats,
+) -> Option<(f64, f64)> {
     with_product_len!(f.len(), F => {
         let arr: &[f64; F] = f.try_into().ok()?;
         minimize_fixed::<F>(arr, a0, b0, bound, stats)
@@ -310,7 +391,7 @@ fn chord_band<P: Point>(p: &[P], d: f64) -> Option<(f64, f64)> {
     let n = p.len() - 1;
     let chord = p[n] - p[0];
     let len2 = chord.dot(chord);
-    if !(len2 > 0.0) || n == 0 {
+    if len2.is_nan() || len2 <= 0.0 || n == 0 {
         return Some((0.0, 1.0));
     }
     let l = chord * (1.0 / len2.sqrt());
@@ -328,7 +409,12 @@ fn chord_band<P: Point>(p: &[P], d: f64) -> Option<(f64, f64)> {
 
 /// The parameter of the closest point (steps 1–2, then [`minimize_fixed`]).
 #[inline]
-fn closest_u<P: Point, const F: usize>(pts: &[P], q: P, r_max: f64, stats: &mut ClipStats) -> Option<f64> {
+fn closest_u<P: Point, const F: usize>(
+    pts: &[P],
+    q: P,
+    r_max: f64,
+    stats: &mut ClipStats,
+) -> Option<f64> {
     let n = pts.len() - 1;
     debug_assert_eq!(F, 2 * n + 1);
     let mut buf = [P::ZERO; MAX_DEGREE + 1];
@@ -349,7 +435,7 @@ fn closest_u<P: Point, const F: usize>(pts: &[P], q: P, r_max: f64, stats: &mut 
         d_min = dn;
         best = Some(1.0);
     }
-    if n == 0 || !(d_min > 0.0) {
+    if n == 0 || d_min.is_nan() || d_min <= 0.0 {
         return best;
     }
     // Step 2: the band perpendicular to the chord.
@@ -366,7 +452,11 @@ fn closest_u<P: Point, const F: usize>(pts: &[P], q: P, r_max: f64, stats: &mut 
     };
     let mut f = [0.0; F];
     distance_squared_coeffs(p, &mut f);
-    let mut bound = if d_min.is_finite() { d_min * d_min } else { f64::INFINITY };
+    let mut bound = if d_min.is_finite() {
+        d_min * d_min
+    } else {
+        f64::INFINITY
+    };
     // A first true value of f where its smallest coefficient sits: usually close to the
     // minimum, it tightens the bound for every clip that follows.
     let mut k_min = 0;
@@ -402,7 +492,8 @@ pub fn closest_bezier_with_stats<P: Point>(
         return None;
     }
     let pts = curve.points();
-    let u = with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(pts, q, r_max, stats), None)?;
+    let u =
+        with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(pts, q, r_max, stats), None)?;
     let point = curve.eval(u);
     let distance = (point - q).length();
     (distance <= r_max).then_some(Nearest { u, point, distance })

@@ -29,7 +29,9 @@ pub enum CurveError {
     #[error("B-spline degree must be at least 1")]
     ZeroDegree,
     /// The knot vector's length does not fit the control points and degree.
-    #[error("a B-spline of degree {degree} with {points} control points needs {expected} knots, got {got}")]
+    #[error(
+        "a B-spline of degree {degree} with {points} control points needs {expected} knots, got {got}"
+    )]
     KnotCount {
         /// Degree p.
         degree: usize,

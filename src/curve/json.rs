@@ -14,7 +14,7 @@ use super::bspline::BSpline;
 use super::error::CurveError;
 use super::point::Point;
 use glam::{DVec2, DVec3};
-use serde_json::{json, Value};
+use serde_json::{Value, json};
 
 /// A curve in 2D or in 3D.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,14 +38,27 @@ impl DynCurve {
 
 /// Reads a point `[x, y]` or `[x, y, z]` of finite numbers; `what` names it in errors.
 pub fn point_from_json(v: &Value, what: &str) -> Result<Vec<f64>, CurveError> {
-    let arr = v.as_array().ok_or_else(|| CurveError::Format(format!("{what} must be an array of numbers")))?;
+    let arr = v
+        .as_array()
+        .ok_or_else(|| CurveError::Format(format!("{what} must be an array of numbers")))?;
     if arr.len() != 2 && arr.len() != 3 {
-        return Err(CurveError::Dimension(format!("{what} has {} coordinates; expected 2 or 3", arr.len())));
+        return Err(CurveError::Dimension(format!(
+            "{what} has {} coordinates; expected 2 or 3",
+            arr.len()
+        )));
     }
     arr.iter()
         .map(|x| {
-            let f = x.as_f64().ok_or_else(|| CurveError::Format(format!("{what} has a coordinate that is not a number")))?;
-            if f.is_finite() { Ok(f) } else { Err(CurveError::NotFinite { what: what.to_string() }) }
+            let f = x.as_f64().ok_or_else(|| {
+                CurveError::Format(format!("{what} has a coordinate that is not a number"))
+            })?;
+            if f.is_finite() {
+                Ok(f)
+            } else {
+                Err(CurveError::NotFinite {
+                    what: what.to_string(),
+                })
+            }
         })
         .collect()
 }
@@ -54,12 +67,18 @@ pub fn point_from_json(v: &Value, what: &str) -> Result<Vec<f64>, CurveError> {
 pub fn typed_point<P: Point>(v: &Value, what: &str) -> Result<P, CurveError> {
     let c = point_from_json(v, what)?;
     P::from_coords(&c).ok_or_else(|| {
-        CurveError::Dimension(format!("{what} has {} coordinates but the curve is {}D", c.len(), P::DIM))
+        CurveError::Dimension(format!(
+            "{what} has {} coordinates but the curve is {}D",
+            c.len(),
+            P::DIM
+        ))
     })
 }
 
 fn points_from_json(v: &Value, what: &str) -> Result<(usize, Vec<Vec<f64>>), CurveError> {
-    let arr = v.as_array().ok_or_else(|| CurveError::Format(format!("{what} must be an array of points")))?;
+    let arr = v
+        .as_array()
+        .ok_or_else(|| CurveError::Format(format!("{what} must be an array of points")))?;
     if arr.is_empty() {
         return Err(CurveError::Empty);
     }
@@ -88,7 +107,9 @@ fn build<P: Point>(kind: &Kind, pts: &[Vec<f64>]) -> Result<Curve<P>, CurveError
     let pts = typed::<P>(pts);
     Ok(match kind {
         Kind::Bezier => Curve::Bezier(Bezier::try_new(pts)?),
-        Kind::BSpline { degree, knots } => Curve::BSpline(BSpline::try_new(*degree, knots.clone(), pts)?),
+        Kind::BSpline { degree, knots } => {
+            Curve::BSpline(BSpline::try_new(*degree, knots.clone(), pts)?)
+        }
     })
 }
 
@@ -109,33 +130,44 @@ enum Kind {
 /// ```
 pub fn curve_from_json(v: &Value) -> Result<DynCurve, CurveError> {
     let obj = v.as_object().ok_or_else(|| {
-        CurveError::Format("a curve must be an object {\"bezier\": [...]} or {\"bspline\": {...}}".into())
+        CurveError::Format(
+            "a curve must be an object {\"bezier\": [...]} or {\"bspline\": {...}}".into(),
+        )
     })?;
     let (kind, pts_v) = if let Some(b) = obj.get("bezier") {
         (Kind::Bezier, b)
     } else if let Some(s) = obj.get("bspline") {
-        let s = s.as_object().ok_or_else(|| CurveError::Format("\"bspline\" must be an object".into()))?;
-        let degree = s
-            .get("degree")
-            .and_then(Value::as_u64)
-            .ok_or_else(|| CurveError::Format("\"bspline\" needs a non-negative integer \"degree\"".into()))?;
+        let s = s
+            .as_object()
+            .ok_or_else(|| CurveError::Format("\"bspline\" must be an object".into()))?;
+        let degree = s.get("degree").and_then(Value::as_u64).ok_or_else(|| {
+            CurveError::Format("\"bspline\" needs a non-negative integer \"degree\"".into())
+        })?;
         let knots_v = s
             .get("knots")
             .and_then(Value::as_array)
             .ok_or_else(|| CurveError::Format("\"bspline\" needs an array \"knots\"".into()))?;
         let mut knots = Vec::with_capacity(knots_v.len());
         for (i, k) in knots_v.iter().enumerate() {
-            let f = k.as_f64().ok_or_else(|| CurveError::Format(format!("knot {i} is not a number")))?;
+            let f = k
+                .as_f64()
+                .ok_or_else(|| CurveError::Format(format!("knot {i} is not a number")))?;
             if !f.is_finite() {
-                return Err(CurveError::NotFinite { what: format!("knot {i}") });
+                return Err(CurveError::NotFinite {
+                    what: format!("knot {i}"),
+                });
             }
             knots.push(f);
         }
-        let pts = s.get("points").ok_or_else(|| CurveError::Format("\"bspline\" needs \"points\"".into()))?;
+        let pts = s
+            .get("points")
+            .ok_or_else(|| CurveError::Format("\"bspline\" needs \"points\"".into()))?;
         let degree = usize::try_from(degree).unwrap_or(usize::MAX);
         (Kind::BSpline { degree, knots }, pts)
     } else {
-        return Err(CurveError::Format("a curve needs a \"bezier\" or a \"bspline\" member".into()));
+        return Err(CurveError::Format(
+            "a curve needs a \"bezier\" or a \"bspline\" member".into(),
+        ));
     };
     let (dim, pts) = points_from_json(pts_v, "points")?;
     match dim {
@@ -152,7 +184,9 @@ pub fn point_to_json<P: Point>(p: P) -> Value {
 /// The JSON form of a curve.
 pub fn curve_to_json<P: Point>(c: &Curve<P>) -> Value {
     match c {
-        Curve::Bezier(b) => json!({ "bezier": b.points().iter().map(|&p| point_to_json(p)).collect::<Vec<_>>() }),
+        Curve::Bezier(b) => {
+            json!({ "bezier": b.points().iter().map(|&p| point_to_json(p)).collect::<Vec<_>>() })
+        }
         Curve::BSpline(s) => json!({ "bspline": {
             "degree": s.degree(),
             "knots": s.knots(),

@@ -16,7 +16,7 @@
 use super::bernstein;
 use super::bezier::{Bezier, MAX_DEGREE};
 use super::clip;
-use super::closest::{distance_squared_coeffs, minimize_below, ClipStats};
+use super::closest::{ClipStats, distance_squared_coeffs, minimize_below};
 use super::point::Point;
 
 /// The closest pair between a ray and a curve.
@@ -39,9 +39,10 @@ pub struct RayNearest<P> {
 /// ```
 /// use glam::DVec3;
 /// use nendo::curve::{ray_closest_bezier, Bezier};
-/// let c = Bezier::new(vec![DVec3::new(-1.0, 0.0, 0.0), DVec3::new(0.0, 2.0, 0.0), DVec3::new(1.0, 0.0, 0.0)]);
+/// // An arch over the ray's path: its apex C(1/2) = (0, 1, 1) passes 1 from the ray.
+/// let c = Bezier::new(vec![DVec3::new(-1.0, 1.0, 0.0), DVec3::new(0.0, 1.0, 2.0), DVec3::new(1.0, 1.0, 0.0)]);
 /// let r = ray_closest_bezier(&c, DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, -1.0)).expect("valid ray");
-/// assert!((r.u - 0.5).abs() < 1e-9 && (r.distance - 1.0).abs() < 1e-12 && (r.ray_t - 5.0).abs() < 1e-12);
+/// assert!((r.u - 0.5).abs() < 1e-9 && (r.distance - 1.0).abs() < 1e-12 && (r.ray_t - 4.0).abs() < 1e-12);
 /// ```
 pub fn ray_closest_bezier<P: Point>(curve: &Bezier<P>, origin: P, dir: P) -> Option<RayNearest<P>> {
     ray_closest_bezier_with_stats(curve, origin, dir, &mut ClipStats::default())
@@ -58,7 +59,7 @@ pub fn ray_closest_bezier_with_stats<P: Point>(
         return None;
     }
     let dlen = dir.length();
-    if !(dlen > 0.0) {
+    if dlen.is_nan() || dlen <= 0.0 {
         return None;
     }
     let dh = dir * (1.0 / dlen);
@@ -94,5 +95,10 @@ pub fn ray_closest_bezier_with_stats<P: Point>(
     let point = curve.eval(u);
     let s = (point - origin).dot(dh).max(0.0);
     let on_ray = origin + dh * s;
-    Some(RayNearest { u, point, ray_t: s / dlen, distance: (point - on_ray).length() })
+    Some(RayNearest {
+        u,
+        point,
+        ray_t: s / dlen,
+        distance: (point - on_ray).length(),
+    })
 }

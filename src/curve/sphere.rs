@@ -14,11 +14,11 @@
 //! `e` equal to zero up to rounding) is found among the roots of `e'` — which are simple where
 //! `e`'s root is double — and reported as the single-point interval `[t, t]`.
 
+use super::bernstein;
 use super::bezier::{Bezier, MAX_DEGREE};
 use super::clip;
 use super::closest::distance_squared_coeffs;
 use super::point::Point;
-use super::bernstein;
 
 /// Coefficients `d_k` of `e(t,R)` for the curve and sphere (length `2n + 1`).
 #[must_use]
@@ -47,7 +47,11 @@ pub fn sphere_function<P: Point>(curve: &Bezier<P>, centre: P, radius: f64) -> V
 /// assert!((iv[0].0 - 0.25).abs() < 1e-12 && (iv[0].1 - 0.75).abs() < 1e-12);
 /// ```
 #[must_use]
-pub fn sphere_intervals_bezier<P: Point>(curve: &Bezier<P>, centre: P, radius: f64) -> Vec<(f64, f64)> {
+pub fn sphere_intervals_bezier<P: Point>(
+    curve: &Bezier<P>,
+    centre: P,
+    radius: f64,
+) -> Vec<(f64, f64)> {
     if !centre.is_finite_coeff() || !radius.is_finite() || radius < 0.0 {
         return Vec::new();
     }
@@ -110,7 +114,12 @@ mod tests {
     /// Regression for seed 004's eq. (6): the right cubic coefficients are the product formula's.
     #[test]
     fn cubic_coefficients_are_not_the_misprinted_ones() {
-        let pts = [DVec2::new(0.3, -1.0), DVec2::new(1.0, 2.0), DVec2::new(2.5, -0.5), DVec2::new(3.0, 1.5)];
+        let pts = [
+            DVec2::new(0.3, -1.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(2.5, -0.5),
+            DVec2::new(3.0, 1.5),
+        ];
         let c = Bezier::new(pts.to_vec());
         let d = sphere_function(&c, DVec2::ZERO, 0.0);
         let p = pts;

@@ -48,11 +48,14 @@ pub fn ray<P: Point>(c: &Curve<P>, o: P, d: P) -> (f64, f64) {
 pub fn sphere<P: Point>(c: &Curve<P>, q: P, r: f64, samples: usize) -> (Vec<(f64, f64)>, f64) {
     let (lo, hi) = c.domain();
     let e = |u: f64| (c.eval(u) - q).length_squared() - r * r;
-    let us: Vec<f64> = (0..=samples).map(|i| lo + (hi - lo) * i as f64 / samples as f64).collect();
+    let us: Vec<f64> = (0..=samples)
+        .map(|i| lo + (hi - lo) * i as f64 / samples as f64)
+        .collect();
     let es: Vec<f64> = us.iter().map(|&u| e(u)).collect();
     let mut ambiguity = f64::INFINITY;
     for i in 1..samples {
-        let ext = (es[i] <= es[i - 1] && es[i] <= es[i + 1]) || (es[i] >= es[i - 1] && es[i] >= es[i + 1]);
+        let ext = (es[i] <= es[i - 1] && es[i] <= es[i + 1])
+            || (es[i] >= es[i - 1] && es[i] >= es[i + 1]);
         if ext {
             ambiguity = ambiguity.min(es[i].abs());
         }

@@ -69,7 +69,10 @@ fn check_against_reference(name: &str, image: &RgbaImage) {
     });
     let reference = RgbaImage::read_png(&bytes).expect("reference decodes");
     let (mean, bad) = compare(image, &reference);
-    eprintln!("{name}: mean abs diff {mean:.3}, bad pixels {:.3} %", 100.0 * bad);
+    eprintln!(
+        "{name}: mean abs diff {mean:.3}, bad pixels {:.3} %",
+        100.0 * bad
+    );
     if mean > MAX_MEAN_ABS || bad > MAX_BAD_FRACTION {
         let out = std::env::temp_dir().join(format!("nendo-{name}-actual.png"));
         let _ = image.save_png(&out);

@@ -66,9 +66,9 @@ done
 [ -n "$ready" ] || fail "the window never showed a drawn frame"
 kill -0 "$APP_PID" 2>/dev/null || fail "the app exited"
 
-# The 3D view is right of the 270-point tool panel, below the top bar; the camera frames the
+# The 3D view is right of the 290-point tool panel (app::panels::PANEL_WIDTH), below the top bar; the camera frames the
 # plane at the centre of the view.
-X=$(( (270 + WIDTH) / 2 ))
+X=$(( (290 + WIDTH) / 2 ))
 Y=$(( HEIGHT / 2 ))
 # Real pointer events (XTest): `--window` on a click would send a synthetic event winit ignores.
 xdotool mousemove --window "$WID" "$X" "$Y"

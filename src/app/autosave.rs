@@ -115,6 +115,21 @@ impl Autosave {
         true
     }
 
+    /// When [`Autosave::tick`] should next be called for `revision` to be written (`None`
+    /// when it is already written): the window wakes up then even without input.
+    #[must_use]
+    pub fn due(&self, revision: u64, now: Instant) -> Option<Instant> {
+        if self.saved_revision == Some(revision) {
+            return None;
+        }
+        let settled = match self.changed_at {
+            Some((r, t)) if r == revision => t + Self::SETTLE,
+            _ => now + Self::SETTLE,
+        };
+        let allowed = self.last_write.map_or(settled, |t| t + Self::INTERVAL);
+        Some(settled.max(allowed))
+    }
+
     /// Writes `model` immediately.
     pub fn write_now(&mut self, model: &Model, revision: u64) {
         self.last_write = Some(Instant::now());
@@ -164,6 +179,7 @@ mod tests {
         autosave.mark_saved(0);
         assert!(!autosave.tick(&model, 0, t0), "nothing new");
         assert!(!autosave.tick(&model, 1, t0), "not settled yet");
+        assert_eq!(autosave.due(1, t0), Some(t0 + Autosave::SETTLE));
         assert!(
             autosave.tick(&model, 1, t0 + Autosave::SETTLE),
             "settled: written"
@@ -172,6 +188,7 @@ mod tests {
             !autosave.tick(&model, 1, t0 + Autosave::SETTLE * 2),
             "already written"
         );
+        assert_eq!(autosave.due(1, t0), None, "written");
         let recovery = autosave.pending_recovery().expect("the file exists");
         let loaded = Model::read(&recovery.path).expect("a whole model");
         assert_eq!(loaded.model, model);

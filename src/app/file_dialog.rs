@@ -139,7 +139,7 @@ impl FileDialog {
             .open(&mut open)
             .show(ctx, |ui| {
                 ui.horizontal(|ui| {
-                    if ui.button("⬆ Up").clicked()
+                    if ui.button("Up").clicked()
                         && let Some(parent) = self.dir.parent()
                     {
                         self.dir = parent.to_path_buf();

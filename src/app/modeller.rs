@@ -89,7 +89,9 @@ impl PrimitiveForm {
 /// Frame timing, smoothed.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(super) struct Timing {
-    /// CPU time of the last frame's UI and scene building, ms (exponentially smoothed).
+    /// Wall time of a frame from its start to the present, ms (exponentially smoothed): UI,
+    /// scene, recording, and waiting for the GPU — on a software adapter, the rasterisation
+    /// itself.
     pub(super) frame_ms: f64,
     /// Frames in the last full second.
     pub(super) fps: u32,
@@ -122,7 +124,10 @@ pub struct Modeller {
     pub(super) tools: ToolState,
     pub(super) overlays: Overlays,
     pub(super) display: SurfaceDisplay,
+    /// The document revision the display shows (`None`: rebuild).
     display_revision: Option<u64>,
+    /// Counts display rebuilds across documents (a new document starts at revision 0 again).
+    display_generation: u64,
     pub(super) patches: Vec<PatchPoints>,
     pub(super) autosave: Option<Autosave>,
     pub(super) prompt: Option<Prompt>,
@@ -152,7 +157,12 @@ impl Modeller {
     /// earlier session left one and `offer_recovery` is set).
     #[must_use]
     pub fn new(doc: Document, autosave: Option<PathBuf>, offer_recovery: bool) -> Self {
-        let autosave = autosave.map(Autosave::new);
+        let autosave = autosave.map(|path| {
+            let mut a = Autosave::new(path);
+            // The model as opened (or the starting plane) is not worth writing.
+            a.mark_saved(doc.revision());
+            a
+        });
         let prompt = autosave
             .as_ref()
             .and_then(Autosave::pending_recovery)
@@ -167,6 +177,7 @@ impl Modeller {
             overlays: Overlays::default(),
             display: SurfaceDisplay::default(),
             display_revision: None,
+            display_generation: 0,
             patches: Vec::new(),
             autosave,
             prompt,
@@ -234,6 +245,15 @@ impl Modeller {
         )
     }
 
+    /// When the window must run a frame even without input (a pending autosave).
+    #[must_use]
+    pub fn wake_at(&self, now: Instant) -> Option<Instant> {
+        self.autosave
+            .as_ref()
+            .filter(|_| self.prompt.is_none())?
+            .due(self.doc.revision(), now)
+    }
+
     /// True while something changes on its own (a replay, a live device), so the window
     /// should keep drawing.
     #[must_use]
@@ -266,6 +286,7 @@ impl Modeller {
             self.patches = self.doc.model().surface.patches();
             self.display = SurfaceDisplay::new(&self.patches, &Tessellation::DISPLAY);
             self.display_revision = Some(revision);
+            self.display_generation += 1;
         }
         if self.frame_pending {
             self.frame_all();
@@ -486,7 +507,7 @@ impl Modeller {
     }
 
     /// Builds what the renderer draws this frame: lines, spheres and the style. The surface
-    /// mesh is [`Modeller::surface`], re-uploaded when [`Modeller::surface_revision`] changes.
+    /// mesh is [`Modeller::surface`], re-uploaded when [`Modeller::surface_generation`] changes.
     pub fn scene(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) -> Style {
         lines.clear();
         spheres.clear();
@@ -529,10 +550,10 @@ impl Modeller {
         &self.display
     }
 
-    /// Changes whenever [`Modeller::surface`] does.
+    /// Changes whenever [`Modeller::surface`] does (also across documents).
     #[must_use]
-    pub fn surface_revision(&self) -> Option<u64> {
-        self.display_revision
+    pub fn surface_generation(&self) -> u64 {
+        self.display_generation
     }
 
     /// The camera.
@@ -558,5 +579,65 @@ impl Modeller {
             }
             Err(e) => self.set_status(format!("cannot build the primitive: {e}"), true),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plane_doc() -> Document {
+        Document::new(Model::new(
+            Primitive::Plane
+                .build(&PrimitiveParams::default())
+                .expect("plane"),
+        ))
+    }
+
+    #[test]
+    fn a_new_document_at_revision_zero_still_rebuilds_the_display() {
+        let mut m = Modeller::new(plane_doc(), None, false);
+        m.refresh();
+        let first = m.surface_generation();
+        let flat = m.surface().mesh.clone();
+        // An opened or recovered document restarts at revision 0, like the one it replaces.
+        let mut pushed = plane_doc();
+        let op = Op::Push {
+            at: DVec3::new(0.5, 0.5, 0.0),
+            dir: -DVec3::Z,
+            depth: 0.5,
+            radius: 1.25,
+        };
+        pushed.apply(&op).expect("push");
+        let mut opened = Document::new(pushed.model().clone());
+        opened.path = None;
+        assert_eq!(opened.revision(), 0);
+        m.replace_document(opened);
+        m.refresh();
+        assert_ne!(m.surface_generation(), first);
+        assert_ne!(m.surface().mesh.positions, flat.positions);
+    }
+
+    #[test]
+    fn pointer_gestures_sculpt_and_camera_buttons_do_not() {
+        let mut m = Modeller::new(plane_doc(), None, false);
+        m.set_viewport(Vec2::new(800.0, 600.0));
+        m.refresh();
+        let centre = Vec2::new(400.0, 300.0);
+        // Right drag orbits: the model is untouched.
+        m.pointer(PointerInput::Pressed(Button::Right, centre));
+        m.pointer(PointerInput::Moved(centre + Vec2::new(40.0, 10.0)));
+        m.pointer(PointerInput::Released(
+            Button::Right,
+            centre + Vec2::new(40.0, 10.0),
+        ));
+        assert_eq!(m.document().revision(), 0);
+        m.refresh();
+        // A left click in the middle pushes.
+        m.pointer(PointerInput::Moved(centre));
+        m.pointer(PointerInput::Pressed(Button::Left, centre));
+        m.pointer(PointerInput::Released(Button::Left, centre));
+        assert_eq!(m.document().revision(), 1);
+        assert_eq!(m.document().history().undo_name(), Some("push"));
     }
 }

@@ -18,13 +18,16 @@ use crate::surface::{Primitive, Regulation, Topology};
 
 const ERROR: Color32 = Color32::from_rgb(235, 95, 75);
 
+/// Width of the tool panel, points (`.ci/checks/window.sh` clicks right of it).
+const PANEL_WIDTH: f32 = 290.0;
+
 impl Modeller {
     /// Draws the panels and dialogs; returns the rectangle left for the 3D view, in points.
     pub fn ui(&mut self, ui: &mut Ui) -> egui::Rect {
         self.shortcuts(ui);
         egui::Panel::top("nendo top").show(ui, |ui| self.top_bar_ui(ui));
         egui::Panel::left("nendo tools")
-            .default_size(270.0)
+            .exact_size(PANEL_WIDTH)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| self.side_panel_ui(ui));
             });
@@ -391,8 +394,8 @@ impl Modeller {
                 self.display.mesh.triangle_count()
             ));
             ui.end_row();
-            ui.label("frame (CPU)");
-            ui.label(format!("{:.2} ms", self.timing.frame_ms));
+            ui.label("frame (to present)");
+            ui.label(format!("{:.1} ms", self.timing.frame_ms));
             ui.end_row();
             ui.label("frame rate");
             ui.label(format!("{} /s", self.timing.fps));
@@ -403,13 +406,13 @@ impl Modeller {
     fn record_ui(&mut self, ui: &mut Ui) {
         match &self.doc.recording {
             None => {
-                if ui.button("⏺ Record operations").clicked() {
+                if ui.button("Record operations").clicked() {
                     self.doc.recording = Some(Vec::new());
                 }
             }
             Some(ops) => {
                 ui.label(format!("recording: {} operations", ops.len()));
-                if ui.button("⏹ Stop and save…").clicked() {
+                if ui.button("Stop and save…").clicked() {
                     self.open_dialog(DialogPurpose::SaveOps);
                 }
                 if ui.button("Discard recording").clicked() {
@@ -419,7 +422,7 @@ impl Modeller {
         }
         match &self.replay {
             None => {
-                if ui.button("▶ Replay operations…").clicked() {
+                if ui.button("Replay operations…").clicked() {
                     self.open_dialog(DialogPurpose::ReplayOps);
                 }
             }

@@ -218,11 +218,11 @@ impl WindowApp {
 
         let device = &gfx.gpu.device;
         let queue = &gfx.gpu.queue;
-        if gfx.uploaded_surface != self.modeller.surface_revision() {
+        if gfx.uploaded_surface != Some(self.modeller.surface_generation()) {
             let display = self.modeller.surface();
             gfx.renderer
                 .set_surface(device, queue, &display.mesh, &display.seam_heat);
-            gfx.uploaded_surface = self.modeller.surface_revision();
+            gfx.uploaded_surface = Some(self.modeller.surface_generation());
         }
         let style = self.modeller.scene(&mut gfx.lines, &mut gfx.spheres);
         gfx.renderer.set_lines(device, queue, &gfx.lines);
@@ -298,6 +298,7 @@ impl WindowApp {
         queue.submit(extra.into_iter().chain([encoder.finish()]));
         gfx.window.pre_present_notify();
         queue.present(frame);
+
         self.modeller
             .record_frame_time(start.elapsed().as_secs_f64() * 1e3);
 
@@ -305,6 +306,12 @@ impl WindowApp {
             .viewport_output
             .get(&egui::ViewportId::ROOT)
             .map_or(Duration::MAX, |v| v.repaint_delay);
+        let now = Instant::now();
+        let wake = self
+            .modeller
+            .wake_at(now)
+            .map_or(Duration::MAX, |t| t.saturating_duration_since(now));
+        let delay = delay.min(wake);
         Some(if self.modeller.animating() {
             delay.min(Duration::from_millis(16))
         } else {

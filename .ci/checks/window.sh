@@ -66,6 +66,30 @@ done
 [ -n "$ready" ] || fail "the window never showed a drawn frame"
 kill -0 "$APP_PID" 2>/dev/null || fail "the app exited"
 
+# Input egui consumes never sculpts: a press on the tool panel, dragged into the 3D view and
+# released there, must leave the model alone (no autosave appears).
+xdotool mousemove --window "$WID" 145 700
+sleep 0.3
+xdotool mousedown 1
+for x in 300 500 700; do xdotool mousemove --window "$WID" "$x" $(( HEIGHT / 2 )); sleep 0.05; done
+xdotool mouseup 1
+sleep 1.5
+[ ! -e "$AUTOSAVE" ] || fail "a press that began on the panel changed the model"
+# The wheel over the panel scrolls the panel; it must not zoom the 3D view.
+VIEW_CROP="$(( WIDTH - 320 ))x$(( HEIGHT - 100 ))+300+40"
+xdotool mousemove --window "$WID" 145 600
+sleep 1
+import -window "$WID" "$WORK/wheel-before.png"
+for _ in 1 2 3; do xdotool click 5; sleep 0.1; done
+sleep 1
+import -window "$WID" "$WORK/wheel-after.png"
+"$CONVERT" "$WORK/wheel-before.png" -crop "$VIEW_CROP" +repage "$WORK/view-before.png"
+"$CONVERT" "$WORK/wheel-after.png" -crop "$VIEW_CROP" +repage "$WORK/view-after.png"
+view_diff="$(compare -metric AE -fuzz 5% "$WORK/view-before.png" "$WORK/view-after.png" null: 2>&1 || true)"
+view_diff="${view_diff%% *}"
+awk -v d="$view_diff" 'BEGIN { exit !(d + 0 < 50) }' || fail "the wheel over the panel moved the 3D view ($view_diff pixels)"
+echo "input egui consumed (a drag from the panel, the wheel over it) left the model and the view alone"
+
 # The 3D view is right of the 290-point tool panel (app::panels::PANEL_WIDTH), below the top bar; the camera frames the
 # plane at the centre of the view.
 X=$(( (290 + WIDTH) / 2 ))
@@ -91,4 +115,17 @@ diff_pixels="$(compare -metric AE -fuzz 5% "$WORK/before.png" "$WORK/after.png" 
 diff_pixels="${diff_pixels%% *}"
 awk -v d="$diff_pixels" 'BEGIN { exit !(d + 0 > 500) }' || fail "the window did not change after the push ($diff_pixels pixels differ)"
 kill -0 "$APP_PID" 2>/dev/null || fail "the app died after the push"
-echo "window check passed: autosave changed, $diff_pixels pixels changed on screen"
+
+# The same wheel over the 3D view does zoom (so the panel test above could have failed).
+xdotool mousemove --window "$WID" "$X" "$Y"
+sleep 0.5
+import -window "$WID" "$WORK/zoom-before.png"
+for _ in 1 2 3; do xdotool click 4; sleep 0.1; done
+sleep 1
+import -window "$WID" "$WORK/zoom-after.png"
+"$CONVERT" "$WORK/zoom-before.png" -crop "$VIEW_CROP" +repage "$WORK/zoom-a.png"
+"$CONVERT" "$WORK/zoom-after.png" -crop "$VIEW_CROP" +repage "$WORK/zoom-b.png"
+zoom_diff="$(compare -metric AE -fuzz 5% "$WORK/zoom-a.png" "$WORK/zoom-b.png" null: 2>&1 || true)"
+zoom_diff="${zoom_diff%% *}"
+awk -v d="$zoom_diff" 'BEGIN { exit !(d + 0 > 500) }' || fail "the wheel over the 3D view did not zoom ($zoom_diff pixels)"
+echo "window check passed: autosave changed, $diff_pixels pixels changed on screen by the push, $zoom_diff by the zoom"

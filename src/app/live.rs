@@ -86,6 +86,9 @@ impl Session {
             .name("nendo live input".into())
             .spawn(move || {
                 while !worker.stop.load(Ordering::Relaxed) {
+                    // Read `finished` before draining: a stream sets it after its last frame,
+                    // so the drain below still takes every frame sent before.
+                    let finished = stream.finished();
                     let mut batch = Vec::new();
                     if let Some(first) = stream.next_timeout(Duration::from_millis(20)) {
                         batch.push(first);
@@ -109,7 +112,7 @@ impl Session {
                     if let Some(e) = stream.last_error() {
                         status.last_error = Some(e);
                     }
-                    if stream.finished() {
+                    if finished {
                         status.finished = true;
                         break;
                     }
@@ -362,5 +365,39 @@ impl LiveInput {
         if let Some(m) = &self.message {
             ui.small(m);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nendo_devices::{FrameStatus, Timestamp};
+
+    /// A window frame far slower than the device (here a whole second) loses nothing: the
+    /// loop thread keeps draining the stream's small channel into the inbox.
+    #[test]
+    fn a_slow_window_frame_drops_no_sample() {
+        let n = 1000u64;
+        let frames = (0..n)
+            .map(|i| HandFrame {
+                time: Timestamp::from_micros(i * 10_000),
+                status: FrameStatus::default(),
+                ..Default::default()
+            })
+            .collect();
+        let trace = Trace {
+            header: TraceHeader::default(),
+            frames,
+        };
+        // 100 Hz played 10 times faster: 1 000 frames/s through a 64-frame channel.
+        let stream = HandStream::replay(trace, 10.0, false, 64);
+        let session = Session::start(stream, Default::default(), None).expect("loop thread");
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while !lock(&session.shared.status).finished && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(1100));
+        }
+        let got = std::mem::take(&mut *lock(&session.shared.inbox));
+        assert_eq!(got.len() as u64, n, "every sample arrives");
+        assert!(got.windows(2).all(|w| w[0].time < w[1].time), "in order");
     }
 }

@@ -236,6 +236,17 @@ impl Modeller {
                         .text("° = red"),
                 );
             });
+        egui::CollapsingHeader::new("Export").default_open(false).show(ui, |ui| {
+            ui.add(
+                egui::Slider::new(&mut self.export_tolerance, 1e-5..=0.1)
+                    .logarithmic(true)
+                    .text("tolerance (side)"),
+            );
+            ui.small("Largest distance from the mesh to the surface. OBJ (with normals), binary STL or GLB, by the file's extension.");
+            if ui.button("Export…").clicked() {
+                self.open_dialog(DialogPurpose::ExportMesh);
+            }
+        });
         egui::CollapsingHeader::new("Continuity")
             .default_open(true)
             .show(ui, |ui| self.continuity_ui(ui));

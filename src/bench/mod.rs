@@ -10,6 +10,7 @@ use std::time::Instant;
 pub mod closest;
 pub mod reference;
 pub mod render;
+pub mod regulation;
 pub mod sculpt;
 
 /// Repeated timing of a closure, reporting the median of per-batch means.

@@ -21,6 +21,8 @@ pub enum Suite {
     Closest,
     /// One push on planes and spheres of growing size: median time and the 40x40 / 10x10 ratio.
     Sculpt,
+    /// The paper's deviation experiment for every regulation method, and G1 after 10 000 random strokes.
+    Regulation,
     /// Tessellation of 100 / 1 600 sculpted patches and headless 1280x720 frames.
     Render,
 }
@@ -39,6 +41,10 @@ pub fn run(args: Args) -> ExitCode {
         }
         Suite::Sculpt => {
             print!("{}", crate::bench::sculpt::report(args.scale));
+            ExitCode::SUCCESS
+        }
+        Suite::Regulation => {
+            print!("{}", crate::bench::regulation::report_text(args.scale));
             ExitCode::SUCCESS
         }
         Suite::Render => {

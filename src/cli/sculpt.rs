@@ -43,7 +43,8 @@ pub struct Args {
     /// Operations to apply, one JSON object per line (`-`: standard input).
     #[arg(long)]
     pub ops: Option<PathBuf>,
-    /// Regulation method (default: the model's, else the default method).
+    /// Regulation after each operation: none, c1, g1 (the paper's) or exact (default: the
+    /// model's, else exact).
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_regulation))]
     pub regulation: Option<Regulation>,
     /// Where to write the model (atomically).

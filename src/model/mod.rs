@@ -4,7 +4,7 @@
 //! ```json
 //! {"format": "nendo-model", "version": 1,
 //!  "surface": {"topology": "sphere", "patches_u": 8, "patches_v": 4,
-//!              "regulation": "none",
+//!              "regulation": "exact",
 //!              "ratios": {"u": [1, …], "v": [1, …]},
 //!              "patches": [[[x, y, z], … 16 points …], …]},
 //!  "curves": [{"bezier": [[x, y, z], …]}, {"bspline": {"degree": 3, "knots": […], "points": […]}}]}

@@ -26,7 +26,7 @@ use super::error::SurfaceError;
 use super::grid::Grid;
 use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
-use super::regulate::{self, Regulation};
+use super::regulate::{self, Projections, Regulation};
 use super::shape_fn::{Finger, Op};
 
 /// What one operation changed.
@@ -37,6 +37,8 @@ pub struct Touched {
     pub patches: Vec<usize>,
     /// How many patches the finger itself moved.
     pub deformed: usize,
+    /// How many patches the box pyramid let through for sampling (at least `deformed`).
+    pub examined: usize,
     /// How many groups and poles were regulated.
     pub groups: usize,
 }
@@ -55,6 +57,7 @@ pub struct Sculptor {
     vertices: Vec<(usize, usize)>,
     poles: Vec<PoleEnd>,
     scratch: Vec<usize>,
+    projections: Projections,
 }
 
 /// Applies one operation to a grid with a fresh [`Sculptor`] (allocates buffers the size of
@@ -165,7 +168,13 @@ impl Sculptor {
         let mut groups = 0;
         if nodes_changed && regulation != Regulation::None {
             self.collect_groups(grid);
-            groups = regulate::regulate(grid, regulation, &self.vertices, &self.poles);
+            groups = regulate::regulate(
+                grid,
+                regulation,
+                &self.vertices,
+                &self.poles,
+                &mut self.projections,
+            );
             for &(k, q) in &self.vertices {
                 for (du, dv) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
                     let Some(iu) = wrap(k as isize - du, m, topology.closed_u()) else { continue };
@@ -190,7 +199,7 @@ impl Sculptor {
         }
         changed.sort_unstable();
         grid.refit(&changed, &mut self.scratch);
-        Touched { patches: changed, deformed, groups }
+        Touched { patches: changed, deformed, examined: self.candidates.len(), groups }
     }
 
     /// The grid vertices at the corners of the moved patches (deduplicated, in a fixed

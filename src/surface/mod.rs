@@ -9,12 +9,14 @@
 //! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]).
 //! - [`deform`] / [`Sculptor`]: finger → reachable patches → Bernstein inverse ([`inverse`])
 //!   → [`Regulation`] ([`regulate`]), returning what was [`Touched`].
+//! - [`deviation`]: distances between surfaces sample by sample, and to the ideal shape.
 //!
 //! Geometry only: this module uses nothing but glam, std and [`crate::curve`].
 
 pub mod bounds;
 pub mod continuity;
 pub mod deform;
+pub mod deviation;
 pub mod error;
 pub mod grid;
 pub mod group;
@@ -34,6 +36,6 @@ pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
 pub use patch::{Patch, PatchFrame, PatchPoints};
 pub use primitive::{Ideal, Primitive, PrimitiveParams};
-pub use regulate::Regulation;
+pub use regulate::{Regulation, regulate_all};
 pub use shape_fn::{Finger, Op};
 pub use topology::Topology;

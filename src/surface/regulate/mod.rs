@@ -4,29 +4,61 @@
 //! The inverse mapping moves every patch on its own; C0 holds (the net is shared) but the
 //! rows of control points that cross a grid line are no longer collinear, so the surface
 //! creases along patch edges. Regulation works on the connected control-point groups
-//! ([`super::group`]) around the grid vertices the operation touched, one group at a time
-//! (groups are disjoint, and every tangent-continuity condition lies inside one group).
+//! ([`super::group`]) around the grid vertices an operation touched — one group at a time:
+//! groups are disjoint, and every tangent-continuity condition between bicubic patches (a
+//! three-point row across a grid line; the first ring around a pole) lies inside one group.
+//! So regulation is local, and its cost follows the touched area.
+//!
+//! | method | what it does | G1 |
+//! |---|---|---|
+//! | [`Regulation::None`] | the Bernstein inverse alone | no |
+//! | [`Regulation::C1`] | the paper's "former method" baseline: C1 groups, rows equally spaced ([`c1`]) | at vertices, and along edges of uniform spacing |
+//! | [`Regulation::G1`] | the paper's method, §4.2 and §4.3 with the misprints corrected ([`g1`]) | at vertices; along an edge only where its two end ratios agree |
+//! | [`Regulation::Exact`] (default) | projection onto per-grid-line spacing constraints, nearest in the surface's L2 metric; poles onto a fitted tangent plane ([`exact`]) | everywhere, to rounding |
+
+// Groups are small fixed arrays indexed by lattice offsets `(s, t)`; the index form follows
+// the formulas.
+#![allow(clippy::needless_range_loop)]
+
+pub mod c1;
+pub mod exact;
+pub mod g1;
+
+use glam::DVec3;
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use super::grid::Grid;
-use super::group::PoleEnd;
+use super::group::{Group, Pole, PoleEnd};
 
 /// How control points are regulated after the inverse mapping.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Regulation {
     /// The Bernstein inverse alone: C0, no tangent continuity.
-    #[default]
     None,
+    /// The paper's baseline ("former method"): C1 between patches.
+    C1,
+    /// The paper's G1 method (§4.2, §4.3), misprints corrected.
+    G1,
+    /// Exact G1 on every shared edge and a true tangent plane at every pole, by the
+    /// least-squares projection of [`exact`]; the default.
+    #[default]
+    Exact,
 }
 
 impl Regulation {
-    /// Every method.
-    pub const ALL: [Regulation; 1] = [Regulation::None];
+    /// Every method, in the order of the tables.
+    pub const ALL: [Regulation; 4] =
+        [Regulation::None, Regulation::C1, Regulation::G1, Regulation::Exact];
 
-    /// The name used on the command line.
+    /// The name used on the command line and in model files.
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Regulation::None => "none",
+            Regulation::C1 => "c1",
+            Regulation::G1 => "g1",
+            Regulation::Exact => "exact",
         }
     }
 }
@@ -44,22 +76,167 @@ impl std::str::FromStr for Regulation {
         Regulation::ALL
             .into_iter()
             .find(|r| r.name() == s)
-            .ok_or_else(|| format!("unknown regulation {s:?}: expected none"))
+            .ok_or_else(|| format!("unknown regulation {s:?}: expected none, c1, g1 or exact"))
+    }
+}
+
+/// The points of a non-degenerate group, `p[s + 1][t + 1]` for offsets `(s, t)`; `None`
+/// beyond an open boundary.
+pub type GroupPoints = [[Option<DVec3>; 3]; 3];
+
+/// The points of a pole group: the pole and its first ring (see [`Pole::ring`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PolePoints {
+    /// The pole `P_O`.
+    pub pole: DVec3,
+    /// The first ring, `ring[a]` for lattice column `a`.
+    pub ring: Vec<DVec3>,
+}
+
+fn read_group(grid: &Grid, g: &Group) -> GroupPoints {
+    g.nodes.map(|col| col.map(|id| id.map(|i| grid.nodes()[i])))
+}
+
+fn write_group(grid: &mut Grid, g: &Group, p: &GroupPoints) {
+    let nodes = grid.nodes_mut();
+    for s in 0..3 {
+        for t in 0..3 {
+            if let (Some(id), Some(x)) = (g.nodes[s][t], p[s][t]) {
+                nodes[id] = x;
+            }
+        }
+    }
+}
+
+fn read_pole(grid: &Grid, pole: &Pole) -> PolePoints {
+    PolePoints {
+        pole: grid.nodes()[pole.node],
+        ring: pole.ring.iter().map(|&i| grid.nodes()[i]).collect(),
+    }
+}
+
+fn write_pole(grid: &mut Grid, pole: &Pole, p: &PolePoints) {
+    let nodes = grid.nodes_mut();
+    for (&id, &x) in pole.ring.iter().zip(&p.ring) {
+        nodes[id] = x;
+    }
+}
+
+/// The [`exact::Projection`]s computed so far, by spacing ratios and slots (a group's
+/// projection depends on nothing else). Lookups only: iteration order never matters.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Projections {
+    map: HashMap<ProjectionKey, Option<exact::Projection>, BuildHasherDefault<KeyHasher>>,
+}
+
+/// The ratios' bits and the slots that exist.
+type ProjectionKey = (u64, u64, [bool; 9]);
+
+/// A small multiplicative hasher for the projection keys (the default SipHash costs more than
+/// the projection it looks up).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7C_C1_B7_27_22_0A_95);
+    }
+
+    fn write_u8(&mut self, x: u8) {
+        self.write_u64(u64::from(x));
+    }
+
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+}
+
+impl Projections {
+    /// Most projections kept before the cache starts over.
+    const LIMIT: usize = 1 << 16;
+
+    fn get(&mut self, ratios: (f64, f64), present: [bool; 9]) -> Option<exact::Projection> {
+        if self.map.len() >= Self::LIMIT {
+            self.map.clear();
+        }
+        *self
+            .map
+            .entry((ratios.0.to_bits(), ratios.1.to_bits(), present))
+            .or_insert_with(|| exact::Projection::new(ratios, present))
     }
 }
 
 /// Regulates the groups around the grid vertices `(k, q)` and the poles listed; returns how
-/// many groups and poles were worked on.
+/// many groups and poles were worked on. Groups where only one patch meets (grid corners)
+/// carry no continuity condition and are left alone.
 pub(crate) fn regulate(
     grid: &mut Grid,
     method: Regulation,
     vertices: &[(usize, usize)],
     poles: &[PoleEnd],
+    projections: &mut Projections,
 ) -> usize {
-    match method {
-        Regulation::None => {
-            let _ = (grid, vertices, poles);
-            0
-        }
+    if method == Regulation::None {
+        return 0;
     }
+    let mut count = 0;
+    for &(k, q) in vertices {
+        let Some(g) = grid.group(k, q) else { continue };
+        if g.patch_count() < 2 {
+            continue;
+        }
+        let mut p = read_group(grid, &g);
+        let changed = match method {
+            Regulation::None => false,
+            Regulation::C1 => c1::regulate_group(&mut p),
+            Regulation::G1 => g1::regulate_group(&mut p),
+            Regulation::Exact => match projections.get(g.ratios, exact::present(&p)) {
+                Some(proj) => {
+                    proj.apply(&mut p);
+                    true
+                }
+                None => false,
+            },
+        };
+        if changed {
+            write_group(grid, &g, &p);
+        }
+        count += 1;
+    }
+    for &end in poles {
+        let Some(pole) = grid.pole(end) else { continue };
+        let mut p = read_pole(grid, &pole);
+        let changed = match method {
+            Regulation::None => false,
+            Regulation::C1 => c1::regulate_pole(&mut p),
+            Regulation::G1 => g1::regulate_pole(&mut p),
+            Regulation::Exact => exact::regulate_pole(&mut p, &pole.ratios),
+        };
+        if changed {
+            write_pole(grid, &pole, &p);
+        }
+        count += 1;
+    }
+    count
+}
+
+/// Regulates every group and pole of a grid (e.g. after reading a model made elsewhere);
+/// returns how many were worked on.
+pub fn regulate_all(grid: &mut Grid, method: Regulation) -> usize {
+    let vertices: Vec<(usize, usize)> = grid.groups().iter().map(|g| g.vertex).collect();
+    let poles: Vec<PoleEnd> = grid.poles().iter().map(|p| p.end).collect();
+    let n = regulate(grid, method, &vertices, &poles, &mut Projections::default());
+    let all: Vec<usize> = (0..grid.patch_count()).collect();
+    grid.refit(&all, &mut Vec::new());
+    n
 }

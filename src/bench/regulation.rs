@@ -1,0 +1,398 @@
+//! `nendo bench regulation`: the paper's deviation experiment (seed 002 §6, Fig. 11) for
+//! every regulation method, and the continuity after 10 000 random strokes per topology.
+//!
+//! ## The experiment
+//! A 10 × 10 plane of unit patches pushed along −z near `(0.5, 0.5, 0)` with `r_f = 1.25`
+//! side, in 30 cases: depths 0.25, 0.5, …, 1.5 side (six) × five positions, the centre
+//! `(0.5, 0.5)` and the four points `(0.5 ± 0.25, 0.5 ± 0.25)` (the paper varied the finger
+//! parameters but does not list its 30 cases). The surfaces are compared on 40 × 40 samples
+//! per patch (160 000), at the same parameters:
+//!
+//! - **moved by regulation**: samples whose regulated position differs from the
+//!   inverse-mapping-only position by more than 10⁻³ side (the paper gives no threshold), per
+//!   case; the mean of those distances and the share within 0.15 side (pooled over the cases);
+//! - the same count on the inverse mapping's own samples, 16 per patch at `{0, ⅓, ⅔, 1}²`
+//!   counted patch by patch: the paper's "80 samples moved by the Bernstein inverse" matches
+//!   the number of these within the finger's reach (`16 π r_f² ≈ 78.5`), which suggests its
+//!   counts (208 for C1, 115 for G1) are on these samples too;
+//! - **deviation from the ideal** `S₀ + F(S₀)`: mean and max over the samples the finger or the
+//!   regulation moved (ideal or regulated position ≠ starting position);
+//! - **G1**: max and mean normal angle along every shared edge (33 points per edge), max and
+//!   mean over the cases.
+//!
+//! ## Random strokes
+//! 10 000 strokes (× `--scale`) per topology on the default primitives: pushes and drags
+//! (half each) at random surface points, along the inward normal tilted by up to ±0.3,
+//! depth uniform in ±0.3 side, radius in [0.4, 1.5] side, drags of 1–3 segments of up to
+//! ±0.6 side per coordinate; then G0, G1, pole spread, NaN, and whether the poles are still
+//! single points.
+
+use glam::DVec3;
+use std::time::Instant;
+
+use super::Table;
+use crate::surface::continuity::report;
+use crate::surface::deviation::{DeviationStats, ideal_samples, samples};
+use crate::surface::inverse;
+use crate::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor, deform};
+
+/// Distance above which a sample counts as moved (side).
+pub const MOVED: f64 = 1e-3;
+/// The paper's "within 0.15 side" share.
+pub const WITHIN: f64 = 0.15;
+/// Samples per patch side.
+pub const SAMPLES: usize = 40;
+
+/// A deterministic stream of random strokes (SplitMix64), so the library needs no `rand`.
+#[derive(Debug, Clone)]
+pub struct Strokes {
+    state: u64,
+}
+
+impl Strokes {
+    /// A stream from a seed.
+    #[must_use]
+    pub fn new(seed: u64) -> Self {
+        Self { state: seed }
+    }
+
+    fn next_u64(&mut self) -> u64 {
+        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[lo, hi)`.
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
+    }
+
+    fn index(&mut self, n: usize) -> usize {
+        ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * n as f64) as usize % n.max(1)
+    }
+
+    fn vector(&mut self, s: f64) -> DVec3 {
+        DVec3::new(self.range(-s, s), self.range(-s, s), self.range(-s, s))
+    }
+
+    /// The next stroke, aimed at a random point of the grid (see the module docs).
+    pub fn next_op(&mut self, grid: &Grid) -> Op {
+        let (iu, iv) = (self.index(grid.patches_u()), self.index(grid.patches_v()));
+        let (u, v) = (self.range(0.0, 1.0), self.range(0.0, 1.0));
+        let at = grid.eval(iu, iv, u, v);
+        let n = grid.normal(iu, iv, u, v).unwrap_or(DVec3::Z);
+        let dir = -n + self.vector(0.3);
+        let depth = self.range(-0.3, 0.3);
+        let radius = self.range(0.4, 1.5);
+        if self.next_u64() & 1 == 0 {
+            Op::Push { at, dir, depth, radius }
+        } else {
+            let mut path = vec![at];
+            for _ in 0..1 + self.index(3) {
+                let last = path[path.len() - 1];
+                path.push(last + self.vector(0.6));
+            }
+            Op::Drag { path, dir, depth, radius }
+        }
+    }
+}
+
+/// The 30 pushes of the experiment (see the module docs).
+#[must_use]
+pub fn experiment_cases() -> Vec<Op> {
+    let mut out = Vec::new();
+    for k in 1..=6 {
+        let depth = 0.25 * k as f64;
+        for (dx, dy) in [(0.0, 0.0), (-0.25, -0.25), (0.25, -0.25), (-0.25, 0.25), (0.25, 0.25)] {
+            out.push(Op::Push {
+                at: DVec3::new(0.5 + dx, 0.5 + dy, 0.0),
+                dir: -DVec3::Z,
+                depth,
+                radius: 1.25,
+            });
+        }
+    }
+    out
+}
+
+/// The experiment's figures for one method.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExperimentRow {
+    /// The method.
+    pub method: Regulation,
+    /// Mean number of samples per case that regulation moved by more than [`MOVED`] (for
+    /// `none`: samples more than [`MOVED`] from the ideal).
+    pub moved_per_case: f64,
+    /// The same count on the 16 inverse-mapping samples of every patch (for `none`: those the
+    /// finger moved).
+    pub moved_inverse_samples_per_case: f64,
+    /// Distance regulation moved them (pooled): mean and share within [`WITHIN`].
+    pub moved: DeviationStats,
+    /// Distance from the ideal over the samples the finger or regulation moved (pooled).
+    pub from_ideal: DeviationStats,
+    /// Largest G1 angle over the cases (degrees).
+    pub g1_max_deg: f64,
+    /// Mean over the cases of the mean G1 angle (degrees).
+    pub g1_mean_deg: f64,
+    /// G1 max per case, in case order.
+    pub g1_max_per_case: Vec<f64>,
+}
+
+/// Runs the experiment for one method on the given cases.
+///
+/// # Panics
+/// Never for the 10 × 10 plane and valid pushes.
+#[must_use]
+pub fn experiment(method: Regulation, cases: &[Op]) -> ExperimentRow {
+    let base = Primitive::Plane
+        .build(&PrimitiveParams { patches: Some((10, 10)), ..PrimitiveParams::default() })
+        .unwrap_or_else(|e| panic!("plane: {e}"));
+    let s0 = samples(&base, SAMPLES);
+    let (mut moved_d, mut ideal_d) = (Vec::new(), Vec::new());
+    let mut moved_count = 0usize;
+    let mut moved_coarse = 0usize;
+    let (mut g1_max, mut g1_mean_sum) = (0.0f64, 0.0);
+    let mut per_case = Vec::new();
+    for op in cases {
+        let Ok(finger) = op.finger() else { continue };
+        let ideal = ideal_samples(&base, &finger, SAMPLES);
+        let mut unreg = base.clone();
+        let mut reg = base.clone();
+        let _ = deform(&mut unreg, op, Regulation::None);
+        let _ = deform(&mut reg, op, method);
+        let u = samples(&unreg, SAMPLES);
+        let r = samples(&reg, SAMPLES);
+        for k in 0..s0.len() {
+            let by_reg = (r[k] - u[k]).length();
+            let from_ideal = (r[k] - ideal[k]).length();
+            if method == Regulation::None {
+                if from_ideal > MOVED {
+                    moved_count += 1;
+                    moved_d.push(from_ideal);
+                }
+            } else if by_reg > MOVED {
+                moved_count += 1;
+                moved_d.push(by_reg);
+            }
+            if ideal[k] != s0[k] || (r[k] - s0[k]).length() > MOVED {
+                ideal_d.push(from_ideal);
+            }
+        }
+        for p in 0..base.patch_count() {
+            let (r0, ru, rr) = (
+                inverse::samples(&base.patch_at(p)),
+                inverse::samples(&unreg.patch_at(p)),
+                inverse::samples(&reg.patch_at(p)),
+            );
+            for k in 0..16 {
+                moved_coarse += usize::from(if method == Regulation::None {
+                    finger.flow(r0[k]) != DVec3::ZERO
+                } else {
+                    (rr[k] - ru[k]).length() > MOVED
+                });
+            }
+        }
+        let c = report(&reg, 33);
+        g1_max = g1_max.max(c.g1_max_deg);
+        g1_mean_sum += c.g1_mean_deg;
+        per_case.push(c.g1_max_deg);
+    }
+    let n = cases.len().max(1) as f64;
+    ExperimentRow {
+        method,
+        moved_per_case: moved_count as f64 / n,
+        moved_inverse_samples_per_case: moved_coarse as f64 / n,
+        moved: DeviationStats::of(moved_d, WITHIN),
+        from_ideal: DeviationStats::of(ideal_d, WITHIN),
+        g1_max_deg: g1_max,
+        g1_mean_deg: g1_mean_sum / n,
+        g1_max_per_case: per_case,
+    }
+}
+
+/// Continuity after a run of random strokes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StrokeRun {
+    /// The primitive.
+    pub primitive: Primitive,
+    /// The method.
+    pub method: Regulation,
+    /// Strokes applied.
+    pub strokes: usize,
+    /// Median-free mean time per stroke (µs).
+    pub mean_us: f64,
+    /// G0 gap (side).
+    pub g0_gap: f64,
+    /// Largest G1 angle (degrees).
+    pub g1_max_deg: f64,
+    /// Mean G1 angle (degrees).
+    pub g1_mean_deg: f64,
+    /// Points without a tangent plane (left out of the G1 figures).
+    pub undefined_normals: usize,
+    /// Largest pole spread (degrees; 0 without poles).
+    pub pole_spread_deg: f64,
+    /// True when every coordinate is finite.
+    pub finite: bool,
+    /// True when every pole row is still one point in every patch.
+    pub poles_degenerate: bool,
+}
+
+/// Applies `strokes` random strokes (seed `seed`) to a primitive with a method and measures.
+///
+/// # Panics
+/// Never for the default primitives.
+#[must_use]
+pub fn random_strokes(
+    primitive: Primitive,
+    method: Regulation,
+    strokes: usize,
+    seed: u64,
+) -> StrokeRun {
+    let mut grid =
+        primitive.build(&PrimitiveParams::default()).unwrap_or_else(|e| panic!("{primitive}: {e}"));
+    let mut strokes_gen = Strokes::new(seed);
+    let mut sculptor = Sculptor::new();
+    let start = Instant::now();
+    for _ in 0..strokes {
+        let op = strokes_gen.next_op(&grid);
+        let _ = sculptor.apply(&mut grid, &op, method);
+    }
+    let mean_us = start.elapsed().as_secs_f64() * 1e6 / strokes.max(1) as f64;
+    let c = report(&grid, 33);
+    let finite = grid.nodes().iter().all(|x| x.is_finite());
+    let poles_degenerate = poles_degenerate(&grid);
+    StrokeRun {
+        primitive,
+        method,
+        strokes,
+        mean_us,
+        g0_gap: c.g0_gap,
+        g1_max_deg: c.g1_max_deg,
+        g1_mean_deg: c.g1_mean_deg,
+        undefined_normals: c.undefined_normals,
+        pole_spread_deg: c.poles.iter().map(|p| p.spread_deg).fold(0.0, f64::max),
+        finite,
+        poles_degenerate,
+    }
+}
+
+/// True when, in every patch touching a pole, the whole pole row is the pole's point.
+#[must_use]
+pub fn poles_degenerate(grid: &Grid) -> bool {
+    let (m, n) = (grid.patches_u(), grid.patches_v());
+    grid.poles().iter().all(|pole| {
+        let o = grid.nodes()[pole.node];
+        let (iv, j) = if pole.end == crate::surface::PoleEnd::Start { (0, 0) } else { (n - 1, 3) };
+        (0..m).all(|iu| {
+            let p = grid.patch(iu, iv);
+            (0..4).all(|i| p[4 * i + j] == o)
+        })
+    })
+}
+
+/// The suite's tables; `scale` scales the number of random strokes.
+#[must_use]
+pub fn report_text(scale: f64) -> String {
+    let mut out = String::new();
+    let cases = experiment_cases();
+    let rows: Vec<ExperimentRow> = Regulation::ALL.iter().map(|&m| experiment(m, &cases)).collect();
+    let mut t = Table::new(&[
+        "method",
+        "moved/case",
+        "moved 4x4/case",
+        "mean moved (side)",
+        "<= 0.15 side",
+        "mean from ideal",
+        "max from ideal",
+        "G1 max (deg)",
+        "G1 mean (deg)",
+    ]);
+    for r in &rows {
+        t.row(vec![
+            r.method.name().to_string(),
+            format!("{:.0}", r.moved_per_case),
+            format!("{:.0}", r.moved_inverse_samples_per_case),
+            format!("{:.4}", r.moved.mean),
+            format!("{:.1} %", 100.0 * r.moved.share_within),
+            format!("{:.4}", r.from_ideal.mean),
+            format!("{:.4}", r.from_ideal.max),
+            format!("{:.3e}", r.g1_max_deg),
+            format!("{:.3e}", r.g1_mean_deg),
+        ]);
+    }
+    out.push_str(&format!(
+        "The paper's experiment: 10x10 plane, push near (0.5, 0.5, 0) along -z, r_f = 1.25 side, 30 cases \
+         (depths 0.25..1.5 x 5 positions within +-0.25), {} samples per case.\n\
+         moved: samples regulation moved by > {MOVED} side (none: samples > {MOVED} side from the ideal); \
+         mean / share over those, pooled.\n\
+         moved 4x4: the same count on the inverse mapping's 16 samples per patch (none: those the finger moved).\n\
+         Paper: C1 208 samples, mean 0.10 side, 79.7 % within 0.15; G1 115 samples, 0.07 side, 86.1 %; \
+         inverse alone 80 samples.\n{}",
+        100 * SAMPLES * SAMPLES,
+        t.render()
+    ));
+    // G1 max by depth, for the methods that aim at G1.
+    let mut t = Table::new(&["depth (side)", "c1 G1 max", "g1 G1 max", "exact G1 max"]);
+    for k in 0..6 {
+        let depth = 0.25 * (k + 1) as f64;
+        let worst = |m: Regulation| {
+            rows.iter()
+                .find(|r| r.method == m)
+                .map(|r| r.g1_max_per_case[5 * k..5 * k + 5].iter().fold(0.0f64, |a, b| a.max(*b)))
+                .unwrap_or(f64::NAN)
+        };
+        t.row(vec![
+            format!("{depth:.2}"),
+            format!("{:.3e}", worst(Regulation::C1)),
+            format!("{:.3e}", worst(Regulation::G1)),
+            format!("{:.3e}", worst(Regulation::Exact)),
+        ]);
+    }
+    out.push_str(&format!(
+        "\nWorst G1 angle (degrees) over the 5 positions, by depth:\n{}",
+        t.render()
+    ));
+    let strokes = ((10_000.0 * scale).round() as usize).max(1);
+    let mut t = Table::new(&[
+        "topology",
+        "method",
+        "µs/stroke",
+        "G0 gap",
+        "G1 max (deg)",
+        "G1 mean (deg)",
+        "no normal",
+        "pole spread (deg)",
+        "finite",
+        "poles single",
+    ]);
+    for p in [
+        Primitive::Plane,
+        Primitive::Cylinder,
+        Primitive::Hemisphere,
+        Primitive::Sphere,
+        Primitive::Torus,
+    ] {
+        for m in [Regulation::C1, Regulation::G1, Regulation::Exact] {
+            let r = random_strokes(p, m, strokes, 2024);
+            t.row(vec![
+                p.name().to_string(),
+                m.name().to_string(),
+                format!("{:.1}", r.mean_us),
+                format!("{:.1e}", r.g0_gap),
+                format!("{:.3e}", r.g1_max_deg),
+                format!("{:.3e}", r.g1_mean_deg),
+                r.undefined_normals.to_string(),
+                format!("{:.3e}", r.pole_spread_deg),
+                r.finite.to_string(),
+                r.poles_degenerate.to_string(),
+            ]);
+        }
+    }
+    out.push_str(&format!(
+        "\n{strokes} random strokes per topology (pushes and drags, depth +-0.3, r_f 0.4..1.5), then:\n{}",
+        t.render()
+    ));
+    out
+}

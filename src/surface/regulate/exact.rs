@@ -1,0 +1,404 @@
+//! nendo's default regulation: **exact G1 on every shared edge and a true tangent plane at
+//! every pole**, moving the control points as little as possible (least squares) away from
+//! where the Bernstein inverse put them — i.e. from the shape the finger asked for.
+//!
+//! ## Why the paper's construction is not enough
+//! Two bicubic patches sharing an edge are G1 along the whole edge when every three-point row
+//! of control points crossing it, `(P₋, P₀, P₊)`, is collinear **with one ratio**
+//! `P₊ − P₀ = ρ (P₀ − P₋)` for all four rows of the edge (then the cross-boundary derivatives
+//! satisfy `D₊(v) = ρ D₋(v)` for every `v`). The four rows of an edge belong to the groups at
+//! its two ends; the paper's construction ([`super::g1`]) makes each group's rows collinear
+//! with that group's own ratio, so an edge is G1 only where the ratios at its two end vertices
+//! happen to agree (the paper's own remark that its constraint "is not optimal").
+//!
+//! ## The method
+//! Each shared grid line has a fixed **reference spacing ratio** ρ, measured once when the
+//! grid is built (all 1 on the primitives but at the tube's bottom-to-wall join; see
+//! [`crate::surface::grid`]). The G1 conditions are then *linear* in the control points:
+//! `ρ P₋ − (1 + ρ) P₀ + P₊ = 0` for every row crossing a grid line. Within a group they say
+//! exactly that the group is a bilinear lattice with fixed spacings,
+//!
+//! ```text
+//! P(s, t) = P_O + s̃ a + t̃ b + s̃ t̃ c,   s̃ ∈ {−1, 0, ρ_u},  t̃ ∈ {−1, 0, ρ_v}
+//! ```
+//!
+//! with four free vectors `P_O, a, b, c`. The regulated group is the member of that family
+//! nearest to the unregulated points **in the surface's own metric**: it minimises
+//! `∫ |S_regulated − S_unregulated|²` over the (up to four) patches around the vertex, which
+//! for the group's nodes is the quadratic form of the Bernstein Gram matrix
+//! `M[(i,j),(k,l)] = m_ik m_jl`, `m_ik = ∫₀¹ B_i³ B_k³ = C(3,i) C(3,k) / (7 C(6,i+k))`
+//! (`1/7`, `1/14`, `3/35` for the vertex row and its neighbour). The result is a fixed linear
+//! map of the group's nine points ([`Projection`]: a 4 × 4 solve, done once per spacing and
+//! boundary shape and reused), so regulating a group is one 9 × 9 matrix–vector product. The
+//! constraints of different groups share no point, so each group is projected on its own;
+//! the metric's coupling between neighbouring groups through a shared patch is left out
+//! (block-diagonal), which keeps the projection local. Groups cut by an open boundary use the
+//! offsets and patches that exist.
+//!
+//! *Measured choice* (`nendo bench regulation`, the paper's experiment): the plain
+//! least-squares fit in control-point space with `P_O` kept deviated on average 0.024 side
+//! from the ideal dent (0.026 for the paper's construction); weighting by the Gram matrix and
+//! letting `P_O` move brought it to 0.017 side, with G1 exact either way.
+//!
+//! Every regulated state satisfies the constraints with the same ratios, so they never drift:
+//! G1 holds to rounding (≈10⁻¹²°) along every edge, whatever was touched before.
+//!
+//! **Why fixed ratios and not the deformed net's own**: ratios re-measured after each
+//! deformation would let one stroke shift the spacing along whole grid lines (and need a
+//! global solve); with the reference spacing every group is independent and a stroke stays
+//! local, as the throwaway study in SPEC §8 also found.
+//!
+//! ## Poles
+//! At a pole the first ring must lie in one plane through the pole (then every derivative out
+//! of the pole lies in it, and the normal's limit is the same from every side), and each ring
+//! triple crossing a meridian keeps its line's ratio. With the plane's normal `n` fixed the
+//! conditions are linear again, so `n` is chosen first, as the one that makes the total
+//! least-squares displacement smallest: with `d_a = R_a − O` the ring points relative to the
+//! pole and `e_k` the defect `ρ_k R₋ − (1 + ρ_k) R₀ + R₊` of meridian `k`'s triple,
+//! `cost(n) = Σ (n·d_a)² + Σ (|e_k|² − (n·e_k)²) / |c_k|²` (`c_k = (ρ_k, −1−ρ_k, 1)`), whose
+//! minimiser is the eigenvector of the smallest eigenvalue of
+//! `Σ d_a d_aᵀ − Σ e_k e_kᵀ / |c_k|²`. Then the ring is projected onto the plane and each
+//! triple onto its ratio constraint (this projection is in the plain control-point metric).
+//! The pole itself stays (it is the sample on the finger's axis when the pole is pushed, and
+//! every patch around it shares it).
+
+use glam::DVec3;
+
+use super::super::plane_fit::symmetric_eigen;
+use super::{GroupPoints, PolePoints};
+
+/// Gram matrix entries `∫₀¹ B_i³ B_k³` for `i, k ∈ {0, 1}` (the vertex row and the next).
+const GRAM: [[f64; 2]; 2] = [[1.0 / 7.0, 1.0 / 14.0], [1.0 / 14.0, 3.0 / 35.0]];
+
+/// The linear map of a group's nine points to their regulated positions: `P'_i = Σ_j Π_ij P_j`
+/// over the slots `3(s + 1) + (t + 1)` (zero rows and columns for missing slots). It depends
+/// only on the spacing ratios and on which slots exist, so it can be computed once and reused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Projection {
+    m: [[f64; 9]; 9],
+    present: [bool; 9],
+}
+
+impl Projection {
+    /// The projection for a group with these reference ratios `(ρ_u, ρ_v)` and these slots
+    /// (`present[3(s + 1) + (t + 1)]`); `None` when fewer than two patches meet or the
+    /// system is singular.
+    #[must_use]
+    pub fn new(ratios: (f64, f64), present: [bool; 9]) -> Option<Self> {
+        let su = [-1.0, 0.0, ratios.0];
+        let tv = [-1.0, 0.0, ratios.1];
+        let phi = |k: usize| {
+            let (s, t) = (k / 3, k % 3);
+            [1.0, su[s], tv[t], su[s] * tv[t]]
+        };
+        // Normal equations A θ = K P for θ = (P_O, a, b, c), K[·][β] = Σ_α w_αβ φ_α.
+        let mut a = [[0.0f64; 4]; 4];
+        let mut kmat = [[0.0f64; 9]; 4];
+        let mut patches = 0;
+        for (qs, qt) in [(0usize, 0usize), (2, 0), (0, 2), (2, 2)] {
+            // The patch in this quadrant: the slots next to the vertex and their Bernstein
+            // indices (0 at the vertex, 1 next to it) along u and v.
+            let nodes =
+                [(4usize, 0usize, 0usize), (3 * qs + 1, 1, 0), (3 + qt, 0, 1), (3 * qs + qt, 1, 1)];
+            if nodes.iter().any(|&(k, _, _)| !present[k]) {
+                continue;
+            }
+            patches += 1;
+            for &(k1, i1, j1) in &nodes {
+                let f1 = phi(k1);
+                for &(k2, i2, j2) in &nodes {
+                    let w = GRAM[i1][i2] * GRAM[j1][j2];
+                    let f2 = phi(k2);
+                    for i in 0..4 {
+                        for j in 0..4 {
+                            a[i][j] += w * f1[i] * f2[j];
+                        }
+                        kmat[i][k2] += w * f1[i];
+                    }
+                }
+            }
+        }
+        if patches < 2 {
+            return None;
+        }
+        let l = cholesky4(a)?;
+        let mut m = [[0.0f64; 9]; 9];
+        for beta in 0..9 {
+            if !present[beta] {
+                continue;
+            }
+            let theta =
+                cholesky_solve(&l, [kmat[0][beta], kmat[1][beta], kmat[2][beta], kmat[3][beta]]);
+            for (alpha, row) in m.iter_mut().enumerate() {
+                if present[alpha] {
+                    let f = phi(alpha);
+                    row[beta] =
+                        f[0] * theta[0] + f[1] * theta[1] + f[2] * theta[2] + f[3] * theta[3];
+                }
+            }
+        }
+        Some(Self { m, present })
+    }
+
+    /// Which slots the projection was built for.
+    #[must_use]
+    pub fn present(&self) -> [bool; 9] {
+        self.present
+    }
+
+    /// Applies the projection to a group's points.
+    pub fn apply(&self, p: &mut GroupPoints) {
+        let x: [DVec3; 9] = std::array::from_fn(|k| p[k / 3][k % 3].unwrap_or_default());
+        for alpha in 0..9 {
+            if self.present[alpha] {
+                let row = &self.m[alpha];
+                let mut sum = DVec3::ZERO;
+                for beta in 0..9 {
+                    sum += x[beta] * row[beta];
+                }
+                p[alpha / 3][alpha % 3] = Some(sum);
+            }
+        }
+    }
+}
+
+/// Which slots of a group exist.
+#[must_use]
+pub fn present(p: &GroupPoints) -> [bool; 9] {
+    std::array::from_fn(|k| p[k / 3][k % 3].is_some())
+}
+
+/// Regulates one non-degenerate group: the member of the bilinear family with the reference
+/// spacing ratios `(ρ_u, ρ_v)` nearest to the group in the surface metric (see the module
+/// docs). `false` when there is nothing to fit (fewer than two patches) or the system is
+/// singular.
+pub fn regulate_group(p: &mut GroupPoints, ratios: (f64, f64)) -> bool {
+    match Projection::new(ratios, present(p)) {
+        Some(proj) => {
+            proj.apply(p);
+            true
+        }
+        None => false,
+    }
+}
+
+/// Regulates a pole: the first ring onto the least-squares tangent plane through the pole,
+/// and every meridian's ring triple onto its ratio (`ratios[k]` for meridian `k`).
+pub fn regulate_pole(p: &mut PolePoints, ratios: &[f64]) -> bool {
+    let len = p.ring.len();
+    if len < 6 || !len.is_multiple_of(3) || ratios.len() != len / 3 {
+        return false;
+    }
+    let o = p.pole;
+    let at = |a: isize| (a.rem_euclid(len as isize)) as usize;
+    let defect = |ring: &[DVec3], k: usize| {
+        let a = 3 * k as isize;
+        let rho = ratios[k];
+        ring[at(a - 1)] * rho - ring[at(a)] * (1.0 + rho) + ring[at(a + 1)]
+    };
+    let coeff_sq = |rho: f64| rho * rho + (1.0 + rho) * (1.0 + rho) + 1.0;
+    // The tangent-plane normal minimising the total displacement.
+    let mut s = [[0.0f64; 3]; 3];
+    for &x in &p.ring {
+        let d = x - o;
+        add_outer(&mut s, d, 1.0);
+    }
+    for k in 0..len / 3 {
+        add_outer(&mut s, defect(&p.ring, k), -1.0 / coeff_sq(ratios[k]));
+    }
+    let n = symmetric_eigen(s).1[0];
+    // Onto the plane, then each triple onto its constraint (within the plane).
+    for x in &mut p.ring {
+        *x -= n * n.dot(*x - o);
+    }
+    for k in 0..len / 3 {
+        let e = defect(&p.ring, k);
+        let rho = ratios[k];
+        let c = [rho, -(1.0 + rho), 1.0];
+        let q = e / coeff_sq(rho);
+        let a = 3 * k as isize;
+        for (i, ci) in c.iter().enumerate() {
+            p.ring[at(a - 1 + i as isize)] -= q * *ci;
+        }
+    }
+    true
+}
+
+fn add_outer(m: &mut [[f64; 3]; 3], v: DVec3, w: f64) {
+    let a = v.to_array();
+    for i in 0..3 {
+        for j in 0..3 {
+            m[i][j] += w * a[i] * a[j];
+        }
+    }
+}
+
+/// The Cholesky factor `L` (`A = L Lᵀ`) of a symmetric 4 × 4 matrix; `None` when it is not
+/// (numerically) positive definite.
+fn cholesky4(a: [[f64; 4]; 4]) -> Option<[[f64; 4]; 4]> {
+    let scale = (0..4).fold(0.0f64, |m, i| m.max(a[i][i]));
+    let mut l = [[0.0f64; 4]; 4];
+    for i in 0..4 {
+        for j in 0..=i {
+            let mut sum = a[i][j];
+            for k in 0..j {
+                sum -= l[i][k] * l[j][k];
+            }
+            if i == j {
+                if sum.is_nan() || sum <= 1e-13 * scale {
+                    return None;
+                }
+                l[i][i] = sum.sqrt();
+            } else {
+                l[i][j] = sum / l[j][j];
+            }
+        }
+    }
+    Some(l)
+}
+
+/// Solves `L Lᵀ x = b`.
+fn cholesky_solve(l: &[[f64; 4]; 4], b: [f64; 4]) -> [f64; 4] {
+    let mut y = [0.0; 4];
+    for i in 0..4 {
+        let mut sum = b[i];
+        for k in 0..i {
+            sum -= y[k] * l[i][k];
+        }
+        y[i] = sum / l[i][i];
+    }
+    let mut x = [0.0; 4];
+    for i in (0..4).rev() {
+        let mut sum = y[i];
+        for k in i + 1..4 {
+            sum -= x[k] * l[k][i];
+        }
+        x[i] = sum / l[i][i];
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn noisy_group(seed: u64) -> GroupPoints {
+        let mut x = seed;
+        let mut r = move || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut p = [[None; 3]; 3];
+        for s in 0..3 {
+            for t in 0..3 {
+                let base = DVec3::new(s as f64 * 0.33, t as f64 * 0.33, 0.0);
+                p[s][t] = Some(if (s, t) == (1, 1) {
+                    base
+                } else {
+                    base + DVec3::new(r(), r(), r()) * 0.2
+                });
+            }
+        }
+        p
+    }
+
+    #[test]
+    fn rows_get_the_reference_ratio() {
+        for seed in 0..30 {
+            let (ru, rv) = (0.7 + 0.02 * seed as f64, 1.3 - 0.01 * seed as f64);
+            let mut p = noisy_group(seed);
+            assert!(regulate_group(&mut p, (ru, rv)));
+            let g = |s: usize, t: usize| p[s][t].unwrap();
+            for k in 0..3 {
+                assert!((ru * g(0, k) - (1.0 + ru) * g(1, k) + g(2, k)).length() < 1e-14);
+                assert!((rv * g(k, 0) - (1.0 + rv) * g(k, 1) + g(k, 2)).length() < 1e-14);
+            }
+        }
+    }
+
+    /// `∫|ΔS|²` over the four patches around the vertex, by dense quadrature of the patches
+    /// built from the group's nodes (the other nodes of each patch unchanged: zero change).
+    fn surface_change(a: &GroupPoints, b: &GroupPoints) -> f64 {
+        let n = 48;
+        let mut sum = 0.0;
+        for (qs, qt) in [(0usize, 0usize), (2, 0), (0, 2), (2, 2)] {
+            let d = |s: usize, t: usize| a[s][t].unwrap() - b[s][t].unwrap();
+            let (d00, d10, d01, d11) = (d(1, 1), d(qs, 1), d(1, qt), d(qs, qt));
+            for i in 0..n {
+                for j in 0..n {
+                    let (u, v) = ((i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64);
+                    let (b0u, b1u) = ((1.0 - u).powi(3), 3.0 * u * (1.0 - u).powi(2));
+                    let (b0v, b1v) = ((1.0 - v).powi(3), 3.0 * v * (1.0 - v).powi(2));
+                    let ds = d00 * (b0u * b0v)
+                        + d10 * (b1u * b0v)
+                        + d01 * (b0u * b1v)
+                        + d11 * (b1u * b1v);
+                    sum += ds.length_squared();
+                }
+            }
+        }
+        sum / (n * n) as f64
+    }
+
+    #[test]
+    fn the_fit_is_nearest_in_the_surface_metric() {
+        // Any other member of the family (vertex, a, b, c perturbed) changes the surface more.
+        let (ru, rv) = (0.8, 1.2);
+        let orig = noisy_group(4);
+        let mut p = orig;
+        regulate_group(&mut p, (ru, rv));
+        let best = surface_change(&p, &orig);
+        let su = [-1.0, 0.0, ru];
+        let tv = [-1.0, 0.0, rv];
+        let o = p[1][1].unwrap();
+        let a = (p[2][1].unwrap() - o) / ru;
+        let b = (p[1][2].unwrap() - o) / rv;
+        let c = (p[2][2].unwrap() - o - a * ru - b * rv) / (ru * rv);
+        for k in 0..8 {
+            let e = DVec3::new(1e-3 * (k as f64).cos(), 1e-3 * (k as f64).sin(), -1e-3);
+            let pick = |i: usize| if k % 4 == i { e } else { DVec3::ZERO };
+            let mut q = p;
+            for s in 0..3 {
+                for t in 0..3 {
+                    q[s][t] = Some(
+                        o + pick(0)
+                            + (a + pick(1)) * su[s]
+                            + (b + pick(2)) * tv[t]
+                            + (c + pick(3)) * (su[s] * tv[t]),
+                    );
+                }
+            }
+            assert!(surface_change(&q, &orig) > best, "{k}");
+        }
+    }
+
+    #[test]
+    fn a_regulated_pole_has_a_tangent_plane() {
+        let len = 24;
+        let mut x = 9u64;
+        let mut r = move || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let ring: Vec<DVec3> = (0..len)
+            .map(|a| {
+                let phi = std::f64::consts::TAU * a as f64 / len as f64;
+                DVec3::new(phi.cos(), phi.sin(), 0.4 * phi.cos() + 0.1)
+                    + DVec3::new(r(), r(), r()) * 0.1
+            })
+            .collect();
+        let mut p = PolePoints { pole: DVec3::new(0.0, 0.0, 0.05), ring };
+        let ratios = vec![1.0; len / 3];
+        assert!(regulate_pole(&mut p, &ratios));
+        let n =
+            crate::surface::plane_fit::plane_normal(p.ring.iter().map(|x| *x - p.pole)).unwrap();
+        for x in &p.ring {
+            assert!(n.dot(*x - p.pole).abs() < 1e-14);
+        }
+        for k in 0..len / 3 {
+            let a = 3 * k as isize;
+            let at = |i: isize| p.ring[i.rem_euclid(len as isize) as usize];
+            assert!((at(a - 1) - 2.0 * at(a) + at(a + 1)).length() < 1e-14);
+        }
+    }
+}

@@ -1,7 +1,9 @@
 //! `nendo check MODEL.json`: reads a model and prints its continuity report as JSON (SPEC §9):
 //! patches, shared edges, the G0 gap (between the file's copies of shared points and between
 //! the patches' evaluations along shared edges), the G1 angle (max and mean) along shared
-//! edges, and every pole with the spread of its tangent plane.
+//! edges, and every pole with the spread of its tangent plane. With `--against OTHER.json` (a
+//! model with the same topology and patch counts) it adds the deviation between the two
+//! surfaces on 40 × 40 samples per patch at the same parameters (SPEC §9).
 
 use clap::Args as ClapArgs;
 use serde_json::json;
@@ -11,6 +13,7 @@ use std::process::ExitCode;
 use crate::model::Model;
 use crate::surface::PoleEnd;
 use crate::surface::continuity::{MIN_SAMPLES_PER_EDGE, report};
+use crate::surface::deviation::{DeviationStats, distances, samples};
 
 /// Arguments of `nendo check`.
 #[derive(Debug, ClapArgs)]
@@ -20,7 +23,13 @@ pub struct Args {
     /// Points per shared edge (at least 33).
     #[arg(long, default_value_t = MIN_SAMPLES_PER_EDGE)]
     pub samples: usize,
+    /// Also report the deviation from this model (same topology and patch counts).
+    #[arg(long)]
+    pub against: Option<PathBuf>,
 }
+
+/// Samples per patch side for `--against`.
+const DEVIATION_SAMPLES: usize = 40;
 
 /// Runs `nendo check`.
 pub fn run(args: Args) -> ExitCode {
@@ -32,6 +41,40 @@ pub fn run(args: Args) -> ExitCode {
         }
     };
     let g = &loaded.model.surface;
+    let deviation = match &args.against {
+        None => None,
+        Some(path) => {
+            let other = match Model::read(path) {
+                Ok(l) => l.model.surface,
+                Err(e) => {
+                    eprintln!("nendo check: {}: {e}", path.display());
+                    return ExitCode::from(1);
+                }
+            };
+            let d = distances(&samples(g, DEVIATION_SAMPLES), &samples(&other, DEVIATION_SAMPLES));
+            match (d, g.topology() == other.topology()) {
+                (Ok(d), true) => {
+                    let moved = d.iter().filter(|&&x| x > 1e-9).count();
+                    let s = DeviationStats::of(d.iter().copied(), 0.15);
+                    Some(json!({
+                        "against": path.display().to_string(),
+                        "samples": s.count,
+                        "samples_apart": moved,
+                        "mean": s.mean,
+                        "max": s.max,
+                        "share_within_0.15": s.share_within,
+                    }))
+                }
+                _ => {
+                    eprintln!(
+                        "nendo check: {} has another topology or other patch counts; no deviation to measure",
+                        path.display()
+                    );
+                    return ExitCode::from(1);
+                }
+            }
+        }
+    };
     let r = report(g, args.samples);
     let poles: Vec<_> = r
         .poles
@@ -62,6 +105,13 @@ pub fn run(args: Args) -> ExitCode {
         "undefined_normals": r.undefined_normals,
         "poles": poles,
     });
+    let out = match (out, deviation) {
+        (serde_json::Value::Object(mut o), Some(d)) => {
+            o.insert("deviation".into(), d);
+            serde_json::Value::Object(o)
+        }
+        (out, _) => out,
+    };
     println!("{out}");
     ExitCode::SUCCESS
 }

@@ -15,6 +15,7 @@ pub mod json;
 pub mod point;
 mod ray;
 mod sphere;
+pub mod warp;
 
 pub use any::{check_radius, pick, Curve, CurveSet, Picked};
 pub use bezier::{Bezier, MAX_DEGREE};

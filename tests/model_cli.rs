@@ -60,10 +60,10 @@ fn sculpt_replays_operations_and_check_reports_on_the_result() {
     assert!(r["g1_max_deg"].as_f64().unwrap() > 1.0, "the inverse alone creases the dent: {r}");
     assert_eq!(r["poles"].as_array().unwrap().len(), 0);
 
-    // Continue from the model.
+    // Continue from the model, regulated this time, and compare the two.
     let again = dir.join("again.json");
     let out = nendo()
-        .args(["sculpt", "--model"])
+        .args(["sculpt", "--regulation", "exact", "--model"])
         .arg(&out_path)
         .arg("--ops")
         .arg(&ops)
@@ -72,6 +72,20 @@ fn sculpt_replays_operations_and_check_reports_on_the_result() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = nendo().arg("check").arg(&again).arg("--against").arg(&out_path).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(r["regulation"], "exact");
+    assert!(r["g1_max_deg"].as_f64().unwrap() < 1e-9, "{r}");
+    assert_eq!(r["deviation"]["samples"], 160_000);
+    assert!(r["deviation"]["max"].as_f64().unwrap() > 0.4, "pushed twice as deep: {r}");
+    // Models of different shapes cannot be compared.
+    let sphere = dir.join("sphere.json");
+    let out =
+        nendo().args(["sculpt", "--primitive", "sphere", "--out"]).arg(&sphere).output().unwrap();
+    assert!(out.status.success());
+    let out = nendo().arg("check").arg(&again).arg("--against").arg(&sphere).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

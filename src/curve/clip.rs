@@ -104,6 +104,17 @@ pub fn hull_range(c: &[f64], level: f64, sign: f64) -> Option<(f64, f64)> {
     ))
 }
 
+/// `1/k` for `k < 64` (`RECIPROCAL[0]` unused).
+static RECIPROCAL: [f64; 64] = {
+    let mut r = [0.0; 64];
+    let mut k = 1;
+    while k < 64 {
+        r[k] = 1.0 / k as f64;
+        k += 1;
+    }
+    r
+};
+
 /// A cheaper enclosure of [`hull_below`]: the part of `[0,1]` outside of which
 /// `f = Σ c_k B_k^m` certainly stays above `level`, from the two supporting lines of the
 /// control polygon's hull through its end points. Every control point lies on or above the line
@@ -123,8 +134,8 @@ pub fn end_lines_below(c: &[f64], level: f64) -> Option<(f64, f64)> {
     for (k, &ck) in c.iter().enumerate().take(m).skip(1) {
         let v = ck - level;
         any |= v <= 0.0;
-        let from_left = (v - c0) / k as f64;
-        let from_right = (v - cm) / (m - k) as f64;
+        let from_left = (v - c0) * RECIPROCAL[k];
+        let from_right = (v - cm) * RECIPROCAL[m - k];
         if from_left < left {
             left = from_left;
         }
@@ -201,10 +212,27 @@ pub const NEWTON_QUADRATIC: f64 = 1e-9;
 /// by the bracket, which every evaluation tightens, falling back to bisection whenever a step
 /// would leave it. Returns the root and the number of iterations.
 ///
-/// `f` and `f'` are evaluated together by the scaled Horner scheme of
-/// [`bernstein::eval_scalar_fast`].
+/// `f` and `f'` are evaluated together by Horner's scheme (in the power basis up to degree
+/// 8, in the Bernstein basis scaled by `t/(1−t)` above).
 #[must_use]
 pub fn bracketed_root(c: &[f64], mut lo: f64, mut hi: f64, start: f64) -> (f64, u32) {
+    let m = c.len() - 1;
+    // Low degrees: evaluate in the power basis, converted once (the conversion amplifies
+    // rounding by at most about 2^m, harmless for m ≤ POWER_MAX; Newton only needs the sign and
+    // a slope). Higher degrees keep the Bernstein form.
+    let mut power = [0.0; POWER_MAX + 1];
+    let use_power = m <= POWER_MAX;
+    if use_power {
+        for (k, pk) in power.iter_mut().enumerate().take(m + 1) {
+            let row = bernstein::binomial_row(k);
+            let mut acc = 0.0;
+            for (i, &ci) in c.iter().enumerate().take(k + 1) {
+                let term = ci * row[i];
+                acc += if (k - i) % 2 == 0 { term } else { -term };
+            }
+            *pk = acc * bernstein::binomial(m, k);
+        }
+    }
     let neg_before_root = c[0] < 0.0;
     let mut s = if start > lo && start < hi {
         start
@@ -214,7 +242,17 @@ pub fn bracketed_root(c: &[f64], mut lo: f64, mut hi: f64, start: f64) -> (f64, 
     let mut iters = 0;
     while iters < 100 {
         iters += 1;
-        let (v, dv) = value_and_slope(c, s);
+        let (v, dv) = if use_power {
+            let mut v = power[m];
+            let mut d = 0.0;
+            for k in (0..m).rev() {
+                d = d * s + v;
+                v = v * s + power[k];
+            }
+            (v, d)
+        } else {
+            value_and_slope(c, s)
+        };
         if v == 0.0 {
             return (s, iters);
         }
@@ -243,6 +281,9 @@ pub fn bracketed_root(c: &[f64], mut lo: f64, mut hi: f64, start: f64) -> (f64, 
     }
     (s, iters)
 }
+
+/// Highest degree that [`bracketed_root`] evaluates in the power basis.
+const POWER_MAX: usize = 8;
 
 /// `f(t) = Σ c_k C(m,k) t^k (1−t)^(m−k)` and
 /// `f'(t) = m Σ (c_{k+1} − c_k) C(m−1,k) t^k (1−t)^(m−1−k)`, by Horner's scheme in `t/(1−t)`

@@ -107,4 +107,15 @@ pub enum CurveError {
     /// A direction vector has zero length.
     #[error("{0} has zero length")]
     ZeroVector(&'static str),
+    /// An edit cannot be carried out as asked: no movable control point carries the grabbed
+    /// point, two curves do not meet at the joint to edit, a tangent arm of zero length.
+    #[error("edit: {0}")]
+    Edit(String),
+    /// A refinement cannot be set up or solved: a non-planar curve, a constraint that does not
+    /// fit the curve, derivatives that vanish at every similarity sample.
+    #[error("refine: {0}")]
+    Refine(String),
+    /// An SVG document or path could not be read.
+    #[error("svg: {0}")]
+    Svg(String),
 }

@@ -10,6 +10,7 @@ mod bezier;
 mod bspline;
 pub mod clip;
 mod closest;
+pub mod edit;
 mod error;
 pub mod json;
 pub mod point;

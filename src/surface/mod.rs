@@ -7,8 +7,8 @@
 //! - [`Group`] / [`Pole`]: the connected control-point groups regulation works on ([`group`]).
 //! - [`Op`] (push / pull / drag) and its [`Finger`]: the shape functions ([`shape_fn`]).
 //! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]).
-//! - [`deform`] / [`Sculptor`]: finger → reachable patches → Bernstein inverse ([`inverse`])
-//!   → [`Regulation`] ([`regulate`]), returning what was [`Touched`].
+//! - [`deform()`] / [`Sculptor`] ([`mod@deform`]): finger → reachable patches → Bernstein
+//!   inverse ([`inverse`]) → [`Regulation`] ([`regulate`]), returning what was [`Touched`].
 //! - [`deviation`]: distances between surfaces sample by sample, and to the ideal shape.
 //!
 //! Geometry only: this module uses nothing but glam, std and [`crate::curve`].

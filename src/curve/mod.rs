@@ -14,6 +14,7 @@ pub mod edit;
 mod error;
 pub mod json;
 pub mod point;
+pub mod refine;
 mod ray;
 mod sphere;
 pub mod warp;

@@ -17,6 +17,7 @@ pub mod point;
 pub mod refine;
 mod ray;
 mod sphere;
+pub mod svg;
 pub mod warp;
 
 pub use any::{check_radius, pick, Curve, CurveSet, Picked};

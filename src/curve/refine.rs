@@ -199,7 +199,7 @@ pub fn refine_piecewise(
 ) -> Result<Refined<Vec<Bezier<DVec2>>>, CurveError> {
     let model = Model::from_segments(segments)?;
     let s = solve::refine_model(&model, mode, constraints)?;
-    let curve = model.segments_with(&s.v)?;
+    let curve = model.segments_with(&s.v, &s.joined)?;
     Ok(Refined {
         curve,
         constraint_residual: s.residual,

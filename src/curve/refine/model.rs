@@ -223,9 +223,22 @@ impl Model {
         })
     }
 
-    /// The refined segments from flattened points (Segments only).
-    pub(super) fn segments_with(&self, v: &[f64]) -> Result<Vec<Bezier<DVec2>>, CurveError> {
-        let pts = unflatten(v);
+    /// The refined segments from flattened points (Segments only). Joints held together meet
+    /// exactly: both end points become their mean (they differ by rounding only).
+    pub(super) fn segments_with(
+        &self,
+        v: &[f64],
+        joined: &[bool],
+    ) -> Result<Vec<Bezier<DVec2>>, CurveError> {
+        let mut pts = unflatten(v);
+        if let Model::Segments { first, .. } = self {
+            for (at, _) in joined.iter().enumerate().filter(|j| *j.1) {
+                let (end, start) = (first[at + 1] - 1, first[at + 1]);
+                let mid = (pts[end] + pts[start]) * 0.5;
+                pts[end] = mid;
+                pts[start] = mid;
+            }
+        }
         match self {
             Model::Segments { segs, first } => segs
                 .iter()

@@ -115,8 +115,12 @@ fn vector_rows(w: &[(usize, f64)], target: DVec2, rows: &mut Vec<(Sparse, f64)>)
     rows.push((w.iter().map(|&(k, x)| (2 * k + 1, x)).collect(), target.y));
 }
 
-/// The hard constraint rows `A V = b`, joints included.
-fn hard_rows(model: &Model, constraints: &[Constraint]) -> Result<Vec<(Sparse, f64)>, CurveError> {
+/// The hard constraint rows `A V = b`, joints included, and which joints are held together
+/// (at least C0).
+fn hard_rows(
+    model: &Model,
+    constraints: &[Constraint],
+) -> Result<(Vec<(Sparse, f64)>, Vec<bool>), CurveError> {
     let mut rows = Vec::new();
     let mut join_override: Vec<Option<usize>> = vec![None; model.joints()];
     for (i, c) in constraints.iter().enumerate() {
@@ -159,18 +163,20 @@ fn hard_rows(model: &Model, constraints: &[Constraint]) -> Result<Vec<(Sparse, f
             }
         }
     }
+    let mut joined = Vec::with_capacity(join_override.len());
     for (at, over) in join_override.into_iter().enumerate() {
         let level = match over {
             Some(order) => Some(order),
             None => model.original_continuity(at)?,
         };
+        joined.push(level.is_some());
         if let Some(order) = level {
             for r in 0..=order {
                 vector_rows(&model.join_weights(at, r)?, DVec2::ZERO, &mut rows);
             }
         }
     }
-    Ok(rows)
+    Ok((rows, joined))
 }
 
 fn svd(m: DMatrix<f64>) -> Result<SVD<f64, nalgebra::Dyn, nalgebra::Dyn>, CurveError> {
@@ -188,6 +194,8 @@ pub(super) struct Solved {
     pub(super) rms: f64,
     /// Number of similarity samples.
     pub(super) samples: usize,
+    /// Per joint of a piecewise curve: held together (C0 or better).
+    pub(super) joined: Vec<bool>,
 }
 
 /// The refined control points and how well they meet the terms.
@@ -197,7 +205,7 @@ pub(super) fn refine_model(
     constraints: &[Constraint],
 ) -> Result<Solved, CurveError> {
     let sims = similarity_rows(model, mode)?;
-    let hard = hard_rows(model, constraints)?;
+    let (hard, joined) = hard_rows(model, constraints)?;
     let v0 = model.original();
     let n = v0.len();
     let z0 = DVector::from_column_slice(&v0);
@@ -280,5 +288,6 @@ pub(super) fn refine_model(
         residual,
         rms,
         samples: sims.len(),
+        joined,
     })
 }

@@ -134,7 +134,7 @@ fn what_svg_cannot_hold_is_refused() {
         DVec2::ZERO,
     ]);
     assert!(matches!(
-        path_data(&[quartic.clone()], false),
+        path_data(std::slice::from_ref(&quartic), false),
         Err(CurveError::Svg(_))
     ));
     assert!(write_svg(&[quartic.into()], SvgOptions::default()).is_err());

@@ -7,6 +7,9 @@ use crate::curve::error::CurveError;
 use glam::DVec2;
 use nalgebra::{DMatrix, DVector, SVD};
 
+/// Hard rows `(row, right-hand side)` of `A V = b`.
+type HardRows = Vec<(Sparse, f64)>;
+
 /// The two rows (`D` and `C`) of one similarity sample.
 #[derive(Debug, Clone)]
 pub(super) struct SimRow {
@@ -120,7 +123,7 @@ fn vector_rows(w: &[(usize, f64)], target: DVec2, rows: &mut Vec<(Sparse, f64)>)
 fn hard_rows(
     model: &Model,
     constraints: &[Constraint],
-) -> Result<(Vec<(Sparse, f64)>, Vec<bool>), CurveError> {
+) -> Result<(HardRows, Vec<bool>), CurveError> {
     let mut rows = Vec::new();
     let mut join_override: Vec<Option<usize>> = vec![None; model.joints()];
     for (i, c) in constraints.iter().enumerate() {

@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 pub mod bench;
 pub mod check;
 pub mod closest;
+pub mod curve;
 pub mod devices;
 pub mod export;
 pub mod record;
@@ -35,6 +36,8 @@ pub enum Command {
     Check(check::Args),
     /// Closest point, pick, probe sphere and ray queries on curves, as JSON Lines (`--batch`).
     Closest(closest::Args),
+    /// Curve editing (grab, split, tangent, insert), similarity-preserving refinement, warping and SVG, as JSON Lines (`--batch`).
+    Curve(curve::Args),
     /// List serial ports and HID devices, and which device profile fits each.
     Devices(devices::Args),
     /// Write a model's surface as a mesh (OBJ with normals, binary STL, GLB) within a tolerance.
@@ -56,6 +59,7 @@ pub fn run() -> ExitCode {
         Some(Command::Bench(args)) => bench::run(args),
         Some(Command::Check(args)) => check::run(args),
         Some(Command::Closest(args)) => closest::run(args),
+        Some(Command::Curve(args)) => curve::run(args),
         Some(Command::Devices(args)) => devices::run(args),
         Some(Command::Export(args)) => export::run(args),
         Some(Command::Record(args)) => record::run(args),

@@ -475,3 +475,38 @@ proptest! {
         prop_assert!((moved.eval(u) - (c.eval(u) + delta)).length() < 1e-11);
     }
 }
+
+#[test]
+fn edited_curves_round_trip_through_the_model_file() {
+    use nendo::curve::json::DynCurve;
+    use nendo::model::Model;
+    use nendo::surface::{Primitive, PrimitiveParams};
+    let mut rng = ChaCha8Rng::seed_from_u64(8008);
+    let grid = Primitive::Plane
+        .build(&PrimitiveParams {
+            patches: Some((2, 2)),
+            ..PrimitiveParams::default()
+        })
+        .expect("plane");
+    let mut model = Model::new(grid);
+    for _ in 0..20 {
+        let c3: Curve<DVec3> = random_curve(&mut rng);
+        let u = random_u(&mut rng, &c3);
+        let delta: DVec3 = random_point(&mut rng, 0.5);
+        let options = GrabOptions {
+            method: GrabMethod::LeastChange,
+            keep_ends: false,
+        };
+        model
+            .curves
+            .push(DynCurve::D3(grab(&c3, u, delta, options).expect("movable")));
+        let c2: Curve<DVec2> = random_curve(&mut rng);
+        let (a, b) = c2.domain();
+        let (l, r) = split(&c2, 0.5 * (a + b)).expect("inside");
+        model.curves.push(DynCurve::D2(l));
+        model.curves.push(DynCurve::D2(r));
+    }
+    let text = model.to_json_string();
+    let back = Model::from_json_str(&text).expect("readable").model;
+    assert_eq!(back.curves, model.curves);
+}

@@ -12,8 +12,8 @@
 //! | [`curve`] | Bernstein forms, Bezier and B-spline curves, closest point / pick / probe sphere / ray queries by Bezier clipping | glam |
 //! | [`surface`] | patch grids in five topologies, connected control-point groups, deformation by shape functions through the Bernstein inverse, G1 regulation, continuity measures | `curve`, glam |
 //! | [`model`] | the `nendo-model` JSON document (surface + curves), validated reading, atomic writing | `curve`, `surface`, serde |
-//! | `hand` | the kinematic hand and its contact with the surface, turning device frames into operations | `surface`, `nendo_devices` |
 //! | [`mesh`] | tessellation of the exact patches within a tolerance, seam G1 error per vertex, ray picking, OBJ / STL / GLB writers | `curve`, `surface`, glam |
+//! | [`hand`] | the kinematic hand (bend angles → joint positions), contact of the fingertip capsule with the surface, the loop that turns device frames into push / pull / draw-a-line operations, the mouse as a hand, scripted traces | `surface`, `mesh` (ray picking), `nendo_devices` |
 //! | `render`, `app` | the wgpu renderer (CPU tessellation from `mesh`, drawn as clay) and the egui window; feature `gui` | everything above; nothing depends on them |
 //! | [`cli`] | the headless subcommands of the `nendo` binary | everything |
 //! | [`bench`] | the measurement suites behind `nendo bench` | everything |
@@ -29,6 +29,7 @@ pub mod app;
 pub mod bench;
 pub mod cli;
 pub mod curve;
+pub mod hand;
 pub mod model;
 pub mod surface;
 pub mod mesh;

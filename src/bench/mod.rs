@@ -8,6 +8,7 @@
 use std::time::Instant;
 
 pub mod closest;
+pub mod input;
 pub mod reference;
 pub mod render;
 pub mod regulation;

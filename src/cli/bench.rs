@@ -21,6 +21,8 @@ pub enum Suite {
     Closest,
     /// One push on planes and spheres of growing size: median time and the 40x40 / 10x10 ratio.
     Sculpt,
+    /// Decode throughput per device protocol; device sample -> regulated surface latency on a 1 600-patch sphere.
+    Input,
     /// The paper's deviation experiment for every regulation method, and G1 after 10 000 random strokes.
     Regulation,
     /// Tessellation of 100 / 1 600 sculpted patches and headless 1280x720 frames.
@@ -41,6 +43,10 @@ pub fn run(args: Args) -> ExitCode {
         }
         Suite::Sculpt => {
             print!("{}", crate::bench::sculpt::report(args.scale));
+            ExitCode::SUCCESS
+        }
+        Suite::Input => {
+            print!("{}", crate::bench::input::report(args.scale));
             ExitCode::SUCCESS
         }
         Suite::Regulation => {

@@ -9,6 +9,7 @@ pub mod curve;
 pub mod devices;
 pub mod export;
 pub mod record;
+pub mod replay;
 #[cfg(feature = "gui")]
 pub mod render;
 pub mod sculpt;
@@ -44,6 +45,9 @@ pub enum Command {
     Export(export::Args),
     /// Record hand frames from the devices of a profile into a trace file.
     Record(record::Args),
+    /// Run the hand loop headless on a recorded trace (frames -> hand -> contact -> push / pull /
+    /// draw-a-line) and write the model.
+    Replay(replay::Args),
     /// Draw a model to a PNG with the window's renderer, offscreen.
     #[cfg(feature = "gui")]
     Render(render::Args),
@@ -63,6 +67,7 @@ pub fn run() -> ExitCode {
         Some(Command::Devices(args)) => devices::run(args),
         Some(Command::Export(args)) => export::run(args),
         Some(Command::Record(args)) => record::run(args),
+        Some(Command::Replay(args)) => replay::run(args),
         #[cfg(feature = "gui")]
         Some(Command::Render(args)) => render::run(args),
         Some(Command::Sculpt(args)) => sculpt::run(args),

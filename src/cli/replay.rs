@@ -1,0 +1,223 @@
+//! `nendo replay`: runs the whole hand loop headless on a recorded trace — frames → kinematic
+//! hand → contact → push / pull / draw-a-line → regulation — and writes the model.
+//!
+//! ```text
+//! nendo replay devices/traces/tube-pot.trace --primitive tube --out pot.json
+//! nendo replay my.trace --model start.json --regulation g1 --profile cyberglove2-18-fastrak --out out.json
+//! ```
+//!
+//! The hand's sizes and the tracker-to-world transform come from the trace's header, or from
+//! `--profile` (a shipped profile's name or a profile file); frames recorded with the `mouse`
+//! profile use the view-ray finger. The result is a pure function of the trace, the starting
+//! model and the options: replaying the same trace twice writes byte-identical files. A trace
+//! of 1 000 frames or more reports its progress on standard error every tenth of the way.
+
+use clap::Args as ClapArgs;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use crate::hand::{Digit, FingerModel, Hand, HandOptions, Session};
+use crate::model::Model;
+use crate::surface::{Primitive, PrimitiveParams, Regulation};
+use nendo_devices::Trace;
+
+/// Frames from which a replay reports its progress.
+pub const PROGRESS_FROM: usize = 1_000;
+
+/// Arguments of `nendo replay`.
+#[derive(Debug, ClapArgs)]
+pub struct Args {
+    /// The trace (`nendo-hand-trace 1`).
+    pub trace: PathBuf,
+    /// Start from a primitive: plane, cylinder, hemisphere, sphere, torus or tube.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_primitive), conflicts_with = "model")]
+    pub primitive: Option<Primitive>,
+    /// Patch counts `MxN` of the primitive.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_counts))]
+    pub patches: Option<(usize, usize)>,
+    /// Radius R of the primitive (major radius of a torus).
+    #[arg(long)]
+    pub radius: Option<f64>,
+    /// Height H (cylinder; the walls of the tube).
+    #[arg(long)]
+    pub height: Option<f64>,
+    /// Minor radius r of a torus.
+    #[arg(long)]
+    pub minor_radius: Option<f64>,
+    /// Start from this model file instead of a primitive.
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Regulation method (default: the model's, else the default method).
+    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_regulation))]
+    pub regulation: Option<Regulation>,
+    /// Device profile (shipped name or file) for the hand's sizes and the tracker-to-world
+    /// transform; default: the trace's header.
+    #[arg(long)]
+    pub profile: Option<String>,
+    /// The touching finger: thumb, index, middle, ring, pinky, or ray (the mouse's view ray);
+    /// default: ray for mouse traces, index otherwise.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_finger))]
+    pub finger: Option<FingerModel>,
+    /// Finger radius r_f in sides (the fingertip capsule's and the shape function's).
+    #[arg(long)]
+    pub finger_radius: Option<f64>,
+    /// Where to write the model (atomically).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+fn parse_primitive(s: &str) -> Result<Primitive, String> {
+    s.parse()
+}
+
+fn parse_regulation(s: &str) -> Result<Regulation, String> {
+    s.parse()
+}
+
+fn parse_finger(s: &str) -> Result<FingerModel, String> {
+    if s == "ray" {
+        return Ok(FingerModel::Ray);
+    }
+    s.parse::<Digit>()
+        .map(FingerModel::Hand)
+        .map_err(|e| format!("{e}, or ray"))
+}
+
+/// `MxN` → `(M, N)`.
+fn parse_counts(s: &str) -> Result<(usize, usize), String> {
+    let (m, n) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?}: expected MxN, e.g. 8x4"))?;
+    let m = m
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?}: M is not a count"))?;
+    let n = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?}: N is not a count"))?;
+    Ok((m, n))
+}
+
+/// Runs `nendo replay`.
+pub fn run(args: Args) -> ExitCode {
+    match replay(&args) {
+        Ok(summary) => {
+            eprintln!("nendo replay: {summary}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("nendo replay: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn replay(args: &Args) -> anyhow::Result<String> {
+    let trace = Trace::read(&args.trace).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let shape_args = args.patches.is_some()
+        || args.radius.is_some()
+        || args.height.is_some()
+        || args.minor_radius.is_some();
+    let mut model = match (&args.model, args.primitive) {
+        (Some(path), _) => {
+            if shape_args {
+                anyhow::bail!(
+                    "--patches, --radius, --height and --minor-radius shape a primitive; they do not apply to --model"
+                );
+            }
+            Model::read(path)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+                .model
+        }
+        (None, Some(p)) => {
+            let params = PrimitiveParams {
+                patches: args.patches,
+                radius: args.radius,
+                height: args.height,
+                minor_radius: args.minor_radius,
+            };
+            Model::new(p.build(&params).map_err(|e| anyhow::anyhow!("{p}: {e}"))?)
+        }
+        (None, None) => anyhow::bail!("give --primitive or --model"),
+    };
+    if let Some(r) = args.regulation {
+        model.regulation = r;
+    }
+    let (hand, mut finger) = match &args.profile {
+        Some(name) => {
+            let profile =
+                nendo_devices::profile::resolve(name).map_err(|e| anyhow::anyhow!("{e}"))?;
+            (
+                Hand::new(profile.hand, profile.world_from_tracker)?,
+                FingerModel::for_profile(&profile),
+            )
+        }
+        None => (
+            Hand::new(trace.header.hand, trace.header.world_from_tracker)?,
+            FingerModel::for_profile_name(trace.header.profile.as_deref()),
+        ),
+    };
+    if let Some(f) = args.finger {
+        finger = f;
+    }
+    let mut options = HandOptions {
+        finger,
+        ..HandOptions::default()
+    };
+    if let Some(r) = args.finger_radius {
+        options.finger_radius = r;
+    }
+    let regulation = model.regulation;
+    let mut session = Session::new(model.surface.clone(), regulation, hand, options)?;
+    let total = trace.frames.len();
+    let start = Instant::now();
+    let mut next_tenth = 1;
+    for (k, frame) in trace.frames.iter().enumerate() {
+        session.feed(frame);
+        if total >= PROGRESS_FROM && (k + 1) * 10 >= next_tenth * total {
+            let st = session.hand_loop().stats();
+            eprintln!(
+                "nendo replay: {:3}% ({}/{} frames, {} contacts, {:.1} s)",
+                next_tenth * 10,
+                k + 1,
+                total,
+                st.contacts,
+                start.elapsed().as_secs_f64()
+            );
+            next_tenth += 1;
+        }
+    }
+    session.finish();
+    let elapsed = start.elapsed();
+    let st = *session.hand_loop().stats();
+    model.surface = session.into_grid();
+    model
+        .write(&args.out)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.out.display()))?;
+    Ok(format!(
+        "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}; {:.3} s -> {}",
+        st.frames_with_finger,
+        st.contacts,
+        st.pushes,
+        st.pulls,
+        st.strokes,
+        elapsed.as_secs_f64(),
+        args.out.display()
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fingers_and_counts_parse() {
+        assert_eq!(parse_finger("ray"), Ok(FingerModel::Ray));
+        assert_eq!(parse_finger("middle"), Ok(FingerModel::Hand(Digit::Middle)));
+        assert!(parse_finger("toe").unwrap_err().contains("ray"));
+        assert_eq!(parse_counts("40x40"), Ok((40, 40)));
+        assert!(parse_counts("40").is_err());
+    }
+}

@@ -1,0 +1,245 @@
+//! Replays of the shipped traces through the whole hand loop, checked where the surface moved,
+//! by how much, and how continuous it stayed.
+
+use glam::DVec3;
+use nendo::hand::{FingerModel, Hand, HandOptions, LoopStats, Probe, Session};
+use nendo::surface::{Grid, Primitive, PrimitiveParams, Regulation, continuity};
+use nendo_devices::Trace;
+use std::path::Path;
+
+fn trace(name: &str) -> Trace {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("devices/traces")
+        .join(format!("{name}.trace"));
+    Trace::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn replay(trace: &Trace, start: &Grid, regulation: Regulation) -> (Grid, LoopStats) {
+    let hand = Hand::new(trace.header.hand, trace.header.world_from_tracker).unwrap();
+    let finger = FingerModel::for_profile_name(trace.header.profile.as_deref());
+    let options = HandOptions {
+        finger,
+        ..HandOptions::default()
+    };
+    let mut session = Session::new(start.clone(), regulation, hand, options).unwrap();
+    for f in &trace.frames {
+        session.feed(f);
+    }
+    session.finish();
+    let stats = *session.hand_loop().stats();
+    (session.into_grid(), stats)
+}
+
+fn build(p: Primitive) -> Grid {
+    p.build(&PrimitiveParams::default()).unwrap()
+}
+
+/// Distance from `origin` along `dir` to the surface.
+fn along(grid: &Grid, origin: DVec3, dir: DVec3) -> f64 {
+    Probe::new()
+        .first_crossing(grid, origin, dir, 50.0)
+        .unwrap_or_else(|| panic!("no surface from {origin} along {dir}"))
+        .t
+}
+
+fn finite(grid: &Grid) -> bool {
+    grid.nodes().iter().all(|p| p.is_finite())
+}
+
+/// Continuity after regulation: C0 exact, G1 to rounding, a tangent plane at every pole.
+fn assert_g1(name: &str, grid: &Grid) {
+    let c = continuity::report(grid, 33);
+    assert!(c.g0_gap < 1e-12, "{name}: G0 {}", c.g0_gap);
+    assert!(c.g1_max_deg < 1e-6, "{name}: G1 max {}°", c.g1_max_deg);
+    assert_eq!(c.undefined_normals, 0, "{name}");
+    for p in &c.poles {
+        assert!(
+            p.spread_deg < 1e-6,
+            "{name}: pole {:?} spread {}°",
+            p.end,
+            p.spread_deg
+        );
+    }
+}
+
+#[test]
+fn sphere_push_at_the_pole_and_pull_at_the_equator() {
+    let sphere = build(Primitive::Sphere);
+    let t = trace("sphere-push-pull");
+    let (g, st) = replay(&t, &sphere, Regulation::default());
+    assert!(finite(&g));
+    assert_eq!(
+        (st.contacts, st.pushes, st.pulls, st.strokes),
+        (2, 1, 1, 0),
+        "{st:?}"
+    );
+    // The pole went down 0.6 (the fingertip's depth), the equator at longitude 0 out by 0.6.
+    let top = 10.0 - along(&g, DVec3::new(0.0, 0.0, 10.0), -DVec3::Z);
+    assert!((top - 2.4).abs() < 0.01, "pole at z = {top}");
+    let out = 10.0 - along(&g, DVec3::new(10.0, 0.0, 0.0), -DVec3::X);
+    assert!((out - 3.6).abs() < 0.01, "equator at x = {out}");
+    // The far side did not move at all.
+    for d in [DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z] {
+        assert_eq!(along(&g, -10.0 * d, d), along(&sphere, -10.0 * d, d), "{d}");
+    }
+    assert_g1("sphere", &g);
+    let south = g.pole(nendo::surface::PoleEnd::Start).unwrap();
+    assert_eq!(g.nodes()[south.node], sphere.nodes()[south.node]);
+    // Every regulation method moves the same places, without NaN.
+    for r in Regulation::ALL {
+        let (g, _) = replay(&t, &sphere, r);
+        assert!(finite(&g), "{r}");
+        let top = 10.0 - along(&g, DVec3::new(0.0, 0.0, 10.0), -DVec3::Z);
+        assert!((top - 2.4).abs() < 0.05, "{r}: pole at z = {top}");
+        let out = 10.0 - along(&g, DVec3::new(10.0, 0.0, 0.0), -DVec3::X);
+        assert!((out - 3.6).abs() < 0.05, "{r}: equator at x = {out}");
+    }
+}
+
+#[test]
+fn plane_groove_is_as_deep_as_the_fingertip_went() {
+    let plane = build(Primitive::Plane);
+    let (g, st) = replay(&trace("plane-groove"), &plane, Regulation::default());
+    assert!(finite(&g));
+    assert_eq!((st.contacts, st.strokes), (1, 1), "{st:?}");
+    let z = |x: f64, y: f64| 10.0 - along(&g, DVec3::new(x, y, 10.0), -DVec3::Z);
+    // Along the stroke the fingertip was 0.3 below the plane.
+    for k in 0..=12 {
+        let x = -3.0 + 0.5 * k as f64;
+        let d = z(x, 0.0);
+        assert!((-0.33..=-0.29).contains(&d), "groove at x = {x}: z = {d}");
+    }
+    // Across it the groove rises to the plane within the finger radius, monotonically.
+    for x in [-2.0, 0.0, 2.0] {
+        let profile: Vec<f64> = (0..=10).map(|k| z(x, 0.1 * k as f64)).collect();
+        for w in profile.windows(2) {
+            assert!(w[1] >= w[0] - 1e-9, "x = {x}: {profile:?}");
+        }
+        assert!(z(x, 1.0) > -0.06, "x = {x}: {profile:?}");
+    }
+    // Far from it nothing moved, and before the start and after the end the plane is flat.
+    for (x, y) in [(0.0, 3.0), (0.0, -3.0), (-4.8, 3.5), (4.8, -4.8)] {
+        assert_eq!(z(x, y), 0.0, "({x}, {y})");
+    }
+    assert_g1("plane", &g);
+}
+
+#[test]
+fn tube_becomes_a_pot() {
+    let tube = build(Primitive::Tube);
+    assert_eq!(tube.patch_count(), 128);
+    let (g, st) = replay(&trace("tube-pot"), &tube, Regulation::default());
+    assert!(finite(&g));
+    assert!(st.contacts >= 100 && st.strokes >= 1, "{st:?}");
+    // Mean radius around the axis at height z, and its spread, from 32 rays out of the axis.
+    let radius = |g: &Grid, z: f64| {
+        let r: Vec<f64> = (0..32)
+            .map(|k| {
+                let phi = std::f64::consts::TAU * k as f64 / 32.0;
+                along(
+                    g,
+                    DVec3::new(0.0, 0.0, z),
+                    DVec3::new(phi.cos(), phi.sin(), 0.0),
+                )
+            })
+            .collect();
+        let mean = r.iter().sum::<f64>() / r.len() as f64;
+        let spread = r.iter().fold(0.0f64, |s, x| s.max((x - mean).abs()));
+        (mean, spread)
+    };
+    let (belly, _) = radius(&g, 3.2);
+    let (shoulder, _) = radius(&g, 4.0);
+    let (neck, neck_spread) = radius(&g, 5.0);
+    let (lip, _) = radius(&g, 5.95);
+    // The tube was 2 across everywhere above its round bottom.
+    assert!(belly > 2.6, "belly {belly}");
+    assert!(shoulder > 2.1 && shoulder < belly, "shoulder {shoulder}");
+    assert!(neck < 1.45, "neck {neck}");
+    assert!(neck_spread < 0.15, "neck roundness {neck_spread}");
+    assert!(lip > neck + 0.5, "lip {lip}");
+    // The round bottom below the belly's reach (and one row of regulated groups) did not move.
+    for z in [0.2, 0.4] {
+        assert_eq!(radius(&g, z), radius(&tube, z), "z = {z}");
+    }
+    assert_eq!(g.nodes()[0], tube.nodes()[0], "the pole");
+    assert_g1("pot", &g);
+}
+
+#[test]
+fn mouse_click_drag_pull_and_wheel_on_the_sphere() {
+    let sphere = build(Primitive::Sphere);
+    let t = trace("mouse-sphere");
+    let hand = Hand::new(t.header.hand, t.header.world_from_tracker).unwrap();
+    let options = HandOptions {
+        finger: FingerModel::Ray,
+        ..HandOptions::default()
+    };
+    let mut session = Session::new(sphere.clone(), Regulation::default(), hand, options).unwrap();
+    let eye = nendo::hand::script::MOUSE_CAMERA;
+    let on = |lat: f64, lon: f64| {
+        let (lat, lon): (f64, f64) = (lat.to_radians(), lon.to_radians());
+        3.0 * DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin())
+    };
+    // How far the surface under a point of the sphere moved along the view ray (+: toward
+    // the eye).
+    let moved = |g: &Grid, p: DVec3| along(&sphere, eye, p - eye) - along(g, eye, p - eye);
+    let mut released = 0;
+    let mut held = 0;
+    for f in &t.frames {
+        session.feed(f);
+        if held != 0 && f.buttons == 0 {
+            released += 1;
+            let g = session.grid();
+            match released {
+                // Left click: pushed by the click depth along the view ray.
+                1 => assert!(
+                    (moved(g, on(25.0, -120.0)) + 0.3).abs() < 0.01,
+                    "{}",
+                    moved(g, on(25.0, -120.0))
+                ),
+                // Left drag: a groove along the parallel −20°, the click depth deep (the big
+                // patches of the 8 × 4 sphere fit the swept groove to within a tenth).
+                2 => {
+                    for lon in [-110.0, -90.0, -70.0] {
+                        let d = moved(g, on(-20.0, lon));
+                        assert!((-0.32..=-0.26).contains(&d), "groove at {lon}°: {d}");
+                    }
+                }
+                // Right click: pulled back by the click depth.
+                3 => assert!(
+                    (moved(g, on(30.0, -60.0)) - 0.3).abs() < 0.01,
+                    "{}",
+                    moved(g, on(30.0, -60.0))
+                ),
+                // The wheel took the last press 5 steps of 0.02 deeper.
+                4 => assert!(
+                    (moved(g, on(5.0, -90.0)) + 0.4).abs() < 0.01,
+                    "{}",
+                    moved(g, on(5.0, -90.0))
+                ),
+                _ => unreachable!(),
+            }
+        }
+        held = f.buttons;
+    }
+    assert_eq!(released, 4);
+    let st = *session.hand_loop().stats();
+    assert_eq!(
+        (st.contacts, st.pushes, st.pulls, st.strokes),
+        (4, 2, 1, 1),
+        "{st:?}"
+    );
+    assert!(finite(session.grid()));
+    assert_g1("mouse", session.grid());
+}
+
+#[test]
+fn a_replay_is_a_pure_function_of_trace_surface_and_options() {
+    let t = trace("tube-pot");
+    let tube = build(Primitive::Tube);
+    let (a, sa) = replay(&t, &tube, Regulation::default());
+    let (b, sb) = replay(&t, &tube, Regulation::default());
+    assert_eq!(sa, sb);
+    assert_eq!(a.nodes(), b.nodes());
+    assert_eq!(a, b);
+}

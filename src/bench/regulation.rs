@@ -221,7 +221,7 @@ pub struct StrokeRun {
     pub method: Regulation,
     /// Strokes applied.
     pub strokes: usize,
-    /// Median-free mean time per stroke (µs).
+    /// Mean wall time per stroke (µs), choosing the stroke included.
     pub mean_us: f64,
     /// G0 gap (side).
     pub g0_gap: f64,

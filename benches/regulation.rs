@@ -13,13 +13,17 @@ use std::hint::black_box;
 
 fn benches(c: &mut Criterion) {
     let mut g = c.benchmark_group("push+regulation");
-    for case in
-        cases().into_iter().filter(|c| c.name != "plane 20 x 20" && c.name != "sphere 32 x 16")
+    for case in cases()
+        .into_iter()
+        .filter(|c| c.name != "plane 20 x 20" && c.name != "sphere 32 x 16")
     {
         for regulation in Regulation::ALL {
             let mut grid = case.grid.clone();
             let mut sculptor = Sculptor::new();
-            let fingers = [case.push.finger().unwrap(), reversed(&case.push).finger().unwrap()];
+            let fingers = [
+                case.push.finger().unwrap(),
+                reversed(&case.push).finger().unwrap(),
+            ];
             let mut k = 0usize;
             g.bench_function(BenchmarkId::new(regulation.name(), &case.name), |b| {
                 b.iter(|| {
@@ -31,7 +35,9 @@ fn benches(c: &mut Criterion) {
     }
     g.finish();
     let mut g = c.benchmark_group("regulate all");
-    let mut sculpted = Primitive::Sphere.build(&PrimitiveParams::default()).unwrap();
+    let mut sculpted = Primitive::Sphere
+        .build(&PrimitiveParams::default())
+        .unwrap();
     let mut strokes = Strokes::new(5);
     let mut sculptor = Sculptor::new();
     for _ in 0..200 {

@@ -15,7 +15,10 @@ fn benches(c: &mut Criterion) {
         for regulation in Regulation::ALL {
             let mut grid = case.grid.clone();
             let mut sculptor = Sculptor::new();
-            let fingers = [case.push.finger().unwrap(), reversed(&case.push).finger().unwrap()];
+            let fingers = [
+                case.push.finger().unwrap(),
+                reversed(&case.push).finger().unwrap(),
+            ];
             let mut k = 0usize;
             g.bench_function(BenchmarkId::new(regulation.name(), &case.name), |b| {
                 b.iter(|| {

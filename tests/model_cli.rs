@@ -17,7 +17,11 @@ fn temp_dir(name: &str) -> PathBuf {
 
 fn check(path: &PathBuf) -> Value {
     let out = nendo().arg("check").arg(path).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
@@ -48,7 +52,11 @@ fn sculpt_replays_operations_and_check_reports_on_the_result() {
         .arg(&out_path)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(String::from_utf8_lossy(&out.stderr).contains("2 operations"));
     let model: Value = serde_json::from_str(&std::fs::read_to_string(&out_path).unwrap()).unwrap();
     assert_eq!(model["surface"]["topology"], "plane");
@@ -57,7 +65,10 @@ fn sculpt_replays_operations_and_check_reports_on_the_result() {
     assert_eq!(r["patches"], 100);
     assert_eq!(r["shared_edges"], 180);
     assert_eq!(r["g0_gap"], 0.0);
-    assert!(r["g1_max_deg"].as_f64().unwrap() > 1.0, "the inverse alone creases the dent: {r}");
+    assert!(
+        r["g1_max_deg"].as_f64().unwrap() > 1.0,
+        "the inverse alone creases the dent: {r}"
+    );
     assert_eq!(r["poles"].as_array().unwrap().len(), 0);
 
     // Continue from the model, regulated this time, and compare the two.
@@ -71,20 +82,46 @@ fn sculpt_replays_operations_and_check_reports_on_the_result() {
         .arg(&again)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let out = nendo().arg("check").arg(&again).arg("--against").arg(&out_path).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = nendo()
+        .arg("check")
+        .arg(&again)
+        .arg("--against")
+        .arg(&out_path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let r: Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(r["regulation"], "exact");
     assert!(r["g1_max_deg"].as_f64().unwrap() < 1e-9, "{r}");
     assert_eq!(r["deviation"]["samples"], 160_000);
-    assert!(r["deviation"]["max"].as_f64().unwrap() > 0.4, "pushed twice as deep: {r}");
+    assert!(
+        r["deviation"]["max"].as_f64().unwrap() > 0.4,
+        "pushed twice as deep: {r}"
+    );
     // Models of different shapes cannot be compared.
     let sphere = dir.join("sphere.json");
-    let out =
-        nendo().args(["sculpt", "--primitive", "sphere", "--out"]).arg(&sphere).output().unwrap();
+    let out = nendo()
+        .args(["sculpt", "--primitive", "sphere", "--out"])
+        .arg(&sphere)
+        .output()
+        .unwrap();
     assert!(out.status.success());
-    let out = nendo().arg("check").arg(&again).arg("--against").arg(&sphere).output().unwrap();
+    let out = nendo()
+        .arg("check")
+        .arg(&again)
+        .arg("--against")
+        .arg(&sphere)
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(1));
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -138,11 +175,25 @@ fn primitives_from_the_command_line_are_checked() {
             "torus",
             0,
         ),
-        (vec!["--primitive", "cylinder", "--radius", "2", "--height", "5"], "cylinder", 0),
+        (
+            vec!["--primitive", "cylinder", "--radius", "2", "--height", "5"],
+            "cylinder",
+            0,
+        ),
     ] {
         let out_path = dir.join(format!("{topology}.json"));
-        let out = nendo().arg("sculpt").args(&args).arg("--out").arg(&out_path).output().unwrap();
-        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        let out = nendo()
+            .arg("sculpt")
+            .args(&args)
+            .arg("--out")
+            .arg(&out_path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let r = check(&out_path);
         assert_eq!(r["topology"], topology);
         assert_eq!(r["poles"].as_array().unwrap().len(), poles);
@@ -153,7 +204,14 @@ fn primitives_from_the_command_line_are_checked() {
     }
     // Odd counts around a closed direction are refused with a clear message.
     let out = nendo()
-        .args(["sculpt", "--primitive", "sphere", "--patches", "7x4", "--out"])
+        .args([
+            "sculpt",
+            "--primitive",
+            "sphere",
+            "--patches",
+            "7x4",
+            "--out",
+        ])
         .arg(dir.join("x.json"))
         .output()
         .unwrap();

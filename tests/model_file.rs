@@ -26,12 +26,18 @@ fn assert_same_nodes(a: &Model, b: &Model) {
         .zip(b.surface.nodes())
         .position(|(x, y)| x.to_array().map(f64::to_bits) != y.to_array().map(f64::to_bits));
     if let Some(k) = diff {
-        panic!("node {k}: {} vs {}", a.surface.nodes()[k], b.surface.nodes()[k]);
+        panic!(
+            "node {k}: {} vs {}",
+            a.surface.nodes()[k],
+            b.surface.nodes()[k]
+        );
     }
 }
 
 fn sculpted_sphere() -> Model {
-    let mut g = Primitive::Sphere.build(&PrimitiveParams::default()).unwrap();
+    let mut g = Primitive::Sphere
+        .build(&PrimitiveParams::default())
+        .unwrap();
     let mut s = Sculptor::new();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     for _ in 0..40 {
@@ -73,9 +79,15 @@ fn a_written_model_reads_back_bit_identical() {
     let back = Model::read(&path).unwrap();
     assert_eq!(back.seam_gap, 0.0);
     assert_same_nodes(&back.model, &m);
-    assert!(back.model == m, "grid, regulation and curves must read back equal");
+    assert!(
+        back.model == m,
+        "grid, regulation and curves must read back equal"
+    );
     // No temporary file is left behind.
-    let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
     assert_eq!(names, vec![std::ffi::OsString::from("m.json")]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -109,7 +121,12 @@ fn error_of(v: Value) -> String {
 
 #[test]
 fn bad_documents_are_rejected_with_clear_errors() {
-    let good = Model::new(Primitive::Sphere.build(&PrimitiveParams::default()).unwrap()).to_json();
+    let good = Model::new(
+        Primitive::Sphere
+            .build(&PrimitiveParams::default())
+            .unwrap(),
+    )
+    .to_json();
     let with = |f: &dyn Fn(&mut Value)| {
         let mut v = good.clone();
         f(&mut v);
@@ -120,33 +137,94 @@ fn bad_documents_are_rejected_with_clear_errors() {
         (with(&|v| v["format"] = json!("obj")), "format"),
         (with(&|v| v["version"] = json!(2)), "version 2"),
         (
-            with(&|v| v.as_object_mut().unwrap().remove("surface").map(|_| ()).unwrap_or(())),
+            with(&|v| {
+                v.as_object_mut()
+                    .unwrap()
+                    .remove("surface")
+                    .map(|_| ())
+                    .unwrap_or(())
+            }),
             "\"surface\"",
         ),
-        (with(&|v| v["surface"]["topology"] = json!("cube")), "unknown topology"),
+        (
+            with(&|v| v["surface"]["topology"] = json!("cube")),
+            "unknown topology",
+        ),
         (with(&|v| v["surface"]["patches_u"] = json!(7)), "even"),
-        (with(&|v| v["surface"]["patches_v"] = json!(-1)), "patches_v"),
-        (with(&|v| v["surface"]["regulation"] = json!("magic")), "regulation"),
-        (with(&|v| v["surface"]["patches"].as_array_mut().unwrap().truncate(31)), "needs 32"),
-        (with(&|v| v["surface"]["patches"][3].as_array_mut().unwrap().truncate(15)), "patches[3]"),
-        (with(&|v| v["surface"]["patches"][3][2] = json!([1, 2])), "patches[3][2]"),
-        (with(&|v| v["surface"]["patches"][3][2][1] = json!("x")), "patches[3][2][1]"),
-        (with(&|v| v["surface"]["patches"][7][13] = json!([9, 9, 9])), "closed seam"),
-        (with(&|v| v["surface"]["patches"][2][4] = json!([0, 0.5, -3])), "pole"),
-        (with(&|v| v["surface"]["patches"][9][14] = json!([1, 1, 1])), "shared edge"),
-        (with(&|v| v["curves"] = json!([{"bezier": [[0, 0], [1, 1, 1]]}])), "curves[0]"),
-        (with(&|v| v["surface"]["ratios"]["u"] = json!([1, 1])), "spacing ratios"),
-        (with(&|v| v["surface"]["ratios"]["v"][1] = json!(-2)), "spacing ratio"),
-        (with(&|v| v["surface"]["ratios"] = json!({"u": "x"})), "ratios.u"),
-        (with(&|v| v["curves"] = json!({"bezier": []})), "curves must be an array"),
+        (
+            with(&|v| v["surface"]["patches_v"] = json!(-1)),
+            "patches_v",
+        ),
+        (
+            with(&|v| v["surface"]["regulation"] = json!("magic")),
+            "regulation",
+        ),
+        (
+            with(&|v| v["surface"]["patches"].as_array_mut().unwrap().truncate(31)),
+            "needs 32",
+        ),
+        (
+            with(&|v| {
+                v["surface"]["patches"][3]
+                    .as_array_mut()
+                    .unwrap()
+                    .truncate(15)
+            }),
+            "patches[3]",
+        ),
+        (
+            with(&|v| v["surface"]["patches"][3][2] = json!([1, 2])),
+            "patches[3][2]",
+        ),
+        (
+            with(&|v| v["surface"]["patches"][3][2][1] = json!("x")),
+            "patches[3][2][1]",
+        ),
+        (
+            with(&|v| v["surface"]["patches"][7][13] = json!([9, 9, 9])),
+            "closed seam",
+        ),
+        (
+            with(&|v| v["surface"]["patches"][2][4] = json!([0, 0.5, -3])),
+            "pole",
+        ),
+        (
+            with(&|v| v["surface"]["patches"][9][14] = json!([1, 1, 1])),
+            "shared edge",
+        ),
+        (
+            with(&|v| v["curves"] = json!([{"bezier": [[0, 0], [1, 1, 1]]}])),
+            "curves[0]",
+        ),
+        (
+            with(&|v| v["surface"]["ratios"]["u"] = json!([1, 1])),
+            "spacing ratios",
+        ),
+        (
+            with(&|v| v["surface"]["ratios"]["v"][1] = json!(-2)),
+            "spacing ratio",
+        ),
+        (
+            with(&|v| v["surface"]["ratios"] = json!({"u": "x"})),
+            "ratios.u",
+        ),
+        (
+            with(&|v| v["curves"] = json!({"bezier": []})),
+            "curves must be an array",
+        ),
     ];
     for (v, want) in cases {
         let e = error_of(v);
         assert!(e.contains(want), "expected {want:?} in {e:?}");
     }
-    assert!(matches!(Model::from_json_str("{\"format\": "), Err(ModelError::Json(_))));
+    assert!(matches!(
+        Model::from_json_str("{\"format\": "),
+        Err(ModelError::Json(_))
+    ));
     // A number out of range is rejected by the JSON layer rather than read as infinity.
-    let text = good.to_string().replacen("[0.0,0.0,-3.0]", "[0.0,0.0,-3e999]", 1);
+    let text = good
+        .to_string()
+        .replacen("[0.0,0.0,-3.0]", "[0.0,0.0,-3e999]", 1);
     assert!(Model::from_json_str(&text).is_err());
 }
 
@@ -154,7 +232,10 @@ fn bad_documents_are_rejected_with_clear_errors() {
 fn float_coordinates_survive_the_text_form_exactly() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut g = Primitive::Plane
-        .build(&PrimitiveParams { patches: Some((20, 20)), ..PrimitiveParams::default() })
+        .build(&PrimitiveParams {
+            patches: Some((20, 20)),
+            ..PrimitiveParams::default()
+        })
         .unwrap();
     let mut s = Sculptor::new();
     for _ in 0..300 {
@@ -162,7 +243,12 @@ fn float_coordinates_survive_the_text_form_exactly() {
         let dir = DVec3::new(rng.gen_range(-0.3..0.3), rng.gen_range(-0.3..0.3), -1.0);
         s.apply(
             &mut g,
-            &Op::Push { at, dir, depth: rng.gen_range(-1.0..1.0), radius: rng.gen_range(0.3..3.0) },
+            &Op::Push {
+                at,
+                dir,
+                depth: rng.gen_range(-1.0..1.0),
+                radius: rng.gen_range(0.3..3.0),
+            },
             Regulation::None,
         )
         .unwrap();

@@ -49,12 +49,17 @@ fn worst_pole_pair_kink(g: &Grid) -> f64 {
 
 fn plane() -> Grid {
     Primitive::Plane
-        .build(&PrimitiveParams { patches: Some((10, 10)), ..PrimitiveParams::default() })
+        .build(&PrimitiveParams {
+            patches: Some((10, 10)),
+            ..PrimitiveParams::default()
+        })
         .unwrap()
 }
 
 fn sphere() -> Grid {
-    Primitive::Sphere.build(&PrimitiveParams::default()).unwrap()
+    Primitive::Sphere
+        .build(&PrimitiveParams::default())
+        .unwrap()
 }
 
 proptest! {
@@ -117,18 +122,31 @@ fn a_push_exactly_at_a_pole_keeps_it_smooth_with_every_method() {
             let mut g = sphere();
             deform(
                 &mut g,
-                &Op::Push { at: DVec3::new(0.0, 0.0, 3.0), dir: -DVec3::Z, depth, radius: 1.25 },
+                &Op::Push {
+                    at: DVec3::new(0.0, 0.0, 3.0),
+                    dir: -DVec3::Z,
+                    depth,
+                    radius: 1.25,
+                },
                 method,
             )
             .unwrap();
             let r = report(&g, 33);
             let north = r.poles.iter().find(|p| p.position.z > 0.0).unwrap();
-            assert!(north.spread_deg < 1e-9, "{method} {depth}: spread {}", north.spread_deg);
+            assert!(
+                north.spread_deg < 1e-9,
+                "{method} {depth}: spread {}",
+                north.spread_deg
+            );
             assert!(
                 (north.position - DVec3::new(0.0, 0.0, 3.0 - depth)).length() < 1e-12,
                 "{method}: the pole is the axis sample"
             );
-            assert!(r.g1_max_deg < 1e-8 || method == Regulation::G1, "{method}: {}", r.g1_max_deg);
+            assert!(
+                r.g1_max_deg < 1e-8 || method == Regulation::G1,
+                "{method}: {}",
+                r.g1_max_deg
+            );
         }
     }
 }
@@ -142,7 +160,12 @@ fn the_paper_method_is_g1_only_where_the_end_ratios_agree() {
         let mut g = plane();
         deform(
             &mut g,
-            &Op::Push { at: DVec3::new(0.5, 0.5, 0.0), dir: -DVec3::Z, depth, radius: 1.25 },
+            &Op::Push {
+                at: DVec3::new(0.5, 0.5, 0.0),
+                dir: -DVec3::Z,
+                depth,
+                radius: 1.25,
+            },
             Regulation::G1,
         )
         .unwrap();
@@ -150,7 +173,12 @@ fn the_paper_method_is_g1_only_where_the_end_ratios_agree() {
         let mut e = plane();
         deform(
             &mut e,
-            &Op::Push { at: DVec3::new(0.5, 0.5, 0.0), dir: -DVec3::Z, depth, radius: 1.25 },
+            &Op::Push {
+                at: DVec3::new(0.5, 0.5, 0.0),
+                dir: -DVec3::Z,
+                depth,
+                radius: 1.25,
+            },
             Regulation::Exact,
         )
         .unwrap();
@@ -216,7 +244,11 @@ fn regulating_a_whole_unregulated_model_makes_it_g1() {
 #[test]
 fn the_default_method_meets_the_deviation_target_on_the_papers_experiment() {
     let row = experiment(Regulation::Exact, &experiment_cases());
-    assert!(row.from_ideal.mean <= 0.03, "mean deviation from the ideal {}", row.from_ideal.mean);
+    assert!(
+        row.from_ideal.mean <= 0.03,
+        "mean deviation from the ideal {}",
+        row.from_ideal.mean
+    );
     assert!(row.g1_max_deg < 1e-9, "{}", row.g1_max_deg);
     let paper = experiment(Regulation::G1, &experiment_cases());
     assert!(

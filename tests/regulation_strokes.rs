@@ -8,7 +8,11 @@ use nendo::surface::{Primitive, Regulation};
 
 #[test]
 fn ten_thousand_random_strokes_keep_the_default_method_g1_on_every_topology() {
-    let strokes = if cfg!(debug_assertions) { 1_000 } else { 10_000 };
+    let strokes = if cfg!(debug_assertions) {
+        1_000
+    } else {
+        10_000
+    };
     for p in [
         Primitive::Plane,
         Primitive::Cylinder,
@@ -30,6 +34,10 @@ fn ten_thousand_random_strokes_keep_the_default_method_g1_on_every_topology() {
         assert!(r.poles_degenerate, "{p}: a pole came apart");
         assert_eq!(r.g0_gap, 0.0, "{p}: a seam opened");
         assert!(r.g1_max_deg <= 0.01, "{p}: G1 max {}", r.g1_max_deg);
-        assert!(r.pole_spread_deg <= 0.01, "{p}: pole spread {}", r.pole_spread_deg);
+        assert!(
+            r.pole_spread_deg <= 0.01,
+            "{p}: pole spread {}",
+            r.pole_spread_deg
+        );
     }
 }

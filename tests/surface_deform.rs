@@ -10,12 +10,20 @@ use rand_chacha::ChaCha8Rng;
 
 fn plane(m: usize) -> Grid {
     Primitive::Plane
-        .build(&PrimitiveParams { patches: Some((m, m)), ..PrimitiveParams::default() })
+        .build(&PrimitiveParams {
+            patches: Some((m, m)),
+            ..PrimitiveParams::default()
+        })
         .unwrap()
 }
 
 fn paper_push(depth: f64) -> Op {
-    Op::Push { at: DVec3::new(0.5, 0.5, 0.0), dir: -DVec3::Z, depth, radius: 1.25 }
+    Op::Push {
+        at: DVec3::new(0.5, 0.5, 0.0),
+        dir: -DVec3::Z,
+        depth,
+        radius: 1.25,
+    }
 }
 
 /// Patch `(iu, iv)` of the 10 × 10 plane starts at `(iu − 5, iv − 5)`.
@@ -39,7 +47,10 @@ fn a_patch_inside_the_finger_reproduces_the_paraboloid_exactly() {
     }
     // The point on the finger axis moves by exactly |M|.
     let centre = g.eval(5, 5, 0.5, 0.5);
-    assert!((centre - DVec3::new(0.5, 0.5, -0.6)).length() < 1e-14, "{centre}");
+    assert!(
+        (centre - DVec3::new(0.5, 0.5, -0.6)).length() < 1e-14,
+        "{centre}"
+    );
 }
 
 #[test]
@@ -63,7 +74,11 @@ fn only_reachable_patches_move_and_the_rest_stay_bit_identical() {
         assert_eq!(touched.deformed, 9);
         for p in 0..g.patch_count() {
             if !want.contains(&p) {
-                assert_eq!(g.patch_at(p), before.patch_at(p), "patch {p} beyond reach changed");
+                assert_eq!(
+                    g.patch_at(p),
+                    before.patch_at(p),
+                    "patch {p} beyond reach changed"
+                );
             }
         }
     }
@@ -122,7 +137,12 @@ fn the_same_operation_twice_gives_bit_identical_results() {
         let at = base.eval(1, 1, 0.4, 0.7);
         let n = base.normal(1, 1, 0.4, 0.7).unwrap();
         let ops = [
-            Op::Push { at, dir: -n, depth: 0.3, radius: 1.1 },
+            Op::Push {
+                at,
+                dir: -n,
+                depth: 0.3,
+                radius: 1.1,
+            },
             Op::Drag {
                 path: vec![at, at + DVec3::new(0.5, 0.3, 0.1), at + DVec3::X],
                 dir: -n,
@@ -151,24 +171,43 @@ fn the_same_operation_twice_gives_bit_identical_results() {
 fn a_bad_operation_is_rejected_and_changes_nothing() {
     let mut g = plane(4);
     let before = g.clone();
-    let op = Op::Push { at: DVec3::ZERO, dir: DVec3::ZERO, depth: 0.1, radius: 1.0 };
-    assert!(matches!(deform(&mut g, &op, Regulation::None), Err(SurfaceError::BadOp(_))));
+    let op = Op::Push {
+        at: DVec3::ZERO,
+        dir: DVec3::ZERO,
+        depth: 0.1,
+        radius: 1.0,
+    };
+    assert!(matches!(
+        deform(&mut g, &op, Regulation::None),
+        Err(SurfaceError::BadOp(_))
+    ));
     assert_eq!(g, before);
 }
 
 /// A random push or drag aimed at the surface.
 fn random_op(g: &Grid, rng: &mut ChaCha8Rng) -> Op {
-    let (iu, iv) = (rng.gen_range(0..g.patches_u()), rng.gen_range(0..g.patches_v()));
+    let (iu, iv) = (
+        rng.gen_range(0..g.patches_u()),
+        rng.gen_range(0..g.patches_v()),
+    );
     let (u, v) = (rng.r#gen::<f64>(), rng.r#gen::<f64>());
     let at = g.eval(iu, iv, u, v);
     let n = g.normal(iu, iv, u, v).unwrap_or(DVec3::Z);
-    let wobble =
-        DVec3::new(rng.gen_range(-0.3..0.3), rng.gen_range(-0.3..0.3), rng.gen_range(-0.3..0.3));
+    let wobble = DVec3::new(
+        rng.gen_range(-0.3..0.3),
+        rng.gen_range(-0.3..0.3),
+        rng.gen_range(-0.3..0.3),
+    );
     let dir = -n + wobble;
     let depth = rng.gen_range(-0.25..0.25);
     let radius = rng.gen_range(0.3..1.5);
     if rng.gen_bool(0.5) {
-        Op::Push { at, dir, depth, radius }
+        Op::Push {
+            at,
+            dir,
+            depth,
+            radius,
+        }
     } else {
         let mut path = vec![at];
         for _ in 0..rng.gen_range(1..4) {
@@ -181,7 +220,12 @@ fn random_op(g: &Grid, rng: &mut ChaCha8Rng) -> Op {
                 ),
             );
         }
-        Op::Drag { path, dir, depth, radius }
+        Op::Drag {
+            path,
+            dir,
+            depth,
+            radius,
+        }
     }
 }
 
@@ -238,7 +282,11 @@ fn assert_c0(g: &Grid, what: &str) {
     }
     for pole in g.poles() {
         let o = g.nodes()[pole.node];
-        let iv = if pole.end == nendo::surface::PoleEnd::Start { 0 } else { n - 1 };
+        let iv = if pole.end == nendo::surface::PoleEnd::Start {
+            0
+        } else {
+            n - 1
+        };
         let j = if iv == 0 && t.pole_at_start() { 0 } else { 3 };
         for iu in 0..m {
             let p = g.patch(iu, iv);
@@ -273,7 +321,10 @@ fn c0_holds_exactly_after_1000_random_pushes_and_drags_on_every_topology() {
             let op = random_op(&g, &mut rng);
             moved += s.apply(&mut g, &op, Regulation::None).unwrap().deformed;
         }
-        assert!(moved > 1000, "{p}: the strokes must reach the surface ({moved})");
+        assert!(
+            moved > 1000,
+            "{p}: the strokes must reach the surface ({moved})"
+        );
         assert!(g.nodes().iter().all(|x| x.is_finite()));
         assert_c0(&g, p.name());
     }
@@ -282,7 +333,9 @@ fn c0_holds_exactly_after_1000_random_pushes_and_drags_on_every_topology() {
 #[test]
 fn strokes_across_seams_and_poles_keep_them_closed_and_degenerate() {
     // The cylinder's seam is at u = 0 (x > 0, y = 0); the sphere's poles are on ±z.
-    let mut cyl = Primitive::Cylinder.build(&PrimitiveParams::default()).unwrap();
+    let mut cyl = Primitive::Cylinder
+        .build(&PrimitiveParams::default())
+        .unwrap();
     let op = Op::Drag {
         path: vec![DVec3::new(3.0, -1.5, 2.0), DVec3::new(3.0, 1.5, 2.2)],
         dir: -DVec3::X,
@@ -296,7 +349,9 @@ fn strokes_across_seams_and_poles_keep_them_closed_and_degenerate() {
     );
     assert_c0(&cyl, "cylinder seam");
 
-    let mut sphere = Primitive::Sphere.build(&PrimitiveParams::default()).unwrap();
+    let mut sphere = Primitive::Sphere
+        .build(&PrimitiveParams::default())
+        .unwrap();
     for op in [
         Op::Drag {
             path: vec![
@@ -322,13 +377,20 @@ fn strokes_across_seams_and_poles_keep_them_closed_and_degenerate() {
 
 #[test]
 fn the_papers_sphere_pushed_at_a_pole_and_at_a_vertex() {
-    let base = Primitive::Sphere.build(&PrimitiveParams::default()).unwrap();
+    let base = Primitive::Sphere
+        .build(&PrimitiveParams::default())
+        .unwrap();
     assert_eq!((base.patches_u(), base.patches_v()), (8, 4));
     // At the north pole: the pole sample is on the finger axis and moves by |M|.
     let mut g = base.clone();
     let t = deform(
         &mut g,
-        &Op::Push { at: DVec3::new(0.0, 0.0, 3.0), dir: -DVec3::Z, depth: 0.5, radius: 1.25 },
+        &Op::Push {
+            at: DVec3::new(0.0, 0.0, 3.0),
+            dir: -DVec3::Z,
+            depth: 0.5,
+            radius: 1.25,
+        },
         Regulation::None,
     )
     .unwrap();
@@ -342,11 +404,19 @@ fn the_papers_sphere_pushed_at_a_pole_and_at_a_vertex() {
     assert!((vertex - DVec3::new(3.0, 0.0, 0.0)).length() < 1e-15);
     let t = deform(
         &mut g,
-        &Op::Push { at: vertex, dir: -DVec3::X, depth: 0.5, radius: 1.25 },
+        &Op::Push {
+            at: vertex,
+            dir: -DVec3::X,
+            depth: 0.5,
+            radius: 1.25,
+        },
         Regulation::None,
     )
     .unwrap();
-    assert_eq!(g.nodes()[g.node_id(0, 6).unwrap()], vertex - DVec3::new(0.5, 0.0, 0.0));
+    assert_eq!(
+        g.nodes()[g.node_id(0, 6).unwrap()],
+        vertex - DVec3::new(0.5, 0.0, 0.0)
+    );
     assert!(t.deformed >= 4);
     assert_c0(&g, "vertex push");
 }

@@ -4,7 +4,10 @@ use glam::DVec3;
 use nendo::surface::{Grid, Ideal, Primitive, PrimitiveParams, SurfaceError, Topology};
 
 fn params(m: usize, n: usize) -> PrimitiveParams {
-    PrimitiveParams { patches: Some((m, n)), ..PrimitiveParams::default() }
+    PrimitiveParams {
+        patches: Some((m, n)),
+        ..PrimitiveParams::default()
+    }
 }
 
 #[test]
@@ -18,13 +21,30 @@ fn odd_counts_around_closed_directions_are_rejected() {
     ] {
         let err = p.build(&params(7, 4)).unwrap_err();
         assert!(
-            matches!(err, SurfaceError::OddClosedCount { direction: "u", got: 7, .. }),
+            matches!(
+                err,
+                SurfaceError::OddClosedCount {
+                    direction: "u",
+                    got: 7,
+                    ..
+                }
+            ),
             "{p}: {err}"
         );
         assert!(err.to_string().contains("even"), "{err}");
     }
     let err = Primitive::Torus.build(&params(8, 5)).unwrap_err();
-    assert!(matches!(err, SurfaceError::OddClosedCount { direction: "v", got: 5, .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            SurfaceError::OddClosedCount {
+                direction: "v",
+                got: 5,
+                ..
+            }
+        ),
+        "{err}"
+    );
     // Open directions take any count.
     assert!(Primitive::Plane.build(&params(7, 3)).is_ok());
     assert!(Primitive::Cylinder.build(&params(8, 3)).is_ok());
@@ -39,7 +59,11 @@ fn too_few_patches_are_rejected() {
     // A pole needs 2n ≥ 6 patches around it.
     assert!(matches!(
         Primitive::Sphere.build(&params(4, 4)),
-        Err(SurfaceError::TooFewPatches { direction: "u", min: 6, .. })
+        Err(SurfaceError::TooFewPatches {
+            direction: "u",
+            min: 6,
+            ..
+        })
     ));
     assert!(Primitive::Sphere.build(&params(6, 2)).is_ok());
     assert!(matches!(
@@ -50,16 +74,31 @@ fn too_few_patches_are_rejected() {
 
 #[test]
 fn bad_sizes_are_rejected() {
-    let p = PrimitiveParams { radius: Some(-1.0), ..PrimitiveParams::default() };
-    assert!(matches!(Primitive::Sphere.build(&p), Err(SurfaceError::BadParameter { .. })));
-    let p = PrimitiveParams { radius: Some(f64::NAN), ..PrimitiveParams::default() };
-    assert!(matches!(Primitive::Cylinder.build(&p), Err(SurfaceError::BadParameter { .. })));
+    let p = PrimitiveParams {
+        radius: Some(-1.0),
+        ..PrimitiveParams::default()
+    };
+    assert!(matches!(
+        Primitive::Sphere.build(&p),
+        Err(SurfaceError::BadParameter { .. })
+    ));
+    let p = PrimitiveParams {
+        radius: Some(f64::NAN),
+        ..PrimitiveParams::default()
+    };
+    assert!(matches!(
+        Primitive::Cylinder.build(&p),
+        Err(SurfaceError::BadParameter { .. })
+    ));
     let p = PrimitiveParams {
         radius: Some(1.0),
         minor_radius: Some(2.0),
         ..PrimitiveParams::default()
     };
-    assert!(matches!(Primitive::Torus.build(&p), Err(SurfaceError::BadParameter { .. })));
+    assert!(matches!(
+        Primitive::Torus.build(&p),
+        Err(SurfaceError::BadParameter { .. })
+    ));
 }
 
 #[test]
@@ -84,7 +123,10 @@ fn plane_patches_are_unit_squares_in_the_documented_layout() {
         }
     }
     let b = g.bounds();
-    assert_eq!((b.min, b.max), (DVec3::new(-5.0, -3.0, 0.0), DVec3::new(5.0, 3.0, 0.0)));
+    assert_eq!(
+        (b.min, b.max),
+        (DVec3::new(-5.0, -3.0, 0.0), DVec3::new(5.0, 3.0, 0.0))
+    );
 }
 
 /// Patch `(iu, iv)`'s neighbour along +u / +v, if the topology has one.
@@ -169,7 +211,11 @@ fn primitives_are_close_to_their_ideal_shapes() {
     }
     // Finer grids approach the ideal: the sphere with 32 × 16 patches.
     let g = Primitive::Sphere.build(&params(32, 16)).unwrap();
-    let err = Ideal::Sphere { center: DVec3::ZERO, radius: 3.0 }.max_distance(&g, 20);
+    let err = Ideal::Sphere {
+        center: DVec3::ZERO,
+        radius: 3.0,
+    }
+    .max_distance(&g, 20);
     println!("    sphere 32 x 16 R 3: {err:.3e} side");
     assert!(err < 1e-6);
 }
@@ -244,7 +290,9 @@ fn groups_and_poles_partition_the_net() {
 
 #[test]
 fn from_patches_merges_shared_points_and_reports_disagreement() {
-    let g = Primitive::Sphere.build(&PrimitiveParams::default()).unwrap();
+    let g = Primitive::Sphere
+        .build(&PrimitiveParams::default())
+        .unwrap();
     let patches = g.patches();
     let (back, gap) = Grid::from_patches(Topology::Sphere, 8, 4, &patches, 1e-9).unwrap();
     assert_eq!(back, g);
@@ -254,14 +302,25 @@ fn from_patches_merges_shared_points_and_reports_disagreement() {
     bad[7][12 + 1] += DVec3::new(0.0, 1e-3, 0.0);
     let err = Grid::from_patches(Topology::Sphere, 8, 4, &bad, 1e-9).unwrap_err();
     assert!(
-        matches!(err, SurfaceError::NotCoincident { patch: 7, point: 13, what: "closed seam", .. }),
+        matches!(
+            err,
+            SurfaceError::NotCoincident {
+                patch: 7,
+                point: 13,
+                what: "closed seam",
+                ..
+            }
+        ),
         "{err}"
     );
     // Break the pole.
     let mut bad = patches.clone();
     bad[3][4] += DVec3::new(1e-3, 0.0, 0.0);
     let err = Grid::from_patches(Topology::Sphere, 8, 4, &bad, 1e-9).unwrap_err();
-    assert!(matches!(err, SurfaceError::NotCoincident { what: "pole", .. }), "{err}");
+    assert!(
+        matches!(err, SurfaceError::NotCoincident { what: "pole", .. }),
+        "{err}"
+    );
     // Wrong count, non-finite.
     assert!(matches!(
         Grid::from_patches(Topology::Sphere, 8, 4, &patches[1..], 1e-9),

@@ -87,14 +87,24 @@ impl Strokes {
         let depth = self.range(-0.3, 0.3);
         let radius = self.range(0.4, 1.5);
         if self.next_u64() & 1 == 0 {
-            Op::Push { at, dir, depth, radius }
+            Op::Push {
+                at,
+                dir,
+                depth,
+                radius,
+            }
         } else {
             let mut path = vec![at];
             for _ in 0..1 + self.index(3) {
                 let last = path[path.len() - 1];
                 path.push(last + self.vector(0.6));
             }
-            Op::Drag { path, dir, depth, radius }
+            Op::Drag {
+                path,
+                dir,
+                depth,
+                radius,
+            }
         }
     }
 }
@@ -105,7 +115,13 @@ pub fn experiment_cases() -> Vec<Op> {
     let mut out = Vec::new();
     for k in 1..=6 {
         let depth = 0.25 * k as f64;
-        for (dx, dy) in [(0.0, 0.0), (-0.25, -0.25), (0.25, -0.25), (-0.25, 0.25), (0.25, 0.25)] {
+        for (dx, dy) in [
+            (0.0, 0.0),
+            (-0.25, -0.25),
+            (0.25, -0.25),
+            (-0.25, 0.25),
+            (0.25, 0.25),
+        ] {
             out.push(Op::Push {
                 at: DVec3::new(0.5 + dx, 0.5 + dy, 0.0),
                 dir: -DVec3::Z,
@@ -147,7 +163,10 @@ pub struct ExperimentRow {
 #[must_use]
 pub fn experiment(method: Regulation, cases: &[Op]) -> ExperimentRow {
     let base = Primitive::Plane
-        .build(&PrimitiveParams { patches: Some((10, 10)), ..PrimitiveParams::default() })
+        .build(&PrimitiveParams {
+            patches: Some((10, 10)),
+            ..PrimitiveParams::default()
+        })
         .unwrap_or_else(|e| panic!("plane: {e}"));
     let s0 = samples(&base, SAMPLES);
     let (mut moved_d, mut ideal_d) = (Vec::new(), Vec::new());
@@ -250,8 +269,9 @@ pub fn random_strokes(
     strokes: usize,
     seed: u64,
 ) -> StrokeRun {
-    let mut grid =
-        primitive.build(&PrimitiveParams::default()).unwrap_or_else(|e| panic!("{primitive}: {e}"));
+    let mut grid = primitive
+        .build(&PrimitiveParams::default())
+        .unwrap_or_else(|e| panic!("{primitive}: {e}"));
     let mut strokes_gen = Strokes::new(seed);
     let mut sculptor = Sculptor::new();
     let start = Instant::now();
@@ -284,7 +304,11 @@ pub fn poles_degenerate(grid: &Grid) -> bool {
     let (m, n) = (grid.patches_u(), grid.patches_v());
     grid.poles().iter().all(|pole| {
         let o = grid.nodes()[pole.node];
-        let (iv, j) = if pole.end == crate::surface::PoleEnd::Start { (0, 0) } else { (n - 1, 3) };
+        let (iv, j) = if pole.end == crate::surface::PoleEnd::Start {
+            (0, 0)
+        } else {
+            (n - 1, 3)
+        };
         (0..m).all(|iu| {
             let p = grid.patch(iu, iv);
             (0..4).all(|i| p[4 * i + j] == o)
@@ -297,7 +321,10 @@ pub fn poles_degenerate(grid: &Grid) -> bool {
 pub fn report_text(scale: f64) -> String {
     let mut out = String::new();
     let cases = experiment_cases();
-    let rows: Vec<ExperimentRow> = Regulation::ALL.iter().map(|&m| experiment(m, &cases)).collect();
+    let rows: Vec<ExperimentRow> = Regulation::ALL
+        .iter()
+        .map(|&m| experiment(m, &cases))
+        .collect();
     let mut t = Table::new(&[
         "method",
         "moved/case",
@@ -340,7 +367,11 @@ pub fn report_text(scale: f64) -> String {
         let worst = |m: Regulation| {
             rows.iter()
                 .find(|r| r.method == m)
-                .map(|r| r.g1_max_per_case[5 * k..5 * k + 5].iter().fold(0.0f64, |a, b| a.max(*b)))
+                .map(|r| {
+                    r.g1_max_per_case[5 * k..5 * k + 5]
+                        .iter()
+                        .fold(0.0f64, |a, b| a.max(*b))
+                })
                 .unwrap_or(f64::NAN)
         };
         t.row(vec![

@@ -37,11 +37,22 @@ pub fn cases() -> Vec<Case> {
     let mut out = Vec::new();
     for m in [10, 20, 40] {
         let grid = Primitive::Plane
-            .build(&PrimitiveParams { patches: Some((m, m)), ..PrimitiveParams::default() })
+            .build(&PrimitiveParams {
+                patches: Some((m, m)),
+                ..PrimitiveParams::default()
+            })
             .unwrap_or_else(|e| panic!("plane {m}: {e}"));
-        let push =
-            Op::Push { at: DVec3::new(0.5, 0.5, 0.0), dir: -DVec3::Z, depth: 0.5, radius: 1.25 };
-        out.push(Case { name: format!("plane {m} x {m}"), grid, push });
+        let push = Op::Push {
+            at: DVec3::new(0.5, 0.5, 0.0),
+            dir: -DVec3::Z,
+            depth: 0.5,
+            radius: 1.25,
+        };
+        out.push(Case {
+            name: format!("plane {m} x {m}"),
+            grid,
+            push,
+        });
     }
     let (lat, lon) = (30f64.to_radians(), 20f64.to_radians());
     let at = DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()) * 3.0;
@@ -53,8 +64,17 @@ pub fn cases() -> Vec<Case> {
                 ..PrimitiveParams::default()
             })
             .unwrap_or_else(|e| panic!("sphere {m}: {e}"));
-        let push = Op::Push { at, dir: -at, depth: 0.5, radius: 1.25 };
-        out.push(Case { name: format!("sphere {m} x {n}"), grid, push });
+        let push = Op::Push {
+            at,
+            dir: -at,
+            depth: 0.5,
+            radius: 1.25,
+        };
+        out.push(Case {
+            name: format!("sphere {m} x {n}"),
+            grid,
+            push,
+        });
     }
     out
 }
@@ -63,8 +83,28 @@ pub fn cases() -> Vec<Case> {
 #[must_use]
 pub fn reversed(op: &Op) -> Op {
     match op.clone() {
-        Op::Push { at, dir, depth, radius } => Op::Push { at, dir, depth: -depth, radius },
-        Op::Drag { path, dir, depth, radius } => Op::Drag { path, dir, depth: -depth, radius },
+        Op::Push {
+            at,
+            dir,
+            depth,
+            radius,
+        } => Op::Push {
+            at,
+            dir,
+            depth: -depth,
+            radius,
+        },
+        Op::Drag {
+            path,
+            dir,
+            depth,
+            radius,
+        } => Op::Drag {
+            path,
+            dir,
+            depth: -depth,
+            radius,
+        },
     }
 }
 
@@ -103,7 +143,10 @@ pub fn time_push(
         }
         median(&mut per_call)
     } else {
-        let watch = Stopwatch { batches: 21, calls_per_batch };
+        let watch = Stopwatch {
+            batches: 21,
+            calls_per_batch,
+        };
         watch.median_ns(|k| {
             black_box(sculptor.apply_finger(&mut grid, &fingers[k % 2], regulation));
         })
@@ -124,12 +167,18 @@ pub fn thread_cpu_ns() -> Option<u64> {
         fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
     }
     const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
-    let mut ts = Timespec { tv_sec: 0, tv_nsec: 0 };
+    let mut ts = Timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
     // SAFETY: `clock_gettime` only writes the `timespec` it is given, which lives on this
     // stack frame and has the C layout (two 64-bit fields on 64-bit Linux).
     let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    (rc == 0)
-        .then(|| (ts.tv_sec as u64).wrapping_mul(1_000_000_000).wrapping_add(ts.tv_nsec as u64))
+    (rc == 0).then(|| {
+        (ts.tv_sec as u64)
+            .wrapping_mul(1_000_000_000)
+            .wrapping_add(ts.tv_nsec as u64)
+    })
 }
 
 /// CPU time of the calling thread: not available on this platform (wall time is used).
@@ -144,7 +193,12 @@ pub fn thread_cpu_ns() -> Option<u64> {
 pub fn report(scale: f64) -> String {
     let calls = ((400.0 * scale).round() as usize).max(2) & !1;
     let methods = Regulation::ALL;
-    let mut header = vec!["case".to_string(), "patches".into(), "examined".into(), "moved".into()];
+    let mut header = vec![
+        "case".to_string(),
+        "patches".into(),
+        "examined".into(),
+        "moved".into(),
+    ];
     for r in methods {
         header.push(format!("{r} (µs)"));
     }
@@ -168,15 +222,27 @@ pub fn report(scale: f64) -> String {
         t.row(row);
         medians.push(times);
     }
-    let mut ratio =
-        vec!["ratio 40x40 / 10x10".to_string(), String::new(), String::new(), String::new()];
+    let mut ratio = vec![
+        "ratio 40x40 / 10x10".to_string(),
+        String::new(),
+        String::new(),
+        String::new(),
+    ];
     ratio.extend((0..methods.len()).map(|k| format!("{:.2}", medians[2][k] / medians[0][k])));
     t.row(ratio);
-    let mut ratio =
-        vec!["ratio sphere 32x16 / 8x4".to_string(), String::new(), String::new(), String::new()];
+    let mut ratio = vec![
+        "ratio sphere 32x16 / 8x4".to_string(),
+        String::new(),
+        String::new(),
+        String::new(),
+    ];
     ratio.extend((0..methods.len()).map(|k| format!("{:.2}", medians[4][k] / medians[3][k])));
     t.row(ratio);
-    let clock = if thread_cpu_ns().is_some() { "thread CPU time" } else { "wall time" };
+    let clock = if thread_cpu_ns().is_some() {
+        "thread CPU time"
+    } else {
+        "wall time"
+    };
     format!(
         "One push (and its pull twin), finger r_f = 1.25 side, depth 0.5 side; median {clock} per \
          operation, by regulation method.\nexamined: patches sampled after the box test; moved: \

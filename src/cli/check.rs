@@ -51,7 +51,10 @@ pub fn run(args: Args) -> ExitCode {
                     return ExitCode::from(1);
                 }
             };
-            let d = distances(&samples(g, DEVIATION_SAMPLES), &samples(&other, DEVIATION_SAMPLES));
+            let d = distances(
+                &samples(g, DEVIATION_SAMPLES),
+                &samples(&other, DEVIATION_SAMPLES),
+            );
             match (d, g.topology() == other.topology()) {
                 (Ok(d), true) => {
                     let moved = d.iter().filter(|&&x| x > 1e-9).count();

@@ -62,10 +62,17 @@ fn parse_regulation(s: &str) -> Result<Regulation, String> {
 
 /// `MxN` → `(M, N)`.
 fn parse_counts(s: &str) -> Result<(usize, usize), String> {
-    let (m, n) =
-        s.split_once(['x', 'X']).ok_or_else(|| format!("{s:?}: expected MxN, e.g. 8x4"))?;
-    let m = m.trim().parse().map_err(|_| format!("{s:?}: M is not a count"))?;
-    let n = n.trim().parse().map_err(|_| format!("{s:?}: N is not a count"))?;
+    let (m, n) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?}: expected MxN, e.g. 8x4"))?;
+    let m = m
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?}: M is not a count"))?;
+    let n = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?}: N is not a count"))?;
     Ok((m, n))
 }
 
@@ -95,7 +102,9 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
                     "--patches, --radius, --height and --minor-radius shape a primitive; they do not apply to --model"
                 );
             }
-            Model::read(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?.model
+            Model::read(path)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+                .model
         }
         (None, Some(p)) => {
             let params = PrimitiveParams {

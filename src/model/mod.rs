@@ -102,7 +102,11 @@ impl Model {
     /// A model holding only a surface, with the default regulation.
     #[must_use]
     pub fn new(surface: Grid) -> Self {
-        Self { surface, regulation: Regulation::default(), curves: Vec::new() }
+        Self {
+            surface,
+            regulation: Regulation::default(),
+            curves: Vec::new(),
+        }
     }
 
     /// The JSON document.
@@ -110,7 +114,14 @@ impl Model {
     pub fn to_json(&self) -> Value {
         let g = &self.surface;
         let patches: Vec<Value> = (0..g.patch_count())
-            .map(|p| Value::Array(g.patch_at(p).iter().map(|x| json!([x.x, x.y, x.z])).collect()))
+            .map(|p| {
+                Value::Array(
+                    g.patch_at(p)
+                        .iter()
+                        .map(|x| json!([x.x, x.y, x.z]))
+                        .collect(),
+                )
+            })
             .collect();
         json!({
             "format": FORMAT,
@@ -179,9 +190,12 @@ impl Model {
                 ModelError::Format(format!("surface.topology: {e}"))
             })?;
         let count = |name: &str| -> Result<usize, ModelError> {
-            member(s, name, "surface")?.as_u64().and_then(|c| usize::try_from(c).ok()).ok_or_else(
-                || ModelError::Format(format!("surface.{name} must be a non-negative integer")),
-            )
+            member(s, name, "surface")?
+                .as_u64()
+                .and_then(|c| usize::try_from(c).ok())
+                .ok_or_else(|| {
+                    ModelError::Format(format!("surface.{name} must be a non-negative integer"))
+                })
         };
         let (m, n) = (count("patches_u")?, count("patches_v")?);
         Grid::check_counts(topology, m, n)?;
@@ -226,7 +240,11 @@ impl Model {
                         ))
                     })?;
                     if !f.is_finite() {
-                        return Err(SurfaceError::NotFinite { patch: pi, point: k }.into());
+                        return Err(SurfaceError::NotFinite {
+                            patch: pi,
+                            point: k,
+                        }
+                        .into());
                     }
                     xyz[d] = f;
                     extent = extent.max(f.abs());
@@ -262,7 +280,14 @@ impl Model {
                 })
                 .collect::<Result<_, _>>()?,
         };
-        Ok(Loaded { model: Model { surface, regulation, curves }, seam_gap })
+        Ok(Loaded {
+            model: Model {
+                surface,
+                regulation,
+                curves,
+            },
+            seam_gap,
+        })
     }
 
     /// Reads a model file.
@@ -270,8 +295,10 @@ impl Model {
     /// # Errors
     /// [`ModelError::Io`] when the file cannot be read; otherwise as [`Model::from_json_str`].
     pub fn read(path: &Path) -> Result<Loaded, ModelError> {
-        let text = fs::read_to_string(path)
-            .map_err(|source| ModelError::Io { path: path.to_path_buf(), source })?;
+        let text = fs::read_to_string(path).map_err(|source| ModelError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
         Self::from_json_str(&text)
     }
 
@@ -289,7 +316,10 @@ impl Model {
 /// # Errors
 /// [`ModelError::Io`]; the target is then untouched and the temporary file removed.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ModelError> {
-    let io = |source| ModelError::Io { path: path.to_path_buf(), source };
+    let io = |source| ModelError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -313,9 +343,11 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ModelError> {
 }
 
 fn object<'a>(v: &'a Value, what: &str) -> Result<&'a Map<String, Value>, ModelError> {
-    v.as_object().ok_or_else(|| ModelError::Format(format!("{what} must be a JSON object")))
+    v.as_object()
+        .ok_or_else(|| ModelError::Format(format!("{what} must be a JSON object")))
 }
 
 fn member<'a>(o: &'a Map<String, Value>, name: &str, what: &str) -> Result<&'a Value, ModelError> {
-    o.get(name).ok_or_else(|| ModelError::Format(format!("{what} has no \"{name}\"")))
+    o.get(name)
+        .ok_or_else(|| ModelError::Format(format!("{what} has no \"{name}\"")))
 }

@@ -31,11 +31,18 @@ pub struct OpLineError {
 pub fn parse_op(text: &str) -> Result<Op, String> {
     let v: Value = serde_json::from_str(text).map_err(|e| format!("not valid JSON: {e}"))?;
     let o = v.as_object().ok_or("an operation must be a JSON object")?;
-    let kind = o.get("op").and_then(Value::as_str).ok_or("missing \"op\": \"push\" or \"drag\"")?;
+    let kind = o
+        .get("op")
+        .and_then(Value::as_str)
+        .ok_or("missing \"op\": \"push\" or \"drag\"")?;
     let allowed: &[&str] = match kind {
         "push" => &["op", "at", "dir", "depth", "radius"],
         "drag" => &["op", "path", "dir", "depth", "radius"],
-        other => return Err(format!("unknown op {other:?}: expected \"push\" or \"drag\"")),
+        other => {
+            return Err(format!(
+                "unknown op {other:?}: expected \"push\" or \"drag\""
+            ));
+        }
     };
     if let Some(extra) = o.keys().find(|k| !allowed.contains(&k.as_str())) {
         return Err(format!("unknown member {extra:?} in a {kind} operation"));
@@ -44,7 +51,12 @@ pub fn parse_op(text: &str) -> Result<Op, String> {
     let depth = number(o, "depth")?;
     let radius = number(o, "radius")?;
     let op = if kind == "push" {
-        Op::Push { at: point(o, "at")?, dir, depth, radius }
+        Op::Push {
+            at: point(o, "at")?,
+            dir,
+            depth,
+            radius,
+        }
     } else {
         let list = o
             .get("path")
@@ -58,7 +70,12 @@ pub fn parse_op(text: &str) -> Result<Op, String> {
                     .ok_or_else(|| format!("path[{i}] must be a point [x, y, z] of finite numbers"))
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Op::Drag { path, dir, depth, radius }
+        Op::Drag {
+            path,
+            dir,
+            depth,
+            radius,
+        }
     };
     op.finger().map_err(|e| e.to_string())?;
     Ok(op)
@@ -74,7 +91,10 @@ pub fn parse_ops(text: &str) -> Result<Vec<Op>, OpLineError> {
         if line.trim().is_empty() {
             continue;
         }
-        ops.push(parse_op(line).map_err(|message| OpLineError { line: i + 1, message })?);
+        ops.push(parse_op(line).map_err(|message| OpLineError {
+            line: i + 1,
+            message,
+        })?);
     }
     Ok(ops)
 }
@@ -84,10 +104,20 @@ pub fn parse_ops(text: &str) -> Result<Vec<Op>, OpLineError> {
 pub fn op_to_json(op: &Op) -> Value {
     let p = |x: &DVec3| json!([x.x, x.y, x.z]);
     match op {
-        Op::Push { at, dir, depth, radius } => {
+        Op::Push {
+            at,
+            dir,
+            depth,
+            radius,
+        } => {
             json!({"op": "push", "at": p(at), "dir": p(dir), "depth": depth, "radius": radius})
         }
-        Op::Drag { path, dir, depth, radius } => json!({
+        Op::Drag {
+            path,
+            dir,
+            depth,
+            radius,
+        } => json!({
             "op": "drag",
             "path": path.iter().map(p).collect::<Vec<_>>(),
             "dir": p(dir),
@@ -100,7 +130,9 @@ pub fn op_to_json(op: &Op) -> Value {
 fn to_point(v: &Value) -> Option<DVec3> {
     let a = v.as_array().filter(|a| a.len() == 3)?;
     let c = [a[0].as_f64()?, a[1].as_f64()?, a[2].as_f64()?];
-    c.iter().all(|x| x.is_finite()).then(|| DVec3::from_array(c))
+    c.iter()
+        .all(|x| x.is_finite())
+        .then(|| DVec3::from_array(c))
 }
 
 fn point(o: &Map<String, Value>, name: &str) -> Result<DVec3, String> {
@@ -122,7 +154,12 @@ mod tests {
     #[test]
     fn ops_round_trip() {
         let ops = [
-            Op::Push { at: DVec3::new(0.5, 0.5, 0.0), dir: -DVec3::Z, depth: 0.3, radius: 1.25 },
+            Op::Push {
+                at: DVec3::new(0.5, 0.5, 0.0),
+                dir: -DVec3::Z,
+                depth: 0.3,
+                radius: 1.25,
+            },
             Op::Drag {
                 path: vec![DVec3::ZERO, DVec3::X],
                 dir: DVec3::new(0.0, 0.1, -1.0),
@@ -145,7 +182,10 @@ mod tests {
         for (line, what) in [
             ("[1,2]", "object"),
             ("{\"op\":\"poke\"}", "unknown op"),
-            ("{\"op\":\"push\",\"at\":[0,0],\"dir\":[0,0,1],\"depth\":0.1,\"radius\":1}", "\"at\""),
+            (
+                "{\"op\":\"push\",\"at\":[0,0],\"dir\":[0,0,1],\"depth\":0.1,\"radius\":1}",
+                "\"at\"",
+            ),
             (
                 "{\"op\":\"push\",\"at\":[0,0,0],\"dir\":[0,0,1],\"depth\":0.1,\"radius\":-1}",
                 "radius",

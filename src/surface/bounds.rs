@@ -19,7 +19,10 @@ pub struct Aabb {
 
 impl Aabb {
     /// The empty box (the identity of [`Aabb::union`]).
-    pub const EMPTY: Aabb = Aabb { min: DVec3::INFINITY, max: DVec3::NEG_INFINITY };
+    pub const EMPTY: Aabb = Aabb {
+        min: DVec3::INFINITY,
+        max: DVec3::NEG_INFINITY,
+    };
 
     /// The smallest box holding the points.
     #[must_use]
@@ -35,13 +38,19 @@ impl Aabb {
     /// The smallest box holding both.
     #[must_use]
     pub fn union(self, other: Aabb) -> Aabb {
-        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
+        Aabb {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
     }
 
     /// The box grown by `r` on every side.
     #[must_use]
     pub fn inflated(self, r: f64) -> Aabb {
-        Aabb { min: self.min - DVec3::splat(r), max: self.max + DVec3::splat(r) }
+        Aabb {
+            min: self.min - DVec3::splat(r),
+            max: self.max + DVec3::splat(r),
+        }
     }
 
     /// Centre of the box.
@@ -128,7 +137,10 @@ impl Hierarchy {
 
     /// The box of everything.
     pub(crate) fn root(&self) -> Aabb {
-        self.levels.last().and_then(|l| l.first().copied()).unwrap_or(Aabb::EMPTY)
+        self.levels
+            .last()
+            .and_then(|l| l.first().copied())
+            .unwrap_or(Aabb::EMPTY)
     }
 
     /// The box of one patch.
@@ -205,15 +217,23 @@ mod tests {
     use super::*;
 
     fn unit_box(x: f64, y: f64) -> Aabb {
-        Aabb { min: DVec3::new(x, y, 0.0), max: DVec3::new(x + 1.0, y + 1.0, 0.0) }
+        Aabb {
+            min: DVec3::new(x, y, 0.0),
+            max: DVec3::new(x + 1.0, y + 1.0, 0.0),
+        }
     }
 
     #[test]
     fn query_finds_exactly_the_accepted_leaves() {
         let (m, n) = (7, 5);
-        let leaves = (0..m * n).map(|k| unit_box((k % m) as f64, (k / m) as f64)).collect();
+        let leaves = (0..m * n)
+            .map(|k| unit_box((k % m) as f64, (k / m) as f64))
+            .collect();
         let h = Hierarchy::new(m, n, leaves);
-        let probe = Aabb { min: DVec3::new(2.5, 1.5, -1.0), max: DVec3::new(4.2, 2.2, 1.0) };
+        let probe = Aabb {
+            min: DVec3::new(2.5, 1.5, -1.0),
+            max: DVec3::new(4.2, 2.2, 1.0),
+        };
         let overlaps = |b: &Aabb| {
             b.min.x <= probe.max.x
                 && b.max.x >= probe.min.x
@@ -227,15 +247,26 @@ mod tests {
         got.sort_unstable();
         let want: Vec<usize> = (0..m * n).filter(|&k| overlaps(&h.leaf(k))).collect();
         assert_eq!(got, want);
-        assert_eq!(h.root(), Aabb { min: DVec3::ZERO, max: DVec3::new(7.0, 5.0, 0.0) });
+        assert_eq!(
+            h.root(),
+            Aabb {
+                min: DVec3::ZERO,
+                max: DVec3::new(7.0, 5.0, 0.0)
+            }
+        );
     }
 
     #[test]
     fn refit_updates_ancestors() {
         let (m, n) = (5, 3);
-        let leaves = (0..m * n).map(|k| unit_box((k % m) as f64, (k / m) as f64)).collect();
+        let leaves = (0..m * n)
+            .map(|k| unit_box((k % m) as f64, (k / m) as f64))
+            .collect();
         let mut h = Hierarchy::new(m, n, leaves);
-        let moved = Aabb { min: DVec3::new(4.0, 2.0, 0.0), max: DVec3::new(5.0, 3.0, 9.0) };
+        let moved = Aabb {
+            min: DVec3::new(4.0, 2.0, 0.0),
+            max: DVec3::new(5.0, 3.0, 9.0),
+        };
         let mut scratch = Vec::new();
         h.refit(&[(14, moved)], &mut scratch);
         assert_eq!(h.root().max.z, 9.0);
@@ -245,10 +276,19 @@ mod tests {
 
     #[test]
     fn slab_test_clips_segments() {
-        let b = Aabb { min: DVec3::ZERO, max: DVec3::ONE };
+        let b = Aabb {
+            min: DVec3::ZERO,
+            max: DVec3::ONE,
+        };
         let hit = b.clip_line(DVec3::new(-1.0, 0.5, 0.5), DVec3::X, 0.0, 10.0);
         assert_eq!(hit, Some((1.0, 2.0)));
-        assert_eq!(b.clip_line(DVec3::new(-1.0, 2.0, 0.5), DVec3::X, 0.0, 10.0), None);
-        assert_eq!(b.clip_line(DVec3::new(-1.0, 0.5, 0.5), DVec3::X, 0.0, 0.5), None);
+        assert_eq!(
+            b.clip_line(DVec3::new(-1.0, 2.0, 0.5), DVec3::X, 0.0, 10.0),
+            None
+        );
+        assert_eq!(
+            b.clip_line(DVec3::new(-1.0, 0.5, 0.5), DVec3::X, 0.0, 0.5),
+            None
+        );
     }
 }

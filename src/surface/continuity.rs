@@ -70,7 +70,9 @@ pub fn angle_deg(a: DVec3, b: DVec3) -> f64 {
 pub fn report(grid: &Grid, samples_per_edge: usize) -> ContinuityReport {
     let k = samples_per_edge.max(MIN_SAMPLES_PER_EDGE);
     let (m, n) = (grid.patches_u(), grid.patches_v());
-    let patches: Vec<Patch> = (0..grid.patch_count()).map(|p| grid.patch_struct(p)).collect();
+    let patches: Vec<Patch> = (0..grid.patch_count())
+        .map(|p| grid.patch_struct(p))
+        .collect();
     let mut r = ContinuityReport {
         patches: grid.patch_count(),
         shared_edges: 0,
@@ -88,8 +90,11 @@ pub fn report(grid: &Grid, samples_per_edge: usize) -> ContinuityReport {
         for i in 0..k {
             let t = i as f64 / (k - 1) as f64;
             // Across a u-edge: a at u = 1, b at u = 0; across a v-edge: a at v = 1, b at v = 0.
-            let ((ua, va), (ub, vb)) =
-                if along_u { ((1.0, t), (0.0, t)) } else { ((t, 1.0), (t, 0.0)) };
+            let ((ua, va), (ub, vb)) = if along_u {
+                ((1.0, t), (0.0, t))
+            } else {
+                ((t, 1.0), (t, 0.0))
+            };
             r.g0_gap = r.g0_gap.max((a.eval(ua, va) - b.eval(ub, vb)).length());
             match (a.normal(ua, va), b.normal(ub, vb)) {
                 (Some(na), Some(nb)) => {
@@ -109,7 +114,12 @@ pub fn report(grid: &Grid, samples_per_edge: usize) -> ContinuityReport {
         for iv in 0..n {
             let left = (kk + m - 1) % m;
             let right = kk % m;
-            edge(&patches[iv * m + left], &patches[iv * m + right], true, &mut r);
+            edge(
+                &patches[iv * m + left],
+                &patches[iv * m + right],
+                true,
+                &mut r,
+            );
         }
     }
     for q in 0..grid.vertices_v() {
@@ -119,7 +129,12 @@ pub fn report(grid: &Grid, samples_per_edge: usize) -> ContinuityReport {
         for iu in 0..m {
             let below = (q + n - 1) % n;
             let above = q % n;
-            edge(&patches[below * m + iu], &patches[above * m + iu], false, &mut r);
+            edge(
+                &patches[below * m + iu],
+                &patches[above * m + iu],
+                false,
+                &mut r,
+            );
         }
     }
     r.g1_mean_deg = if count > 0 { sum / count as f64 } else { 0.0 };
@@ -133,7 +148,11 @@ pub fn report(grid: &Grid, samples_per_edge: usize) -> ContinuityReport {
 /// and a surface normal next to the pole for orientation.
 pub(crate) fn pole_directions(grid: &Grid, end: PoleEnd, k: usize) -> (Vec<DVec3>, DVec3) {
     let (m, n) = (grid.patches_u(), grid.patches_v());
-    let (iv, v, sign) = if end == PoleEnd::Start { (0, 0.0, 1.0) } else { (n - 1, 1.0, -1.0) };
+    let (iv, v, sign) = if end == PoleEnd::Start {
+        (0, 0.0, 1.0)
+    } else {
+        (n - 1, 1.0, -1.0)
+    };
     let mut dirs = Vec::with_capacity(m * k);
     let mut orient = DVec3::ZERO;
     for iu in 0..m {
@@ -156,14 +175,26 @@ fn pole_report(grid: &Grid, _patches: &[Patch], end: PoleEnd, k: usize) -> PoleR
     let position = grid.nodes()[node];
     let (dirs, orient) = pole_directions(grid, end, k);
     let Some(mut normal) = plane_normal(dirs.iter().copied()) else {
-        return PoleReport { end, position, normal: None, spread_deg: 0.0 };
+        return PoleReport {
+            end,
+            position,
+            normal: None,
+            spread_deg: 0.0,
+        };
     };
     if normal.dot(orient) < 0.0 {
         normal = -normal;
     }
-    let spread_deg =
-        dirs.iter().map(|d| d.dot(normal).abs().min(1.0).asin().to_degrees()).fold(0.0, f64::max);
-    PoleReport { end, position, normal: Some(normal), spread_deg }
+    let spread_deg = dirs
+        .iter()
+        .map(|d| d.dot(normal).abs().min(1.0).asin().to_degrees())
+        .fold(0.0, f64::max);
+    PoleReport {
+        end,
+        position,
+        normal: Some(normal),
+        spread_deg,
+    }
 }
 
 #[cfg(test)]
@@ -190,7 +221,10 @@ mod tests {
     fn shared_edges_are_counted_per_topology() {
         let count = |p: Primitive, m: usize, n: usize| {
             let g = p
-                .build(&PrimitiveParams { patches: Some((m, n)), ..PrimitiveParams::default() })
+                .build(&PrimitiveParams {
+                    patches: Some((m, n)),
+                    ..PrimitiveParams::default()
+                })
                 .unwrap();
             report(&g, 33).shared_edges
         };
@@ -204,7 +238,10 @@ mod tests {
     #[test]
     fn a_kinked_net_is_measured() {
         let mut g = Primitive::Plane
-            .build(&PrimitiveParams { patches: Some((2, 1)), ..PrimitiveParams::default() })
+            .build(&PrimitiveParams {
+                patches: Some((2, 1)),
+                ..PrimitiveParams::default()
+            })
             .unwrap();
         // Lift the column just right of the shared edge: a crease along it.
         for b in 0..4 {

@@ -103,7 +103,8 @@ impl Sculptor {
 
         // 1. Reach.
         self.candidates.clear();
-        grid.hierarchy().query(&|b| finger.may_touch(b, depth), &mut self.candidates);
+        grid.hierarchy()
+            .query(&|b| finger.may_touch(b, depth), &mut self.candidates);
 
         // 2–3. Flows and control-point updates, from the unchanged net.
         self.updates.clear();
@@ -177,8 +178,12 @@ impl Sculptor {
             );
             for &(k, q) in &self.vertices {
                 for (du, dv) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                    let Some(iu) = wrap(k as isize - du, m, topology.closed_u()) else { continue };
-                    let Some(iv) = wrap(q as isize - dv, n, topology.closed_v()) else { continue };
+                    let Some(iu) = wrap(k as isize - du, m, topology.closed_u()) else {
+                        continue;
+                    };
+                    let Some(iv) = wrap(q as isize - dv, n, topology.closed_v()) else {
+                        continue;
+                    };
                     let p = iv * m + iu;
                     if self.patch_mark[p] != stamp {
                         self.patch_mark[p] = stamp;
@@ -199,7 +204,12 @@ impl Sculptor {
         }
         changed.sort_unstable();
         grid.refit(&changed, &mut self.scratch);
-        Touched { patches: changed, deformed, examined: self.candidates.len(), groups }
+        Touched {
+            patches: changed,
+            deformed,
+            examined: self.candidates.len(),
+            groups,
+        }
     }
 
     /// The grid vertices at the corners of the moved patches (deduplicated, in a fixed
@@ -234,10 +244,18 @@ impl Sculptor {
     }
 
     fn next_generation(&mut self, grid: &Grid) {
-        let sizes = [grid.nodes().len(), grid.vertices_u() * grid.vertices_v(), grid.patch_count()];
-        for (marks, len) in [&mut self.node_mark, &mut self.vertex_mark, &mut self.patch_mark]
-            .into_iter()
-            .zip(sizes)
+        let sizes = [
+            grid.nodes().len(),
+            grid.vertices_u() * grid.vertices_v(),
+            grid.patch_count(),
+        ];
+        for (marks, len) in [
+            &mut self.node_mark,
+            &mut self.vertex_mark,
+            &mut self.patch_mark,
+        ]
+        .into_iter()
+        .zip(sizes)
         {
             if marks.len() != len {
                 marks.clear();
@@ -246,7 +264,11 @@ impl Sculptor {
         }
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 {
-            for marks in [&mut self.node_mark, &mut self.vertex_mark, &mut self.patch_mark] {
+            for marks in [
+                &mut self.node_mark,
+                &mut self.vertex_mark,
+                &mut self.patch_mark,
+            ] {
                 marks.fill(0);
             }
             self.generation = 1;

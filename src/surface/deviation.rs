@@ -29,7 +29,10 @@ pub fn samples(grid: &Grid, k: usize) -> Vec<DVec3> {
 /// The samples of the surface a finger asks for, starting from `before`.
 #[must_use]
 pub fn ideal_samples(before: &Grid, finger: &Finger, k: usize) -> Vec<DVec3> {
-    samples(before, k).into_iter().map(|x| finger.ideal(x)).collect()
+    samples(before, k)
+        .into_iter()
+        .map(|x| finger.ideal(x))
+        .collect()
 }
 
 /// Distances between two sets of samples taken at the same parameters.
@@ -66,8 +69,17 @@ impl DeviationStats {
             max = max.max(d);
             inside += usize::from(d <= within);
         }
-        let share_within = if count > 0 { inside as f64 / count as f64 } else { 0.0 };
-        Self { count, mean: if count > 0 { sum / count as f64 } else { 0.0 }, max, share_within }
+        let share_within = if count > 0 {
+            inside as f64 / count as f64
+        } else {
+            0.0
+        };
+        Self {
+            count,
+            mean: if count > 0 { sum / count as f64 } else { 0.0 },
+            max,
+            share_within,
+        }
     }
 }
 
@@ -83,5 +95,7 @@ pub fn max_distance(a: &Grid, b: &Grid, k: usize) -> Result<f64, SurfaceError> {
     {
         return Err(SurfaceError::Mismatch);
     }
-    Ok(distances(&samples(a, k), &samples(b, k))?.into_iter().fold(0.0, f64::max))
+    Ok(distances(&samples(a, k), &samples(b, k))?
+        .into_iter()
+        .fold(0.0, f64::max))
 }

@@ -74,18 +74,31 @@ impl Grid {
             Topology::Sphere | Topology::Torus => 2,
             _ => 1,
         };
-        for (direction, got, min, closed) in
-            [("u", m, min_u, topology.closed_u()), ("v", n, min_v, topology.closed_v())]
-        {
+        for (direction, got, min, closed) in [
+            ("u", m, min_u, topology.closed_u()),
+            ("v", n, min_v, topology.closed_v()),
+        ] {
             if got < min {
-                return Err(SurfaceError::TooFewPatches { topology, direction, min, got });
+                return Err(SurfaceError::TooFewPatches {
+                    topology,
+                    direction,
+                    min,
+                    got,
+                });
             }
             if closed && got % 2 == 1 {
-                return Err(SurfaceError::OddClosedCount { topology, direction, got });
+                return Err(SurfaceError::OddClosedCount {
+                    topology,
+                    direction,
+                    got,
+                });
             }
         }
         if m.checked_mul(n).is_none_or(|c| c > MAX_PATCHES) {
-            return Err(SurfaceError::TooLarge { patches_u: m, patches_v: n });
+            return Err(SurfaceError::TooLarge {
+                patches_u: m,
+                patches_v: n,
+            });
         }
         Ok(())
     }
@@ -121,7 +134,10 @@ impl Grid {
             });
         }
         if let Some(bad) = nodes.iter().position(|p| !p.is_finite()) {
-            return Err(SurfaceError::NotFinite { patch: bad, point: 0 });
+            return Err(SurfaceError::NotFinite {
+                patch: bad,
+                point: 0,
+            });
         }
         let (la, lb) = lattice_dims(topology, m, n);
         let mut grid = Grid {
@@ -135,8 +151,12 @@ impl Grid {
             ratios_v: Vec::new(),
             hierarchy: Hierarchy::new(0, 0, Vec::new()),
         };
-        grid.ratios_u = (0..grid.vertices_u()).map(|k| grid.measure_ratio_u(k)).collect();
-        grid.ratios_v = (0..grid.vertices_v()).map(|q| grid.measure_ratio_v(q)).collect();
+        grid.ratios_u = (0..grid.vertices_u())
+            .map(|k| grid.measure_ratio_u(k))
+            .collect();
+        grid.ratios_v = (0..grid.vertices_v())
+            .map(|q| grid.measure_ratio_v(q))
+            .collect();
         let leaves = (0..m * n).map(|p| grid.patch_struct(p).bounds()).collect();
         grid.hierarchy = Hierarchy::new(m, n, leaves);
         Ok(grid)
@@ -167,7 +187,10 @@ impl Grid {
         }
         for (pi, p) in patches.iter().enumerate() {
             if let Some(k) = p.iter().position(|x| !x.is_finite()) {
-                return Err(SurfaceError::NotFinite { patch: pi, point: k });
+                return Err(SurfaceError::NotFinite {
+                    patch: pi,
+                    point: k,
+                });
             }
         }
         let len = Self::net_len(topology, m, n);
@@ -271,7 +294,10 @@ impl Grid {
     /// If `iu ≥ M` or `iv ≥ N`.
     #[must_use]
     pub fn patch_node_ids(&self, iu: usize, iv: usize) -> [usize; 16] {
-        assert!(iu < self.m && iv < self.n, "patch ({iu}, {iv}) out of range");
+        assert!(
+            iu < self.m && iv < self.n,
+            "patch ({iu}, {iv}) out of range"
+        );
         let shape = self.shape();
         let mut ids = [0; 16];
         for i in 0..4 {
@@ -350,22 +376,32 @@ impl Grid {
 
     /// Recomputes the boxes of the given patches (after their control points changed).
     pub(crate) fn refit(&mut self, patches: &[usize], scratch: &mut Vec<usize>) {
-        let changed: Vec<(usize, Aabb)> =
-            patches.iter().map(|&p| (p, self.patch_struct(p).bounds())).collect();
+        let changed: Vec<(usize, Aabb)> = patches
+            .iter()
+            .map(|&p| (p, self.patch_struct(p).bounds()))
+            .collect();
         self.hierarchy.refit(&changed, scratch);
     }
 
     /// Number of grid vertices along `u`: `M` when closed, `M + 1` when open.
     #[must_use]
     pub fn vertices_u(&self) -> usize {
-        if self.topology.closed_u() { self.m } else { self.m + 1 }
+        if self.topology.closed_u() {
+            self.m
+        } else {
+            self.m + 1
+        }
     }
 
     /// Number of grid vertices along `v`: `N` when closed, `N + 1` when open (pole rows
     /// included).
     #[must_use]
     pub fn vertices_v(&self) -> usize {
-        if self.topology.closed_v() { self.n } else { self.n + 1 }
+        if self.topology.closed_v() {
+            self.n
+        } else {
+            self.n + 1
+        }
     }
 
     /// Reference spacing ratio of u grid line `k` (lattice column `3k`); see the module docs.
@@ -409,16 +445,25 @@ impl Grid {
     pub fn set_ratios(&mut self, u: &[f64], v: &[f64]) -> Result<(), SurfaceError> {
         for (got, expected) in [(u.len(), self.vertices_u()), (v.len(), self.vertices_v())] {
             if got != expected {
-                return Err(SurfaceError::WrongCount { what: "spacing ratios", expected, got });
+                return Err(SurfaceError::WrongCount {
+                    what: "spacing ratios",
+                    expected,
+                    got,
+                });
             }
         }
         if let Some(&bad) = u.iter().chain(v).find(|r| !(r.is_finite() && **r > 0.0)) {
-            return Err(SurfaceError::BadParameter { name: "spacing ratio", value: bad });
+            return Err(SurfaceError::BadParameter {
+                name: "spacing ratio",
+                value: bad,
+            });
         }
-        self.ratios_u =
-            (0..u.len()).map(|k| if self.u_line_shared(k) { u[k] } else { 1.0 }).collect();
-        self.ratios_v =
-            (0..v.len()).map(|q| if self.v_line_shared(q) { v[q] } else { 1.0 }).collect();
+        self.ratios_u = (0..u.len())
+            .map(|k| if self.u_line_shared(k) { u[k] } else { 1.0 })
+            .collect();
+        self.ratios_v = (0..v.len())
+            .map(|q| if self.v_line_shared(q) { v[q] } else { 1.0 })
+            .collect();
         Ok(())
     }
 
@@ -468,7 +513,11 @@ impl Grid {
     }
 
     pub(crate) fn shape(&self) -> Shape {
-        Shape { topology: self.topology, la: self.la, lb: self.lb }
+        Shape {
+            topology: self.topology,
+            la: self.la,
+            lb: self.lb,
+        }
     }
 }
 
@@ -478,7 +527,9 @@ fn mean_ratio(rows: impl Iterator<Item = (Option<DVec3>, Option<DVec3>, Option<D
     let mut sum = 0.0;
     let mut count = 0usize;
     for r in rows {
-        let (Some(m), Some(o), Some(p)) = r else { continue };
+        let (Some(m), Some(o), Some(p)) = r else {
+            continue;
+        };
         let (lm, lp) = ((o - m).length(), (p - o).length());
         let scale = m.length().max(o.length()).max(p.length()).max(1.0);
         if lm > 1e-9 * scale && lp > 1e-9 * scale {

@@ -85,7 +85,11 @@ impl Grid {
                 nodes[si][ti] = self.node_id(a + s, b + t);
             }
         }
-        Some(Group { vertex: (k, q), nodes, ratios: (self.ratio_u(k), self.ratio_v(q)) })
+        Some(Group {
+            vertex: (k, q),
+            nodes,
+            ratios: (self.ratio_u(k), self.ratio_v(q)),
+        })
     }
 
     /// Every group around a non-degenerate vertex, `q` major, `k` minor.
@@ -113,14 +117,24 @@ impl Grid {
             _ => return None,
         };
         let node = self.node_id(0, b_pole as isize)?;
-        let ring = (0..la).filter_map(|a| self.node_id(a as isize, b_ring as isize)).collect();
+        let ring = (0..la)
+            .filter_map(|a| self.node_id(a as isize, b_ring as isize))
+            .collect();
         let ratios = (0..self.vertices_u()).map(|k| self.ratio_u(k)).collect();
-        Some(Pole { end, node, ring, ratios })
+        Some(Pole {
+            end,
+            node,
+            ring,
+            ratios,
+        })
     }
 
     /// Every pole (0, 1 or 2).
     #[must_use]
     pub fn poles(&self) -> Vec<Pole> {
-        [PoleEnd::Start, PoleEnd::End].into_iter().filter_map(|e| self.pole(e)).collect()
+        [PoleEnd::Start, PoleEnd::End]
+            .into_iter()
+            .filter_map(|e| self.pole(e))
+            .collect()
     }
 }

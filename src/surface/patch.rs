@@ -46,7 +46,12 @@ pub fn cubic_basis(t: f64) -> [f64; 4] {
 #[must_use]
 pub fn cubic_basis_derivative(t: f64) -> [f64; 4] {
     let s = 1.0 - t;
-    [-3.0 * s * s, 3.0 * s * s - 6.0 * t * s, 6.0 * t * s - 3.0 * t * t, 3.0 * t * t]
+    [
+        -3.0 * s * s,
+        3.0 * s * s - 6.0 * t * s,
+        6.0 * t * s - 3.0 * t * t,
+        3.0 * t * t,
+    ]
 }
 
 /// `Σ_k w_k x_k` for weights that sum to one (`partition`) or to zero, exact when the four
@@ -113,7 +118,12 @@ impl Patch {
 
     #[inline]
     fn row(&self, i: usize) -> [DVec3; 4] {
-        [self.points[4 * i], self.points[4 * i + 1], self.points[4 * i + 2], self.points[4 * i + 3]]
+        [
+            self.points[4 * i],
+            self.points[4 * i + 1],
+            self.points[4 * i + 2],
+            self.points[4 * i + 3],
+        ]
     }
 
     /// The unit normal `unit(S_u × S_v)` at `(u, v)`, with the limit taken along collapsed
@@ -154,7 +164,11 @@ impl Patch {
         let (u2, v2) = (u + step * (0.5 - u).signum(), v + step * (0.5 - v).signum());
         let g = self.frame(u2, v2);
         let n = g.du.cross(g.dv);
-        if n.length() > 1e-10 * g.du.length() * g.dv.length() { n.try_normalize() } else { None }
+        if n.length() > 1e-10 * g.du.length() * g.dv.length() {
+            n.try_normalize()
+        } else {
+            None
+        }
     }
 
     /// Diagonal of the control points' bounding box: the scale of the patch.

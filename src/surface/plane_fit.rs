@@ -100,8 +100,9 @@ mod tests {
         let n = DVec3::new(0.3, -0.5, 0.8).normalize();
         let t1 = n.any_orthonormal_vector();
         let t2 = n.cross(t1);
-        let vs: Vec<DVec3> =
-            (0..12).map(|k| t1 * (k as f64).cos() * 2.0 + t2 * (k as f64).sin()).collect();
+        let vs: Vec<DVec3> = (0..12)
+            .map(|k| t1 * (k as f64).cos() * 2.0 + t2 * (k as f64).sin())
+            .collect();
         let got = plane_normal(vs).unwrap();
         assert!(got.cross(n).length() < 1e-14);
     }

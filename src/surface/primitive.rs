@@ -120,7 +120,12 @@ impl Primitive {
             Primitive::Torus => ((8, 4), 3.0, 2.0),
             Primitive::Tube => ((16, 8), 2.0, 4.0),
         };
-        Resolved { patches, radius, height, minor_radius: 1.0 }
+        Resolved {
+            patches,
+            radius,
+            height,
+            minor_radius: 1.0,
+        }
     }
 
     /// The parameters with defaults filled in and checked.
@@ -136,9 +141,11 @@ impl Primitive {
             height: params.height.unwrap_or(d.height),
             minor_radius: params.minor_radius.unwrap_or(d.minor_radius),
         };
-        for (name, value) in
-            [("radius", r.radius), ("height", r.height), ("minor radius", r.minor_radius)]
-        {
+        for (name, value) in [
+            ("radius", r.radius),
+            ("height", r.height),
+            ("minor radius", r.minor_radius),
+        ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(SurfaceError::BadParameter { name, value });
             }
@@ -180,10 +187,14 @@ impl Primitive {
         Ok(match self {
             Primitive::Plane => Ideal::Plane,
             Primitive::Cylinder => Ideal::Cylinder { radius: r.radius },
-            Primitive::Hemisphere | Primitive::Sphere => {
-                Ideal::Sphere { center: DVec3::ZERO, radius: r.radius }
-            }
-            Primitive::Torus => Ideal::Torus { major: r.radius, minor: r.minor_radius },
+            Primitive::Hemisphere | Primitive::Sphere => Ideal::Sphere {
+                center: DVec3::ZERO,
+                radius: r.radius,
+            },
+            Primitive::Torus => Ideal::Torus {
+                major: r.radius,
+                minor: r.minor_radius,
+            },
             Primitive::Tube => Ideal::Tube { radius: r.radius },
         })
     }
@@ -357,8 +368,9 @@ pub fn cylinder(m: usize, n: usize, radius: f64, height: f64) -> Result<Grid, Su
     check_sizes(&[("radius", radius), ("height", height)])?;
     Grid::check_counts(Topology::Cylinder, m, n)?;
     let ring: Vec<DVec2> = circle(false, m).into_iter().map(|c| c * radius).collect();
-    let meridian: Vec<DVec2> =
-        (0..=3 * n).map(|b| DVec2::new(1.0, height * b as f64 / (3 * n) as f64)).collect();
+    let meridian: Vec<DVec2> = (0..=3 * n)
+        .map(|b| DVec2::new(1.0, height * b as f64 / (3 * n) as f64))
+        .collect();
     revolve(Topology::Cylinder, m, n, &ring, &meridian)
 }
 
@@ -370,7 +382,10 @@ pub fn hemisphere(m: usize, n: usize, radius: f64) -> Result<Grid, SurfaceError>
     check_sizes(&[("radius", radius)])?;
     Grid::check_counts(Topology::Hemisphere, m, n)?;
     let ring = circle(true, m);
-    let meridian: Vec<DVec2> = arcs(FRAC_PI_2, 0.0, n).into_iter().map(|p| p * radius).collect();
+    let meridian: Vec<DVec2> = arcs(FRAC_PI_2, 0.0, n)
+        .into_iter()
+        .map(|p| p * radius)
+        .collect();
     revolve(Topology::Hemisphere, m, n, &ring, &meridian)
 }
 
@@ -382,8 +397,10 @@ pub fn sphere(m: usize, n: usize, radius: f64) -> Result<Grid, SurfaceError> {
     check_sizes(&[("radius", radius)])?;
     Grid::check_counts(Topology::Sphere, m, n)?;
     let ring = circle(false, m);
-    let meridian: Vec<DVec2> =
-        arcs(-FRAC_PI_2, FRAC_PI_2, n).into_iter().map(|p| p * radius).collect();
+    let meridian: Vec<DVec2> = arcs(-FRAC_PI_2, FRAC_PI_2, n)
+        .into_iter()
+        .map(|p| p * radius)
+        .collect();
     revolve(Topology::Sphere, m, n, &ring, &meridian)
 }
 
@@ -435,7 +452,10 @@ pub fn tube(m: usize, n: usize, radius: f64, height: f64) -> Result<Grid, Surfac
         .collect();
     meridian[0] = DVec2::new(0.0, 0.0);
     for b in 1..=3 * n_wall {
-        meridian.push(DVec2::new(radius, radius + height * b as f64 / (3 * n_wall) as f64));
+        meridian.push(DVec2::new(
+            radius,
+            radius + height * b as f64 / (3 * n_wall) as f64,
+        ));
     }
     revolve(Topology::Hemisphere, m, n, &circle(false, m), &meridian)
 }

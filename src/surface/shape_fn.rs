@@ -65,9 +65,12 @@ impl Op {
     pub fn finger(&self) -> Result<Finger, SurfaceError> {
         let bad = |s: &str| Err(SurfaceError::BadOp(s.to_string()));
         let (dir, depth, radius) = match self {
-            Op::Push { dir, depth, radius, .. } | Op::Drag { dir, depth, radius, .. } => {
-                (*dir, *depth, *radius)
+            Op::Push {
+                dir, depth, radius, ..
             }
+            | Op::Drag {
+                dir, depth, radius, ..
+            } => (*dir, *depth, *radius),
         };
         if !dir.is_finite() {
             return bad("dir must be finite");
@@ -96,12 +99,20 @@ impl Op {
                 if path.iter().any(|p| !p.is_finite()) {
                     return bad("every path point must be finite");
                 }
-                let strips =
-                    path.windows(2).map(|w| Strip::new(w[0] + press, w[1] + press, axis)).collect();
+                let strips = path
+                    .windows(2)
+                    .map(|w| Strip::new(w[0] + press, w[1] + press, axis))
+                    .collect();
                 Reach::Strips(strips)
             }
         };
-        Ok(Finger { axis, movement: axis * depth, radius, radius_sq: radius * radius, shape })
+        Ok(Finger {
+            axis,
+            movement: axis * depth,
+            radius,
+            radius_sq: radius * radius,
+            shape,
+        })
     }
 }
 
@@ -147,7 +158,15 @@ impl Strip {
         let scale = t0.abs().max_element().max(t1.abs().max_element()).max(1.0);
         if len > 1e-12 * scale {
             let across = perp / len;
-            Strip { t0, t1, across, normal: across.cross(axis), len, rise, axis }
+            Strip {
+                t0,
+                t1,
+                across,
+                normal: across.cross(axis),
+                len,
+                rise,
+                axis,
+            }
         } else {
             // The stroke runs along the finger: the sweep is the half-line behind the deeper tip.
             let deeper = if rise > 0.0 { t1 } else { t0 };
@@ -232,7 +251,11 @@ fn sq(x: f64) -> f64 {
 fn half_line_distance_sq(w: DVec3, axis: DVec3) -> f64 {
     let behind = -w.dot(axis);
     let d2 = w.length_squared();
-    if behind > 0.0 { (d2 - behind * behind).max(0.0) } else { d2 }
+    if behind > 0.0 {
+        (d2 - behind * behind).max(0.0)
+    } else {
+        d2
+    }
 }
 
 impl Finger {
@@ -259,9 +282,10 @@ impl Finger {
     pub fn distance_sq(&self, x: DVec3) -> f64 {
         match &self.shape {
             Reach::HalfLine { tip } => half_line_distance_sq(x - *tip, self.axis),
-            Reach::Strips(strips) => {
-                strips.iter().map(|s| s.distance_sq(x)).fold(f64::INFINITY, f64::min)
-            }
+            Reach::Strips(strips) => strips
+                .iter()
+                .map(|s| s.distance_sq(x))
+                .fold(f64::INFINITY, f64::min),
         }
     }
 
@@ -270,7 +294,11 @@ impl Finger {
     #[must_use]
     pub fn flow(&self, x: DVec3) -> DVec3 {
         let r2 = self.distance_sq(x);
-        if r2 < self.radius_sq { self.movement * (1.0 - r2 / self.radius_sq) } else { DVec3::ZERO }
+        if r2 < self.radius_sq {
+            self.movement * (1.0 - r2 / self.radius_sq)
+        } else {
+            DVec3::ZERO
+        }
     }
 
     /// The point the finger asks `x` to move to: `x + F(x)`.
@@ -285,9 +313,10 @@ impl Finger {
     #[must_use]
     pub fn may_touch(&self, b: &Aabb, depth: f64) -> bool {
         match &self.shape {
-            Reach::HalfLine { tip } => {
-                b.inflated(self.radius).clip_line(*tip, -self.axis, 0.0, depth).is_some()
-            }
+            Reach::HalfLine { tip } => b
+                .inflated(self.radius)
+                .clip_line(*tip, -self.axis, 0.0, depth)
+                .is_some(),
             Reach::Strips(strips) => strips.iter().any(|s| s.may_touch(b, self.radius, depth)),
         }
     }
@@ -311,9 +340,10 @@ impl Finger {
         };
         match &self.shape {
             Reach::HalfLine { tip } => far(*tip),
-            Reach::Strips(strips) => {
-                strips.iter().map(|s| far(s.t0).max(far(s.t1))).fold(0.0, f64::max)
-            }
+            Reach::Strips(strips) => strips
+                .iter()
+                .map(|s| far(s.t0).max(far(s.t1)))
+                .fold(0.0, f64::max),
         }
     }
 
@@ -337,11 +367,16 @@ impl Finger {
     pub(crate) fn flow_over(&self, x: DVec3, segments: &[usize]) -> DVec3 {
         let r2 = match &self.shape {
             Reach::HalfLine { tip } => half_line_distance_sq(x - *tip, self.axis),
-            Reach::Strips(strips) => {
-                segments.iter().map(|&k| strips[k].distance_sq(x)).fold(f64::INFINITY, f64::min)
-            }
+            Reach::Strips(strips) => segments
+                .iter()
+                .map(|&k| strips[k].distance_sq(x))
+                .fold(f64::INFINITY, f64::min),
         };
-        if r2 < self.radius_sq { self.movement * (1.0 - r2 / self.radius_sq) } else { DVec3::ZERO }
+        if r2 < self.radius_sq {
+            self.movement * (1.0 - r2 / self.radius_sq)
+        } else {
+            DVec3::ZERO
+        }
     }
 }
 
@@ -350,13 +385,23 @@ mod tests {
     use super::*;
 
     fn push(at: DVec3, depth: f64) -> Finger {
-        Op::Push { at, dir: -DVec3::Z, depth, radius: 1.25 }.finger().unwrap()
+        Op::Push {
+            at,
+            dir: -DVec3::Z,
+            depth,
+            radius: 1.25,
+        }
+        .finger()
+        .unwrap()
     }
 
     #[test]
     fn push_is_a_paraboloid_of_depth_m() {
         let f = push(DVec3::new(0.5, 0.5, 0.0), 0.4);
-        assert_eq!(f.flow(DVec3::new(0.5, 0.5, 0.0)), DVec3::new(0.0, 0.0, -0.4));
+        assert_eq!(
+            f.flow(DVec3::new(0.5, 0.5, 0.0)),
+            DVec3::new(0.0, 0.0, -0.4)
+        );
         let x = DVec3::new(0.5 + 0.6, 0.5 - 0.3, 0.0);
         let r2 = 0.36 + 0.09;
         assert!((f.flow(x).z + 0.4 * (1.0 - r2 / 1.5625)).abs() < 1e-15);
@@ -370,8 +415,11 @@ mod tests {
         let p = push(DVec3::new(0.1, -0.2, 0.0), 0.7);
         let q = push(DVec3::new(0.1, -0.2, 0.0), -0.7);
         for k in 0..50 {
-            let x =
-                DVec3::new((k as f64 * 0.37).sin(), (k as f64 * 0.91).cos(), 0.05 * k as f64 - 1.0);
+            let x = DVec3::new(
+                (k as f64 * 0.37).sin(),
+                (k as f64 * 0.91).cos(),
+                0.05 * k as f64 - 1.0,
+            );
             assert_eq!(p.flow(x), -q.flow(x));
         }
     }
@@ -394,27 +442,58 @@ mod tests {
             }
             let got = s.distance_sq(x);
             assert!(got <= best + 1e-12, "{k}: {got} vs {best}");
-            assert!((got.sqrt() - best.sqrt()).abs() < 1e-2, "{k}: {got} vs {best}");
+            assert!(
+                (got.sqrt() - best.sqrt()).abs() < 1e-2,
+                "{k}: {got} vs {best}"
+            );
         }
     }
 
     #[test]
     fn bad_ops_are_rejected() {
-        let ok = Op::Push { at: DVec3::ZERO, dir: DVec3::Z, depth: 0.1, radius: 1.0 };
+        let ok = Op::Push {
+            at: DVec3::ZERO,
+            dir: DVec3::Z,
+            depth: 0.1,
+            radius: 1.0,
+        };
         assert!(ok.finger().is_ok());
         for bad in [
-            Op::Push { at: DVec3::ZERO, dir: DVec3::ZERO, depth: 0.1, radius: 1.0 },
-            Op::Push { at: DVec3::ZERO, dir: DVec3::Z, depth: f64::NAN, radius: 1.0 },
-            Op::Push { at: DVec3::ZERO, dir: DVec3::Z, depth: 0.1, radius: 0.0 },
+            Op::Push {
+                at: DVec3::ZERO,
+                dir: DVec3::ZERO,
+                depth: 0.1,
+                radius: 1.0,
+            },
+            Op::Push {
+                at: DVec3::ZERO,
+                dir: DVec3::Z,
+                depth: f64::NAN,
+                radius: 1.0,
+            },
+            Op::Push {
+                at: DVec3::ZERO,
+                dir: DVec3::Z,
+                depth: 0.1,
+                radius: 0.0,
+            },
             Op::Push {
                 at: DVec3::new(f64::INFINITY, 0.0, 0.0),
                 dir: DVec3::Z,
                 depth: 0.1,
                 radius: 1.0,
             },
-            Op::Drag { path: vec![DVec3::ZERO], dir: DVec3::Z, depth: 0.1, radius: 1.0 },
+            Op::Drag {
+                path: vec![DVec3::ZERO],
+                dir: DVec3::Z,
+                depth: 0.1,
+                radius: 1.0,
+            },
         ] {
-            assert!(matches!(bad.finger(), Err(SurfaceError::BadOp(_))), "{bad:?}");
+            assert!(
+                matches!(bad.finger(), Err(SurfaceError::BadOp(_))),
+                "{bad:?}"
+            );
         }
     }
 }

@@ -98,8 +98,12 @@ impl Projection {
         for (qs, qt) in [(0usize, 0usize), (2, 0), (0, 2), (2, 2)] {
             // The patch in this quadrant: the slots next to the vertex and their Bernstein
             // indices (0 at the vertex, 1 next to it) along u and v.
-            let nodes =
-                [(4usize, 0usize, 0usize), (3 * qs + 1, 1, 0), (3 + qt, 0, 1), (3 * qs + qt, 1, 1)];
+            let nodes = [
+                (4usize, 0usize, 0usize),
+                (3 * qs + 1, 1, 0),
+                (3 + qt, 0, 1),
+                (3 * qs + qt, 1, 1),
+            ];
             if nodes.iter().any(|&(k, _, _)| !present[k]) {
                 continue;
             }
@@ -127,8 +131,10 @@ impl Projection {
             if !present[beta] {
                 continue;
             }
-            let theta =
-                cholesky_solve(&l, [kmat[0][beta], kmat[1][beta], kmat[2][beta], kmat[3][beta]]);
+            let theta = cholesky_solve(
+                &l,
+                [kmat[0][beta], kmat[1][beta], kmat[2][beta], kmat[3][beta]],
+            );
             for (alpha, row) in m.iter_mut().enumerate() {
                 if present[alpha] {
                     let f = phi(alpha);
@@ -285,7 +291,9 @@ mod tests {
     fn noisy_group(seed: u64) -> GroupPoints {
         let mut x = seed;
         let mut r = move || {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
         let mut p = [[None; 3]; 3];
@@ -377,7 +385,9 @@ mod tests {
         let len = 24;
         let mut x = 9u64;
         let mut r = move || {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
         let ring: Vec<DVec3> = (0..len)
@@ -387,7 +397,10 @@ mod tests {
                     + DVec3::new(r(), r(), r()) * 0.1
             })
             .collect();
-        let mut p = PolePoints { pole: DVec3::new(0.0, 0.0, 0.05), ring };
+        let mut p = PolePoints {
+            pole: DVec3::new(0.0, 0.0, 0.05),
+            ring,
+        };
         let ratios = vec![1.0; len / 3];
         assert!(regulate_pole(&mut p, &ratios));
         let n =

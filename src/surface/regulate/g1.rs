@@ -81,10 +81,22 @@ pub(crate) fn construct_group(p: &mut GroupPoints, spacing: Spacing) -> bool {
     let Some(o) = p[1][1] else { return false };
     // Steps (1)–(2): distances and mean directions (one side may be missing at a boundary).
     let (um, up, vm, vp) = (p[0][1], p[2][1], p[1][0], p[1][2]);
-    let Some(u_dir) = (up.unwrap_or(o) - um.unwrap_or(o)).try_normalize() else { return false };
-    let Some(v_dir) = (vp.unwrap_or(o) - vm.unwrap_or(o)).try_normalize() else { return false };
-    let mut su = [um.map(|x| -(o - x).length()), Some(0.0), up.map(|x| (x - o).length())];
-    let mut tv = [vm.map(|x| -(o - x).length()), Some(0.0), vp.map(|x| (x - o).length())];
+    let Some(u_dir) = (up.unwrap_or(o) - um.unwrap_or(o)).try_normalize() else {
+        return false;
+    };
+    let Some(v_dir) = (vp.unwrap_or(o) - vm.unwrap_or(o)).try_normalize() else {
+        return false;
+    };
+    let mut su = [
+        um.map(|x| -(o - x).length()),
+        Some(0.0),
+        up.map(|x| (x - o).length()),
+    ];
+    let mut tv = [
+        vm.map(|x| -(o - x).length()),
+        Some(0.0),
+        vp.map(|x| (x - o).length()),
+    ];
     if spacing == Spacing::Equal {
         for d in [&mut su, &mut tv] {
             if let (Some(a), Some(b)) = (d[0], d[2]) {
@@ -116,7 +128,9 @@ pub(crate) fn construct_group(p: &mut GroupPoints, spacing: Spacing) -> bool {
     }
     for s in [0, 2] {
         for t in [0, 2] {
-            let (Some(x), Some(sv), Some(tt)) = (p[s][t], su[s], tv[t]) else { continue };
+            let (Some(x), Some(sv), Some(tt)) = (p[s][t], su[s], tv[t]) else {
+                continue;
+            };
             let d = x - (o + u_dir * sv + v_dir * tt);
             signed += d * (sv * tt).signum();
             nbar += d.length();
@@ -130,7 +144,9 @@ pub(crate) fn construct_group(p: &mut GroupPoints, spacing: Spacing) -> bool {
     // Steps (6)–(7): the corners on the bilinear form.
     for s in [0, 2] {
         for t in [0, 2] {
-            let (Some(_), Some(sv), Some(tt)) = (p[s][t], su[s], tv[t]) else { continue };
+            let (Some(_), Some(sv), Some(tt)) = (p[s][t], su[s], tv[t]) else {
+                continue;
+            };
             p[s][t] = Some(o + u_dir * sv + v_dir * tt + twist * (sv * tt));
         }
     }
@@ -149,11 +165,15 @@ pub(crate) fn construct_pole(p: &mut PolePoints, spacing: Spacing) -> bool {
     let mut any = false;
     for k in 0..n {
         let (a, b) = (3 * k as isize, 3 * (n + k) as isize);
-        let (pk, pn) =
-            ([r[at(a - 1)], r[at(a)], r[at(a + 1)]], [r[at(b - 1)], r[at(b)], r[at(b + 1)]]);
+        let (pk, pn) = (
+            [r[at(a - 1)], r[at(a)], r[at(a + 1)]],
+            [r[at(b - 1)], r[at(b)], r[at(b + 1)]],
+        );
         // Steps (2)–(3).
         let (mut v1, mut v2) = ((pk[1] - o).length(), (pn[1] - o).length());
-        let Some(vbar) = ((o - pk[1]) + (pn[1] - o)).try_normalize() else { continue };
+        let Some(vbar) = ((o - pk[1]) + (pn[1] - o)).try_normalize() else {
+            continue;
+        };
         if spacing == Spacing::Equal {
             let h = 0.5 * (v1 + v2);
             (v1, v2) = (h, h);
@@ -220,7 +240,9 @@ mod tests {
                     continue;
                 }
                 let mut r = || {
-                    x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                    x = x
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
                     ((x >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.1
                 };
                 p[s][t] = p[s][t].map(|q| q + DVec3::new(r(), r(), r()));
@@ -286,7 +308,10 @@ mod tests {
         let mut printed = before;
         step3_as_printed(&mut printed);
         let moved = (printed[1][2].unwrap() - before[1][2].unwrap()).length();
-        assert!(moved > 0.5, "the printed step (3) moves a settled point by {moved}");
+        assert!(
+            moved > 0.5,
+            "the printed step (3) moves a settled point by {moved}"
+        );
         let mut ours = before;
         regulate_group(&mut ours);
         let o = ours[1][1].unwrap();
@@ -299,18 +324,31 @@ mod tests {
     fn corners_named_by_neighbours(p: &mut GroupPoints) {
         construct_group(p, Spacing::Kept);
         let o = p[1][1].unwrap();
-        let (u1, u2) = ((o - p[0][1].unwrap()).length(), (p[2][1].unwrap() - o).length());
-        let (v1, v2) = ((o - p[1][0].unwrap()).length(), (p[1][2].unwrap() - o).length());
+        let (u1, u2) = (
+            (o - p[0][1].unwrap()).length(),
+            (p[2][1].unwrap() - o).length(),
+        );
+        let (v1, v2) = (
+            (o - p[1][0].unwrap()).length(),
+            (p[1][2].unwrap() - o).length(),
+        );
         let u = (p[2][1].unwrap() - p[0][1].unwrap()).normalize();
         let v = (p[1][2].unwrap() - p[1][0].unwrap()).normalize();
         let x = |s: f64, t: f64| o + u * s + v * t;
         // A = (−u₁, −v₁), B = (u₂, −v₁), C = (u₂, v₂), D = (−u₁, v₂) with the printed weights.
-        let corners = [(0, 0, -u1, -v1), (2, 0, u2, -v1), (2, 2, u2, v2), (0, 2, -u1, v2)];
+        let corners = [
+            (0, 0, -u1, -v1),
+            (2, 0, u2, -v1),
+            (2, 2, u2, v2),
+            (0, 2, -u1, v2),
+        ];
         let mut dev = [DVec3::ZERO; 4];
         for (k, &(s, t, ss, tt)) in corners.iter().enumerate() {
             dev[k] = p[s][t].unwrap() - x(ss, tt);
         }
-        let pbar = (dev[0] + dev[2] - dev[1] - dev[3]).try_normalize().unwrap_or(DVec3::ZERO);
+        let pbar = (dev[0] + dev[2] - dev[1] - dev[3])
+            .try_normalize()
+            .unwrap_or(DVec3::ZERO);
         let nbar: f64 = dev.iter().map(|d| d.length()).sum();
         let q = (u1 + u2) * (v1 + v2);
         let w = [u1 * v2, -(u2 * v2), u2 * v1, -(u1 * v1)];
@@ -345,17 +383,26 @@ mod tests {
     fn pole(n: usize, seed: u64) -> PolePoints {
         let mut x = seed;
         let mut r = || {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((x >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.2
         };
         let len = 6 * n;
         let ring = (0..len)
             .map(|a| {
                 let phi = std::f64::consts::TAU * a as f64 / len as f64;
-                DVec3::new(phi.cos() * (1.0 + r()), phi.sin() * (1.0 + r()), 0.3 * phi.sin() + r())
+                DVec3::new(
+                    phi.cos() * (1.0 + r()),
+                    phi.sin() * (1.0 + r()),
+                    0.3 * phi.sin() + r(),
+                )
             })
             .collect();
-        PolePoints { pole: DVec3::ZERO, ring }
+        PolePoints {
+            pole: DVec3::ZERO,
+            ring,
+        }
     }
 
     fn pair_defects(p: &PolePoints) -> (f64, f64) {
@@ -380,7 +427,10 @@ mod tests {
             let mut p = pole(4, seed);
             assert!(regulate_pole(&mut p));
             let (through, along) = pair_defects(&p);
-            assert!(through < 1e-12 && along < 1e-12, "{seed}: {through} {along}");
+            assert!(
+                through < 1e-12 && along < 1e-12,
+                "{seed}: {through} {along}"
+            );
         }
     }
 
@@ -394,8 +444,10 @@ mod tests {
         let at = |a: isize| (a.rem_euclid(len as isize)) as usize;
         for k in 0..n {
             let (a, b) = (3 * k as isize, 3 * (n + k) as isize);
-            let (pk, pn) =
-                ([r[at(a - 1)], r[at(a)], r[at(a + 1)]], [r[at(b - 1)], r[at(b)], r[at(b + 1)]]);
+            let (pk, pn) = (
+                [r[at(a - 1)], r[at(a)], r[at(a + 1)]],
+                [r[at(b - 1)], r[at(b)], r[at(b + 1)]],
+            );
             let (v1, v2) = ((pk[1] - o).length(), (pn[1] - o).length());
             let vbar = ((o - pk[1]) + (pn[1] - o)).normalize();
             let (pk1, pn1) = (o - vbar * v1, o + vbar * v2);

@@ -48,8 +48,12 @@ pub enum Regulation {
 
 impl Regulation {
     /// Every method, in the order of the tables.
-    pub const ALL: [Regulation; 4] =
-        [Regulation::None, Regulation::C1, Regulation::G1, Regulation::Exact];
+    pub const ALL: [Regulation; 4] = [
+        Regulation::None,
+        Regulation::C1,
+        Regulation::G1,
+        Regulation::Exact,
+    ];
 
     /// The name used on the command line and in model files.
     #[must_use]

@@ -466,7 +466,7 @@ impl Modeller {
                 match button {
                     Button::Left => {
                         self.buttons[0] = true;
-                        let edits = self.tools.press(self.tool, &ctx, p);
+                        let edits = self.tools.press(self.tool, &ctx, &self.settings, p);
                         self.apply_edits(edits);
                     }
                     Button::Right => self.buttons[1] = true,

@@ -11,6 +11,7 @@ use super::document::Document;
 use super::file_dialog::{DialogPurpose, DialogResult, FileDialog};
 use super::modeller::{Modeller, PrimitiveForm, Prompt, Replay};
 use super::tools::Tool;
+use crate::curve::edit::GrabMethod;
 use crate::curve::json::DynCurve;
 use crate::mesh::{MeshFormat, Tessellation, save_mesh, tessellate};
 use crate::model::ops::{op_to_json, parse_ops};
@@ -336,6 +337,23 @@ impl Modeller {
                 .logarithmic(true)
                 .text("probe sphere"),
         );
+        let method_name = |m: GrabMethod| match m {
+            GrabMethod::LargestWeight => "largest weight (seed 004)",
+            GrabMethod::NearestParameter => "nearest parameter (seed 000)",
+            GrabMethod::LeastChange => "least change",
+        };
+        egui::ComboBox::from_label("curve grab")
+            .selected_text(method_name(s.grab.method))
+            .show_ui(ui, |ui| {
+                for m in [
+                    GrabMethod::LargestWeight,
+                    GrabMethod::NearestParameter,
+                    GrabMethod::LeastChange,
+                ] {
+                    ui.selectable_value(&mut s.grab.method, m, method_name(m));
+                }
+            });
+        ui.checkbox(&mut s.grab.keep_ends, "keep curve end points");
         ui.small("Left: tool · Right drag: orbit · Middle or Shift+Right: pan · Wheel: zoom (while pressing: depth)");
         if ui
             .button("Add a curve")

@@ -14,8 +14,9 @@
 use glam::{DVec3, Vec2};
 
 use super::camera::OrbitCamera;
-use super::curve_edit::{Grab, Joint, joint_points, joints, split, tangent_edit};
+use super::curve_edit::{Joint, joint_points, joints, tangent_edit};
 use crate::curve::Curve;
+use crate::curve::edit::{Grab, GrabOptions, split};
 use crate::mesh::{PatchPoints, Ray, SurfaceHit, TriMesh, pick};
 use crate::render::{LineBatch, Rgba, SphereInstance, ToolFootprint};
 use crate::surface::Op;
@@ -79,6 +80,8 @@ pub struct ToolSettings {
     pub ridge: bool,
     /// Radius of the probe sphere (side).
     pub probe_radius: f64,
+    /// Which control points a curve grab moves.
+    pub grab: GrabOptions,
 }
 
 impl Default for ToolSettings {
@@ -89,6 +92,7 @@ impl Default for ToolSettings {
             depth: 0.3,
             ridge: false,
             probe_radius: 0.35,
+            grab: GrabOptions::default(),
         }
     }
 }
@@ -271,7 +275,13 @@ impl ToolState {
     }
 
     /// The left button went down at `pixel`.
-    pub fn press(&mut self, tool: Tool, ctx: &ToolContext<'_>, pixel: Vec2) -> Vec<Edit> {
+    pub fn press(
+        &mut self,
+        tool: Tool,
+        ctx: &ToolContext<'_>,
+        settings: &ToolSettings,
+        pixel: Vec2,
+    ) -> Vec<Edit> {
         self.gesture = Gesture::Idle;
         match tool {
             Tool::Push | Tool::Pull | Tool::DrawLine => {
@@ -301,9 +311,13 @@ impl ToolState {
                     return Vec::new();
                 };
                 let (index, curve) = ctx.curves[slot];
+                // A grab the options refuse (an end point while the ends are kept) does nothing.
+                let Ok(grab) = Grab::new(curve, u, settings.grab) else {
+                    return Vec::new();
+                };
                 self.gesture = Gesture::Grab {
                     index,
-                    grab: Grab::new(curve, u),
+                    grab,
                     ray_t,
                     cursor: pixel,
                 };
@@ -544,15 +558,9 @@ impl ToolState {
             Gesture::Stroke { path, .. } => {
                 lines.polyline(path.iter().map(|p| p.as_vec3()), Rgba::HIGHLIGHT);
             }
-            Gesture::Grab {
-                grab,
-                ray_t,
-                cursor,
-                ..
-            } => {
+            Gesture::Grab { ray_t, cursor, .. } => {
                 let at = ctx.ray(*cursor).at(*ray_t);
                 spheres.push(marker(at, settings.probe_radius, [0.35, 0.6, 1.0, 0.3]));
-                let _ = grab;
             }
             Gesture::Tangent { pair, .. } => {
                 if let Some((ql, q, qr)) = joint_points(pair, Joint { left: 0, right: 1 }) {
@@ -644,7 +652,7 @@ mod tests {
         let settings = ToolSettings::default();
         let mut state = ToolState::default();
         let centre = viewport / 2.0;
-        assert!(state.press(Tool::Push, &ctx, centre).is_empty());
+        assert!(state.press(Tool::Push, &ctx, &settings, centre).is_empty());
         let edits = state.release(Tool::Push, &ctx, &settings, centre);
         let [
             Edit::Sculpt(Op::Push {
@@ -663,7 +671,7 @@ mod tests {
             "into the plane, away from a viewer above: {dir}"
         );
         // A drag sets the depth from its length; pull reverses it.
-        state.press(Tool::Pull, &ctx, centre);
+        state.press(Tool::Pull, &ctx, &settings, centre);
         let edits = state.release(Tool::Pull, &ctx, &settings, centre + Vec2::new(0.0, 80.0));
         let [Edit::Sculpt(Op::Push { depth, .. })] = edits.as_slice() else {
             panic!("{edits:?}")
@@ -672,7 +680,7 @@ mod tests {
         // Outside the surface nothing happens.
         assert!(
             state
-                .press(Tool::Push, &ctx, Vec2::new(2.0, 2.0))
+                .press(Tool::Push, &ctx, &settings, Vec2::new(2.0, 2.0))
                 .is_empty()
         );
         assert!(

@@ -29,9 +29,10 @@ pub mod app;
 pub mod bench;
 pub mod cli;
 pub mod curve;
+pub mod figure;
 pub mod hand;
-pub mod model;
-pub mod surface;
 pub mod mesh;
+pub mod model;
 #[cfg(feature = "gui")]
 pub mod render;
+pub mod surface;

@@ -8,10 +8,11 @@
 use std::time::Instant;
 
 pub mod closest;
+pub mod curves;
 pub mod input;
 pub mod reference;
-pub mod render;
 pub mod regulation;
+pub mod render;
 pub mod sculpt;
 
 /// Repeated timing of a closure, reporting the median of per-batch means.
@@ -25,7 +26,10 @@ pub struct Stopwatch {
 
 impl Default for Stopwatch {
     fn default() -> Self {
-        Self { batches: 15, calls_per_batch: 1 }
+        Self {
+            batches: 15,
+            calls_per_batch: 1,
+        }
     }
 }
 
@@ -59,7 +63,11 @@ pub fn median(v: &mut [f64]) -> f64 {
     }
     v.sort_by(f64::total_cmp);
     let n = v.len();
-    if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) }
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
 }
 
 /// A plain text table with right-aligned columns.
@@ -72,7 +80,10 @@ pub struct Table {
 impl Table {
     /// A table with the given column titles.
     pub fn new(header: &[&str]) -> Self {
-        Self { header: header.iter().map(|s| s.to_string()).collect(), rows: Vec::new() }
+        Self {
+            header: header.iter().map(|s| s.to_string()).collect(),
+            rows: Vec::new(),
+        }
     }
 
     /// Appends a row (cells beyond the header are kept; missing cells print empty).
@@ -82,7 +93,13 @@ impl Table {
 
     /// Renders the table as text.
     pub fn render(&self) -> String {
-        let cols = self.rows.iter().map(Vec::len).chain([self.header.len()]).max().unwrap_or(0);
+        let cols = self
+            .rows
+            .iter()
+            .map(Vec::len)
+            .chain([self.header.len()])
+            .max()
+            .unwrap_or(0);
         let mut width = vec![0usize; cols];
         for r in std::iter::once(&self.header).chain(&self.rows) {
             for (i, c) in r.iter().enumerate() {

@@ -373,7 +373,13 @@ fn push(current: &mut Option<SvgPath>, points: Vec<DVec2>) -> Result<(), CurveEr
 /// # Errors
 /// [`CurveError::Svg`] for a segment of degree 0 or above 3.
 pub fn path_data(segments: &[Bezier<DVec2>], flip_y: bool) -> Result<String, CurveError> {
-    let f = |p: DVec2| if flip_y { DVec2::new(p.x, 0.0 - p.y) } else { p };
+    let f = |p: DVec2| {
+        if flip_y {
+            DVec2::new(p.x, 0.0 - p.y)
+        } else {
+            p
+        }
+    };
     let mut out = String::new();
     let mut pos: Option<DVec2> = None;
     for (i, s) in segments.iter().enumerate() {

@@ -19,6 +19,8 @@ pub struct Args {
 pub enum Suite {
     /// Closest point by Bezier clipping vs sampling and Newton; picking among 1 000 curves.
     Closest,
+    /// Grab, split and refine on cubic and degree-9 curves; warping a 1 600-patch control net by 3 curves.
+    Curves,
     /// One push on planes and spheres of growing size: median time and the 40x40 / 10x10 ratio.
     Sculpt,
     /// Decode throughput per device protocol; device sample -> regulated surface latency on a 1 600-patch sphere.
@@ -38,7 +40,13 @@ pub fn run(args: Args) -> ExitCode {
     match args.suite {
         Suite::Closest => {
             print!("{}", crate::bench::closest::report(args.scale, &[]));
-            println!("(kurbo's CubicBez::nearest joins this table in `cargo bench --bench closest`.)");
+            println!(
+                "(kurbo's CubicBez::nearest joins this table in `cargo bench --bench closest`.)"
+            );
+            ExitCode::SUCCESS
+        }
+        Suite::Curves => {
+            print!("{}", crate::bench::curves::report(args.scale));
             ExitCode::SUCCESS
         }
         Suite::Sculpt => {

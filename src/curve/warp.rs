@@ -359,14 +359,12 @@ impl<P: WarpSpace> CurveWarp<P> {
     /// once for repeated [`Bound::apply`] while the curves are dragged.
     #[must_use]
     pub fn bind(&self, xs: &[P]) -> Bound<P> {
-        let mut entries = Vec::new();
-        let mut first = Vec::with_capacity(xs.len() + 1);
-        for &x in xs {
-            first.push(entries.len() as u32);
+        let mut per_curve: Vec<Vec<BoundEntry>> = vec![Vec::new(); self.pairs.len()];
+        for (i, &x) in xs.iter().enumerate() {
             for (k, c) in self.coordinates(x).into_iter().enumerate() {
                 if c.weight > 0.0 {
-                    entries.push(BoundEntry {
-                        curve: k as u32,
+                    per_curve[k].push(BoundEntry {
+                        point: i as u32,
                         u: c.u,
                         offset: c.offset,
                         weight: c.weight,
@@ -374,12 +372,13 @@ impl<P: WarpSpace> CurveWarp<P> {
                 }
             }
         }
-        first.push(entries.len() as u32);
+        // Along each curve in parameter order: the deformed curve is then read in order.
+        for list in &mut per_curve {
+            list.sort_by(|a, b| a.u.total_cmp(&b.u));
+        }
         Bound {
             points: xs.to_vec(),
-            first,
-            entries,
-            curves: self.pairs.len(),
+            per_curve,
         }
     }
 
@@ -399,8 +398,9 @@ impl<P: WarpSpace> CurveWarp<P> {
 /// `X_k^d`: the point at `offset` in the deformed curve's frame at `u`.
 #[inline]
 fn carried<P: WarpSpace>(pair: &Pair<P>, u: f64, offset: [f64; 3]) -> P {
-    let (c, t) = pair.def_track.point_tangent(u);
-    let f = P::frame_with(&pair.def_track, &pair.def_frames, u, c, t);
+    let at = pair.def_track.locate(u);
+    let (c, t) = pair.def_track.point_tangent_at(at);
+    let f = P::frame_with(&pair.def_track, &pair.def_frames, at, c, t);
     c + f[0] * offset[0] + f[1] * offset[1] + f[2] * offset[2]
 }
 
@@ -445,7 +445,7 @@ fn check_domains<P: Point>(original: &Curve<P>, deformed: &Curve<P>) -> Result<(
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct BoundEntry {
-    curve: u32,
+    point: u32,
     u: f64,
     offset: [f64; 3],
     weight: f64,
@@ -456,10 +456,8 @@ struct BoundEntry {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bound<P> {
     points: Vec<P>,
-    /// `entries[first[i]..first[i+1]]` belong to point `i`.
-    first: Vec<u32>,
-    entries: Vec<BoundEntry>,
-    curves: usize,
+    /// Per curve, the points it carries with a non-zero weight, in parameter order.
+    per_curve: Vec<Vec<BoundEntry>>,
 }
 
 impl<P: WarpSpace> Bound<P> {
@@ -486,9 +484,9 @@ impl<P: WarpSpace> Bound<P> {
     /// # Errors
     /// As [`Self::apply`]; [`CurveError::Index`] when `out` has the wrong length.
     pub fn apply_into(&self, warp: &CurveWarp<P>, out: &mut [P]) -> Result<(), CurveError> {
-        if warp.len() != self.curves {
+        if warp.len() != self.per_curve.len() {
             return Err(CurveError::Index {
-                index: self.curves,
+                index: self.per_curve.len(),
                 len: warp.len(),
             });
         }
@@ -498,16 +496,17 @@ impl<P: WarpSpace> Bound<P> {
                 len: self.points.len(),
             });
         }
-        for (i, (&x, o)) in self.points.iter().zip(out.iter_mut()).enumerate() {
-            let mut moved = P::ZERO;
-            for e in &self.entries[self.first[i] as usize..self.first[i + 1] as usize] {
-                let pair = &warp.pairs[e.curve as usize];
-                if pair.still {
-                    continue;
-                }
-                moved = moved + (carried(pair, e.u, e.offset) - x) * e.weight;
+        out.copy_from_slice(&self.points);
+        // Only the moved curves' points are touched; each adds ŵ_k (X_k^d − X).
+        for (pair, list) in warp.pairs.iter().zip(&self.per_curve) {
+            if pair.still {
+                continue;
             }
-            *o = x + moved;
+            for e in list {
+                let i = e.point as usize;
+                let x = self.points[i];
+                out[i] = out[i] + (carried(pair, e.u, e.offset) - x) * e.weight;
+            }
         }
         Ok(())
     }
@@ -559,7 +558,7 @@ mod frames {
 
         /// The segment holding `u` (clamped to the domain) and the local parameter.
         #[inline]
-        fn locate(&self, u: f64) -> (usize, f64) {
+        pub(super) fn locate(&self, u: f64) -> (usize, f64) {
             let (a, b) = self.domain();
             let u = u.clamp(a, b);
             let n = self.segs.len();
@@ -579,7 +578,12 @@ mod frames {
         /// `C(u)` and the unit tangent there (see [`unit_tangent`] for degenerate points).
         #[inline]
         pub fn point_tangent(&self, u: f64) -> (P, P) {
-            let (i, s) = self.locate(u);
+            self.point_tangent_at(self.locate(u))
+        }
+
+        /// [`Self::point_tangent`] at a located parameter (segment, local parameter).
+        #[inline]
+        pub fn point_tangent_at(&self, (i, s): (usize, f64)) -> (P, P) {
             let seg = &self.segs[i];
             let (c, d) = point_and_derivative(seg.points(), s);
             (c, unit_tangent(seg, s, d, self.scale))
@@ -639,12 +643,29 @@ mod frames {
     /// give the derivative `n (b₁ − b₀)`).
     #[inline]
     pub fn point_and_derivative<P: Point>(pts: &[P], s: f64) -> (P, P) {
-        let n = pts.len() - 1;
-        if n == 0 {
-            return (pts[0], P::ZERO);
+        macro_rules! fixed {
+            ($($n:literal)*) => {
+                match pts.len() {
+                    1 => (pts[0], P::ZERO),
+                    $($n => {
+                        let mut buf: [P; $n] = pts.try_into().unwrap_or([P::ZERO; $n]);
+                        casteljau_last_two(&mut buf, s)
+                    })*
+                    len => {
+                        let mut buf = [P::ZERO; MAX_DEGREE + 1];
+                        buf[..len].copy_from_slice(pts);
+                        casteljau_last_two(&mut buf[..len], s)
+                    }
+                }
+            };
         }
-        let mut buf = [P::ZERO; MAX_DEGREE + 1];
-        buf[..=n].copy_from_slice(pts);
+        fixed!(2 3 4 5 6 7 8 9 10)
+    }
+
+    /// De Casteljau down to the last two points `b₀, b₁`: `(lerp(b₀, b₁, s), n (b₁ − b₀))`.
+    #[inline(always)]
+    fn casteljau_last_two<P: Point>(buf: &mut [P], s: f64) -> (P, P) {
+        let n = buf.len() - 1;
         for r in 1..n {
             for i in 0..=n - r {
                 buf[i] = buf[i].lerp_to(buf[i + 1], s);
@@ -687,18 +708,20 @@ mod frames {
         /// `track` is its deformed state.
         fn frames(track: &Track<Self>, like: Option<(&Track<Self>, &Self::Frames)>)
         -> Self::Frames;
-        /// `(T, N₁, N₂)` at `u`, given the point `c` and unit tangent `t` there.
+        /// `(T, N₁, N₂)` at the located parameter `at` (segment, local parameter; see
+        /// [`Track::locate`]), given the point `c` and unit tangent `t` there.
         fn frame_with(
             track: &Track<Self>,
             frames: &Self::Frames,
-            u: f64,
+            at: (usize, f64),
             c: Self,
             t: Self,
         ) -> [Self; 3];
         /// `(T, N₁, N₂)` at `u`.
         fn frame_at(track: &Track<Self>, frames: &Self::Frames, u: f64) -> [Self; 3] {
-            let (c, t) = track.point_tangent(u);
-            Self::frame_with(track, frames, u, c, t)
+            let at = track.locate(u);
+            let (c, t) = track.point_tangent_at(at);
+            Self::frame_with(track, frames, at, c, t)
         }
     }
 
@@ -706,7 +729,7 @@ mod frames {
         type Frames = ();
         fn frames(_: &Track<Self>, _: Option<(&Track<Self>, &())>) {}
         #[inline]
-        fn frame_with(_: &Track<Self>, _: &(), _: f64, _: Self, t: Self) -> [Self; 3] {
+        fn frame_with(_: &Track<Self>, _: &(), _: (usize, f64), _: Self, t: Self) -> [Self; 3] {
             [t, t.perp(), DVec2::ZERO]
         }
     }
@@ -746,10 +769,9 @@ mod frames {
         } else {
             rl
         };
-        // Re-orthonormalise against t1 (rounding only).
-        (r - t1 * r.dot(t1))
-            .try_normalize()
-            .unwrap_or_else(|| t1.any_orthonormal_vector())
+        // The reflections are orthogonal maps: `r` is a unit vector perpendicular to `t1` up to
+        // rounding; remove the rounding's component along `t1`.
+        r - t1 * r.dot(t1)
     }
 
     impl Framing for DVec3 {
@@ -807,15 +829,24 @@ mod frames {
                     rmf.rs[k - 1],
                     rmf.xs[k],
                     rmf.ts[k],
-                );
+                )
+                .try_normalize()
+                .unwrap_or_else(|| rmf.ts[k].any_orthonormal_vector());
                 rmf.rs.push(r);
             }
             rmf
         }
 
         #[inline]
-        fn frame_with(_: &Track<Self>, rmf: &Rmf, u: f64, c: Self, t: Self) -> [Self; 3] {
-            let k = rmf.us.partition_point(|&s| s <= u).saturating_sub(1);
+        fn frame_with(
+            _: &Track<Self>,
+            rmf: &Rmf,
+            (i, s): (usize, f64),
+            c: Self,
+            t: Self,
+        ) -> [Self; 3] {
+            // Segment i's samples start at index i·SAMPLES, evenly spaced in its parameter.
+            let k = (i * SAMPLES + (s * SAMPLES as f64) as usize).min(rmf.us.len() - 1);
             let r = reflect_step(rmf.xs[k], rmf.ts[k], rmf.rs[k], c, t);
             [t, r, t.cross(r)]
         }

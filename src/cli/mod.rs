@@ -8,10 +8,12 @@ pub mod closest;
 pub mod curve;
 pub mod devices;
 pub mod export;
+pub mod figure;
+pub mod morph;
 pub mod record;
-pub mod replay;
 #[cfg(feature = "gui")]
 pub mod render;
+pub mod replay;
 pub mod sculpt;
 pub mod window;
 use std::process::ExitCode;
@@ -43,6 +45,11 @@ pub enum Command {
     Devices(devices::Args),
     /// Write a model's surface as a mesh (OBJ with normals, binary STL, GLB) within a tolerance.
     Export(export::Args),
+    /// Figures of metacircles: fit to a contour, render to PNG / SVG, warp by curves, measure;
+    /// metaball shapes fitted to sections.
+    Figure(figure::Args),
+    /// Write the frames of a morph between two figure files as PNG (and SVG).
+    Morph(morph::Args),
     /// Record hand frames from the devices of a profile into a trace file.
     Record(record::Args),
     /// Run the hand loop headless on a recorded trace (frames -> hand -> contact -> push / pull /
@@ -66,6 +73,8 @@ pub fn run() -> ExitCode {
         Some(Command::Curve(args)) => curve::run(args),
         Some(Command::Devices(args)) => devices::run(args),
         Some(Command::Export(args)) => export::run(args),
+        Some(Command::Figure(args)) => figure::run(args),
+        Some(Command::Morph(args)) => morph::run(args),
         Some(Command::Record(args)) => record::run(args),
         Some(Command::Replay(args)) => replay::run(args),
         #[cfg(feature = "gui")]

@@ -1,0 +1,343 @@
+//! `nendo figure fit | render | warp | measure | shape`: figures of metacircles in 2D (seed 000
+//! §4.1–4.2) and metaball shapes fitted to sections (§4.3), headless.
+//!
+//! * `nendo figure fit IN.json --out FIG.json [--png P] [--svg S]`: fits metacircles to the
+//!   contour of a figure file (seeded on its medial axis, optimised) and prints the residual as
+//!   JSON.
+//! * `nendo figure render FIG.json [--png P] [--svg S] [--size 512x512]`.
+//! * `nendo figure warp FIG.json --curves DEFORMED.json --out OUT.json [--png P] [--svg S]`:
+//!   moves the figure's curves to the deformed ones; metacircles, contour and polygons follow.
+//! * `nendo figure measure FIG.json`: the residual of a figure against its contour, as JSON.
+//! * `nendo figure shape SECTIONS.json`: the metaball shape fitted to horizontal sections, then
+//!   deformed by the curves of its `deformations`; meshes (OBJ/STL/GLB) and, with the `gui`
+//!   feature, PNG views through the renderer.
+
+use anyhow::{Context, bail};
+use clap::{Args as ClapArgs, Subcommand};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use crate::curve::warp::WarpParams;
+use crate::figure::document::curves_from_json;
+use crate::figure::fit::{FitOptions, FitReport, fit_contour, measure};
+use crate::figure::optimise::{Optimiser, Stopping};
+use crate::figure::warp::{WarpOptions, warp_document};
+use crate::figure::{FigureDocument, Image, ImageSize, PictureOptions, Rgb, picture};
+
+/// Arguments of `nendo figure`.
+#[derive(Debug, ClapArgs)]
+pub struct Args {
+    /// What to do.
+    #[command(subcommand)]
+    pub action: Action,
+}
+
+/// The `nendo figure` actions.
+#[derive(Debug, Subcommand)]
+pub enum Action {
+    /// Fit metacircles to the contour of a figure file; print the residual as JSON.
+    Fit(FitArgs),
+    /// Draw a figure file to PNG and/or SVG.
+    Render(RenderArgs),
+    /// Warp a figure by moving its curves to deformed ones.
+    Warp(WarpArgs),
+    /// Print the residual of a figure against its contour as JSON.
+    Measure(MeasureArgs),
+}
+
+/// Picture outputs shared by the actions.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct PictureArgs {
+    /// Write the picture as PNG here.
+    #[arg(long, value_name = "OUT.png")]
+    pub png: Option<PathBuf>,
+    /// Write the boundary (and polygons, curves) as SVG here.
+    #[arg(long, value_name = "OUT.svg")]
+    pub svg: Option<PathBuf>,
+    /// Picture size in pixels, `WIDTHxHEIGHT`.
+    #[arg(long, default_value = "512x512", value_parser = parse_size)]
+    pub size: ImageSize,
+    /// Supersampling of boundary pixels per axis (1..=16).
+    #[arg(long, default_value_t = 4)]
+    pub samples: u32,
+    /// Leave the curves out of the SVG.
+    #[arg(long)]
+    pub no_curves: bool,
+}
+
+/// Arguments of `nendo figure fit`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct FitArgs {
+    /// A figure file with a `contour`.
+    pub input: PathBuf,
+    /// Where to write the fitted figure file.
+    #[arg(long, value_name = "FIG.json")]
+    pub out: PathBuf,
+    /// Most metacircles seeded.
+    #[arg(long, default_value_t = 200)]
+    pub circles: usize,
+    /// Grid cells along the longer side for the medial-axis seeds.
+    #[arg(long, default_value_t = 128)]
+    pub seed_resolution: usize,
+    /// Contour samples (0: automatic).
+    #[arg(long, default_value_t = 0)]
+    pub contour_samples: usize,
+    /// Guard grid cells along the longer side.
+    #[arg(long, default_value_t = 64)]
+    pub guard_resolution: usize,
+    /// Use the seed's steepest descent instead of Levenberg–Marquardt.
+    #[arg(long)]
+    pub descent: bool,
+    /// Most optimiser iterations.
+    #[arg(long, default_value_t = 200)]
+    pub iterations: usize,
+    /// Colour of the metacircles, `#rrggbb`.
+    #[arg(long, default_value = "#8a5a3c", value_parser = parse_colour)]
+    pub colour: Rgb,
+    /// Pictures of the result.
+    #[command(flatten)]
+    pub picture: PictureArgs,
+}
+
+/// Arguments of `nendo figure render`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct RenderArgs {
+    /// The figure file.
+    pub figure: PathBuf,
+    /// Outputs.
+    #[command(flatten)]
+    pub picture: PictureArgs,
+}
+
+/// Arguments of `nendo figure warp`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct WarpArgs {
+    /// The figure file (with its curves).
+    pub figure: PathBuf,
+    /// The deformed curves: a JSON array of curves, `{"curves": […]}` or a figure file.
+    #[arg(long, value_name = "CURVES.json")]
+    pub curves: PathBuf,
+    /// Where to write the warped figure file.
+    #[arg(long, value_name = "OUT.json")]
+    pub out: PathBuf,
+    /// Beier–Neely `a` (0: points on a curve follow it exactly).
+    #[arg(long, default_value_t = WarpParams::default().a)]
+    pub a: f64,
+    /// Beier–Neely `b` (fall-off with distance).
+    #[arg(long, default_value_t = WarpParams::default().b)]
+    pub b: f64,
+    /// Beier–Neely `p` (weight of curve length).
+    #[arg(long, default_value_t = WarpParams::default().p)]
+    pub p: f64,
+    /// Pictures of the result.
+    #[command(flatten)]
+    pub picture: PictureArgs,
+}
+
+/// Arguments of `nendo figure measure`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct MeasureArgs {
+    /// The figure file (with metacircles and a contour).
+    pub figure: PathBuf,
+}
+
+/// Runs `nendo figure`.
+pub fn run(args: Args) -> ExitCode {
+    let result = match args.action {
+        Action::Fit(a) => fit(&a),
+        Action::Render(a) => render(&a),
+        Action::Warp(a) => warp(&a),
+        Action::Measure(a) => measure_cmd(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("nendo figure: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Reads a figure file.
+pub(crate) fn read_document(path: &Path) -> anyhow::Result<FigureDocument> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    FigureDocument::from_json(&text).with_context(|| format!("{}", path.display()))
+}
+
+/// Writes text atomically.
+pub(crate) fn write_text(path: &Path, text: &str) -> anyhow::Result<()> {
+    crate::model::write_atomically(path, text.as_bytes()).map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// Encodes an image as PNG and writes it atomically.
+pub(crate) fn write_png(path: &Path, image: &Image) -> anyhow::Result<()> {
+    let mut bytes = Vec::new();
+    {
+        let mut encoder = png::Encoder::new(&mut bytes, image.size.width, image.size.height);
+        encoder.set_color(png::ColorType::Rgba);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let mut writer = encoder.write_header().context("PNG header")?;
+        writer.write_image_data(&image.pixels).context("PNG data")?;
+        writer.finish().context("PNG end")?;
+    }
+    crate::model::write_atomically(path, &bytes).map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// Writes the pictures a [`PictureArgs`] asks for.
+fn write_pictures(doc: &FigureDocument, args: &PictureArgs) -> anyhow::Result<()> {
+    if args.png.is_none() && args.svg.is_none() {
+        return Ok(());
+    }
+    let options = PictureOptions {
+        size: args.size,
+        samples: args.samples,
+        curves: !args.no_curves,
+        ..Default::default()
+    };
+    let pic = picture(doc, &options)?;
+    if let Some(p) = &args.png {
+        write_png(p, &pic.image)?;
+    }
+    if let Some(p) = &args.svg {
+        write_text(p, &pic.svg)?;
+    }
+    Ok(())
+}
+
+/// The report as JSON.
+pub(crate) fn report_json(r: &FitReport) -> serde_json::Value {
+    json!({
+        "metacircles": r.metacircles,
+        "samples": r.samples,
+        "iterations": r.iterations,
+        "initial_cost": r.initial_cost,
+        "final_cost": r.final_cost,
+        "rms_density": r.rms_density,
+        "max_density": r.max_density,
+        "rms_distance": r.rms_distance,
+        "max_distance": if r.max_distance.is_finite() { json!(r.max_distance) } else { json!(null) },
+        "boundary_distance": if r.boundary_distance.is_finite() { json!(r.boundary_distance) } else { json!(null) },
+        "size": r.size,
+        "guards_violated": r.guards_violated,
+    })
+}
+
+fn fit(args: &FitArgs) -> anyhow::Result<()> {
+    let mut doc = read_document(&args.input)?;
+    let Some(contour) = doc.contour.clone() else {
+        bail!(
+            "{}: the figure file has no \"contour\" to fit",
+            args.input.display()
+        );
+    };
+    let mut options = FitOptions {
+        samples: args.contour_samples,
+        guard_resolution: args.guard_resolution,
+        optimiser: if args.descent {
+            Optimiser::SteepestDescent
+        } else {
+            Optimiser::LevenbergMarquardt
+        },
+        stopping: Stopping {
+            max_iterations: args.iterations,
+            ..Stopping::default()
+        },
+        colour: args.colour,
+        threshold: doc.figure.threshold,
+        ..FitOptions::default()
+    };
+    options.seeds.max_seeds = args.circles;
+    options.seeds.resolution = args.seed_resolution;
+    let (figure, report) = fit_contour(&contour, &options)?;
+    doc.figure = figure;
+    write_text(&args.out, &doc.to_json())?;
+    write_pictures(&doc, &args.picture)?;
+    println!("{}", report_json(&report));
+    Ok(())
+}
+
+fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    if args.picture.png.is_none() && args.picture.svg.is_none() {
+        bail!("nothing to write: give --png and/or --svg");
+    }
+    let doc = read_document(&args.figure)?;
+    write_pictures(&doc, &args.picture)
+}
+
+fn warp(args: &WarpArgs) -> anyhow::Result<()> {
+    let doc = read_document(&args.figure)?;
+    let text = std::fs::read_to_string(&args.curves)
+        .with_context(|| format!("cannot read {}", args.curves.display()))?;
+    let v: serde_json::Value = serde_json::from_str(&text)
+        .with_context(|| format!("{}: not valid JSON", args.curves.display()))?;
+    let deformed = curves_from_json(&v).with_context(|| format!("{}", args.curves.display()))?;
+    let params = WarpParams {
+        a: args.a,
+        b: args.b,
+        p: args.p,
+        ..WarpParams::default()
+    };
+    let out = warp_document(
+        &doc,
+        &deformed,
+        &WarpOptions {
+            params,
+            max_edge: None,
+        },
+    )?;
+    write_text(&args.out, &out.to_json())?;
+    write_pictures(&out, &args.picture)?;
+    let moved = doc
+        .figure
+        .metacircles
+        .iter()
+        .zip(&out.figure.metacircles)
+        .map(|(a, b)| a.centre.distance(b.centre))
+        .fold(0.0, f64::max);
+    println!(
+        "{}",
+        json!({"metacircles": out.figure.metacircles.len(), "largest_move": moved})
+    );
+    Ok(())
+}
+
+fn measure_cmd(args: &MeasureArgs) -> anyhow::Result<()> {
+    let doc = read_document(&args.figure)?;
+    let Some(contour) = &doc.contour else {
+        bail!(
+            "{}: the figure file has no \"contour\" to measure against",
+            args.figure.display()
+        );
+    };
+    let d = FitOptions::default();
+    println!(
+        "{}",
+        report_json(&measure(
+            &doc.figure,
+            contour,
+            d.samples,
+            d.guard_resolution
+        ))
+    );
+    Ok(())
+}
+
+/// Parses `WIDTHxHEIGHT`.
+pub(crate) fn parse_size(s: &str) -> Result<ImageSize, String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 512x512"))?;
+    let (w, h) = (
+        w.trim().parse::<u32>().map_err(|e| format!("{s:?}: {e}"))?,
+        h.trim().parse::<u32>().map_err(|e| format!("{s:?}: {e}"))?,
+    );
+    ImageSize::new(w, h).map_err(|e| e.to_string())
+}
+
+/// Parses `#rrggbb`.
+fn parse_colour(s: &str) -> Result<Rgb, String> {
+    Rgb::parse_hex(s).ok_or_else(|| format!("{s:?}: expected a colour #rrggbb"))
+}

@@ -1,0 +1,190 @@
+//! Warping a figure by the curves laid over it (seed 000 §4.1, Fig. 9–10): every point the
+//! figure is made of — metacircle centres, contour and polygon vertices — is carried by the
+//! curve warp of [`crate::curve::warp`] (`P = C_k(u_k) + v_k N(u_k)` against each original
+//! curve, `P^d = Σ ŵ_k (C_k^d(u_k) + v_k N^d(u_k))`, Beier–Neely weights).
+//!
+//! Radii and densities are kept, as in the seed ("moving the vertex coordinates by the method
+//! above deforms the figure"); polygon edges are divided before warping so that they bend with
+//! the curves. Curves that did not move warp nothing: the warp by unchanged curves is the
+//! identity.
+
+use glam::DVec2;
+
+use crate::curve::Curve;
+use crate::curve::warp::{CurveWarp, WarpParams};
+
+use super::contour::Contour;
+use super::document::{FigureDocument, FilledPolygon};
+use super::error::FigureError;
+use super::metacircle::Figure;
+
+/// How a figure is warped.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WarpOptions {
+    /// The Beier–Neely weights.
+    pub params: WarpParams,
+    /// Polygon edges longer than this are divided before warping (`None`: 1/200 of the
+    /// diagonal of the document's frame).
+    pub max_edge: Option<f64>,
+}
+
+/// The warp taking `originals[k]` to `deformed[k]`.
+///
+/// # Errors
+/// [`FigureError::Mismatch`] when the lists differ in length, [`FigureError::Warp`] when the
+/// curve warp refuses them.
+pub fn curve_warp(
+    originals: &[Curve<DVec2>],
+    deformed: &[Curve<DVec2>],
+    params: WarpParams,
+) -> Result<CurveWarp<DVec2>, FigureError> {
+    if originals.len() != deformed.len() {
+        return Err(FigureError::Mismatch {
+            what: "original and deformed curves".into(),
+            left: originals.len(),
+            right: deformed.len(),
+        });
+    }
+    CurveWarp::new(
+        originals
+            .iter()
+            .cloned()
+            .zip(deformed.iter().cloned())
+            .collect(),
+        params,
+    )
+    .map_err(FigureError::Warp)
+}
+
+/// The figure with every metacircle centre warped.
+#[must_use]
+pub fn warp_figure(figure: &Figure, warp: &CurveWarp<DVec2>) -> Figure {
+    let mut out = figure.clone();
+    out.map_centres(|p| warp.warp_point(p));
+    out
+}
+
+/// A contour warped, its edges divided first so that none is longer than `max_edge`.
+///
+/// # Errors
+/// [`FigureError::Warp`] for a bad `max_edge`, [`FigureError::Contour`] if the warped polygon
+/// degenerates.
+pub fn warp_contour(
+    contour: &Contour,
+    warp: &CurveWarp<DVec2>,
+    max_edge: f64,
+    what: &str,
+) -> Result<Contour, FigureError> {
+    let pts = warp
+        .warp_polygon(contour.points(), max_edge)
+        .map_err(FigureError::Warp)?;
+    Contour::new(pts, what)
+}
+
+/// A figure document warped by moving its curves to `deformed` (curve `k` of the document to
+/// `deformed[k]`): metacircles, contour and polygons follow, and the document's curves become
+/// the deformed ones.
+///
+/// # Errors
+/// As [`curve_warp`] and [`warp_contour`].
+pub fn warp_document(
+    doc: &FigureDocument,
+    deformed: &[Curve<DVec2>],
+    options: &WarpOptions,
+) -> Result<FigureDocument, FigureError> {
+    let warp = curve_warp(&doc.curves, deformed, options.params)?;
+    let max_edge = match options.max_edge {
+        Some(m) => m,
+        None => doc
+            .frame()
+            .map_or(f64::INFINITY, |(lo, hi)| (hi - lo).length() / 200.0),
+    };
+    let max_edge = if max_edge > 0.0 {
+        max_edge
+    } else {
+        f64::INFINITY
+    };
+    let contour = match &doc.contour {
+        Some(c) => Some(warp_contour(c, &warp, max_edge, "warped contour")?),
+        None => None,
+    };
+    let polygons = doc
+        .polygons
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            Ok(FilledPolygon {
+                contour: warp_contour(&p.contour, &warp, max_edge, &format!("warped polygon {i}"))?,
+                colour: p.colour,
+            })
+        })
+        .collect::<Result<Vec<_>, FigureError>>()?;
+    Ok(FigureDocument {
+        name: doc.name.clone(),
+        figure: warp_figure(&doc.figure, &warp),
+        view: doc.view,
+        background: doc.background,
+        contour,
+        polygons,
+        curves: deformed.to_vec(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curve::Bezier;
+    use crate::figure::Metacircle;
+
+    fn line(a: DVec2, b: DVec2) -> Curve<DVec2> {
+        Bezier::new(vec![a, a.lerp(b, 1.0 / 3.0), a.lerp(b, 2.0 / 3.0), b]).into()
+    }
+
+    #[test]
+    fn unchanged_curves_are_the_identity() {
+        let curves = vec![
+            line(DVec2::ZERO, DVec2::new(10.0, 0.0)),
+            line(DVec2::new(0.0, 5.0), DVec2::new(10.0, 8.0)),
+        ];
+        let doc = FigureDocument {
+            figure: Figure::new(vec![
+                Metacircle::new(DVec2::new(3.0, 2.0), 2.0, 1.0),
+                Metacircle::new(DVec2::new(7.0, -1.0), 1.0, 0.5),
+            ]),
+            contour: Some(
+                Contour::new(
+                    vec![DVec2::ZERO, DVec2::new(9.0, 1.0), DVec2::new(4.0, 6.0)],
+                    "c",
+                )
+                .unwrap(),
+            ),
+            curves: curves.clone(),
+            ..Default::default()
+        };
+        let out = warp_document(
+            &doc,
+            &curves,
+            &WarpOptions {
+                max_edge: Some(f64::INFINITY),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(out, doc);
+    }
+
+    #[test]
+    fn a_translated_curve_carries_the_figure() {
+        let c = line(DVec2::ZERO, DVec2::new(10.0, 0.0));
+        let moved = line(DVec2::new(1.0, 2.0), DVec2::new(11.0, 2.0));
+        let doc = FigureDocument {
+            figure: Figure::new(vec![Metacircle::new(DVec2::new(4.0, 3.0), 2.0, 1.0)]),
+            curves: vec![c],
+            ..Default::default()
+        };
+        let out =
+            warp_document(&doc, std::slice::from_ref(&moved), &WarpOptions::default()).unwrap();
+        assert!((out.figure.metacircles[0].centre - DVec2::new(5.0, 5.0)).length() < 1e-9);
+        assert!(warp_document(&doc, &[], &WarpOptions::default()).is_err());
+    }
+}

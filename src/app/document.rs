@@ -9,7 +9,7 @@ use super::history::History;
 use crate::curve::Curve;
 use crate::curve::json::DynCurve;
 use crate::model::{Model, ModelError};
-use crate::surface::{Op, Sculptor, SurfaceError, Touched};
+use crate::surface::{Grid, Op, Regulation, Sculptor, SurfaceError, Touched};
 
 /// What the last sculpting operation did and cost.
 #[derive(Debug, Clone, PartialEq)]
@@ -126,6 +126,37 @@ impl Document {
         }
         self.revision += 1;
         Ok(touched)
+    }
+
+    /// Runs `f` on the surface with the model's regulation (a hand loop deforming it); `f`
+    /// returns how many patches it changed, and any change bumps the revision. Undo is the
+    /// caller's ([`Document::record_undo`]).
+    pub fn sculpt_surface<R>(&mut self, f: impl FnOnce(&mut Grid, Regulation) -> (R, usize)) -> R {
+        let start = Instant::now();
+        let regulation = self.model.regulation;
+        let (out, patches) = f(&mut self.model.surface, regulation);
+        if patches > 0 {
+            self.revision += 1;
+            self.last_op = Some(OpTiming {
+                ms: start.elapsed().as_secs_f64() * 1e3,
+                patches,
+            });
+        }
+        out
+    }
+
+    /// Records `before` for undo as the edit `what` (an edit made through
+    /// [`Document::sculpt_surface`]).
+    pub fn record_undo(&mut self, what: &str, before: Model) {
+        self.history.record(what, before);
+    }
+
+    /// Adds operations made by other means than [`Document::apply`] (a hand contact) to the
+    /// recording, when recording.
+    pub fn record_ops(&mut self, ops: &[Op]) {
+        if let Some(rec) = &mut self.recording {
+            rec.extend_from_slice(ops);
+        }
     }
 
     /// Replaces the whole model (a new primitive, a recovered autosave, a replayed trace) as

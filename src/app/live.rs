@@ -6,11 +6,12 @@
 //! recording, into a trace file), and the window takes everything in the inbox once per frame.
 //! However long a frame takes, every sample is kept, in order.
 //!
-//! Turning frames into a hand and the hand's contact into operations is the `hand` part of the
-//! library; until it exists, the window shows the stream's status and rate and the tracked
-//! hand position, and sculpts with the mouse only.
+//! The window then runs every frame, in order, through a [`HandDriver`] (the library's hand
+//! loop: kinematic hand, fingertip contact, push / pull / draw-a-line on the document's
+//! surface), and draws the hand. The geometry work happens on the window's thread, at frame
+//! time, on all the frames received since the last one — so a slow frame delays the clay but
+//! never loses a sample.
 
-use glam::{DQuat, DVec3};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -23,9 +24,10 @@ use nendo_devices::{
     profile,
 };
 
-use super::tools::ToolSettings;
-use crate::render::{LineBatch, Rgba, SphereInstance};
-use crate::surface::{Grid, Op};
+use super::document::Document;
+use super::hand_input::HandDriver;
+use crate::hand::FingerModel;
+use crate::render::{LineBatch, SphereInstance};
 
 /// What the loop thread shares with the window.
 #[derive(Debug, Default)]
@@ -55,18 +57,13 @@ struct Session {
     describe: String,
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
-    world_from_tracker: nendo_devices::WorldFromTracker,
     started: Instant,
 }
 
 impl Session {
     /// Starts the loop on `stream`; with `record`, every frame also goes to a trace file whose
     /// header names `profile`.
-    fn start(
-        stream: HandStream,
-        world_from_tracker: nendo_devices::WorldFromTracker,
-        record: Option<(PathBuf, &Profile)>,
-    ) -> Result<Session, String> {
+    fn start(stream: HandStream, record: Option<(PathBuf, &Profile)>) -> Result<Session, String> {
         let describe = stream.describe();
         let shared = Arc::new(Shared::default());
         let mut writer = match record {
@@ -126,7 +123,6 @@ impl Session {
             describe,
             shared,
             thread: Some(thread),
-            world_from_tracker,
             started: Instant::now(),
         })
     }
@@ -152,9 +148,11 @@ pub struct LiveInput {
     selected: usize,
     inventory: Option<Inventory>,
     session: Option<Session>,
+    /// The hand the session's frames drive.
+    driver: Option<HandDriver>,
+    /// Finger radius for the next session's hand.
+    radius: f64,
     record_to: String,
-    /// The latest frame, for display.
-    last: Option<HandFrame>,
     /// Frames taken by the window, and when counting started.
     rate: (u64, Option<Instant>, f64),
     message: Option<String>,
@@ -169,8 +167,22 @@ impl LiveInput {
         self.session.is_some()
     }
 
+    /// Stops the session, if any (ending its hand's contact in `doc`).
+    pub fn disconnect_from(&mut self, doc: &mut Document) {
+        self.end_contact(doc);
+        self.disconnect();
+    }
+
+    /// Ends the hand's contact in progress (before another edit of the surface).
+    pub fn end_contact(&mut self, doc: &mut Document) {
+        if let Some(d) = &mut self.driver {
+            d.end_contact(doc);
+        }
+    }
+
     /// Stops the session, if any.
     pub fn disconnect(&mut self) {
+        self.driver = None;
         if let Some(mut s) = self.session.take() {
             s.stop();
             if let Some(Some(r)) = Some(lock(&s.shared.status).recorded.clone()) {
@@ -188,19 +200,29 @@ impl LiveInput {
     }
 
     /// Opens the devices of the selected profile.
-    fn connect(&mut self) {
+    fn connect(&mut self, doc: &mut Document) {
         let Some(profile) = self.profiles.get(self.selected).cloned() else {
             return;
         };
-        self.disconnect();
+        self.disconnect_from(doc);
+        let driver = HandDriver::new(
+            profile.hand,
+            profile.world_from_tracker,
+            FingerModel::for_profile(&profile),
+            self.radius,
+        );
+        let driver = match driver {
+            Ok(d) => d,
+            Err(e) => {
+                self.message = Some(e.to_string());
+                return;
+            }
+        };
         match HandStream::open(&profile, &StreamOptions::default()) {
-            Ok(stream) => match Session::start(
-                stream,
-                profile.world_from_tracker,
-                self.record_path().map(|p| (p, &profile)),
-            ) {
+            Ok(stream) => match Session::start(stream, self.record_path().map(|p| (p, &profile))) {
                 Ok(s) => {
                     self.session = Some(s);
+                    self.driver = Some(driver);
                     self.message = None;
                 }
                 Err(e) => self.message = Some(e),
@@ -211,14 +233,26 @@ impl LiveInput {
     }
 
     /// Plays a recorded trace as if it came from the devices.
-    fn replay(&mut self, path: &Path) {
-        self.disconnect();
+    fn replay(&mut self, path: &Path, doc: &mut Document) {
+        self.disconnect_from(doc);
         match Trace::read(path) {
             Ok(trace) => {
-                let world = trace.header.world_from_tracker;
+                let h = &trace.header;
+                let finger = FingerModel::for_profile_name(h.profile.as_deref());
+                let driver =
+                    match HandDriver::new(h.hand, h.world_from_tracker, finger, self.radius) {
+                        Ok(d) => d,
+                        Err(e) => {
+                            self.message = Some(e.to_string());
+                            return;
+                        }
+                    };
                 let stream = HandStream::replay(trace, 1.0, false, 1024);
-                match Session::start(stream, world, None) {
-                    Ok(s) => self.session = Some(s),
+                match Session::start(stream, None) {
+                    Ok(s) => {
+                        self.session = Some(s);
+                        self.driver = Some(driver);
+                    }
                     Err(e) => self.message = Some(e),
                 }
             }
@@ -227,15 +261,18 @@ impl LiveInput {
         self.rate = (0, Some(Instant::now()), 0.0);
     }
 
-    /// Takes every frame the loop received since the last call. Returns the operations they
-    /// produce (none until the hand model exists; see the module docs).
-    pub fn poll(&mut self, _surface: &Grid, _settings: &ToolSettings) -> Vec<Op> {
+    /// Takes every frame the loop received since the last call and runs them, in order,
+    /// through the hand against `doc`.
+    pub fn poll(&mut self, doc: &mut Document) {
         let Some(session) = &self.session else {
-            return Vec::new();
+            return;
         };
         let frames = std::mem::take(&mut *lock(&session.shared.inbox));
-        if let Some(last) = frames.last() {
-            self.last = Some(*last);
+        let finished = lock(&session.shared.status).finished;
+        if let Some(driver) = &mut self.driver {
+            for f in &frames {
+                driver.feed(doc, f);
+            }
         }
         let (count, since, _) = &mut self.rate;
         *count += frames.len() as u64;
@@ -245,34 +282,26 @@ impl LiveInput {
                 self.rate = (0, Some(Instant::now()), *count as f64 / secs);
             }
         }
-        if lock(&session.shared.status).finished {
+        if finished {
             self.message = Some("the stream ended".into());
-            self.disconnect();
+            self.end_contact(doc);
+            if let Some(mut s) = self.session.take() {
+                s.stop();
+            }
         }
-        Vec::new()
     }
 
-    /// Draws the tracked hand: the sensor's position and its axes (+X along the middle
-    /// finger, +Z out of the back of the hand), in the profile's world frame.
+    /// Draws the hand the frames drive (it stays in place after a trace ends, until the next
+    /// session).
     pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
-        let (Some(session), Some(frame)) = (&self.session, &self.last) else {
-            return;
-        };
-        let Some(pose) = frame.pose else { return };
-        let (position, orientation): (DVec3, DQuat) = session.world_from_tracker.apply(&pose);
-        spheres.push(SphereInstance {
-            center: position.as_vec3().to_array(),
-            radius: 0.25,
-            colour: [0.9, 0.9, 0.92, 1.0],
-        });
-        for (axis, colour) in [(DVec3::X, Rgba::HAND), (DVec3::Z, Rgba::HIGHLIGHT)] {
-            let end = position + orientation * axis;
-            lines.segment(position.as_vec3(), end.as_vec3(), colour);
+        if let Some(d) = &self.driver {
+            d.draw(lines, spheres);
         }
     }
 
     /// The device panel.
-    pub fn ui(&mut self, ui: &mut egui::Ui) {
+    pub fn ui(&mut self, ui: &mut egui::Ui, radius: f64, doc: &mut Document) {
+        self.radius = radius;
         if self.profiles.is_empty() {
             self.profiles = profile::builtin();
         }
@@ -294,10 +323,10 @@ impl LiveInput {
         ui.horizontal(|ui| {
             if self.session.is_none() {
                 if ui.button("Connect").clicked() {
-                    self.connect();
+                    self.connect(doc);
                 }
             } else if ui.button("Disconnect").clicked() {
-                self.disconnect();
+                self.disconnect_from(doc);
             }
             if ui.button("List ports").clicked() {
                 self.inventory = Some(inventory(&self.profiles));
@@ -308,7 +337,7 @@ impl LiveInput {
             ui.text_edit_singleline(&mut self.trace_path);
             if ui.button("Replay").clicked() && !self.trace_path.trim().is_empty() {
                 let path = PathBuf::from(self.trace_path.trim());
-                self.replay(&path);
+                self.replay(&path, doc);
             }
         });
         if let Some(inv) = &self.inventory {
@@ -391,7 +420,7 @@ mod tests {
         };
         // 100 Hz played 10 times faster: 1 000 frames/s through a 64-frame channel.
         let stream = HandStream::replay(trace, 10.0, false, 64);
-        let session = Session::start(stream, Default::default(), None).expect("loop thread");
+        let session = Session::start(stream, None).expect("loop thread");
         let deadline = Instant::now() + Duration::from_secs(10);
         while !lock(&session.shared.status).finished && Instant::now() < deadline {
             std::thread::sleep(Duration::from_millis(1100));

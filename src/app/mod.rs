@@ -26,6 +26,7 @@
 //! | [`tools`], [`curve_edit`] | the mouse tools and the curve edits they make |
 //! | [`modeller`], `panels` | the modeller's state, input handling and egui panels |
 //! | [`file_dialog`] | the egui file dialog |
+//! | [`hand_input`] | device frames and the mouse as a hand: the hand loop on the document, the hand drawn |
 //! | [`live`] | the device loop on its own thread |
 //! | [`window`] | winit, the surface, egui and the renderer together |
 
@@ -34,6 +35,7 @@ pub mod camera;
 pub mod curve_edit;
 pub mod document;
 pub mod file_dialog;
+pub mod hand_input;
 pub mod history;
 pub mod live;
 pub mod modeller;

@@ -223,7 +223,7 @@ impl Modeller {
 
     /// A clean exit: the autosave is no longer needed.
     pub fn on_exit(&mut self) {
-        self.live.disconnect();
+        self.live.disconnect_from(&mut self.doc);
         if let Some(a) = &mut self.autosave {
             a.discard();
         }
@@ -392,9 +392,7 @@ impl Modeller {
                 }
             }
         }
-        for op in self.live.poll(&self.doc.model().surface, &self.settings) {
-            self.sculpt(&op);
-        }
+        self.live.poll(&mut self.doc);
         let revision = self.doc.revision();
         if let Some(a) = &mut self.autosave {
             // Not while a prompt about the old autosave is open: it would be overwritten.

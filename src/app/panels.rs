@@ -259,7 +259,9 @@ impl Modeller {
             .show(ui, |ui| self.record_ui(ui));
         egui::CollapsingHeader::new("Devices")
             .default_open(false)
-            .show(ui, |ui| self.live.ui(ui));
+            .show(ui, |ui| {
+                self.live.ui(ui, self.settings.radius, &mut self.doc)
+            });
     }
 
     fn primitive_ui(&mut self, ui: &mut Ui) {

@@ -1,10 +1,13 @@
 //! Where the virtual finger meets the surface.
 //!
-//! The fingertip is a capsule of radius `r_f` around the finger's axis: the half-line that
-//! ends at the fingertip point `E` and runs back along the finger (direction `−d̂`). That is
-//! the finger of the push shape function (seed 002 §5.1; [`crate::surface::shape_fn`]): the
-//! samples inside the capsule are the ones a push moves, by `(1 − r²/r_f²)·M`, so the capsule
-//! drawn is exactly the reach of the operation.
+//! The fingertip is a capsule of radius `r_f` around the finger's axis: the segment that ends
+//! at the fingertip point `E` and runs back along the finger (direction `−d̂`) for the loop's
+//! reach `ℓ` ([`super::HandLoop::reach`]). Toward the tip that is the finger of the push shape
+//! function (seed 002 §5.1; [`crate::surface::shape_fn`]): the samples within `r_f` of it are
+//! the ones a push moves, by `(1 − r²/r_f²)·M`, so the capsule drawn is the reach of the
+//! operation. The shape function's finger runs back without end; here it stops `ℓ` behind
+//! the tip (see [`super::press`]), so that a finger inside a pot does not press the opposite
+//! wall.
 //!
 //! Contact is decided on the capsule's axis. A [`Probe`] finds the first point where the
 //! segment `O + t·d̂`, `t ∈ [0, t_max]`, meets the surface:
@@ -23,31 +26,36 @@ use glam::DVec3;
 use crate::mesh::{PatchPoints, Ray, Tessellation, pick, tessellate};
 use crate::surface::Grid;
 
-/// The fingertip capsule: the finger's axis ending at `tip`, radius `radius`.
+/// The fingertip capsule: radius `radius` around the segment from `tip − length·axis` to
+/// `tip`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Fingertip {
     /// The fingertip point `E`: the end of the capsule's axis.
     pub tip: DVec3,
     /// The unit direction `d̂` the finger points in.
     pub axis: DVec3,
-    /// The joint where the distal segment starts (for drawing the capsule's core).
+    /// The joint where the distal segment starts (the finger's own last joint, for drawing).
     pub base: DVec3,
     /// The capsule radius `r_f`, which is also the shape function's finger radius.
     pub radius: f64,
+    /// How far back from the tip the capsule's axis runs (`ℓ`).
+    pub length: f64,
 }
 
 impl Fingertip {
-    /// Squared distance from `x` to the capsule's axis (the half-line ending at the tip):
-    /// the `r²` of the push shape function. `x` is inside the capsule when it is below `r_f²`.
+    /// Squared distance from `x` to the capsule's axis. Toward the tip it is the `r²` of the
+    /// push shape function; `x` is inside the capsule when it is below `r_f²`.
     #[must_use]
     pub fn distance_sq(&self, x: DVec3) -> f64 {
         let w = x - self.tip;
-        let behind = -w.dot(self.axis);
-        if behind > 0.0 {
-            (w.length_squared() - behind * behind).max(0.0)
-        } else {
-            w.length_squared()
-        }
+        let behind = (-w.dot(self.axis)).clamp(0.0, self.length);
+        (w + behind * self.axis).length_squared()
+    }
+
+    /// Whether `x` is inside the capsule.
+    #[must_use]
+    pub fn contains(&self, x: DVec3) -> bool {
+        self.distance_sq(x) < self.radius * self.radius
     }
 }
 
@@ -170,14 +178,34 @@ mod tests {
     }
 
     #[test]
-    fn capsule_distance_is_the_shape_functions() {
+    fn capsule_distance_is_the_shape_functions_near_the_tip() {
         let f = Fingertip {
             tip: DVec3::ZERO,
             axis: -DVec3::Z,
             base: DVec3::Z,
             radius: 1.0,
+            length: 2.0,
         };
-        assert_eq!(f.distance_sq(DVec3::new(0.5, 0.0, 3.0)), 0.25);
+        assert_eq!(f.distance_sq(DVec3::new(0.5, 0.0, 1.5)), 0.25);
         assert_eq!(f.distance_sq(DVec3::new(0.0, 0.0, -2.0)), 4.0);
+        assert_eq!(f.distance_sq(DVec3::new(0.0, 0.0, 3.0)), 1.0);
+        assert!(f.contains(DVec3::new(0.9, 0.0, 0.5)) && !f.contains(DVec3::new(0.0, 1.0, 0.0)));
+        let push = crate::surface::Op::Push {
+            at: DVec3::Z,
+            dir: -DVec3::Z,
+            depth: 1.0,
+            radius: 1.0,
+        };
+        let finger = push.finger().unwrap();
+        for x in [
+            DVec3::new(0.3, 0.2, 0.5),
+            DVec3::new(-0.7, 0.1, 1.9),
+            DVec3::new(0.1, 0.0, -0.4),
+        ] {
+            assert!(
+                (finger.distance_sq(x) - f.distance_sq(x)).abs() < 1e-15,
+                "{x}"
+            );
+        }
     }
 }

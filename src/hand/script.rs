@@ -566,9 +566,9 @@ pub const MOUSE_CAMERA: DVec3 = DVec3::new(0.0, -12.0, 5.0);
 /// deepened by five wheel steps. 60 Hz.
 ///
 /// Each press anchors on the surface under the cursor. The script anchors on the sphere as it
-/// was at the start — the gestures lie far enough apart that none moves the clay under a
-/// later press by more than about 0.01 side, well inside the grip's reach — so the trace does
-/// not depend on how the loop deforms the surface.
+/// was at the start, so that the trace does not depend on how the loop deforms the surface:
+/// the depths are measured from the starting sphere (the clay under the right click had
+/// moved by 0.014 side, well inside the grip's reach of 0.05).
 ///
 /// # Errors
 /// Never for these fixed motions.

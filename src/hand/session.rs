@@ -418,6 +418,7 @@ impl HandLoop {
             axis: chain.direction(),
             base: chain.points[2],
             radius: self.options.finger_radius,
+            length: self.reach(),
         };
         (tip.tip.is_finite() && tip.axis.is_finite()).then_some((placed, tip))
     }

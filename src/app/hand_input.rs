@@ -1,0 +1,263 @@
+//! The virtual hand in the window: device frames (a glove and tracker, a replayed trace, or the
+//! mouse through [`crate::hand::MouseFinger`]) run through [`crate::hand::HandLoop`] against
+//! the document's surface, and the hand is drawn with its fingers.
+//!
+//! A contact (from the first frame that deforms the surface to the frame the finger leaves it)
+//! is one undoable edit, and its operations go into the document's recording. Before anything
+//! else edits the surface (a mouse tool, undo, opening a file), [`HandDriver::end_contact`]
+//! closes the contact in progress, as the hand loop requires.
+
+use glam::DVec3;
+use nendo_devices::profile::MouseProfile;
+use nendo_devices::{HandFrame, HandSize, Timestamp, ViewRay, WorldFromTracker, buttons};
+use std::time::Instant;
+
+use super::document::Document;
+use crate::hand::{FingerModel, Hand, HandError, HandLoop, HandOptions, MouseFinger, Touch};
+use crate::mesh::Ray;
+use crate::model::Model;
+use crate::render::{LineBatch, Rgba, SphereInstance};
+
+/// A hand loop feeding a document.
+#[derive(Debug, Clone)]
+pub struct HandDriver {
+    hand_loop: HandLoop,
+    /// The model before the contact in progress, until the contact first changes it.
+    before: Option<Model>,
+    /// The contact in progress has been recorded for undo.
+    recorded: bool,
+}
+
+impl HandDriver {
+    /// A driver for a hand of `size` placed by `world_from_tracker`, touching with `finger`,
+    /// finger radius `radius`.
+    ///
+    /// # Errors
+    /// [`HandError`] for a hand or radius the loop refuses.
+    pub fn new(
+        size: HandSize,
+        world_from_tracker: WorldFromTracker,
+        finger: FingerModel,
+        radius: f64,
+    ) -> Result<Self, HandError> {
+        let options = HandOptions {
+            finger_radius: radius,
+            finger,
+            ..HandOptions::default()
+        };
+        let hand_loop = HandLoop::new(Hand::new(size, world_from_tracker)?, options)?;
+        Ok(Self {
+            hand_loop,
+            before: None,
+            recorded: false,
+        })
+    }
+
+    /// The loop (pose, fingertip, counters).
+    #[must_use]
+    pub fn hand_loop(&self) -> &HandLoop {
+        &self.hand_loop
+    }
+
+    /// Feeds one frame: the hand moves, and deforms the document's surface where it touches.
+    pub fn feed(&mut self, doc: &mut Document, frame: &HandFrame) {
+        if self.hand_loop.touch() == Touch::Free {
+            self.before = Some(doc.model().clone());
+            self.recorded = false;
+        }
+        let hand_loop = &mut self.hand_loop;
+        let outcome = doc.sculpt_surface(|grid, regulation| {
+            let out = hand_loop.frame(frame, grid, regulation);
+            let changed = out.changed.len();
+            (out, changed)
+        });
+        if !outcome.changed.is_empty() && !self.recorded {
+            if let Some(before) = self.before.take() {
+                doc.record_undo("hand", before);
+            }
+            self.recorded = true;
+        }
+        if let Some(ops) = outcome.committed {
+            doc.record_ops(&ops);
+        }
+    }
+
+    /// Ends the contact in progress (see the module docs).
+    pub fn end_contact(&mut self, doc: &mut Document) {
+        if let Some(ops) = self.hand_loop.end_contact() {
+            doc.record_ops(&ops);
+        }
+        self.before = None;
+        self.recorded = false;
+    }
+
+    /// Draws the hand: palm, fingers as joint chains, the active fingertip's capsule.
+    pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
+        let Some(pose) = self.hand_loop.pose() else {
+            return;
+        };
+        let sphere = |p: DVec3, r: f64, colour: [f32; 4]| SphereInstance {
+            center: p.as_vec3().to_array(),
+            radius: r as f32,
+            colour,
+        };
+        let touching = self.hand_loop.touch() != Touch::Free;
+        let bone = if touching {
+            Rgba::HIGHLIGHT
+        } else {
+            Rgba::HAND
+        };
+        // The palm: the sensor to each knuckle, and the knuckles in a row.
+        let knuckles: Vec<DVec3> = pose.fingers.iter().map(|f| f.points[0]).collect();
+        for k in &knuckles {
+            lines.segment(pose.sensor.as_vec3(), k.as_vec3(), Rgba::HAND);
+        }
+        lines.polyline(knuckles[1..].iter().map(|p| p.as_vec3()), Rgba::HAND);
+        let joint_radius = 0.012 * pose.scale.max(1e-6);
+        for finger in &pose.fingers {
+            lines.polyline(finger.points.iter().map(|p| p.as_vec3()), bone);
+            for p in &finger.points {
+                spheres.push(sphere(*p, joint_radius, [0.92, 0.9, 0.88, 1.0]));
+            }
+        }
+        if let Some(tip) = self.hand_loop.fingertip() {
+            let colour = if touching {
+                [1.0, 0.35, 0.15, 0.35]
+            } else {
+                [0.4, 0.65, 1.0, 0.3]
+            };
+            spheres.push(sphere(tip.tip, tip.radius, colour));
+            lines.segment(tip.base.as_vec3(), tip.tip.as_vec3(), bone);
+        }
+    }
+}
+
+/// The mouse as a hand (the "Hand" tool): the view ray is the finger (see
+/// [`crate::hand::mouse`]); left button pushes and draws grooves, right button grips and pulls.
+#[derive(Debug, Clone)]
+pub struct MouseHandTool {
+    finger: MouseFinger,
+    driver: HandDriver,
+    start: Instant,
+    held: u32,
+}
+
+impl MouseHandTool {
+    /// A mouse hand with finger radius `radius` and click depth `depth`.
+    ///
+    /// # Errors
+    /// [`HandError`] for a radius or depth the hand refuses.
+    pub fn new(radius: f64, depth: f64) -> Result<Self, HandError> {
+        Ok(Self {
+            finger: MouseFinger::new(MouseProfile::default(), depth)?,
+            driver: HandDriver::new(
+                HandSize::default(),
+                WorldFromTracker::default(),
+                FingerModel::Ray,
+                radius,
+            )?,
+            start: Instant::now(),
+            held: 0,
+        })
+    }
+
+    /// The finger radius the tool was made with.
+    #[must_use]
+    pub fn radius(&self) -> f64 {
+        self.driver.hand_loop().options().finger_radius
+    }
+
+    /// True while a button holds the finger on the surface.
+    #[must_use]
+    pub fn is_pressed(&self) -> bool {
+        self.held != 0
+    }
+
+    /// Sets the depth of the next clicks.
+    pub fn set_click_depth(&mut self, depth: f64) {
+        self.finger.set_click_depth(depth);
+    }
+
+    /// The cursor's view ray with the left (`left`) and right (`right`) buttons as held.
+    pub fn event(
+        &mut self,
+        doc: &mut Document,
+        ray: &Ray,
+        left: bool,
+        right: bool,
+    ) -> Result<(), HandError> {
+        let held =
+            if left { buttons::PRIMARY } else { 0 } | if right { buttons::SECONDARY } else { 0 };
+        self.held = held;
+        let time = Timestamp::from_micros(self.start.elapsed().as_micros() as u64);
+        let view = ViewRay {
+            origin: ray.origin,
+            direction: ray.direction,
+        };
+        let frames = self.finger.frames(time, view, held, &doc.model().surface)?;
+        for f in &frames {
+            self.driver.feed(doc, f);
+        }
+        Ok(())
+    }
+
+    /// Wheel steps: deeper (or, negative, shallower) while pressed, nearer or farther otherwise.
+    pub fn wheel(&mut self, steps: f64) {
+        self.finger.wheel(steps);
+    }
+
+    /// Ends the contact in progress.
+    pub fn end_contact(&mut self, doc: &mut Document) {
+        self.driver.end_contact(doc);
+    }
+
+    /// Draws the hand.
+    pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
+        self.driver.draw(lines, spheres);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface::{Primitive, PrimitiveParams};
+
+    #[test]
+    fn a_mouse_hand_click_is_one_undoable_push() {
+        let plane = Primitive::Plane
+            .build(&PrimitiveParams::default())
+            .expect("plane");
+        let mut doc = Document::new(Model::new(plane));
+        let original = doc.model().clone();
+        let mut tool = MouseHandTool::new(1.25, 0.3).expect("mouse hand");
+        let ray = Ray {
+            origin: DVec3::new(0.5, 0.5, 10.0),
+            direction: -DVec3::Z,
+        };
+        tool.event(&mut doc, &ray, false, false).expect("hover");
+        assert_eq!(doc.model(), &original, "hovering does not sculpt");
+        tool.event(&mut doc, &ray, true, false).expect("press");
+        tool.event(&mut doc, &ray, true, false).expect("hold");
+        tool.event(&mut doc, &ray, false, false).expect("release");
+        assert_ne!(doc.model(), &original, "the click pushed");
+        let dented = doc
+            .model()
+            .surface
+            .patches()
+            .iter()
+            .flatten()
+            .map(|p| p.z)
+            .fold(0.0, f64::min);
+        assert!(dented < -0.1, "a dent into the plane: {dented}");
+        assert_eq!(doc.history().undo_name(), Some("hand"));
+        assert!(doc.undo());
+        assert_eq!(doc.model(), &original, "one undo removes the whole contact");
+        let mut lines = LineBatch::new();
+        let mut spheres = Vec::new();
+        tool.draw(&mut lines, &mut spheres);
+        assert!(
+            lines.len() >= 15 && spheres.len() >= 20,
+            "a hand with five fingers is drawn"
+        );
+    }
+}

@@ -161,7 +161,7 @@ fn casteljau_in_place<T: Coeff>(buf: &mut [T], t: f64) -> T {
 /// (`Σ c_i C(n,i) t^i (1-t)^(n-i)`), switching to `(1-t)/t` for `t > 1/2` so the ratio never
 /// exceeds one. Faster than [`eval`] and accurate on `[0,1]` for the low degrees of the hot
 /// loops; [`eval`] remains the reference.
-#[inline]
+#[inline(always)]
 #[must_use]
 pub fn eval_scalar_fast(c: &[f64], t: f64) -> f64 {
     let n = c.len() - 1;
@@ -180,14 +180,14 @@ pub fn eval_scalar_fast(c: &[f64], t: f64) -> f64 {
         for i in (0..n).rev() {
             acc = acc * r + c[i] * row[i];
         }
-        acc * s.powi(n as i32)
+        acc * powi(s, n)
     } else {
         let r = (1.0 - t) / t;
         let mut acc = c[0];
         for i in 1..=n {
             acc = acc * r + c[i] * row[i];
         }
-        acc * t.powi(n as i32)
+        acc * powi(t, n)
     }
 }
 
@@ -196,6 +196,7 @@ pub fn eval_scalar_fast(c: &[f64], t: f64) -> f64 {
 ///
 /// # Panics
 /// If `left` or `right` is shorter than `c`.
+#[inline]
 pub fn subdivide_into<T: Coeff>(c: &[T], t: f64, left: &mut [T], right: &mut [T]) {
     let n = c.len();
     right[..n].copy_from_slice(c);

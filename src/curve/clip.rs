@@ -122,7 +122,7 @@ static RECIPROCAL: [f64; 64] = {
 /// graph of `f`; `f` cannot reach `level` before that line does (and likewise from the right
 /// end). Where the hull's first edge reaches the level this is the exact hull clip; otherwise
 /// it is a little wider. `O(m)`, no allocation. `None` when every coefficient is above `level`.
-#[inline]
+#[inline(always)]
 #[must_use]
 pub fn end_lines_below(c: &[f64], level: f64) -> Option<(f64, f64)> {
     let m = c.len() - 1;
@@ -215,6 +215,7 @@ pub const NEWTON_QUADRATIC: f64 = 1e-9;
 /// `f` and `f'` are evaluated together by Horner's scheme (in the power basis up to degree
 /// 8, in the Bernstein basis scaled by `t/(1−t)` above).
 #[must_use]
+#[inline(always)]
 pub fn bracketed_root(c: &[f64], mut lo: f64, mut hi: f64, start: f64) -> (f64, u32) {
     let m = c.len() - 1;
     // Low degrees: evaluate in the power basis, converted once (the conversion amplifies
@@ -288,8 +289,8 @@ const POWER_MAX: usize = 8;
 /// `f(t) = Σ c_k C(m,k) t^k (1−t)^(m−k)` and
 /// `f'(t) = m Σ (c_{k+1} − c_k) C(m−1,k) t^k (1−t)^(m−1−k)`, by Horner's scheme in `t/(1−t)`
 /// (or `(1−t)/t` past one half, so that the ratio stays at most one).
-#[inline]
-fn value_and_slope(c: &[f64], t: f64) -> (f64, f64) {
+#[inline(always)]
+pub(crate) fn value_and_slope(c: &[f64], t: f64) -> (f64, f64) {
     let m = c.len() - 1;
     if m == 0 {
         return (c[0], 0.0);
@@ -329,6 +330,7 @@ fn value_and_slope(c: &[f64], t: f64) -> (f64, f64) {
 /// coefficients, started where the control polygon crosses zero (between the two coefficients
 /// that change sign): a good first guess that improves as intervals shrink.
 #[must_use]
+#[inline(always)]
 pub fn clipped_root(c: &[f64]) -> (f64, u32) {
     let m = c.len() - 1;
     let mut start = 0.5;

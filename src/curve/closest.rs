@@ -113,7 +113,7 @@ const fn product_weights() -> [[[f64; W]; W]; W] {
 ///
 /// # Panics
 /// If `p` has more than `MAX_DEGREE + 1` points or `out` fewer than `2n + 1` entries.
-#[inline]
+#[inline(always)]
 pub(crate) fn distance_squared_coeffs<P: Point>(p: &[P], out: &mut [f64]) {
     let n = p.len() - 1;
     let w = &PRODUCT_WEIGHTS[n];
@@ -128,35 +128,48 @@ pub(crate) fn distance_squared_coeffs<P: Point>(p: &[P], out: &mut [f64]) {
     }
 }
 
-/// A small stack of pending intervals that only allocates past 16 entries.
-struct IntervalStack {
-    small: [(f64, f64); 16],
-    len: usize,
-    spill: Vec<(f64, f64)>,
+/// An interval still to examine: `[a, b]` and `f` restricted to it.
+#[derive(Clone, Copy)]
+struct Pending<const F: usize> {
+    w: [f64; F],
+    a: f64,
+    b: f64,
 }
 
-impl IntervalStack {
+/// A small stack of pending intervals that only allocates past 4 entries (deeper splits are
+/// rare: they happen only near several close roots of `g`).
+struct IntervalStack<const F: usize> {
+    small: [Pending<F>; 4],
+    len: usize,
+    spill: Vec<Pending<F>>,
+}
+
+impl<const F: usize> IntervalStack<F> {
     #[inline]
     fn new() -> Self {
         Self {
-            small: [(0.0, 0.0); 16],
+            small: [Pending {
+                w: [0.0; F],
+                a: 0.0,
+                b: 0.0,
+            }; 4],
             len: 0,
             spill: Vec::new(),
         }
     }
     #[inline]
-    fn push(&mut self, iv: (f64, f64)) {
+    fn push(&mut self, p: Pending<F>) {
         if self.len < self.small.len() {
-            self.small[self.len] = iv;
+            self.small[self.len] = p;
             self.len += 1;
         } else {
-            self.spill.push(iv);
+            self.spill.push(p);
         }
     }
     #[inline]
-    fn pop(&mut self) -> Option<(f64, f64)> {
-        if let Some(iv) = self.spill.pop() {
-            return Some(iv);
+    fn pop(&mut self) -> Option<Pending<F>> {
+        if let Some(p) = self.spill.pop() {
+            return Some(p);
         }
         if self.len == 0 {
             return None;
@@ -255,12 +268,19 @@ fn minimize_fixed<const F: usize>(
                 break 'interval;
             }
             if hi - lo > 0.8 {
-                // The clip removed less than 20 %: split the interval (the curve) in two.
+                // The clip removed less than 20 %: split the interval (the curve) in two. One
+                // de Casteljau pass at 1/2 gives both halves; the right one waits on the stack.
                 stats.splits += 1;
-                let mid = 0.5 * (lo + hi);
-                stack.push((a + mid * span, a + hi * span));
-                bernstein::restrict_in_place(&mut w, lo, mid);
-                b = a + mid * span;
+                bernstein::restrict_in_place(&mut w, lo, hi);
+                let whole = w;
+                let mut right = Pending {
+                    w: [0.0; F],
+                    a: a + 0.5 * (lo + hi) * span,
+                    b: a + hi * span,
+                };
+                bernstein::subdivide_into(&whole, 0.5, &mut w, &mut right.w);
+                stack.push(right);
+                b = right.a;
                 a += lo * span;
                 continue 'interval;
             }
@@ -269,9 +289,7 @@ fn minimize_fixed<const F: usize>(
             a += lo * span;
         }
         let Some(next) = stack.pop() else { break };
-        (a, b) = next;
-        w = *f;
-        bernstein::restrict_in_place(&mut w, a, b);
+        (w, a, b) = (next.w, next.a, next.b);
     }
     best_u.is_finite().then_some((best_u, best_f))
 }
@@ -415,8 +433,11 @@ fn closest_u<P: Point, const F: usize>(
     r_max: f64,
     stats: &mut ClipStats,
 ) -> Option<f64> {
-    let n = pts.len() - 1;
-    debug_assert_eq!(F, 2 * n + 1);
+    // The degree as a constant of this instantiation, so the fixed-size loops below unroll.
+    let n = (F - 1) / 2;
+    if pts.len() != n + 1 {
+        return None;
+    }
     let mut buf = [P::ZERO; MAX_DEGREE + 1];
     for (pi, &c) in buf.iter_mut().zip(pts) {
         *pi = c - q;

@@ -229,3 +229,53 @@ fn primitives_from_the_command_line_are_checked() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("patches_u"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn regulation_default_names_our_own_method() {
+    let dir = temp_dir("default-regulation");
+    let ops = dir.join("ops.jsonl");
+    std::fs::write(
+        &ops,
+        "{\"op\":\"push\",\"at\":[0.5,0.5,0],\"dir\":[0,0,-1],\"depth\":0.5,\"radius\":1.25}\n",
+    )
+    .unwrap();
+    let mut written = Vec::new();
+    for method in ["default", "exact"] {
+        let out_path = dir.join(format!("{method}.json"));
+        let out = nendo()
+            .args([
+                "sculpt",
+                "--primitive",
+                "plane",
+                "--regulation",
+                method,
+                "--ops",
+            ])
+            .arg(&ops)
+            .arg("--out")
+            .arg(&out_path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{method}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        written.push(std::fs::read(&out_path).unwrap());
+    }
+    assert_eq!(written[0], written[1], "default is exact");
+    let out = nendo()
+        .args([
+            "sculpt",
+            "--primitive",
+            "plane",
+            "--regulation",
+            "bogus",
+            "--out",
+        ])
+        .arg(dir.join("bogus.json"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(!dir.join("bogus.json").exists());
+}

@@ -225,7 +225,29 @@ fn bad_documents_are_rejected_with_clear_errors() {
     let text = good
         .to_string()
         .replacen("[0.0,0.0,-3.0]", "[0.0,0.0,-3e999]", 1);
-    assert!(Model::from_json_str(&text).is_err());
+    let e = Model::from_json_str(&text).unwrap_err().to_string();
+    assert!(e.contains("out of range") && e.contains("finite"), "{e}");
+    // What Python's json module writes for NaN and infinity: named, not "expected value".
+    for token in ["NaN", "Infinity", "-Infinity"] {
+        let text = good
+            .to_string()
+            .replacen("[0.0,0.0,-3.0]", &format!("[0.0,0.0,{token}]"), 1);
+        let e = Model::from_json_str(&text).unwrap_err().to_string();
+        assert!(
+            e.contains(token.trim_start_matches('-')) && e.contains("finite"),
+            "{token}: {e}"
+        );
+    }
+}
+
+#[test]
+fn io_errors_name_the_file_once() {
+    let path = temp_dir("io").join("missing.json");
+    let e = Model::read(&path).unwrap_err();
+    let shown = format!("{:#}", anyhow::Error::from(e));
+    let name = path.display().to_string();
+    assert_eq!(shown.matches(&name).count(), 1, "{shown}");
+    assert_eq!(shown.matches("os error").count(), 1, "{shown}");
 }
 
 #[test]

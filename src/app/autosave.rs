@@ -138,9 +138,9 @@ impl Autosave {
             .parent()
             .filter(|d| !d.as_os_str().is_empty())
             .map_or(Ok(()), std::fs::create_dir_all)
-            .map_err(|source| ModelError::Io {
+            .map_err(|error| ModelError::Io {
                 path: self.path.clone(),
-                source,
+                error,
             })
             .and_then(|()| model.write(&self.path));
         match result {

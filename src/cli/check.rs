@@ -36,7 +36,7 @@ pub fn run(args: Args) -> ExitCode {
     let loaded = match Model::read(&args.model) {
         Ok(l) => l,
         Err(e) => {
-            eprintln!("nendo check: {}: {e}", args.model.display());
+            eprintln!("nendo check: {}", e.in_file(&args.model));
             return ExitCode::from(1);
         }
     };
@@ -47,7 +47,7 @@ pub fn run(args: Args) -> ExitCode {
             let other = match Model::read(path) {
                 Ok(l) => l.model.surface,
                 Err(e) => {
-                    eprintln!("nendo check: {}: {e}", path.display());
+                    eprintln!("nendo check: {}", e.in_file(path));
                     return ExitCode::from(1);
                 }
             };

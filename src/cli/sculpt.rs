@@ -43,8 +43,9 @@ pub struct Args {
     /// Operations to apply, one JSON object per line (`-`: standard input).
     #[arg(long)]
     pub ops: Option<PathBuf>,
-    /// Regulation after each operation: none, c1, g1 (the paper's) or exact (default: the
-    /// model's, else exact).
+    /// Regulation after each operation: none (the Bernstein inverse alone), c1 (the paper's
+    /// baseline), g1 (the paper's method) or exact (our own, also called `default`). Without
+    /// the option: the model's, else exact.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_regulation))]
     pub regulation: Option<Regulation>,
     /// Where to write the model (atomically).
@@ -103,7 +104,7 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
                 );
             }
             Model::read(path)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+                .map_err(|e| anyhow::anyhow!(e.in_file(path)))?
                 .model
         }
         (None, Some(p)) => {

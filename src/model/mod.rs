@@ -49,12 +49,13 @@ pub const SHARED_POINT_TOLERANCE: f64 = 1e-9;
 #[derive(Debug, thiserror::Error)]
 pub enum ModelError {
     /// The file could not be read or written.
-    #[error("{path}: {source}")]
+    #[error("{}: {error}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
-        /// The underlying error.
-        source: std::io::Error,
+        /// The underlying error (named in the message, so not also chained as a source:
+        /// printing the chain would repeat it).
+        error: std::io::Error,
     },
     /// The text is not JSON.
     #[error("not valid JSON: {0}")]
@@ -76,6 +77,43 @@ pub enum ModelError {
         /// Why.
         source: CurveError,
     },
+}
+
+impl ModelError {
+    /// The message for a user who asked for `path`: errors that do not already name the file
+    /// are prefixed with it.
+    #[must_use]
+    pub fn in_file(&self, path: &Path) -> String {
+        match self {
+            ModelError::Io { .. } => self.to_string(),
+            _ => format!("{}: {self}", path.display()),
+        }
+    }
+}
+
+/// A JSON error made clearer where the text holds a number JSON cannot carry (`NaN`,
+/// `Infinity`, or a literal too large for a double): model coordinates must be finite.
+fn non_finite_hint(text: &str, e: serde_json::Error) -> ModelError {
+    let (line, column) = (e.line(), e.column());
+    let at = text
+        .lines()
+        .nth(line.saturating_sub(1))
+        .and_then(|l| l.get(column.saturating_sub(1)..))
+        .unwrap_or("");
+    let bad = ["NaN", "-NaN", "Infinity", "-Infinity", "inf", "-inf", "nan"]
+        .iter()
+        .find(|t| at.starts_with(**t));
+    if let Some(token) = bad {
+        ModelError::Format(format!(
+            "line {line} column {column}: {token} is not a finite number (every coordinate must be finite)"
+        ))
+    } else if e.to_string().contains("number out of range") {
+        ModelError::Format(format!(
+            "line {line} column {column}: a number is out of range (every coordinate must be a finite double)"
+        ))
+    } else {
+        ModelError::Json(e)
+    }
 }
 
 /// A model: the surface, how it is regulated, and the curves.
@@ -149,7 +187,7 @@ impl Model {
     /// # Errors
     /// Any [`ModelError`] but `Io`, saying where the problem is.
     pub fn from_json_str(text: &str) -> Result<Loaded, ModelError> {
-        let v: Value = serde_json::from_str(text)?;
+        let v: Value = serde_json::from_str(text).map_err(|e| non_finite_hint(text, e))?;
         Self::from_json(&v)
     }
 
@@ -295,9 +333,9 @@ impl Model {
     /// # Errors
     /// [`ModelError::Io`] when the file cannot be read; otherwise as [`Model::from_json_str`].
     pub fn read(path: &Path) -> Result<Loaded, ModelError> {
-        let text = fs::read_to_string(path).map_err(|source| ModelError::Io {
+        let text = fs::read_to_string(path).map_err(|error| ModelError::Io {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         Self::from_json_str(&text)
     }
@@ -316,9 +354,9 @@ impl Model {
 /// # Errors
 /// [`ModelError::Io`]; the target is then untouched and the temporary file removed.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ModelError> {
-    let io = |source| ModelError::Io {
+    let io = |error| ModelError::Io {
         path: path.to_path_buf(),
-        source,
+        error,
     };
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),

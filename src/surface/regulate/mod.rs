@@ -77,10 +77,16 @@ impl std::str::FromStr for Regulation {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "default" {
+            // The and the panel's name for our own method.
+            return Ok(Regulation::default());
+        }
         Regulation::ALL
             .into_iter()
             .find(|r| r.name() == s)
-            .ok_or_else(|| format!("unknown regulation {s:?}: expected none, c1, g1 or exact"))
+            .ok_or_else(|| {
+                format!("unknown regulation {s:?}: expected none, c1, g1, exact (= default)")
+            })
     }
 }
 

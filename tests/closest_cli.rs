@@ -82,3 +82,30 @@ fn bad_lines_get_errors_and_later_lines_are_answered() {
     }
     assert!((out[9]["distance"].as_f64().expect("answered after errors") - 1.0).abs() < 1e-12);
 }
+
+#[test]
+fn extreme_but_valid_inputs_are_answered_or_refused_never_null() {
+    let input = r#"{"op":"closest","curve":{"bezier":[[0,0],[1,2],[2,0]]},"point":[1e300,1e300]}
+{"op":"ray","curve":{"bezier":[[-1,0,0],[1,0,0]]},"origin":[0,-3,0],"dir":[0,1e-300,0]}
+{"op":"closest","curve":{"bezier":[[1e308,0],[1e308,1]]},"point":[-1e308,0]}
+{"op":"closest","curve":{"bezier":[[0,0],[2,0]]},"point":[1,1],"rmax":1}
+"#;
+    let (out, code) = run(input);
+    assert_eq!(out.len(), 4);
+    let d = out[0]["distance"].as_f64().expect("a finite distance");
+    assert!((d / 1.414_213_562_373_095e300 - 1.0).abs() < 1e-3, "{d}");
+    assert!(
+        out[1]["distance"].as_f64().expect("finite") < 1e-12,
+        "{}",
+        out[1]
+    );
+    assert!((out[1]["ray_t"].as_f64().expect("finite") - 3e300).abs() < 1e291);
+    assert!(out[2]["error"].is_string(), "2e308 overflows: {}", out[2]);
+    assert_eq!(
+        out[3]["u"].as_f64(),
+        Some(0.5),
+        "R is inclusive: {}",
+        out[3]
+    );
+    assert_eq!(code, 1, "one line failed");
+}

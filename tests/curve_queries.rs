@@ -395,3 +395,117 @@ fn bspline_parameters_are_reported_in_the_bspline_domain() {
     let n = c.closest(q, f64::INFINITY).expect("unbounded");
     assert!((n.u - 4.6).abs() < 1e-7 && n.distance < 1e-12);
 }
+
+#[test]
+fn rmax_is_inclusive_in_the_interior_as_at_the_ends() {
+    // A line at distance exactly 1 below the query: found with R = 1.
+    let line: Curve<DVec2> = Bezier::new(vec![DVec2::ZERO, DVec2::new(2.0, 0.0)]).into();
+    let n = line
+        .closest(DVec2::new(1.0, 1.0), 1.0)
+        .expect("at distance exactly R");
+    assert!((n.u - 0.5).abs() < 1e-12 && (n.distance - 1.0).abs() < 1e-15);
+    // A query exactly on the curve, R = 0.
+    let arch: Curve<DVec2> = Bezier::new(vec![
+        DVec2::ZERO,
+        DVec2::new(1.0, 2.0),
+        DVec2::new(2.0, 0.0),
+    ])
+    .into();
+    let n = arch
+        .closest(DVec2::new(1.0, 1.0), 0.0)
+        .expect("on the curve");
+    assert!((n.u - 0.5).abs() < 1e-9 && n.distance < 1e-15);
+    // Pick, likewise.
+    let other: Curve<DVec2> = Bezier::new(vec![DVec2::new(0.0, 5.0), DVec2::new(2.0, 5.0)]).into();
+    let p = pick(&[line, other], DVec2::new(1.0, 1.0), 1.0).expect("at distance exactly R");
+    assert_eq!(p.index, 0);
+    // Just beyond R is still nothing.
+    let line: Curve<DVec2> = Bezier::new(vec![DVec2::ZERO, DVec2::new(2.0, 0.0)]).into();
+    assert!(line.closest(DVec2::new(1.0, 1.0 + 1e-9), 1.0).is_none());
+}
+
+#[test]
+fn bspline_pieces_meet_exactly_at_their_knots() {
+    let c: Curve<DVec2> = BSpline::try_new(
+        1,
+        vec![0.317, 0.317, 0.896, 1.5, 1.5],
+        vec![DVec2::new(-1.0, 0.0), DVec2::ZERO, DVec2::new(1.0, 0.0)],
+    )
+    .unwrap()
+    .into();
+    let iv = c.sphere_intervals(DVec2::ZERO, 0.5);
+    assert_eq!(iv.len(), 1, "one maximal interval across the knot: {iv:?}");
+    let n = c.closest(DVec2::new(0.0, 0.3), f64::INFINITY).unwrap();
+    assert_eq!(n.u, 0.896, "the knot itself, not an ulp beside it");
+    // u never leaves the domain.
+    let knots = vec![
+        -2.4923951223606045,
+        -2.4923951223606045,
+        -1.7823977102797848,
+        -1.6941254204731018,
+        5.556019349283365,
+        5.556019349283365,
+    ];
+    let pts = vec![
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0, 1.0),
+        DVec2::new(2.0, -1.0),
+        DVec2::new(3.0, 0.5),
+    ];
+    let c: Curve<DVec2> = BSpline::try_new(1, knots, pts).unwrap().into();
+    let (a, b) = c.domain();
+    for q in [
+        DVec2::new(9.0, 0.5),
+        DVec2::new(-9.0, 0.0),
+        DVec2::new(1.5, 3.0),
+    ] {
+        let n = c.closest(q, f64::INFINITY).unwrap();
+        assert!(n.u >= a && n.u <= b, "{} outside [{a}, {b}]", n.u);
+    }
+}
+
+#[test]
+fn extreme_magnitudes_give_the_unit_scale_answers_scaled() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5ca1e);
+    for &scale in &[1e-250, 1e-160, 1e160, 1e250, 1e300] {
+        for _ in 0..100 {
+            let c: Bezier<DVec2> = Bezier::new(
+                (0..4)
+                    .map(|_| random_point::<DVec2>(&mut rng, 1.0))
+                    .collect(),
+            );
+            let q: DVec2 = random_point(&mut rng, 1.5);
+            let unit = Curve::from(c.clone()).closest(q, f64::INFINITY).unwrap();
+            let big = Bezier::new(c.points().iter().map(|&p| p * scale).collect());
+            let n = Curve::from(big.clone())
+                .closest(q * scale, f64::INFINITY)
+                .unwrap();
+            assert!(n.distance.is_finite(), "scale {scale}");
+            assert!(
+                (n.distance / scale - unit.distance).abs() <= 1e-9 * unit.distance.max(1e-300),
+                "scale {scale}: {} vs {}",
+                n.distance / scale,
+                unit.distance
+            );
+            let iv = Curve::from(big).sphere_intervals(q * scale, unit.distance * 1.5 * scale);
+            assert!(
+                !iv.is_empty(),
+                "scale {scale}: the sphere holds the closest point"
+            );
+        }
+    }
+    // A ray whose direction is tiny still has a direction.
+    let line: Curve<DVec3> =
+        Bezier::new(vec![DVec3::new(-1.0, 0.0, 0.0), DVec3::new(1.0, 0.0, 0.0)]).into();
+    for d in [1e-300, 1e300] {
+        let r = line
+            .ray_closest(DVec3::new(0.0, -3.0, 0.0), DVec3::new(0.0, d, 0.0))
+            .expect("a ray");
+        assert!(r.distance < 1e-12, "dir {d}: {}", r.distance);
+        assert!(
+            (r.ray_t * d - 3.0).abs() < 1e-9,
+            "dir {d}: ray_t {}",
+            r.ray_t
+        );
+    }
+}

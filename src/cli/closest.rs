@@ -114,7 +114,14 @@ pub fn answer(line: &str) -> Result<Value, String> {
             let rmax = rmax(&req)?;
             let q = field(&req, "point")?;
             match curves.first().map(DynCurve::dim) {
-                None => Ok(json!({ "index": null })),
+                None => {
+                    // No curve to pick; the point must still be a valid 2D or 3D point.
+                    typed_point::<DVec2>(q, "point")
+                        .map(|_| ())
+                        .or_else(|_| typed_point::<DVec3>(q, "point").map(|_| ()))
+                        .map_err(e)?;
+                    Ok(json!({ "index": null }))
+                }
                 Some(2) => pick_reply::<DVec2>(
                     &same_dim(curves, |c| match c {
                         DynCurve::D2(c) => Some(c),
@@ -200,18 +207,34 @@ fn same_dim<P: Point>(
         .collect()
 }
 
+/// `Ok` when every number of an answer is finite: a result that overflows a double (two
+/// points farther apart than ~1.8e308) is an error, never a JSON `null`.
+fn finite_answer<P: Point>(numbers: &[f64], point: P) -> Result<(), String> {
+    if numbers.iter().all(|v| v.is_finite()) && point.is_finite_coeff() {
+        Ok(())
+    } else {
+        Err("the answer is not representable: a distance overflows a double".to_string())
+    }
+}
+
 fn closest_reply<P: Point>(c: &Curve<P>, q: P, rmax: f64) -> Result<Value, String> {
     Ok(match c.closest(q, rmax) {
-        Some(n) => json!({ "u": n.u, "point": point_to_json(n.point), "distance": n.distance }),
+        Some(n) => {
+            finite_answer(&[n.u, n.distance], n.point)?;
+            json!({ "u": n.u, "point": point_to_json(n.point), "distance": n.distance })
+        }
         None => json!({ "u": null }),
     })
 }
 
 fn pick_reply<P: Point>(curves: &[Curve<P>], q: P, rmax: f64) -> Result<Value, String> {
     Ok(match pick(curves, q, rmax) {
-        Some(p) => json!({
-            "index": p.index, "u": p.nearest.u, "point": point_to_json(p.nearest.point), "distance": p.nearest.distance
-        }),
+        Some(p) => {
+            finite_answer(&[p.nearest.u, p.nearest.distance], p.nearest.point)?;
+            json!({
+                "index": p.index, "u": p.nearest.u, "point": point_to_json(p.nearest.point), "distance": p.nearest.distance
+            })
+        }
         None => json!({ "index": null }),
     })
 }
@@ -220,12 +243,13 @@ fn ray_reply<P: Point>(c: &Curve<P>, req: &Value) -> Result<Value, String> {
     let e = |e: CurveError| e.to_string();
     let o: P = typed_point(field(req, "origin")?, "origin").map_err(e)?;
     let d: P = typed_point(field(req, "dir")?, "dir").map_err(e)?;
-    if d.length_squared() == 0.0 {
+    if (0..P::DIM).all(|i| d.coord(i) == 0.0) {
         return Err(CurveError::ZeroVector("dir").to_string());
     }
     let r = c
         .ray_closest(o, d)
         .ok_or("the ray query has no answer (non-finite input)")?;
+    finite_answer(&[r.u, r.ray_t, r.distance], r.point)?;
     Ok(
         json!({ "u": r.u, "point": point_to_json(r.point), "ray_t": r.ray_t, "distance": r.distance }),
     )

@@ -45,7 +45,16 @@ impl<P> Segment<P> {
     #[inline]
     #[must_use]
     pub fn to_global(&self, s: f64) -> f64 {
-        self.start + s * (self.end - self.start)
+        // The segment's ends map to its knots exactly (so that pieces meeting at a knot meet
+        // exactly, and no parameter leaves the domain by an ulp).
+        if s <= 0.0 {
+            return self.start;
+        }
+        if s >= 1.0 {
+            return self.end;
+        }
+        let t = self.start + s * (self.end - self.start);
+        t.clamp(self.start, self.end)
     }
 }
 

@@ -16,7 +16,7 @@
 use super::bernstein;
 use super::bezier::{Bezier, MAX_DEGREE};
 use super::clip;
-use super::closest::{ClipStats, distance_squared_coeffs, minimize_below};
+use super::closest::{ClipStats, distance_squared_coeffs, magnitude, minimize_below, rescale_for};
 use super::point::Point;
 
 /// The closest pair between a ray and a curve.
@@ -58,11 +58,27 @@ pub fn ray_closest_bezier_with_stats<P: Point>(
     if !origin.is_finite_coeff() || !dir.is_finite_coeff() {
         return None;
     }
-    let dlen = dir.length();
+    // Extreme magnitudes: search on a copy scaled by a power of two (exact), map back.
+    let sp = rescale_for(magnitude(curve.points(), origin));
+    if sp != 1.0 {
+        let scaled = Bezier::try_new(curve.points().iter().map(|&c| c * sp).collect()).ok()?;
+        let r = ray_closest_bezier_with_stats(&scaled, origin * sp, dir, stats)?;
+        let point = curve.eval(r.u);
+        return Some(RayNearest {
+            u: r.u,
+            point,
+            ray_t: r.ray_t / sp,
+            distance: r.distance / sp,
+        });
+    }
+    // The direction alone may be tiny or huge: normalise it through a power-of-two copy.
+    let ds = rescale_for(magnitude(&[dir], P::ZERO));
+    let dir_n = dir * ds;
+    let dlen = dir_n.length();
     if dlen.is_nan() || dlen <= 0.0 {
         return None;
     }
-    let dh = dir * (1.0 / dlen);
+    let dh = dir_n * (1.0 / dlen);
     let n = curve.degree();
     let mut p = [P::ZERO; MAX_DEGREE + 1];
     for (pi, &c) in p.iter_mut().zip(curve.points()) {
@@ -98,7 +114,7 @@ pub fn ray_closest_bezier_with_stats<P: Point>(
     Some(RayNearest {
         u,
         point,
-        ray_t: s / dlen,
+        ray_t: s * ds / dlen,
         distance: (point - on_ray).length(),
     })
 }

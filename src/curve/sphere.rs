@@ -17,7 +17,7 @@
 use super::bernstein;
 use super::bezier::{Bezier, MAX_DEGREE};
 use super::clip;
-use super::closest::distance_squared_coeffs;
+use super::closest::{distance_squared_coeffs, magnitude, rescale_for};
 use super::point::Point;
 
 /// Coefficients `d_k` of `e(t,R)` for the curve and sphere (length `2n + 1`).
@@ -54,6 +54,14 @@ pub fn sphere_intervals_bezier<P: Point>(
 ) -> Vec<(f64, f64)> {
     if !centre.is_finite_coeff() || !radius.is_finite() || radius < 0.0 {
         return Vec::new();
+    }
+    // Extreme magnitudes: the same intervals on a copy scaled by a power of two (exact).
+    let s = rescale_for(magnitude(curve.points(), centre).max(radius));
+    if s != 1.0 {
+        return match Bezier::try_new(curve.points().iter().map(|&c| c * s).collect()) {
+            Ok(scaled) => sphere_intervals_bezier(&scaled, centre * s, radius * s),
+            Err(_) => Vec::new(),
+        };
     }
     let n = curve.degree();
     let mut p = [P::ZERO; MAX_DEGREE + 1];

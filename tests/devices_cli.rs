@@ -2,7 +2,9 @@
 //! pseudo-terminals.
 #![cfg(unix)]
 
-use std::process::Command;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 use nendo_devices::Trace;
 use nendo_devices::cyberglove::SensorCount;
@@ -61,6 +63,11 @@ fn record_writes_a_trace_from_an_emulated_glove_and_tracker() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(stdout.contains("recorded"), "{stdout}");
+    // Both sources' counters, faults among them.
+    assert!(
+        stdout.contains("glove: ") && stdout.contains("tracker: ") && stdout.contains(" faults"),
+        "{stdout}"
+    );
     let trace = Trace::read(&path).unwrap();
     assert_eq!(
         trace.header.profile.as_deref(),
@@ -166,4 +173,181 @@ fn record_refuses_ambiguous_and_mouse_profiles() {
         .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("window"));
+}
+
+fn shipped_trace(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("devices/traces")
+        .join(format!("{name}.trace"))
+}
+
+#[test]
+fn recording_a_replay_keeps_the_source_traces_header() {
+    let dir = temp("replay-record");
+    let source = Trace::read(&shipped_trace("plane-groove")).unwrap();
+    assert_eq!(source.header.world_from_tracker.scale, 20.0);
+    let profile = dir.join("groove-replay.json");
+    let json = serde_json::json!({
+        "format": "nendo-device-profile",
+        "version": 1,
+        "name": "groove-replay",
+        "input": {"replay": {"trace": shipped_trace("plane-groove"), "speed": 40.0}},
+    });
+    std::fs::write(&profile, json.to_string()).unwrap();
+    let path = dir.join("again.trace");
+    let out = nendo()
+        .args(["record", "--seconds", "20", "--profile"])
+        .arg(&profile)
+        .arg("--out")
+        .arg(&path)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("the replayed trace ended"), "{stdout}");
+    let again = Trace::read(&path).unwrap();
+    // The recording's header is the source trace's, not the replay profile's.
+    assert_eq!(again.header, source.header);
+    assert_eq!(again.frames.len(), source.frames.len());
+    let first = source.frames[0].time.as_micros();
+    for (a, s) in again.frames.iter().zip(&source.frames) {
+        assert_eq!(a.time.as_micros(), s.time.as_micros() - first);
+        assert_eq!((a.pose, a.joints, a.buttons), (s.pose, s.joints, s.buttons));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Records the 22-sensor emulated glove with a long `--seconds`, sends `signal` after half a
+/// second, and checks that the recording ended then with a finished trace and nothing else.
+fn stop_recording_with(signal: &str) {
+    let glove = PtyEmulator::spawn(CyberGloveModel::new(SensorCount::TwentyTwo)).unwrap();
+    let dir = temp(&format!("signal-{signal}"));
+    let path = dir.join("stopped.trace");
+    let mut child = nendo()
+        .args([
+            "record",
+            "--profile",
+            "cyberglove2-22",
+            "--seconds",
+            "60",
+            "--port",
+        ])
+        .arg(glove.path())
+        .arg("--out")
+        .arg(&path)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until recording has begun (its temporary file exists), then a little longer.
+    let begun = Instant::now() + Duration::from_secs(10);
+    while std::fs::read_dir(&dir).unwrap().count() == 0 && Instant::now() < begun {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    std::thread::sleep(Duration::from_millis(500));
+    let sent = Instant::now();
+    let kill = Command::new("kill")
+        .args([format!("-{signal}"), child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            // Our own child: end it so the test does not hang.
+            let _ = child.kill();
+            panic!("nendo record did not stop on SIG{signal}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "SIG{signal}: {:?}\n{stdout}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(sent.elapsed() < Duration::from_secs(5));
+    assert!(stdout.contains("stopped by a signal"), "{stdout}");
+    let trace = Trace::read(&path).unwrap();
+    assert!(trace.frames.len() > 10, "{} frames", trace.frames.len());
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["stopped.trace"], "no temporary file left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn sigterm_ends_a_recording_with_a_finished_trace() {
+    stop_recording_with("TERM");
+}
+
+#[test]
+fn sigint_ends_a_recording_with_a_finished_trace() {
+    stop_recording_with("INT");
+}
+
+#[test]
+fn recording_into_a_missing_directory_names_out_once() {
+    let glove = PtyEmulator::spawn(CyberGloveModel::new(SensorCount::TwentyTwo)).unwrap();
+    let dir = temp("missing-dir");
+    let path = dir.join("no-such-dir").join("t.trace");
+    let out = nendo()
+        .args([
+            "record",
+            "--profile",
+            "cyberglove2-22",
+            "--seconds",
+            "0.2",
+            "--port",
+        ])
+        .arg(glove.path())
+        .arg("--out")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains(&path.display().to_string()), "{stderr}");
+    assert!(!stderr.contains(".tmp-"), "{stderr}");
+    assert_eq!(
+        stderr.matches("No such file or directory").count(),
+        1,
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn devices_skips_a_bad_profile_with_a_warning_and_lists_the_rest() {
+    let dir = temp("profiles");
+    let good = nendo_devices::profile::resolve("flock").unwrap();
+    let mut mine = good.clone();
+    mine.name = "my-flock".into();
+    std::fs::write(dir.join("a-broken.json"), "{ not json").unwrap();
+    std::fs::write(dir.join("b-mine.json"), mine.to_json()).unwrap();
+    let out = nendo()
+        .args(["devices", "--profiles"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(
+        stderr.contains("warning") && stderr.contains("a-broken.json"),
+        "{stderr}"
+    );
+    assert!(
+        stdout.contains("my-flock") && stdout.contains("cyberglove2-18"),
+        "{stdout}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -257,3 +257,53 @@ fn bad_input_is_reported_and_nothing_is_written() {
         assert!(!out.exists(), "{args:?} wrote a file");
     }
 }
+
+#[test]
+fn a_missing_model_or_trace_is_named_once() {
+    let dir = temp_dir("named-once");
+    let out = dir.join("out.json");
+    let model = dir.join("nonexist.json");
+    let o = nendo(&[
+        "replay",
+        &shipped("sphere-push-pull"),
+        "--model",
+        s(&model),
+        "--out",
+        s(&out),
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.matches("nonexist.json").count(), 1, "{err}");
+    let trace = dir.join("nonexist.trace");
+    let o = nendo(&[
+        "replay",
+        s(&trace),
+        "--primitive",
+        "sphere",
+        "--out",
+        s(&out),
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.matches("nonexist.trace").count(), 1, "{err}");
+    assert!(!out.exists());
+    // A syntax error, which does not name the file, is given the path once.
+    let broken = dir.join("broken.trace");
+    std::fs::write(
+        &broken,
+        "nendo-hand-trace 1\nframes\n0 ok ok 0 P x\nend 1\n",
+    )
+    .unwrap();
+    let o = nendo(&[
+        "replay",
+        s(&broken),
+        "--primitive",
+        "sphere",
+        "--out",
+        s(&out),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.matches("broken.trace").count(), 1, "{err}");
+    assert!(err.contains("line 3"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

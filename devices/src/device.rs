@@ -20,7 +20,7 @@ use crate::fivedt::{
 };
 use crate::flock::{self, FlockDecoder, FlockFraming};
 use crate::profile::{
-    FastrakOrientation, GloveProfile, SensorCalibration, TrackerProfile, calibrate,
+    FastrakOrientation, GloveProfile, SensorCalibration, Side, TrackerProfile, calibrate,
 };
 use crate::serial::SerialLink;
 use crate::{DeviceError, GloveSample, Joint, TrackerPose};
@@ -58,6 +58,11 @@ pub trait Glove: Send {
     fn stop(&mut self);
     /// Counters.
     fn stats(&self) -> DeviceStats;
+    /// Mismatches between the device found at the last start and its profile that were
+    /// worked around (for people: printed by `nendo record`, shown by the window).
+    fn warnings(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// A 6-DoF hand tracker.
@@ -138,7 +143,7 @@ impl<P: SerialProtocol> SerialDevice<P> {
         let Some(link) = self.link.as_mut() else {
             return Err(DeviceError::Io {
                 device: self.port.clone(),
-                source: std::io::Error::new(std::io::ErrorKind::NotConnected, "not started"),
+                error: std::io::Error::new(std::io::ErrorKind::NotConnected, "not started"),
             });
         };
         let mut buf = [0u8; 1024];
@@ -228,8 +233,24 @@ fn joints_of(table: &[SensorCalibration]) -> Vec<Joint> {
 // CyberGlove
 
 struct CyberGloveProtocol {
+    /// The port, for messages.
+    device: String,
     framing: CyberGloveFraming,
     calibration: Vec<SensorCalibration>,
+}
+
+impl CyberGloveProtocol {
+    fn unplugged(&self) -> DeviceError {
+        DeviceError::Unplugged {
+            device: format!("CyberGlove on {}", self.device),
+            detail: "the glove is unplugged from its interface unit".into(),
+        }
+    }
+
+    /// Whether a sample's status byte (when records carry one) says the glove is plugged in.
+    fn glove_in(status: Option<u8>) -> bool {
+        status.is_none_or(|s| s & cyberglove::STATUS_GLOVE_IN != 0)
+    }
 }
 
 impl GloveJoints for CyberGloveProtocol {
@@ -265,12 +286,24 @@ impl SerialProtocol for CyberGloveProtocol {
                 *header == cyberglove::POLL
             }
         })?;
-        if let CyberRecord::Fault { fault, .. } = record {
-            return Err(DeviceError::BadAnswer {
-                device: link.name().to_string(),
-                command: "G (poll)".into(),
-                detail: format!("the glove reports {fault:?}"),
-            });
+        match record {
+            // The interface unit answers, but its glove is out: the device is not there yet,
+            // and the stream keeps retrying as for any disconnected device.
+            CyberRecord::Fault {
+                fault: GloveFault::GloveUnplugged,
+                ..
+            } => return Err(self.unplugged()),
+            CyberRecord::Sample { status, .. } if !Self::glove_in(status) => {
+                return Err(self.unplugged());
+            }
+            CyberRecord::Fault { fault, .. } => {
+                return Err(DeviceError::BadAnswer {
+                    device: link.name().to_string(),
+                    command: "G (poll)".into(),
+                    detail: format!("the glove reports {fault:?}"),
+                });
+            }
+            CyberRecord::Sample { .. } => {}
         }
         link.send(&[cyberglove::STREAM])
     }
@@ -285,6 +318,11 @@ impl SerialProtocol for CyberGloveProtocol {
         stats: &mut DeviceStats,
     ) -> Result<Option<GloveSample>, DeviceError> {
         match record {
+            CyberRecord::Sample { status, .. } if !Self::glove_in(status) => {
+                // The status byte's glove-in bit is clear: the sensor values mean nothing.
+                stats.faults += 1;
+                Err(self.unplugged())
+            }
             CyberRecord::Sample { status, .. } => {
                 let raw: Vec<f64> = record.values().iter().map(|&v| f64::from(v)).collect();
                 let angles = calibrate(&self.calibration, &raw)?;
@@ -297,11 +335,7 @@ impl SerialProtocol for CyberGloveProtocol {
                 stats.faults += 1;
                 match fault {
                     GloveFault::SampleError => Ok(None),
-                    GloveFault::GloveUnplugged => Err(DeviceError::BadAnswer {
-                        device: "CyberGlove".into(),
-                        command: "S (stream)".into(),
-                        detail: "the glove is unplugged from its interface unit".into(),
-                    }),
+                    GloveFault::GloveUnplugged => Err(self.unplugged()),
                 }
             }
         }
@@ -330,6 +364,9 @@ impl SerialProtocol for Glove5Protocol {
     }
 
     fn start(&mut self, link: &mut SerialLink, _: &mut Glove5Decoder) -> Result<(), DeviceError> {
+        // A glove still streaming (a restart, a host that died) would bury the answers below in
+        // records: ask for one record, which ends streaming, and discard what comes.
+        link.send(&[fivedt::GLOVE5_ONE])?;
         link.drain(Duration::from_millis(30), ANSWER_TIMEOUT)?;
         link.send(&[fivedt::GLOVE5_INIT])?;
         link.expect(
@@ -342,7 +379,11 @@ impl SerialProtocol for Glove5Protocol {
         link.send(&[fivedt::GLOVE5_STREAM])
     }
 
-    fn stop(&mut self, _: &mut SerialLink) {}
+    fn stop(&mut self, link: &mut SerialLink) {
+        // `C` asks for one record and ends streaming mode (the glove then sends only what it
+        // is asked for); the record it answers is discarded by the next start.
+        let _ = link.send(&[fivedt::GLOVE5_ONE]);
+    }
 
     fn convert(
         &self,
@@ -468,6 +509,12 @@ impl SerialProtocol for FastrakProtocol {
             stats.ignored += 1;
             return Ok(None);
         }
+        if r.error != fastrak::NO_ERROR {
+            // The tracker flags this record (a letter in the error byte): its values are not
+            // to be trusted. Counted as a fault and dropped.
+            stats.faults += 1;
+            return Ok(None);
+        }
         r.pose(self.units).map(Some)
     }
 }
@@ -517,17 +564,90 @@ impl SerialProtocol for FlockProtocol {
 // 5DT Ultra over USB HID
 
 /// The 5DT Data Glove Ultra on USB HID (hidapi, Linux hidraw without libudev headers).
+///
+/// On every start the glove's product id says which model it is ([`fivedt::UltraModel`]): the
+/// profile's calibration is fitted to it ([`fivedt::UltraModel::fit_calibration`]: a 5-sensor
+/// glove is read at its five values only, a table that maps none of them is refused), and a
+/// glove for the other hand than the profile's is reported in [`Glove::warnings`].
 pub struct UltraUsbGlove {
     usb: crate::profile::UsbMatch,
     report_id: bool,
+    /// The profile's table, one entry per report value.
     calibration: Vec<SensorCalibration>,
+    /// The profile's hand, checked against the glove's.
+    hand: Option<Side>,
+    /// The table in force: the profile's, fitted to the model found at the last start.
+    active: Vec<SensorCalibration>,
+    model: Option<fivedt::UltraModel>,
+    warnings: Vec<String>,
     device: Option<hidapi::HidDevice>,
     stats: DeviceStats,
 }
 
 impl UltraUsbGlove {
+    /// A glove backend for these USB ids and this calibration table (one entry per report
+    /// value), checked against `hand` when given. Not yet started.
+    pub fn new(
+        usb: crate::profile::UsbMatch,
+        report_id: bool,
+        calibration: Vec<SensorCalibration>,
+        hand: Option<Side>,
+    ) -> Self {
+        UltraUsbGlove {
+            usb,
+            report_id,
+            active: calibration.clone(),
+            calibration,
+            hand,
+            model: None,
+            warnings: Vec::new(),
+            device: None,
+            stats: DeviceStats::default(),
+        }
+    }
+
     fn hid(e: hidapi::HidError) -> DeviceError {
         DeviceError::Hid(e.to_string())
+    }
+
+    /// Takes in the product id of the glove found: fits the calibration to its model and
+    /// records the warnings. A table that fits nothing is an error, and the glove is not used.
+    pub fn configure(&mut self, pid: u16) -> Result<fivedt::UltraModel, DeviceError> {
+        let model = fivedt::UltraModel::from_product_id(pid);
+        let fit = model.fit_calibration(pid, &self.calibration, self.hand)?;
+        self.active = fit.calibration;
+        self.warnings = fit.warnings;
+        self.model = Some(model);
+        Ok(model)
+    }
+
+    /// The model found at the last start.
+    pub fn model(&self) -> Option<fivedt::UltraModel> {
+        self.model
+    }
+
+    /// Decodes one input report into a sample with the calibration in force, counting it.
+    pub fn decode_report(&mut self, report: &[u8], out: &mut Vec<GloveSample>) {
+        let n = report.len() as u64;
+        self.stats.decode.bytes_in += n;
+        match fivedt::decode_ultra_report(report, self.report_id) {
+            Ok(values) => {
+                self.stats.decode.records += 1;
+                self.stats.decode.record_bytes += n;
+                let raw = values.map(f64::from);
+                match calibrate(&self.active, &raw) {
+                    Ok(angles) => out.push(GloveSample {
+                        angles,
+                        switch: None,
+                    }),
+                    Err(_) => self.stats.invalid += 1,
+                }
+            }
+            Err(_) => {
+                self.stats.decode.rejected += 1;
+                self.stats.decode.skipped_bytes += n;
+            }
+        }
     }
 }
 
@@ -540,7 +660,7 @@ impl Glove for UltraUsbGlove {
     }
 
     fn joints(&self) -> Vec<Joint> {
-        joints_of(&self.calibration)
+        joints_of(&self.active)
     }
 
     fn start(&mut self) -> Result<(), DeviceError> {
@@ -552,6 +672,7 @@ impl Glove for UltraUsbGlove {
             .ok_or_else(|| {
                 DeviceError::Hid(format!("no HID device matches {}", self.describe()))
             })?;
+        self.configure(info.product_id())?;
         let device = info.open_device(&api).map_err(Self::hid)?;
         self.device = Some(device);
         self.stats.starts += 1;
@@ -566,27 +687,8 @@ impl Glove for UltraUsbGlove {
         let n = device
             .read_timeout(&mut buf, timeout.as_millis().min(i32::MAX as u128) as i32)
             .map_err(Self::hid)?;
-        if n == 0 {
-            return Ok(());
-        }
-        self.stats.decode.bytes_in += n as u64;
-        match fivedt::decode_ultra_report(&buf[..n], self.report_id) {
-            Ok(values) => {
-                self.stats.decode.records += 1;
-                self.stats.decode.record_bytes += n as u64;
-                let raw = values.map(f64::from);
-                match calibrate(&self.calibration, &raw) {
-                    Ok(angles) => out.push(GloveSample {
-                        angles,
-                        switch: None,
-                    }),
-                    Err(_) => self.stats.invalid += 1,
-                }
-            }
-            Err(_) => {
-                self.stats.decode.rejected += 1;
-                self.stats.decode.skipped_bytes += n as u64;
-            }
+        if n > 0 {
+            self.decode_report(&buf[..n.min(buf.len())], out);
         }
         Ok(())
     }
@@ -598,13 +700,29 @@ impl Glove for UltraUsbGlove {
     fn stats(&self) -> DeviceStats {
         self.stats
     }
+
+    fn warnings(&self) -> Vec<String> {
+        self.warnings.clone()
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
 // Construction from profiles
 
-/// The glove backend a profile names (not yet started).
+/// The glove backend a profile names (not yet started), without a hand to check the glove
+/// against (see [`open_glove_for_hand`]).
 pub fn open_glove(profile: &GloveProfile) -> Result<Box<dyn Glove>, DeviceError> {
+    open_glove_for_hand(profile, None)
+}
+
+/// The glove backend a profile names (not yet started). A glove that says which hand it is
+/// made for (the 5DT Ultra's product id) is checked against `hand`, the profile's hand; a
+/// mismatch is reported in [`Glove::warnings`]. The glove profile is validated first.
+pub fn open_glove_for_hand(
+    profile: &GloveProfile,
+    hand: Option<Side>,
+) -> Result<Box<dyn Glove>, DeviceError> {
+    profile.validate(&profile.describe_for_errors())?;
     Ok(match profile {
         GloveProfile::CyberGlove {
             port,
@@ -624,6 +742,7 @@ pub fn open_glove(profile: &GloveProfile) -> Result<Box<dyn Glove>, DeviceError>
                 status_byte: *status_byte,
             };
             let protocol = CyberGloveProtocol {
+                device: port.clone(),
                 framing,
                 calibration: calibration.clone(),
             };
@@ -659,18 +778,19 @@ pub fn open_glove(profile: &GloveProfile) -> Result<Box<dyn Glove>, DeviceError>
             usb,
             report_id,
             calibration,
-        } => Box::new(UltraUsbGlove {
-            usb: *usb,
-            report_id: *report_id,
-            calibration: calibration.clone(),
-            device: None,
-            stats: DeviceStats::default(),
-        }),
+        } => Box::new(UltraUsbGlove::new(
+            *usb,
+            *report_id,
+            calibration.clone(),
+            hand,
+        )),
     })
 }
 
-/// The tracker backend a profile names (not yet started).
+/// The tracker backend a profile names (not yet started). The tracker profile is validated
+/// first (station, baud rate, the Flock's scale).
 pub fn open_tracker(profile: &TrackerProfile) -> Result<Box<dyn Tracker>, DeviceError> {
+    profile.validate(&format!("{} on {}", profile.protocol(), profile.port()))?;
     Ok(match profile {
         TrackerProfile::Fastrak {
             port,
@@ -719,4 +839,161 @@ pub fn open_tracker(profile: &TrackerProfile) -> Result<Box<dyn Tracker>, Device
             ))
         }
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::{self, UsbMatch};
+
+    fn ultra_14_table() -> Vec<SensorCalibration> {
+        profile::resolve("5dt-ultra14-usb")
+            .unwrap()
+            .glove()
+            .unwrap()
+            .calibration()
+            .to_vec()
+    }
+
+    #[test]
+    fn an_ultra_glove_is_read_with_the_table_of_the_model_its_product_id_names() {
+        let usb = UsbMatch {
+            vid: fivedt::ULTRA_VENDOR_ID,
+            pid: None,
+        };
+        let mut glove = UltraUsbGlove::new(usb, false, ultra_14_table(), Some(Side::Right));
+        assert_eq!(glove.joints().len(), 14);
+        // A 5-sensor right-hand glove: only values 0, 3, 6, 9, 12 are read.
+        let model = glove.configure(0x5D10).unwrap();
+        assert!(model.five_sensors && !model.left_hand);
+        assert_eq!(glove.joints(), fivedt::JOINTS_5);
+        assert_eq!(glove.warnings().len(), 1);
+        let values: [i16; 16] = std::array::from_fn(|i| 100 * (i as i16 + 1));
+        let mut out = Vec::new();
+        glove.decode_report(&fivedt::encode_ultra_report(&values, None), &mut out);
+        assert_eq!(out.len(), 1);
+        assert_eq!(out[0].angles.len(), 5);
+        let table = ultra_14_table();
+        for (&slot, &joint) in fivedt::ULTRA_5_SENSOR_SLOTS.iter().zip(&fivedt::JOINTS_5) {
+            let want = f64::from(values[slot]) * table[slot].gain;
+            assert_eq!(out[0].angles.get(joint), Some(want), "{joint}");
+        }
+        assert_eq!(out[0].angles.get(Joint::ThumbIp), None);
+        // A left-hand 14-sensor glove with a right-hand profile: read in full, with a warning.
+        let model = glove.configure(0x5D01).unwrap();
+        assert!(model.left_hand && !model.five_sensors);
+        assert_eq!(glove.joints().len(), 14);
+        assert!(
+            glove.warnings()[0].contains("left hand"),
+            "{:?}",
+            glove.warnings()
+        );
+    }
+
+    fn cyber_protocol(status_byte: bool) -> CyberGloveProtocol {
+        CyberGloveProtocol {
+            device: "/dev/ttyTEST".into(),
+            framing: CyberGloveFraming {
+                sensors: SensorCount::Eighteen,
+                status_byte,
+            },
+            calibration: profile::resolve("cyberglove2-18")
+                .unwrap()
+                .glove()
+                .unwrap()
+                .calibration()
+                .to_vec(),
+        }
+    }
+
+    #[test]
+    fn a_cyberglove_out_of_its_unit_is_a_disconnect_and_a_fault() {
+        let p = cyber_protocol(true);
+        let mut stats = DeviceStats::default();
+        let sample = |status| CyberRecord::Sample {
+            header: cyberglove::STREAM,
+            count: 18,
+            values: [60; 22],
+            status: Some(status),
+        };
+        let ok = p
+            .convert(sample(cyberglove::STATUS_GLOVE_IN), &mut stats)
+            .unwrap();
+        assert!(ok.is_some());
+        // The status byte without the glove-in bit.
+        let e = p
+            .convert(sample(cyberglove::STATUS_SWITCH), &mut stats)
+            .unwrap_err();
+        assert!(e.is_disconnect(), "{e}");
+        assert!(e.to_string().contains("/dev/ttyTEST"), "{e}");
+        // The `e g` record.
+        let fault = CyberRecord::Fault {
+            header: cyberglove::STREAM,
+            fault: GloveFault::GloveUnplugged,
+        };
+        let e = p.convert(fault, &mut stats).unwrap_err();
+        assert!(
+            e.is_disconnect() && e.to_string().contains("unplugged"),
+            "{e}"
+        );
+        assert_eq!(stats.faults, 2);
+        // Without the status byte a sample is taken as it is.
+        let p = cyber_protocol(false);
+        let bare = CyberRecord::Sample {
+            header: cyberglove::STREAM,
+            count: 18,
+            values: [60; 22],
+            status: None,
+        };
+        assert!(p.convert(bare, &mut stats).unwrap().is_some());
+    }
+
+    #[test]
+    fn a_flagged_fastrak_record_is_dropped_and_counted() {
+        let p = FastrakProtocol {
+            station: 1,
+            units: Units::Inches,
+            framing: FastrakFraming::position_quaternion(fastrak::DataFormat::Binary),
+        };
+        let mut stats = DeviceStats::default();
+        let record = |error| fastrak::FastrakRecord {
+            station: 1,
+            error,
+            position: Some([1.0, 2.0, 3.0]),
+            euler: None,
+            quaternion: Some([1.0, 0.0, 0.0, 0.0]),
+        };
+        assert!(p.convert(record(b' '), &mut stats).unwrap().is_some());
+        assert!(p.convert(record(b'E'), &mut stats).unwrap().is_none());
+        assert!(p.convert(record(b'e'), &mut stats).unwrap().is_none());
+        assert_eq!(stats.faults, 2);
+    }
+
+    #[test]
+    fn a_flock_scale_other_than_36_72_or_144_inches_is_refused() {
+        let mut t = profile::resolve("flock")
+            .unwrap()
+            .tracker()
+            .unwrap()
+            .clone();
+        for (scale, ok) in [(36.0, true), (72.0, true), (144.0, true), (50.0, false)] {
+            if let TrackerProfile::Flock { scale_inches, .. } = &mut t {
+                *scale_inches = scale;
+            }
+            let r = open_tracker(&t);
+            assert_eq!(r.is_ok(), ok, "{scale}");
+            if let Err(e) = r {
+                assert!(e.to_string().contains("36, or 72 or 144"), "{e}");
+            }
+        }
+        let json = profile::resolve("flock")
+            .unwrap()
+            .to_json()
+            .replace("\"scale_inches\": 36.0", "\"scale_inches\": 48.0");
+        assert!(json.contains("48.0"));
+        let e = profile::Profile::from_json(&json, "x")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("scale_inches 48"), "{e}");
+    }
 }

@@ -5,25 +5,28 @@ use std::path::PathBuf;
 /// Everything that can go wrong in the device layer: opening and talking to devices, reading
 /// profiles and traces, and values that fail validation. No device error ever panics; the
 /// stream reports errors as a source state and keeps running.
+///
+/// Every message is complete on its own: it already carries the text of the underlying error
+/// (the OS's, the serial layer's), because the stream and the window show errors with
+/// `to_string`. So no variant also exposes that error as its `source()`: a chain printer
+/// (anyhow's `{:#}`) would repeat it.
 #[derive(Debug, thiserror::Error)]
 pub enum DeviceError {
     /// A serial port could not be opened (absent, busy, or no permission).
-    #[error("cannot open serial port {port}: {source}")]
+    #[error("cannot open serial port {port}: {error}")]
     Open {
         /// The port path as given (for example `/dev/ttyUSB0`).
         port: String,
-        /// What the serial-port layer said.
-        #[source]
-        source: serialport::Error,
+        /// What the serial-port layer said (part of the message, not a `source()`).
+        error: serialport::Error,
     },
     /// Reading from or writing to an open device failed (unplugged, hung up).
-    #[error("I/O error on {device}: {source}")]
+    #[error("I/O error on {device}: {error}")]
     Io {
         /// The port path or device name.
         device: String,
-        /// The underlying error.
-        #[source]
-        source: std::io::Error,
+        /// The underlying error (part of the message, not a `source()`).
+        error: std::io::Error,
     },
     /// The device did not answer a command within the time allowed.
     #[error("{device} did not answer {command} within {millis} ms")]
@@ -43,6 +46,16 @@ pub enum DeviceError {
         /// The command, in readable form.
         command: String,
         /// What was wrong with the answer.
+        detail: String,
+    },
+    /// The device itself reports that the sensor is not connected (a CyberGlove's interface
+    /// unit saying its glove is unplugged): the link is fine, but there is nothing to read
+    /// until the glove is plugged back in.
+    #[error("{device}: {detail}")]
+    Unplugged {
+        /// The port path or device name.
+        device: String,
+        /// What the device reported.
         detail: String,
     },
     /// The USB HID layer failed (no permission, device gone, no HID support).
@@ -65,13 +78,12 @@ pub enum DeviceError {
         message: String,
     },
     /// A file could not be read or written.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {error}", path.display())]
     File {
         /// The file.
         path: PathBuf,
-        /// The underlying error.
-        #[source]
-        source: std::io::Error,
+        /// The underlying error (part of the message, not a `source()`).
+        error: std::io::Error,
     },
     /// A value is not a finite number or lies outside its physical range; it is never passed on.
     #[error("invalid value: {0}")]
@@ -88,7 +100,10 @@ impl DeviceError {
     pub fn is_disconnect(&self) -> bool {
         matches!(
             self,
-            DeviceError::Open { .. } | DeviceError::Io { .. } | DeviceError::Hid(_)
+            DeviceError::Open { .. }
+                | DeviceError::Io { .. }
+                | DeviceError::Unplugged { .. }
+                | DeviceError::Hid(_)
         )
     }
 }

@@ -14,7 +14,7 @@
 //! |---|---|
 //! | 1 | `0` (record type: data) |
 //! | 1 | station number, ASCII `1`–`4` |
-//! | 1 | error/status byte: space when all is well, else a letter |
+//! | 1 | error/status byte: space when all is well, else a letter (the record is flagged: the backend drops it and counts a fault) |
 //! | … | the items of the output list, in its order |
 //!
 //! Items: 1 = CR LF (two bytes in both formats), 2 = position x y z, 4 = azimuth, elevation,
@@ -51,6 +51,9 @@ pub const INCHES: u8 = b'U';
 /// Positions in centimetres.
 pub const CENTIMETRES: u8 = b'u';
 
+/// The error byte of a record the tracker does not flag (a space). Any other value (a letter)
+/// flags the record; the backend counts it as a fault and drops it.
+pub const NO_ERROR: u8 = b' ';
 /// Largest position magnitude accepted, in device units.
 pub const POSITION_RANGE: f64 = 1000.0;
 /// Width of an ASCII field.

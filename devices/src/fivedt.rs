@@ -4,6 +4,10 @@
 //! ## Data Glove 5 (serial, 19200 baud 8N1)
 //! Commands: `A` initialise (the glove answers one byte, 0x55); `G` information (32-byte
 //! answer; bit 0 of byte 4 set for a right hand); `C` send one record; `D` stream records.
+//! The sources do not say outright how streaming ends; the backend takes the glove back to
+//! answering requests by asking for one record (`C`, the polled mode of VRPN's driver), both
+//! to stop it and, before its handshake, to make sure a glove left streaming is quiet. The
+//! emulator models the glove that way.
 //!
 //! | byte | field |
 //! |---|---|
@@ -37,6 +41,7 @@
 //! settled by the sources, so [`decode_ultra_report`] takes it as an option.
 
 use crate::decode::{Frame, Framing, StreamDecoder};
+use crate::profile::{SensorCalibration, Side};
 use crate::{DeviceError, Joint};
 
 /// Glove 5: initialise (answer 0x55).
@@ -47,7 +52,7 @@ pub const GLOVE5_INIT_ANSWER: u8 = 0x55;
 pub const GLOVE5_INFO: u8 = b'G';
 /// Glove 5: length of the information block.
 pub const GLOVE5_INFO_LEN: usize = 32;
-/// Glove 5: one record.
+/// Glove 5: one record (which also ends streaming).
 pub const GLOVE5_ONE: u8 = b'C';
 /// Glove 5: stream records.
 pub const GLOVE5_STREAM: u8 = b'D';
@@ -276,6 +281,13 @@ pub fn encode_glove16(packet: &Glove16Packet, out: &mut Vec<u8>) {
     }
 }
 
+/// Product-id bit of a left-hand Ultra glove.
+pub const ULTRA_PID_LEFT_HAND: u16 = 0x01;
+/// Product-id bit of the 5-sensor Ultra glove.
+pub const ULTRA_PID_FIVE_SENSORS: u16 = 0x10;
+/// The Ultra values used by the 14-sensor model.
+pub const ULTRA_14_SENSOR_SLOTS: [usize; 14] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13];
+
 /// What the product id of an Ultra USB glove says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct UltraModel {
@@ -285,13 +297,123 @@ pub struct UltraModel {
     pub five_sensors: bool,
 }
 
+/// The calibration an Ultra glove is read with, fitted to its model by
+/// [`UltraModel::fit_calibration`], and what people should be told about the fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UltraFit {
+    /// One entry per report value (16), mapping only the values the glove's model reports.
+    pub calibration: Vec<SensorCalibration>,
+    /// Mismatches between the glove and the profile that were worked around.
+    pub warnings: Vec<String>,
+}
+
 impl UltraModel {
     /// The model a product id names.
     pub fn from_product_id(pid: u16) -> Self {
         UltraModel {
-            left_hand: pid & 0x01 != 0,
-            five_sensors: pid & 0x10 != 0,
+            left_hand: pid & ULTRA_PID_LEFT_HAND != 0,
+            five_sensors: pid & ULTRA_PID_FIVE_SENSORS != 0,
         }
+    }
+
+    /// Which hand the glove is made for.
+    pub fn side(&self) -> Side {
+        if self.left_hand {
+            Side::Left
+        } else {
+            Side::Right
+        }
+    }
+
+    /// The report values this model fills, in sensor order.
+    pub fn slots(&self) -> &'static [usize] {
+        if self.five_sensors {
+            &ULTRA_5_SENSOR_SLOTS
+        } else {
+            &ULTRA_14_SENSOR_SLOTS
+        }
+    }
+
+    /// Describes the model for messages (`5-sensor right-hand`).
+    pub fn describe(&self) -> String {
+        format!(
+            "{}-sensor {}-hand",
+            self.slots().len(),
+            if self.left_hand { "left" } else { "right" }
+        )
+    }
+
+    /// Fits a profile's calibration table (one entry per report value) to this model: entries
+    /// for report values the model does not fill are dropped (their joints would read
+    /// whatever the unused values hold), with a warning naming them — so the 14-sensor table
+    /// read by a 5-sensor glove keeps the five knuckle flexures at values 0, 3, 6, 9, 12. A
+    /// table that then maps no joint at all is refused. When `hand` is given and differs from
+    /// the glove's side, a warning says so (the glove still works; the hand model is the
+    /// profile's).
+    pub fn fit_calibration(
+        &self,
+        pid: u16,
+        table: &[SensorCalibration],
+        hand: Option<Side>,
+    ) -> Result<UltraFit, DeviceError> {
+        let slots = self.slots();
+        let mut calibration = table.to_vec();
+        let mut dropped = Vec::new();
+        for (i, c) in calibration.iter_mut().enumerate() {
+            if let Some(j) = c.joint
+                && !slots.contains(&i)
+            {
+                dropped.push(format!("{j} (value {i})"));
+                c.joint = None;
+            }
+        }
+        let label = format!(
+            "5DT Data Glove Ultra (product id {pid:#06x}, {})",
+            self.describe()
+        );
+        if calibration.iter().all(|c| c.joint.is_none()) {
+            return Err(DeviceError::Unsupported(format!(
+                "{label}: the profile's calibration maps none of the report values this glove fills ({}); use a calibration table for the {}-sensor glove",
+                slots
+                    .iter()
+                    .map(usize::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                slots.len()
+            )));
+        }
+        let mut warnings = Vec::new();
+        if !dropped.is_empty() {
+            warnings.push(format!(
+                "{label}: reports only values {}; the profile's {} are not read",
+                slots
+                    .iter()
+                    .map(usize::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                dropped.join(", ")
+            ));
+        }
+        if let Some(side) = hand
+            && side != self.side()
+        {
+            warnings.push(format!(
+                "{label}: the glove is for the {} hand but the profile's hand is the {} one",
+                side_name(self.side()),
+                side_name(side)
+            ));
+        }
+        Ok(UltraFit {
+            calibration,
+            warnings,
+        })
+    }
+}
+
+fn side_name(side: Side) -> &'static str {
+    match side {
+        Side::Left => "left",
+        Side::Right => "right",
     }
 }
 
@@ -392,5 +514,74 @@ mod tests {
         assert!(decode_ultra_report(&[0; 10], false).is_err());
         let m = UltraModel::from_product_id(0x0011);
         assert!(m.left_hand && m.five_sensors);
+    }
+
+    /// The shipped 14-sensor table (thumb near, far, abduction, …; values 14, 15 unused).
+    fn table_14() -> Vec<SensorCalibration> {
+        (0..16)
+            .map(|i| SensorCalibration {
+                joint: JOINTS_14.get(i).copied(),
+                offset: 0.0,
+                gain: 0.0003834952,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_five_sensor_ultra_reads_only_its_five_values_with_a_14_sensor_table() {
+        let pid = ULTRA_PID_FIVE_SENSORS;
+        let m = UltraModel::from_product_id(pid);
+        assert_eq!(m.slots(), &ULTRA_5_SENSOR_SLOTS);
+        let fit = m
+            .fit_calibration(pid, &table_14(), Some(Side::Right))
+            .unwrap();
+        let mapped: Vec<Joint> = fit.calibration.iter().filter_map(|c| c.joint).collect();
+        assert_eq!(mapped, JOINTS_5);
+        for (i, c) in fit.calibration.iter().enumerate() {
+            assert_eq!(c.joint.is_some(), ULTRA_5_SENSOR_SLOTS.contains(&i), "{i}");
+        }
+        assert_eq!(fit.warnings.len(), 1, "{:?}", fit.warnings);
+        assert!(
+            fit.warnings[0].contains("0, 3, 6, 9, 12") && fit.warnings[0].contains("thumb_ip"),
+            "{}",
+            fit.warnings[0]
+        );
+        // The 14-sensor glove keeps the whole table, silently.
+        let fit = UltraModel::from_product_id(0)
+            .fit_calibration(0, &table_14(), Some(Side::Right))
+            .unwrap();
+        assert_eq!(fit.calibration, table_14());
+        assert!(fit.warnings.is_empty());
+    }
+
+    #[test]
+    fn a_table_the_glove_cannot_fill_is_refused_and_the_other_hand_is_reported() {
+        // Only far joints and abductions: nothing at 0, 3, 6, 9, 12.
+        let mut table = table_14();
+        for i in ULTRA_5_SENSOR_SLOTS {
+            table[i].joint = None;
+        }
+        let pid = ULTRA_PID_FIVE_SENSORS;
+        let e = UltraModel::from_product_id(pid)
+            .fit_calibration(pid, &table, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("5-sensor") && e.contains("0x0010"), "{e}");
+        assert!(e.contains("maps none"), "{e}");
+        let pid = ULTRA_PID_LEFT_HAND;
+        let fit = UltraModel::from_product_id(pid)
+            .fit_calibration(pid, &table_14(), Some(Side::Right))
+            .unwrap();
+        assert_eq!(fit.warnings.len(), 1);
+        assert!(
+            fit.warnings[0].contains("left hand") && fit.warnings[0].contains("right one"),
+            "{}",
+            fit.warnings[0]
+        );
+        // No hand to check against: no warning.
+        let fit = UltraModel::from_product_id(pid)
+            .fit_calibration(pid, &table_14(), None)
+            .unwrap();
+        assert!(fit.warnings.is_empty());
     }
 }

@@ -50,6 +50,8 @@ pub const STOP: u8 = b'?';
 pub const PHASE_BIT: u8 = 0x80;
 /// The default position scale S, inches.
 pub const DEFAULT_SCALE_INCHES: f64 = 36.0;
+/// The position scales a bird can be set to, inches: 36, and 72 or 144 in the extended ranges.
+pub const SCALES_INCHES: [f64; 3] = [36.0, 72.0, 144.0];
 
 /// What a record holds, chosen by the record-mode command.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -59,7 +59,7 @@ pub mod throughput;
 pub mod trace;
 
 pub use decode::DecodeStats;
-pub use device::{DeviceStats, Glove, Tracker, open_glove, open_tracker};
+pub use device::{DeviceStats, Glove, Tracker, open_glove, open_glove_for_hand, open_tracker};
 pub use error::DeviceError;
 pub use frame::{
     ANGLE_LIMIT_RAD, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, POSITION_LIMIT_M,

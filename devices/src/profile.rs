@@ -251,7 +251,18 @@ impl GloveProfile {
         self.calibration().iter().filter_map(|c| c.joint).collect()
     }
 
-    fn validate(&self, name: &str) -> Result<(), DeviceError> {
+    /// How errors about this glove name it when no profile name is at hand.
+    pub fn describe_for_errors(&self) -> String {
+        match (self.port(), self.usb()) {
+            (Some(port), _) => format!("{} on {port}", self.protocol()),
+            (None, Some(u)) => format!("{} (USB vendor {:04x})", self.protocol(), u.vid),
+            (None, None) => self.protocol().to_string(),
+        }
+    }
+
+    /// Checks the sensor count against the calibration table, finite calibration, joints
+    /// mapped once, the baud rate; `name` labels errors.
+    pub fn validate(&self, name: &str) -> Result<(), DeviceError> {
         let bad = |message: String| DeviceError::Profile {
             name: name.to_string(),
             message,
@@ -421,7 +432,8 @@ pub enum TrackerProfile {
         /// Record mode (default position + quaternion).
         #[serde(default = "default_flock_mode")]
         record: FlockRecordMode,
-        /// Position scale S in inches (36; 72 or 144 for extended range), as set on the unit.
+        /// Position scale S in inches: 36, or 72 or 144 for the extended ranges
+        /// ([`crate::flock::SCALES_INCHES`]), as set on the unit; any other value is refused.
         #[serde(default = "default_flock_scale")]
         scale_inches: f64,
         /// Conjugate the bird's orientation (the sources disagree on its handedness).
@@ -462,7 +474,8 @@ impl TrackerProfile {
         }
     }
 
-    fn validate(&self, name: &str) -> Result<(), DeviceError> {
+    /// Checks the station, the baud rate and the Flock's scale; `name` labels errors.
+    pub fn validate(&self, name: &str) -> Result<(), DeviceError> {
         let bad = |message: String| DeviceError::Profile {
             name: name.to_string(),
             message,
@@ -479,8 +492,10 @@ impl TrackerProfile {
             TrackerProfile::Flock {
                 scale_inches, baud, ..
             } => {
-                if !(scale_inches.is_finite() && *scale_inches > 0.0) {
-                    return Err(bad(format!("Flock scale {scale_inches} in")));
+                if !crate::flock::SCALES_INCHES.contains(scale_inches) {
+                    return Err(bad(format!(
+                        "Flock scale_inches {scale_inches}: the bird's position scale is 36, or 72 or 144 in the extended ranges"
+                    )));
                 }
                 if *baud == 0 {
                     return Err(bad("baud rate 0".into()));
@@ -685,7 +700,9 @@ impl Default for HandSize {
 }
 
 impl HandSize {
-    fn validate(&self) -> Result<(), DeviceError> {
+    /// Checks every length: finite and 0 < length < 0.5 m (the rule for profiles and trace
+    /// headers alike).
+    pub fn validate(&self) -> Result<(), DeviceError> {
         let all = [self.thumb, self.index, self.middle, self.ring, self.pinky];
         let lengths = all
             .iter()
@@ -716,9 +733,9 @@ impl Profile {
     /// Reads and validates a profile file. A relative replay trace path is resolved against
     /// the profile's directory.
     pub fn load(path: &Path) -> Result<Profile, DeviceError> {
-        let text = std::fs::read_to_string(path).map_err(|source| DeviceError::File {
+        let text = std::fs::read_to_string(path).map_err(|error| DeviceError::File {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         let mut p = Profile::from_json(&text, &path.display().to_string())?;
         if let Input::Replay(r) = &mut p.input

@@ -32,9 +32,9 @@ impl SerialLink {
         let port = serialport::new(path, baud)
             .timeout(timeout)
             .open()
-            .map_err(|source| DeviceError::Open {
+            .map_err(|error| DeviceError::Open {
                 port: path.to_string(),
-                source,
+                error,
             })?;
         Ok(SerialLink {
             port,
@@ -48,10 +48,10 @@ impl SerialLink {
         &self.name
     }
 
-    fn io(&self, source: std::io::Error) -> DeviceError {
+    fn io(&self, error: std::io::Error) -> DeviceError {
         DeviceError::Io {
             device: self.name.clone(),
-            source,
+            error,
         }
     }
 

@@ -24,9 +24,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use crate::device::{DeviceStats, Glove, Tracker, open_glove, open_tracker};
+use crate::device::{DeviceStats, Glove, Tracker, open_glove_for_hand, open_tracker};
 use crate::profile::{Input, Profile};
-use crate::trace::Trace;
+use crate::trace::{Trace, TraceHeader};
 use crate::{
     DeviceError, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, SourceState, Timestamp,
     TrackerPose, buttons,
@@ -314,6 +314,10 @@ pub struct HandStream {
     threads: Vec<JoinHandle<()>>,
     joints: Vec<Joint>,
     description: Vec<String>,
+    /// The header of the trace a replay plays.
+    source_header: Option<TraceHeader>,
+    /// What the glove said about itself at open (see [`Glove::warnings`]).
+    warnings: Vec<String>,
 }
 
 impl std::fmt::Debug for HandStream {
@@ -341,7 +345,7 @@ impl HandStream {
                         if let Some(p) = &options.glove_port {
                             g.set_port(p);
                         }
-                        Some(open_glove(&g)?)
+                        Some(open_glove_for_hand(&g, Some(profile.hand.side))?)
                     }
                     None => None,
                 };
@@ -387,10 +391,8 @@ impl HandStream {
         }
         let mut sources = Vec::new();
         let mut description = Vec::new();
-        let mut joints = Vec::new();
         if let Some(g) = glove {
             description.push(g.describe());
-            joints = g.joints();
             sources.push(Source::Glove(g));
         }
         if let Some(t) = tracker {
@@ -403,6 +405,15 @@ impl HandStream {
                     s.stop();
                 }
                 return Err(e);
+            }
+        }
+        // After the start: a glove may fit its joints to the model it found (the 5DT Ultra).
+        let mut joints = Vec::new();
+        let mut warnings = Vec::new();
+        for s in &sources {
+            if let Source::Glove(g) = s {
+                joints = g.joints();
+                warnings.extend(g.warnings());
             }
         }
         let (tx, rx) = sync_channel(options.capacity.max(1));
@@ -424,7 +435,7 @@ impl HandStream {
                     .spawn(move || run_source(s, shared, watchdog, retry))
                     .map_err(|e| DeviceError::Io {
                         device: "device thread".into(),
-                        source: e,
+                        error: e,
                     })
             })
             .collect::<Result<Vec<_>, _>>()?;
@@ -434,6 +445,8 @@ impl HandStream {
             threads,
             joints,
             description,
+            source_header: None,
+            warnings,
         })
     }
 
@@ -443,6 +456,7 @@ impl HandStream {
         let (tx, rx) = sync_channel(capacity.max(1));
         let shared = Arc::new(Shared::new(tx, Merge::default()));
         let joints = trace.header.joints.clone();
+        let source_header = trace.header.clone();
         let worker = Arc::clone(&shared);
         let speed = if speed.is_finite() && speed > 0.0 {
             speed
@@ -497,7 +511,7 @@ impl HandStream {
                 // No thread, no frames: say so rather than pretend to play.
                 shared.note_error(&DeviceError::Io {
                     device: "replay thread".into(),
-                    source: e,
+                    error: e,
                 });
                 shared.finished.store(true, Ordering::Relaxed);
                 Vec::new()
@@ -509,7 +523,35 @@ impl HandStream {
             threads,
             joints,
             description: vec!["trace replay".into()],
+            source_header: Some(source_header),
+            warnings: Vec::new(),
         }
+    }
+
+    /// The header of the trace a replay stream plays (`None` for live devices).
+    pub fn source_header(&self) -> Option<&TraceHeader> {
+        self.source_header.as_ref()
+    }
+
+    /// The header a recording of this stream must carry. A replay passes its trace's header
+    /// on unchanged — its profile name, tracker-to-world transform and hand are the recording's,
+    /// not those of the replay profile that plays it; live devices get `profile`'s.
+    pub fn recording_header(&self, profile: &Profile) -> TraceHeader {
+        match &self.source_header {
+            Some(h) => h.clone(),
+            None => TraceHeader {
+                profile: Some(profile.name.clone()),
+                world_from_tracker: profile.world_from_tracker,
+                hand: profile.hand,
+                joints: self.joints.clone(),
+            },
+        }
+    }
+
+    /// What the glove reported about itself at open: mismatches with the profile that were
+    /// worked around (a 5DT Ultra of another model or hand than the profile's).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// The next frame, if one is waiting.

@@ -16,13 +16,17 @@
 //!
 //! - Line 1 names the format and its version ([`TRACE_FORMAT`], [`TRACE_VERSION`]).
 //! - Header lines, each a keyword and its value: `profile` (optional, the rest of the line),
-//!   `world_from_tracker` and `hand` (optional, one-line JSON as in profiles; defaults when
-//!   absent), `joints` (the glove columns of every frame, by joint name; may be empty).
+//!   `world_from_tracker` and `hand` (optional, one-line JSON as in profiles, validated by the
+//!   same rules; defaults when absent), `joints` (the glove columns of every frame, by joint
+//!   name; may be empty).
 //! - `frames` ends the header. Each following line is one frame:
 //!   `time tracker glove buttons P pose J angles`, where
 //!   - `time` is in microseconds since the recording started, never decreasing;
 //!   - `tracker` and `glove` are source states `none`, `ok`, `silent`, `lost`, with `*` appended
-//!     when the frame carries a new sample of that source;
+//!     when the frame carries a new sample of that source; only an `ok` source carries values
+//!     (a pose after `P`, angles after `J`): a frame with values for a `none`, `silent` or
+//!     `lost` source is an error, so a trace can never drive the surface from a device that
+//!     was not delivering;
 //!   - `buttons` is the decimal button mask;
 //!   - `P` is followed by `x y z qw qx qy qz` (metres, unit quaternion) or by `-`;
 //!   - `J` is followed by one column per header joint (radians, `?` for a joint missing in this
@@ -32,7 +36,9 @@
 //! Every number is written with exactly six decimals (1 µm, 1 µrad, 10⁻⁶ of a quaternion) and
 //! read back only in that form, so traces diff cleanly and parse back bit-exactly: writing a
 //! parsed trace reproduces its text, and parsing a written trace reproduces its frames rounded
-//! to six decimals ([`quantize`]). Reading errors carry the 1-based line number.
+//! to six decimals ([`quantize`]). Reading errors carry the 1-based line number; a file whose
+//! last line is cut short (no final newline, and the line does not read) is reported as
+//! truncated.
 
 use std::fmt::Write as _;
 use std::fs::File;
@@ -81,14 +87,15 @@ pub fn quantize(x: f64) -> f64 {
 }
 
 /// A frame as it will read back from a trace with these header joints: numbers rounded to six
-/// decimals, joints outside the header dropped.
+/// decimals, joints outside the header dropped, values of a source that is not `ok` withdrawn
+/// (as [`format_frame`] writes them).
 pub fn quantize_frame(frame: &HandFrame, joints: &[Joint]) -> HandFrame {
-    let mut f = *frame;
+    let mut f = withdraw_stale(frame);
     if let Some(p) = &mut f.pose {
         p.position = DVec3::from_array(p.position.to_array().map(quantize));
         p.orientation = DQuat::from_array(p.orientation.to_array().map(quantize));
     }
-    if let Some(a) = frame.joints {
+    if let Some(a) = f.joints {
         let mut q = JointAngles::new();
         for &j in joints {
             if let Some(v) = a.get(j) {
@@ -114,8 +121,23 @@ fn number(x: f64, out: &mut String) {
     let _ = write!(out, " {x:.DECIMALS$}");
 }
 
-/// Appends one frame line (with its newline).
+/// The frame with the values of every source that is not [`SourceState::Ok`] removed: the
+/// stream never delivers them (see [`HandFrame`]), and a trace never carries them.
+pub fn withdraw_stale(frame: &HandFrame) -> HandFrame {
+    let mut f = *frame;
+    if f.status.tracker != SourceState::Ok {
+        f.pose = None;
+    }
+    if f.status.glove != SourceState::Ok {
+        f.joints = None;
+    }
+    f
+}
+
+/// Appends one frame line (with its newline). Values of a source that is not `ok` are not
+/// written (`P -`, `J -`; see [`withdraw_stale`]).
 pub fn format_frame(joints: &[Joint], f: &HandFrame, out: &mut String) {
+    let f = &withdraw_stale(f);
     let _ = write!(out, "{} ", f.time.as_micros());
     state_token(f.status.tracker, f.status.tracker_fresh, out);
     out.push(' ');
@@ -184,8 +206,26 @@ impl Trace {
         s
     }
 
-    /// Parses a trace; errors name the 1-based line.
+    /// Parses a trace; errors name the 1-based line. An error on a last line that has no
+    /// final newline says the trace is truncated: that is what a file cut mid-write (or
+    /// mid-copy) looks like.
     pub fn parse(text: &str) -> Result<Trace, DeviceError> {
+        Trace::parse_lines(text).map_err(|e| match e {
+            DeviceError::TraceSyntax { line, message }
+                if !text.is_empty() && !text.ends_with('\n') && line == text.lines().count() =>
+            {
+                DeviceError::TraceSyntax {
+                    line,
+                    message: format!(
+                        "the trace is truncated: its last line is cut short ({message})"
+                    ),
+                }
+            }
+            other => other,
+        })
+    }
+
+    fn parse_lines(text: &str) -> Result<Trace, DeviceError> {
         let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
         let err = |line: usize, message: String| DeviceError::TraceSyntax { line, message };
         let first = lines.next().map(|(_, l)| l).unwrap_or("");
@@ -222,7 +262,10 @@ impl Trace {
                     header.world_from_tracker = w;
                 }
                 "hand" => {
-                    header.hand = serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?
+                    let hand: HandSize =
+                        serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?;
+                    hand.validate().map_err(|e| err(n, e.to_string()))?;
+                    header.hand = hand;
                 }
                 "joints" => {
                     header.joints = rest
@@ -287,9 +330,9 @@ impl Trace {
 
     /// Reads a trace file.
     pub fn read(path: &Path) -> Result<Trace, DeviceError> {
-        let text = std::fs::read_to_string(path).map_err(|source| DeviceError::File {
+        let text = std::fs::read_to_string(path).map_err(|error| DeviceError::File {
             path: path.to_path_buf(),
-            source,
+            error,
         })?;
         Trace::parse(&text)
     }
@@ -355,6 +398,11 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
     let pose = if peek.next() == Some("-") {
         w.next();
         None
+    } else if tracker != SourceState::Ok {
+        return Err(format!(
+            "the tracker is `{}` but the frame has a pose: only an `ok` source carries values",
+            tracker.token()
+        ));
     } else {
         let mut v = [0.0; 7];
         for x in &mut v {
@@ -375,6 +423,11 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
     let rest: Vec<&str> = w.collect();
     let angles = if rest == ["-"] {
         None
+    } else if glove != SourceState::Ok {
+        return Err(format!(
+            "the glove is `{}` but the frame has joint angles: only an `ok` source carries values",
+            glove.token()
+        ));
     } else if rest.len() != joints.len() {
         return Err(format!(
             "{} joint columns, the header names {}",
@@ -425,13 +478,18 @@ impl TraceWriter {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         let tmp = path.with_file_name(format!(".{file_name}.tmp-{}", std::process::id()));
-        let io = |source| DeviceError::File {
-            path: tmp.clone(),
-            source,
+        // Errors name the trace asked for, not the temporary file beside it.
+        let io = |error| DeviceError::File {
+            path: path.to_path_buf(),
+            error,
         };
-        let mut out = BufWriter::new(File::create(&tmp).map_err(io)?);
-        out.write_all(format_header(&header).as_bytes())
-            .map_err(io)?;
+        let file = File::create(&tmp).map_err(io)?;
+        let mut out = BufWriter::new(file);
+        if let Err(e) = out.write_all(format_header(&header).as_bytes()) {
+            drop(out);
+            let _ = std::fs::remove_file(&tmp);
+            return Err(io(e));
+        }
         Ok(TraceWriter {
             out: Some(out),
             tmp,
@@ -442,20 +500,20 @@ impl TraceWriter {
         })
     }
 
-    /// Appends a frame.
+    /// Appends a frame. Errors name the trace (not its temporary file).
     pub fn push(&mut self, frame: &HandFrame) -> Result<(), DeviceError> {
         self.line.clear();
         format_frame(&self.joints, frame, &mut self.line);
         let Some(out) = self.out.as_mut() else {
             return Err(DeviceError::File {
-                path: self.tmp.clone(),
-                source: std::io::Error::other("trace writer already finished"),
+                path: self.path.clone(),
+                error: std::io::Error::other("trace writer already finished"),
             });
         };
         out.write_all(self.line.as_bytes())
-            .map_err(|source| DeviceError::File {
-                path: self.tmp.clone(),
-                source,
+            .map_err(|error| DeviceError::File {
+                path: self.path.clone(),
+                error,
             })?;
         self.count += 1;
         Ok(())
@@ -467,23 +525,28 @@ impl TraceWriter {
     }
 
     /// Writes the `end` line, flushes, syncs and renames the file into place. Returns the number
-    /// of frames.
+    /// of frames. On failure the temporary file is removed and nothing appears at the path.
     pub fn finish(mut self) -> Result<u64, DeviceError> {
-        let io = |source, path: &Path| DeviceError::File {
-            path: path.to_path_buf(),
-            source,
-        };
         let Some(mut out) = self.out.take() else {
             return Ok(self.count);
         };
-        writeln!(out, "end {}", self.count).map_err(|e| io(e, &self.tmp))?;
-        let file = out
-            .into_inner()
-            .map_err(|e| io(e.into_error(), &self.tmp))?;
-        file.sync_all().map_err(|e| io(e, &self.tmp))?;
-        drop(file);
-        std::fs::rename(&self.tmp, &self.path).map_err(|e| io(e, &self.path))?;
-        Ok(self.count)
+        let result = (|| {
+            writeln!(out, "end {}", self.count)?;
+            let file = out.into_inner().map_err(|e| e.into_error())?;
+            file.sync_all()?;
+            drop(file);
+            std::fs::rename(&self.tmp, &self.path)
+        })();
+        match result {
+            Ok(()) => Ok(self.count),
+            Err(error) => {
+                let _ = std::fs::remove_file(&self.tmp);
+                Err(DeviceError::File {
+                    path: self.path.clone(),
+                    error,
+                })
+            }
+        }
     }
 }
 

@@ -111,7 +111,8 @@ fn glove5_handshake_and_samples_are_exact() {
     let profile = glove_profile("5dt-glove5-serial", &emu.port());
     let mut glove = open_glove(&profile).unwrap();
     glove.start().unwrap();
-    assert_eq!(received(&emu, 3), b"AGD");
+    // One record asked for (it ends any streaming left over), initialise, information, stream.
+    assert_eq!(received(&emu, 4), b"CAGD");
     let samples = read_gloves(glove.as_mut(), 20);
     assert!(samples.len() >= 20);
     let table = profile.calibration();
@@ -124,6 +125,114 @@ fn glove5_handshake_and_samples_are_exact() {
             "sample {i}"
         );
     }
+}
+
+/// Records the emulator streams within `window`.
+fn streamed_during(emu: &PtyEmulator, window: Duration) -> u64 {
+    let before = emu.records_sent();
+    std::thread::sleep(window);
+    emu.records_sent() - before
+}
+
+#[test]
+fn glove5_stop_ends_streaming_and_a_restart_reads_a_quiet_glove() {
+    let emu = PtyEmulator::spawn(Glove5Model::new()).unwrap();
+    let profile = glove_profile("5dt-glove5-serial", &emu.port());
+    let mut glove = open_glove(&profile).unwrap();
+    glove.start().unwrap();
+    assert!(read_gloves(glove.as_mut(), 10).len() >= 10);
+    assert!(streamed_during(&emu, Duration::from_millis(100)) > 3);
+    glove.stop();
+    assert_eq!(received(&emu, 5).last(), Some(&b'C'));
+    std::thread::sleep(Duration::from_millis(50));
+    assert_eq!(
+        streamed_during(&emu, Duration::from_millis(150)),
+        0,
+        "the glove still streams after stop"
+    );
+    // A restart (as after the watchdog) finds the glove quiet and streams again, exactly.
+    glove.start().unwrap();
+    assert!(received(&emu, 9).ends_with(b"CAGD"));
+    let samples = read_gloves(glove.as_mut(), 20);
+    assert!(samples.len() >= 20);
+    let table = profile.calibration();
+    let first = (samples[0].angles.get(Joint::ThumbMcp).unwrap() / table[0].gain).round() as u64;
+    for (i, s) in samples.iter().enumerate() {
+        let rec = Glove5Model::record_at(first + i as u64);
+        assert_eq!(
+            s.angles,
+            calibrate(table, &rec.fingers.map(f64::from)).unwrap(),
+            "sample {i}"
+        );
+    }
+    assert_eq!(glove.stats().decode.rejected, 0);
+}
+
+#[test]
+fn a_cyberglove_out_of_its_interface_unit_is_reported_as_disconnected() {
+    let model = CyberGloveModel::new(SensorCount::Eighteen);
+    let plug = model.glove_plug();
+    let emu = PtyEmulator::spawn(model).unwrap();
+    let mut glove = open_glove(&glove_profile("cyberglove2-18", &emu.port())).unwrap();
+    // Unplugged at start: the poll is answered by `G e g`, a disconnect naming the port.
+    plug.set_plugged(false);
+    let e = glove.start().unwrap_err();
+    assert!(e.is_disconnect(), "{e}");
+    assert!(
+        e.to_string().contains(&emu.port()) && e.to_string().contains("unplugged"),
+        "{e}"
+    );
+    // Plugged in, started, then pulled out while streaming: `S e g` records.
+    plug.set_plugged(true);
+    glove.start().unwrap();
+    assert!(read_gloves(glove.as_mut(), 5).len() >= 5);
+    plug.set_plugged(false);
+    let end = Instant::now() + Duration::from_secs(2);
+    let mut out = Vec::new();
+    let e = loop {
+        match glove.read(Duration::from_millis(20), &mut out) {
+            Err(e) => break e,
+            Ok(()) => assert!(
+                Instant::now() < end,
+                "no error after the glove was pulled out"
+            ),
+        }
+    };
+    assert!(e.is_disconnect(), "{e}");
+    assert!(glove.stats().faults >= 1);
+}
+
+#[test]
+fn flagged_fastrak_records_are_dropped_and_counted_as_faults() {
+    let emu = PtyEmulator::spawn(FastrakModel::new().flagging_every(4)).unwrap();
+    let mut t = tracker_profile("fastrak", &emu.port());
+    if let TrackerProfile::Fastrak { format, .. } = &mut t {
+        *format = profile::FastrakFormat::Binary;
+    }
+    let mut tracker = open_tracker(&t).unwrap();
+    tracker.start().unwrap();
+    let poses = read_poses(tracker.as_mut(), 30);
+    assert!(poses.len() >= 30);
+    // Every pose is an unflagged record of the path, and one in four records is missing.
+    let on_path = |p: &TrackerPose, k: u64| {
+        let t = FastrakModel::pose_at(k);
+        (p.position - t.position).abs().max_element() <= 1e-6
+            && p.orientation.angle_between(t.orientation) <= 1e-6
+    };
+    let mut k = 0;
+    for (i, p) in poses.iter().enumerate() {
+        k = (k..k + 5000)
+            .find(|&k| on_path(p, k))
+            .unwrap_or_else(|| panic!("pose {i} is not on the path"));
+        assert!(
+            !FastrakModel::is_flagged(4, k),
+            "pose {i} is flagged record {k}"
+        );
+        k += 1;
+    }
+    let stats = tracker.stats();
+    assert!(stats.faults >= 8, "{stats:?}");
+    assert_eq!(stats.decode.rejected, 0, "flagged records are well formed");
 }
 
 #[test]

@@ -127,6 +127,54 @@ fn unplugging_reports_lost_and_replugging_resumes() {
 }
 
 #[test]
+fn a_glove_pulled_out_of_its_interface_unit_is_lost_until_plugged_back_in() {
+    let model = CyberGloveModel::new(SensorCount::Eighteen);
+    let plug = model.glove_plug();
+    let glove = PtyEmulator::spawn(model).unwrap();
+    let tracker = PtyEmulator::spawn(FastrakModel::new()).unwrap();
+    let profile = profile::resolve("cyberglove2-18-fastrak").unwrap();
+    let options = StreamOptions {
+        glove_port: Some(glove.port()),
+        tracker_port: Some(tracker.port()),
+        watchdog: Some(Duration::from_millis(150)),
+        retry: Duration::from_millis(50),
+        ..StreamOptions::default()
+    };
+    let stream = HandStream::open(&profile, &options).unwrap();
+    collect_until(&stream, Duration::from_secs(2), |f| f.status.glove_fresh);
+    plug.set_plugged(false);
+    let frames = collect_until(&stream, Duration::from_secs(2), |f| {
+        f.status.glove == SourceState::Disconnected
+    });
+    let lost = frames.last().unwrap();
+    assert_eq!(lost.status.glove, SourceState::Disconnected, "not `silent`");
+    assert!(lost.joints.is_none());
+    assert!(
+        stream.last_error().is_some_and(|e| e.contains("unplugged")),
+        "{:?}",
+        stream.last_error()
+    );
+    // While the glove is out, the stream keeps retrying and the glove stays lost (never
+    // `silent`, never `ok`); the tracker keeps delivering.
+    let frames = collect_until(&stream, Duration::from_millis(300), |_| false);
+    assert!(
+        frames
+            .iter()
+            .all(|f| f.status.glove == SourceState::Disconnected && f.joints.is_none())
+    );
+    assert!(frames.iter().any(|f| f.status.tracker_fresh));
+    plug.set_plugged(true);
+    let frames = collect_until(&stream, Duration::from_secs(3), |f| f.status.glove_fresh);
+    let back = frames.last().unwrap();
+    assert_eq!(back.status.glove, SourceState::Ok);
+    assert!(back.joints.is_some(), "the glove resumed");
+    let stats = stream.close();
+    assert!(stats.disconnects >= 1, "{stats:?}");
+    assert!(stats.glove.faults >= 1, "{stats:?}");
+    assert!(stats.glove.starts >= 2, "{stats:?}");
+}
+
+#[test]
 fn a_slow_consumer_loses_frames_but_never_blocks_the_devices() {
     let (_g, _t, profile, mut options) = glove_and_tracker();
     options.capacity = 4;

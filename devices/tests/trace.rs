@@ -135,7 +135,7 @@ fn error_line(text: &str) -> (usize, String) {
 fn malformed_traces_report_the_line() {
     let good = Trace {
         header: header(),
-        frames: random_frames(1, 5, &header().joints),
+        frames: random_frames(1, 12, &header().joints),
     }
     .to_text();
     let lines: Vec<&str> = good.lines().collect();
@@ -147,11 +147,12 @@ fn malformed_traces_report_the_line() {
     };
     assert_eq!(error_line("nendo-hand-trace 2\nframes\nend 0\n").0, 1);
     assert_eq!(error_line("hello\n").0, 1);
-    let bad_number = lines[frames_at + 2].replacen(".", ",", 1);
-    assert_eq!(
-        error_line(&with(frames_at + 2, &bad_number)).0,
-        frames_at + 3
-    );
+    // The first frame line with a number (values only come with an `ok` source).
+    let numbered = (frames_at + 1..lines.len())
+        .find(|&i| lines[i].contains('.'))
+        .unwrap();
+    let bad_number = lines[numbered].replacen(".", ",", 1);
+    assert_eq!(error_line(&with(numbered, &bad_number)).0, numbered + 1);
     let nan = "5 ok ok 0 P nan 0.000000 0.000000 1.000000 0.000000 0.000000 0.000000 J -";
     assert_eq!(error_line(&with(frames_at + 1, nan)).0, frames_at + 2);
     let far = "5 ok ok 0 P 500.000000 0.000000 0.000000 1.000000 0.000000 0.000000 0.000000 J -";
@@ -178,7 +179,7 @@ fn malformed_traces_report_the_line() {
     let backwards = format!(
         "{}\n0 none none 0 P - J -\nend {}",
         lines[..lines.len() - 1].join("\n"),
-        6
+        13
     );
     assert!(error_line(&backwards).1.contains("backwards"));
 }
@@ -203,4 +204,115 @@ fn the_writer_is_atomic() {
     assert!(!other.exists());
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_source_that_is_not_ok_carries_no_values() {
+    let header = "nendo-hand-trace 1\njoints index_mcp\nframes\n";
+    let pose = "P 0.100000 0.200000 -0.050000 1.000000 0.000000 0.000000 0.000000";
+    for (tracker, glove, values, says) in [
+        ("lost", "ok", format!("{pose} J -"), "tracker is `lost`"),
+        ("silent", "ok", format!("{pose} J -"), "tracker is `silent`"),
+        ("none", "ok", format!("{pose} J -"), "tracker is `none`"),
+        (
+            "ok",
+            "silent",
+            "P - J 0.250000".to_string(),
+            "glove is `silent`",
+        ),
+        (
+            "ok",
+            "lost*",
+            "P - J 0.250000".to_string(),
+            "glove is `lost`",
+        ),
+        ("ok", "none", "P - J ?".to_string(), "glove is `none`"),
+    ] {
+        let text = format!("{header}0 ok ok 0 P - J -\n5 {tracker} {glove} 0 {values}\nend 2\n");
+        let (line, message) = error_line(&text);
+        assert_eq!(line, 5, "{text}");
+        assert!(message.contains(says), "{message}");
+    }
+    // The same states without values read.
+    let text = format!("{header}5 lost silent 0 P - J -\n8 ok* ok* 0 {pose} J 0.250000\nend 2\n");
+    let t = Trace::parse(&text).unwrap();
+    assert!(t.frames[1].pose.is_some() && t.frames[1].joints.is_some());
+}
+
+#[test]
+fn the_writer_withdraws_values_of_a_source_that_is_not_ok() {
+    let mut frame = random_frames(7, 1, &header().joints)[0];
+    frame.pose = Some(TrackerPose::new(DVec3::new(0.1, 0.2, 0.3), DQuat::IDENTITY).unwrap());
+    let mut angles = JointAngles::new();
+    angles.set(Joint::IndexMcp, 0.5).unwrap();
+    frame.joints = Some(angles);
+    frame.status.tracker = SourceState::Disconnected;
+    frame.status.glove = SourceState::Silent;
+    let trace = Trace {
+        header: header(),
+        frames: vec![frame],
+    };
+    let back = Trace::parse(&trace.to_text()).unwrap();
+    assert!(back.frames[0].pose.is_none() && back.frames[0].joints.is_none());
+    assert_eq!(back.frames[0], quantize_frame(&frame, &header().joints));
+}
+
+#[test]
+fn the_hand_header_is_validated_with_its_line_number() {
+    let good = Trace {
+        header: header(),
+        frames: Vec::new(),
+    }
+    .to_text();
+    let lines: Vec<&str> = good.lines().collect();
+    let at = lines.iter().position(|l| l.starts_with("hand ")).unwrap();
+    for (from, to) in [
+        ("\"palm_length\":0.095", "\"palm_length\":50.0"),
+        ("\"palm_length\":0.095", "\"palm_length\":1e200"),
+        ("\"palm_width\":0.085", "\"palm_width\":0.0"),
+        ("\"distal\":0.018", "\"distal\":-0.018"),
+    ] {
+        assert!(lines[at].contains(from), "{}", lines[at]);
+        let mut v = lines.clone();
+        let bad = lines[at].replacen(from, to, 1);
+        v[at] = &bad;
+        let (line, message) = error_line(&v.join("\n"));
+        assert_eq!(line, at + 1, "{to}");
+        assert!(message.contains("hand length"), "{to}: {message}");
+    }
+}
+
+#[test]
+fn a_trace_cut_mid_line_is_reported_as_truncated() {
+    let good = Trace {
+        header: header(),
+        frames: random_frames(5, 6, &header().joints),
+    }
+    .to_text();
+    let lines = good.lines().count();
+    // Cut inside the 4th frame line, inside the hand header, and inside the `end` line.
+    let frame_line = good.lines().nth(lines - 3).unwrap();
+    let cut_at = good.find(frame_line).unwrap() + frame_line.len() / 2;
+    let hand_at = good.find("hand ").unwrap() + 30;
+    let end_at = good.rfind("end ").unwrap() + 2;
+    for cut in [cut_at, hand_at, end_at] {
+        let (line, message) = error_line(&good[..cut]);
+        assert_eq!(line, good[..cut].lines().count());
+        assert!(message.contains("truncated"), "cut at {cut}: {message}");
+    }
+    // A trace cut right after a frame line still says so.
+    let (_, message) = error_line(&good[..good.rfind("end ").unwrap()]);
+    assert!(message.contains("truncated"), "{message}");
+}
+
+#[test]
+fn a_writer_error_names_the_trace_not_its_temporary_file() {
+    let path = std::env::temp_dir()
+        .join(format!("nendo-no-such-dir-{}", std::process::id()))
+        .join("t.trace");
+    let e = TraceWriter::create(&path, header())
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with(&path.display().to_string()), "{e}");
+    assert!(!e.contains(".tmp-"), "{e}");
 }

@@ -20,8 +20,7 @@ use std::time::{Duration, Instant};
 
 use nendo_devices::discover::{Inventory, inventory};
 use nendo_devices::{
-    HandFrame, HandStream, Profile, SourceState, StreamOptions, Trace, TraceHeader, TraceWriter,
-    profile,
+    HandFrame, HandStream, Profile, SourceState, StreamOptions, Trace, TraceWriter, profile,
 };
 
 use super::document::Document;
@@ -62,18 +61,14 @@ struct Session {
 
 impl Session {
     /// Starts the loop on `stream`; with `record`, every frame also goes to a trace file whose
-    /// header names `profile`.
+    /// header names `profile` (or, for a replay, is the replayed trace's own header).
     fn start(stream: HandStream, record: Option<(PathBuf, &Profile)>) -> Result<Session, String> {
         let describe = stream.describe();
         let shared = Arc::new(Shared::default());
         let mut writer = match record {
             Some((path, profile)) => {
-                let header = TraceHeader {
-                    profile: Some(profile.name.clone()),
-                    world_from_tracker: profile.world_from_tracker,
-                    hand: profile.hand,
-                    joints: stream.joints().to_vec(),
-                };
+                // A replayed trace is recorded with its own header, not the replay profile's.
+                let header = stream.recording_header(profile);
                 Some(TraceWriter::create(&path, header).map_err(|e| e.to_string())?)
             }
             None => None,
@@ -205,12 +200,29 @@ impl LiveInput {
             return;
         };
         self.disconnect_from(doc);
-        let driver = HandDriver::new(
-            profile.hand,
-            profile.world_from_tracker,
-            FingerModel::for_profile(&profile),
-            self.radius,
-        );
+        let stream = match HandStream::open(&profile, &StreamOptions::default()) {
+            Ok(stream) => stream,
+            Err(e) => {
+                self.message = Some(e.to_string());
+                return;
+            }
+        };
+        // A replay profile plays a trace recorded with another hand and transform: its frames
+        // are read with the trace's header, as `nendo replay` reads them.
+        let driver = match stream.source_header() {
+            Some(h) => HandDriver::new(
+                h.hand,
+                h.world_from_tracker,
+                FingerModel::for_profile_name(h.profile.as_deref()),
+                self.radius,
+            ),
+            None => HandDriver::new(
+                profile.hand,
+                profile.world_from_tracker,
+                FingerModel::for_profile(&profile),
+                self.radius,
+            ),
+        };
         let driver = match driver {
             Ok(d) => d,
             Err(e) => {
@@ -218,16 +230,15 @@ impl LiveInput {
                 return;
             }
         };
-        match HandStream::open(&profile, &StreamOptions::default()) {
-            Ok(stream) => match Session::start(stream, self.record_path().map(|p| (p, &profile))) {
-                Ok(s) => {
-                    self.session = Some(s);
-                    self.driver = Some(driver);
-                    self.message = None;
-                }
-                Err(e) => self.message = Some(e),
-            },
-            Err(e) => self.message = Some(e.to_string()),
+        // Mismatches the devices worked around (a glove for the other hand) stay on show.
+        let warnings = (!stream.warnings().is_empty()).then(|| stream.warnings().join("; "));
+        match Session::start(stream, self.record_path().map(|p| (p, &profile))) {
+            Ok(s) => {
+                self.session = Some(s);
+                self.driver = Some(driver);
+                self.message = warnings;
+            }
+            Err(e) => self.message = Some(e),
         }
         self.rate = (0, Some(Instant::now()), 0.0);
     }
@@ -400,7 +411,7 @@ impl LiveInput {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nendo_devices::{FrameStatus, Timestamp};
+    use nendo_devices::{FrameStatus, Timestamp, TraceHeader};
 
     /// A window frame far slower than the device (here a whole second) loses nothing: the
     /// loop thread keeps draining the stream's small channel into the inbox.

@@ -15,12 +15,21 @@ pub struct Args {
     pub profiles: Option<PathBuf>,
 }
 
-/// Runs `nendo devices`.
+/// Runs `nendo devices`. A profile in `--profiles` that does not load is reported on
+/// standard error and skipped; the rest are listed. A directory that cannot be read is an
+/// error.
 pub fn run(args: Args) -> ExitCode {
     let mut profiles = profile::builtin();
     if let Some(dir) = &args.profiles {
-        match load_dir(dir, &mut profiles) {
-            Ok(()) => {}
+        match load_dir(dir) {
+            Ok(loaded) => {
+                for entry in loaded {
+                    match entry {
+                        Ok(p) => profiles.push(p),
+                        Err(e) => eprintln!("nendo devices: warning: skipping {e}"),
+                    }
+                }
+            }
             Err(e) => {
                 eprintln!("nendo devices: {e:#}");
                 return ExitCode::FAILURE;
@@ -32,17 +41,19 @@ pub fn run(args: Args) -> ExitCode {
     ExitCode::SUCCESS
 }
 
-fn load_dir(dir: &std::path::Path, profiles: &mut Vec<Profile>) -> anyhow::Result<()> {
+/// Every `*.json` file of `dir`, in name order, each loaded or with the reason it does not
+/// load (which names the file).
+fn load_dir(dir: &std::path::Path) -> anyhow::Result<Vec<Result<Profile, String>>> {
     let entries = std::fs::read_dir(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
     let mut paths: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
     paths.sort();
-    for p in paths {
-        profiles.push(Profile::load(&p)?);
-    }
-    Ok(())
+    Ok(paths
+        .iter()
+        .map(|p| Profile::load(p).map_err(|e| e.to_string()))
+        .collect())
 }
 
 fn fits(list: &[String]) -> String {

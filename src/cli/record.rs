@@ -1,12 +1,19 @@
 //! `nendo record`: records live devices (or a replayed trace) into a trace file.
+//!
+//! Recording ends after `--seconds`, when a replayed trace has played to its end, or on
+//! SIGINT (Ctrl-C), SIGTERM or SIGHUP: in every case the frames so far are written and the
+//! trace is finished atomically (its `end` line, then renamed into place), so stopping early
+//! never loses the recording nor leaves a temporary file behind.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use clap::Args as ClapArgs;
 use nendo_devices::profile::{self, Input};
-use nendo_devices::{HandStream, StreamOptions, TraceHeader, TraceWriter};
+use nendo_devices::{HandStream, StreamOptions, TraceWriter};
 
 /// Arguments of `nendo record`.
 #[derive(Debug, ClapArgs)]
@@ -29,6 +36,17 @@ pub struct Args {
     /// Serial port replacing the profile tracker's.
     #[arg(long)]
     pub tracker_port: Option<String>,
+}
+
+/// What ended a recording.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Ending {
+    /// `--seconds` passed.
+    Time,
+    /// SIGINT, SIGTERM or SIGHUP.
+    Signal,
+    /// A replayed trace played to its end.
+    ReplayEnded,
 }
 
 /// Runs `nendo record`.
@@ -75,40 +93,80 @@ fn record(args: Args) -> anyhow::Result<String> {
     if let Input::Mouse(_) = profile.input {
         anyhow::bail!("the mouse hand is recorded from the window, not from the command line");
     }
+    // From here on a stop signal ends the loop below instead of killing the process.
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = Arc::clone(&stop);
+        ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
+            .map_err(|e| anyhow::anyhow!("cannot handle stop signals: {e}"))?;
+    }
     let stream = HandStream::open(&profile, &options)?;
-    let header = TraceHeader {
-        profile: Some(profile.name.clone()),
-        world_from_tracker: profile.world_from_tracker,
-        hand: profile.hand,
-        joints: stream.joints().to_vec(),
-    };
+    for w in stream.warnings() {
+        eprintln!("nendo record: warning: {w}");
+    }
+    // A replayed trace is recorded with its own header, not the replay profile's.
+    let header = stream.recording_header(&profile);
     let mut writer = TraceWriter::create(&args.out, header)?;
-    let end = Instant::now() + Duration::from_secs_f64(args.seconds);
-    while Instant::now() < end {
+    let started = Instant::now();
+    let end = started + Duration::from_secs_f64(args.seconds);
+    let mut ending = Ending::Time;
+    loop {
+        if stop.load(Ordering::SeqCst) {
+            ending = Ending::Signal;
+            break;
+        }
+        if Instant::now() >= end {
+            break;
+        }
+        // Read before draining: a replay sets it after its last frame, so the drain below
+        // still takes every frame sent before.
+        let finished = stream.finished();
         if let Some(frame) = stream.next_timeout(Duration::from_millis(20)) {
             writer.push(&frame)?;
             for frame in stream.drain() {
                 writer.push(&frame)?;
             }
+        } else if finished {
+            ending = Ending::ReplayEnded;
+            break;
         }
     }
+    let elapsed = started.elapsed().as_secs_f64();
+    // Frames that arrived before the stop are kept.
+    for frame in stream.drain() {
+        writer.push(&frame)?;
+    }
     let description = stream.describe();
+    let last_error = stream.last_error();
     let stats = stream.close();
     let frames = writer.finish()?;
     let source = |name: &str, s: nendo_devices::DeviceStats| {
         format!(
-            "{name}: {} records, {} rejected, {} bytes skipped, {} invalid values, {} starts",
-            s.decode.records, s.decode.rejected, s.decode.skipped_bytes, s.invalid, s.starts
+            "{name}: {} records, {} rejected, {} bytes skipped, {} invalid values, {} faults, {} starts",
+            s.decode.records,
+            s.decode.rejected,
+            s.decode.skipped_bytes,
+            s.invalid,
+            s.faults,
+            s.starts
         )
     };
-    Ok(format!(
-        "recorded {frames} frames in {:.1} s from {description} to {}\n{}\n{}\nwatchdog trips {}, disconnects {}, frames dropped on overflow {}",
-        args.seconds,
+    let why = match ending {
+        Ending::Signal => " (stopped by a signal)",
+        Ending::ReplayEnded => " (the replayed trace ended)",
+        Ending::Time => "",
+    };
+    let mut summary = format!(
+        "recorded {frames} frames in {elapsed:.1} s{why} from {description} to {}\n{}\n{}\nwatchdog trips {}, disconnects {}, frames dropped on overflow {}",
         args.out.display(),
         source("glove", stats.glove),
         source("tracker", stats.tracker),
         stats.watchdog_trips,
         stats.disconnects,
         stats.overflow,
-    ))
+    );
+    if let Some(e) = last_error {
+        summary.push_str(&format!("\nlast device error: {e}"));
+    }
+    Ok(summary)
 }

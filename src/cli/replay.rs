@@ -13,7 +13,7 @@
 //! of 1 000 frames or more reports its progress on standard error every tenth of the way.
 
 use clap::Args as ClapArgs;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -100,6 +100,18 @@ fn parse_counts(s: &str) -> Result<(usize, usize), String> {
     Ok((m, n))
 }
 
+/// An error about the file `path`, named once: prefixed with the path unless its message
+/// already names it (an I/O error does; a syntax error does not).
+fn naming(path: &Path, e: &dyn std::fmt::Display) -> anyhow::Error {
+    let message = e.to_string();
+    let name = path.display().to_string();
+    if message.contains(&name) {
+        anyhow::anyhow!("{message}")
+    } else {
+        anyhow::anyhow!("{name}: {message}")
+    }
+}
+
 /// Runs `nendo replay`.
 pub fn run(args: Args) -> ExitCode {
     match replay(&args) {
@@ -115,7 +127,7 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 fn replay(args: &Args) -> anyhow::Result<String> {
-    let trace = Trace::read(&args.trace).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let trace = Trace::read(&args.trace).map_err(|e| naming(&args.trace, &e))?;
     let shape_args = args.patches.is_some()
         || args.radius.is_some()
         || args.height.is_some()
@@ -127,9 +139,7 @@ fn replay(args: &Args) -> anyhow::Result<String> {
                     "--patches, --radius, --height and --minor-radius shape a primitive; they do not apply to --model"
                 );
             }
-            Model::read(path)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
-                .model
+            Model::read(path).map_err(|e| naming(path, &e))?.model
         }
         (None, Some(p)) => {
             let params = PrimitiveParams {
@@ -193,9 +203,7 @@ fn replay(args: &Args) -> anyhow::Result<String> {
     let elapsed = start.elapsed();
     let st = *session.hand_loop().stats();
     model.surface = session.into_grid();
-    model
-        .write(&args.out)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.out.display()))?;
+    model.write(&args.out).map_err(|e| naming(&args.out, &e))?;
     Ok(format!(
         "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}; {:.3} s -> {}",
         st.frames_with_finger,
@@ -211,6 +219,17 @@ fn replay(args: &Args) -> anyhow::Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_path_is_named_once() {
+        let p = Path::new("dir/nonexist.json");
+        let io = format!("{}: No such file or directory (os error 2)", p.display());
+        assert_eq!(naming(p, &io).to_string(), io);
+        assert_eq!(
+            naming(p, &"trace line 7: bad").to_string(),
+            "dir/nonexist.json: trace line 7: bad"
+        );
+    }
 
     #[test]
     fn fingers_and_counts_parse() {

@@ -8,9 +8,10 @@
 //! segment's, or the view ray's for the mouse), `r_f` the finger radius ([`Fingertip`]), and
 //! `ℓ = max(finger length, 2·r_f)` the reach searched along the finger.
 //!
-//! 1. **Finger.** A frame without a pose (tracker not delivering) has no finger; nor has a frame
-//!    without joint angles while the profile has a glove (a silent glove); without a glove in
-//!    the profile the hand is flat. No finger: the contact ends.
+//! 1. **Finger.** A frame whose tracker is not `ok`, or without a pose, has no finger; nor has
+//!    a frame whose glove is silent or lost, or `ok` without joint angles; without a glove in
+//!    the profile (`none`) the hand is flat. Values a frame carries for a source that is not
+//!    `ok` are never used. No finger: the contact ends.
 //! 2. **Activation** ([`Activation`]). The glove's finger always acts; its switch
 //!    ([`nendo_devices::buttons::PRIMARY`]) is the grip. The mouse finger acts only while a
 //!    button is held: the left button presses, the right one grips.
@@ -401,11 +402,16 @@ impl HandLoop {
     /// The hand and active fingertip of a frame, if it has them (rule 1 of the module docs).
     #[must_use]
     pub fn finger_of(&self, frame: &HandFrame) -> Option<(HandPose, Fingertip)> {
+        // Only a delivering source acts: a pose held over from a tracker that is now silent or
+        // lost (a frame built by hand, a trace from elsewhere) never reaches the surface.
+        if frame.status.tracker != SourceState::Ok {
+            return None;
+        }
         let pose = frame.pose?;
-        let joints: Option<&JointAngles> = match &frame.joints {
-            Some(j) => Some(j),
-            None if frame.status.glove == SourceState::Absent => None,
-            None => return None,
+        let joints: Option<&JointAngles> = match (frame.status.glove, &frame.joints) {
+            (SourceState::Ok, Some(j)) => Some(j),
+            (SourceState::Absent, _) => None,
+            _ => return None,
         };
         let digit = self.options.finger.digit();
         let placed = match self.options.finger {
@@ -809,6 +815,42 @@ mod tests {
         assert_eq!(s.hand_loop().stats().frames_with_finger, 1);
         // The glove going silent mid-contact ends the contact.
         assert!(s.feed(&silent).committed.is_some());
+    }
+
+    #[test]
+    fn values_of_a_source_that_is_not_ok_never_act() {
+        let mut c = Choreography::new(Choreography::WORLD, 120.0).unwrap();
+        c.place(DVec3::new(0.0, 0.0, -0.2), -DVec3::Z, DVec3::Y);
+        c.hold(1);
+        let frame = c.finish("test").unwrap().frames[0];
+        let untouched = plane_session(Regulation::default());
+        // The pressing frame with its pose and angles kept, but a source not delivering.
+        let mut stale = Vec::new();
+        for state in [
+            SourceState::Silent,
+            SourceState::Disconnected,
+            SourceState::Absent,
+        ] {
+            let mut f = frame;
+            f.status.tracker = state;
+            stale.push(f);
+        }
+        for state in [SourceState::Silent, SourceState::Disconnected] {
+            let mut f = frame;
+            f.status.glove = state;
+            stale.push(f);
+        }
+        for f in &stale {
+            let mut s = plane_session(Regulation::default());
+            assert!(s.hand_loop().finger_of(f).is_none(), "{:?}", f.status);
+            let out = s.feed(f);
+            assert_eq!(out.touch, Touch::Free, "{:?}", f.status);
+            assert!(out.changed.is_empty(), "{:?}", f.status);
+            assert_eq!(s.grid(), untouched.grid());
+        }
+        // The same frame from delivering sources presses.
+        let mut s = plane_session(Regulation::default());
+        assert_eq!(s.feed(&frame).touch, Touch::Pressing);
     }
 
     #[test]

@@ -14,7 +14,7 @@ mod models;
 #[cfg(unix)]
 mod pty;
 
-pub use models::{CyberGloveModel, FastrakModel, FlockModel, Glove5Model, Glove16Model};
+pub use models::{CyberGloveModel, FastrakModel, FlockModel, Glove5Model, Glove16Model, GlovePlug};
 #[cfg(unix)]
 pub use pty::PtyEmulator;
 

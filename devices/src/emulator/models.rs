@@ -1,5 +1,7 @@
 //! The device models: CyberGlove, 5DT Data Glove 5 and 16, Fastrak, Flock of Birds.
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use glam::{DQuat, DVec3, EulerRot};
@@ -11,8 +13,28 @@ use crate::fastrak::{self, DataFormat, FastrakFraming, FastrakRecord, Item, Unit
 use crate::fivedt::{self, Glove5Record, Glove16Packet};
 use crate::flock::{self, BirdOrientation, FlockFraming, FlockRecord, RecordMode};
 
+/// Whether a CyberGlove is plugged into its interface unit. A handle shared with a model
+/// running on a [`PtyEmulator`](super::PtyEmulator), so a test can pull the glove out of the
+/// unit (the serial line stays up) and plug it back in.
+#[derive(Debug, Clone)]
+pub struct GlovePlug(Arc<AtomicBool>);
+
+impl GlovePlug {
+    /// Plugs the glove in (`true`) or pulls it out (`false`).
+    pub fn set_plugged(&self, plugged: bool) {
+        self.0.store(plugged, Ordering::Relaxed);
+    }
+
+    /// Whether the glove is plugged in.
+    pub fn is_plugged(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
 /// A CyberGlove: answers `G`, streams on `S`, stops on ^C, sets the status byte with `U`.
-/// Power-on state: not streaming, no status byte.
+/// Power-on state: not streaming, no status byte, glove plugged in. While the glove is out of
+/// its interface unit ([`CyberGloveModel::glove_plug`]), every record — the answer to a poll and
+/// each streamed one — is the `e g` (glove unplugged) error record.
 #[derive(Debug, Clone)]
 pub struct CyberGloveModel {
     sensors: SensorCount,
@@ -21,6 +43,7 @@ pub struct CyberGloveModel {
     awaiting_status_argument: bool,
     k: u64,
     period: Duration,
+    plug: GlovePlug,
 }
 
 impl CyberGloveModel {
@@ -33,7 +56,13 @@ impl CyberGloveModel {
             awaiting_status_argument: false,
             k: 0,
             period: Duration::from_millis(10),
+            plug: GlovePlug(Arc::new(AtomicBool::new(true))),
         }
+    }
+
+    /// The handle that plugs the glove into its interface unit and pulls it out.
+    pub fn glove_plug(&self) -> GlovePlug {
+        self.plug.clone()
     }
 
     /// The raw sensor values of record `k`: sensor `i` is `1 + (k + 7i) mod 255`, so sensor 0
@@ -55,6 +84,10 @@ impl CyberGloveModel {
     }
 
     fn record(&mut self, header: u8, out: &mut Vec<u8>) {
+        if !self.plug.is_plugged() {
+            cyberglove::encode_fault(header, cyberglove::GloveFault::GloveUnplugged, out);
+            return;
+        }
         let values = Self::values_at(self.sensors, self.k);
         let status = self.status_byte.then(|| Self::status_at(self.k));
         cyberglove::encode_sample(header, &values, status, out);
@@ -245,6 +278,7 @@ pub struct FastrakModel {
     continuous: bool,
     command: Option<Vec<u8>>,
     k: u64,
+    flag_every: Option<u64>,
 }
 
 impl Default for FastrakModel {
@@ -264,7 +298,23 @@ impl FastrakModel {
             continuous: true,
             command: None,
             k: 0,
+            flag_every: None,
         }
+    }
+
+    /// The same tracker, flagging every `n`-th record (those with `k mod n = n − 1`) with the
+    /// letter [`FastrakModel::FLAG`] in its error byte.
+    pub fn flagging_every(mut self, n: u64) -> Self {
+        self.flag_every = Some(n.max(1));
+        self
+    }
+
+    /// The error byte of a flagged record.
+    pub const FLAG: u8 = b'E';
+
+    /// Whether record `k` is flagged by a tracker made with [`FastrakModel::flagging_every`]`(n)`.
+    pub fn is_flagged(n: u64, k: u64) -> bool {
+        k % n.max(1) == n.max(1) - 1
     }
 
     /// The true pose of record `k`, metres.
@@ -282,9 +332,14 @@ impl FastrakModel {
         let p = pose.position / self.units.metres();
         let q = pose.orientation;
         let (az, el, roll) = q.to_euler(EulerRot::ZYX);
+        let flagged = self.flag_every.is_some_and(|n| Self::is_flagged(n, self.k));
         let record = FastrakRecord {
             station: self.station,
-            error: b' ',
+            error: if flagged {
+                Self::FLAG
+            } else {
+                fastrak::NO_ERROR
+            },
             position: Some(p.to_array()),
             euler: Some([az.to_degrees(), el.to_degrees(), roll.to_degrees()]),
             quaternion: Some([q.w, q.x, q.y, q.z]),

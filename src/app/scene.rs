@@ -61,7 +61,7 @@ impl SurfaceDisplay {
         let start = Instant::now();
         let mesh = tessellate(patches, tessellation);
         let tessellate_ms = start.elapsed().as_secs_f64() * 1e3;
-        let seam_deg = seam_angles_deg(&mesh);
+        let seam_deg = seam_angles_deg(patches, &mesh);
         let max_seam_deg = seam_deg.iter().copied().fold(0.0, f32::max);
         let seam_heat = seam_bands(&mesh, &seam_deg, Self::HEAT_BAND);
         Self {

@@ -67,5 +67,67 @@ fn renders_a_model_to_png_and_refuses_bad_arguments() {
         .expect("nendo runs");
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent.json"));
+
+    // A PNG that cannot be written: the message names the path and says why, once.
+    let missing = dir.join("no-such-folder").join("out.png");
+    let o = Command::new(env!("CARGO_BIN_EXE_nendo"))
+        .args(["render", model.to_str().expect("utf-8"), "--png"])
+        .arg(&missing)
+        .args(["--size", "32x24"])
+        .output()
+        .expect("nendo runs");
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains(&missing.display().to_string()),
+        "the path is named: {err}"
+    );
+    assert_eq!(
+        err.matches("os error 2").count(),
+        1,
+        "the cause once: {err}"
+    );
+
+    // With the control net drawn, the framing takes it in: the net of a coarse torus, which
+    // stands well outside the surface, is drawn whole, clear of the image's border.
+    let coarse = dir.join("coarse.nendo.json");
+    Model::new(
+        Primitive::Torus
+            .build(&PrimitiveParams {
+                patches: Some((4, 2)),
+                ..PrimitiveParams::default()
+            })
+            .expect("torus"),
+    )
+    .write(&coarse)
+    .expect("write");
+    let net_png = dir.join("net.png");
+    let o = Command::new(env!("CARGO_BIN_EXE_nendo"))
+        .args(["render", coarse.to_str().expect("utf-8"), "--png"])
+        .arg(&net_png)
+        .args(["--size", "320x180", "--view", "iso", "--control-net"])
+        .output()
+        .expect("nendo runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let image =
+        RgbaImage::read_png(&std::fs::read(&net_png).expect("the PNG exists")).expect("a PNG");
+    // The net is drawn blue (Rgba::CONTROL_NET).
+    let blue = |x: u32, y: u32| {
+        let i = 4 * (y * image.width + x) as usize;
+        let [r, g, b] = [image.pixels[i], image.pixels[i + 1], image.pixels[i + 2]];
+        b > 120 && b > r.saturating_add(50) && b > g.saturating_add(20)
+    };
+    let (w, h) = (image.width, image.height);
+    let net_pixels = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .filter(|&(x, y)| blue(x, y))
+        .count();
+    let on_border = (0..w)
+        .flat_map(|x| [(x, 0), (x, h - 1)])
+        .chain((0..h).flat_map(|y| [(0, y), (w - 1, y)]))
+        .filter(|&(x, y)| blue(x, y))
+        .count();
+    assert!(net_pixels > 200, "the net is drawn ({net_pixels} pixels)");
+    assert_eq!(on_border, 0, "the net is cut off at the border");
     let _ = std::fs::remove_dir_all(&dir);
 }

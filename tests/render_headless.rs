@@ -181,6 +181,39 @@ fn scenes_match_their_references() {
     );
     check_against_reference("sphere_iso", &image);
 
+    // The exact sphere is G1 along every seam and at its poles: the seam readout is zero up to
+    // rounding, and the heat map — even at its most sensitive (0.01° drawn red) — leaves the
+    // clay exactly as it is without the heat map.
+    let display = SurfaceDisplay::new(&sphere, &Tessellation::DISPLAY);
+    assert!(
+        display.max_seam_deg < 1e-6,
+        "seam readout of an exact sphere: {}°",
+        display.max_seam_deg
+    );
+    let heat = render(
+        &gpu,
+        &mut renderer,
+        &sphere,
+        ViewPreset::Iso,
+        Style {
+            heat_map: true,
+            heat_max_deg: 0.01,
+            ..Style::default()
+        },
+        |_, _| {},
+    );
+    let worst = heat
+        .pixels
+        .iter()
+        .zip(&image.pixels)
+        .map(|(a, b)| a.abs_diff(*b))
+        .max()
+        .unwrap_or(0);
+    assert!(
+        worst <= 1,
+        "the heat map colours an exact sphere (a channel differs by {worst})"
+    );
+
     // A creased plane with the heat map, the tool footprint, the control net, a curve and a
     // translucent probe sphere.
     let plane = creased_plane();

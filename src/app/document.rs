@@ -28,7 +28,9 @@ pub struct Document {
     pub path: Option<PathBuf>,
     history: History,
     revision: u64,
-    saved_revision: u64,
+    /// The revision last saved to (or opened from) a file; `None` when the model is in no
+    /// file at all (a recovered autosave).
+    saved_revision: Option<u64>,
     sculptor: Sculptor,
     /// The last sculpting operation's cost.
     pub last_op: Option<OpTiming>,
@@ -45,7 +47,7 @@ impl Document {
             path: None,
             history: History::default(),
             revision: 0,
-            saved_revision: 0,
+            saved_revision: Some(0),
             sculptor: Sculptor::new(),
             last_op: None,
             recording: None,
@@ -70,8 +72,14 @@ impl Document {
     pub fn save(&mut self, path: &Path) -> Result<(), ModelError> {
         self.model.write(path)?;
         self.path = Some(path.to_path_buf());
-        self.saved_revision = self.revision;
+        self.saved_revision = Some(self.revision);
         Ok(())
+    }
+
+    /// Marks the whole model as unsaved work (a recovered autosave: it is in no file the user
+    /// chose), dirty until it is saved.
+    pub fn mark_unsaved(&mut self) {
+        self.saved_revision = None;
     }
 
     /// The model.
@@ -89,7 +97,7 @@ impl Document {
     /// True when there are edits not saved to [`Document::path`].
     #[must_use]
     pub fn is_dirty(&self) -> bool {
-        self.revision != self.saved_revision
+        self.saved_revision != Some(self.revision)
     }
 
     /// The undo history.
@@ -263,5 +271,31 @@ mod tests {
         let revision = doc.revision();
         assert!(doc.apply(&bad).is_err());
         assert_eq!(doc.revision(), revision, "a rejected op changes nothing");
+    }
+
+    #[test]
+    fn an_unsaved_document_stays_dirty_through_undo_until_saved() {
+        let plane = Primitive::Plane
+            .build(&PrimitiveParams::default())
+            .expect("plane");
+        let mut doc = Document::new(Model::new(plane));
+        doc.mark_unsaved();
+        assert!(doc.is_dirty(), "recovered work is unsaved");
+        let op = Op::Push {
+            at: DVec3::new(0.5, 0.5, 0.0),
+            dir: -DVec3::Z,
+            depth: 0.4,
+            radius: 1.25,
+        };
+        doc.apply(&op).expect("push");
+        assert!(doc.undo());
+        assert!(doc.is_dirty(), "undo does not make it saved");
+        let path = std::env::temp_dir().join(format!(
+            "nendo-doc-unsaved-{}.nendo.json",
+            std::process::id()
+        ));
+        doc.save(&path).expect("save");
+        assert!(!doc.is_dirty());
+        let _ = std::fs::remove_file(&path);
     }
 }

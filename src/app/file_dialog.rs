@@ -51,6 +51,16 @@ impl DialogPurpose {
     }
 }
 
+/// How an entry is listed: folders end in `/` (a marker every font has; the default egui
+/// fonts have no folder emoji).
+fn entry_label(name: &str, is_dir: bool) -> String {
+    if is_dir {
+        format!("{name}/")
+    } else {
+        name.to_string()
+    }
+}
+
 /// An open file dialog.
 #[derive(Debug, Clone)]
 pub struct FileDialog {
@@ -154,11 +164,7 @@ impl FileDialog {
                     .auto_shrink([false, true])
                     .show(ui, |ui| {
                         for (name, is_dir) in &self.entries {
-                            let label = if *is_dir {
-                                format!("📁 {name}")
-                            } else {
-                                name.clone()
-                            };
+                            let label = entry_label(name, *is_dir);
                             let selected = !*is_dir && *name == self.name;
                             let response = ui.selectable_label(selected, label);
                             if response.clicked() {
@@ -211,5 +217,29 @@ impl FileDialog {
             result = DialogResult::Cancelled;
         }
         result
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every character of an entry's label is in egui's default fonts (a missing one is drawn
+    /// as a box).
+    #[test]
+    fn entry_labels_use_glyphs_the_default_fonts_have() {
+        let ctx = egui::Context::default();
+        // Fonts are loaded by the first frame.
+        let _ = ctx.run_ui(egui::RawInput::default(), |_| {});
+        let font = egui::FontId::proportional(14.0);
+        for (name, is_dir) in [("models", true), ("plane.nendo.json", false)] {
+            let label = entry_label(name, is_dir);
+            assert!(
+                ctx.fonts_mut(|f| f.has_glyphs(&font, &label)),
+                "{label:?} has a glyph the default fonts lack"
+            );
+        }
+        assert!(entry_label("models", true).contains("models"));
+        assert_ne!(entry_label("models", true), entry_label("models", false));
     }
 }

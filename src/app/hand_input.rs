@@ -133,13 +133,24 @@ impl HandDriver {
 }
 
 /// The mouse as a hand (the "Hand" tool): the view ray is the finger (see
-/// [`crate::hand::mouse`]); left button pushes and draws grooves, right button grips and pulls.
+/// [`crate::hand::mouse`]); the primary button pushes and draws grooves, the secondary grips
+/// and pulls (draws ridges).
+///
+/// The hand is drawn at a size that reads at the model's scale: a real hand (metres) would be
+/// a speck on a model ten sides wide, so its lengths are scaled so that the index finger is as
+/// long as the finger radius. The fingertip stays exactly where the mouse finger puts it (the
+/// frames are handed to the hand loop in units of that scale), and the capsule the loop
+/// searches along, `max(finger length, 2 r_f)`, is `2 r_f` either way.
 #[derive(Debug, Clone)]
 pub struct MouseHandTool {
     finger: MouseFinger,
     driver: HandDriver,
     start: Instant,
     held: u32,
+    /// World units per metre of the drawn hand.
+    scale: f64,
+    /// Where along the ray the mouse hand's fingertip sits while hovering (the profile's depth).
+    hover_depth: f64,
 }
 
 impl MouseHandTool {
@@ -148,16 +159,33 @@ impl MouseHandTool {
     /// # Errors
     /// [`HandError`] for a radius or depth the hand refuses.
     pub fn new(radius: f64, depth: f64) -> Result<Self, HandError> {
+        Self::with_profile(MouseProfile::default(), radius, depth)
+    }
+
+    /// A mouse hand of a mouse profile (its depth range, wheel step and finger curl).
+    ///
+    /// # Errors
+    /// [`HandError`] for a radius or depth the hand refuses.
+    pub fn with_profile(profile: MouseProfile, radius: f64, depth: f64) -> Result<Self, HandError> {
+        let size = HandSize::default();
+        let index = size.index.proximal + size.index.middle + size.index.distal;
+        let scale = radius / index;
+        let scale = if scale.is_finite() && scale > 0.0 {
+            scale
+        } else {
+            1.0
+        };
+        let world_from_tracker = WorldFromTracker {
+            scale,
+            ..WorldFromTracker::default()
+        };
         Ok(Self {
-            finger: MouseFinger::new(MouseProfile::default(), depth)?,
-            driver: HandDriver::new(
-                HandSize::default(),
-                WorldFromTracker::default(),
-                FingerModel::Ray,
-                radius,
-            )?,
+            finger: MouseFinger::new(profile, depth)?,
+            driver: HandDriver::new(size, world_from_tracker, FingerModel::Ray, radius)?,
             start: Instant::now(),
             held: 0,
+            scale,
+            hover_depth: profile.depth,
         })
     }
 
@@ -179,6 +207,9 @@ impl MouseHandTool {
     }
 
     /// The cursor's view ray with the left (`left`) and right (`right`) buttons as held.
+    ///
+    /// # Errors
+    /// [`HandError`] for a ray with a zero or non-finite direction or a non-finite origin.
     pub fn event(
         &mut self,
         doc: &mut Document,
@@ -194,11 +225,39 @@ impl MouseHandTool {
             origin: ray.origin,
             direction: ray.direction,
         };
-        let frames = self.finger.frames(time, view, held, &doc.model().surface)?;
-        for f in &frames {
+        let mut frames = self.finger.frames(time, view, held, &doc.model().surface)?;
+        for f in &mut frames {
+            // World positions in the units of the hand's `world_from_tracker` (see the type).
+            if let Some(pose) = &mut f.pose {
+                pose.position /= self.scale;
+            }
             self.driver.feed(doc, f);
         }
         Ok(())
+    }
+
+    /// The cursor's view ray with no button held, the fingertip hovering `distance` along it
+    /// (just in front of the surface under the cursor, say).
+    ///
+    /// # Errors
+    /// As [`MouseHandTool::event`].
+    pub fn hover_at(
+        &mut self,
+        doc: &mut Document,
+        ray: &Ray,
+        distance: f64,
+    ) -> Result<(), HandError> {
+        let dir = ray.direction.normalize_or_zero();
+        let shift = if distance.is_finite() {
+            distance - self.hover_depth
+        } else {
+            0.0
+        };
+        let shifted = Ray {
+            origin: ray.origin + shift * dir,
+            direction: ray.direction,
+        };
+        self.event(doc, &shifted, false, false)
     }
 
     /// Wheel steps: deeper (or, negative, shallower) while pressed, nearer or farther otherwise.
@@ -214,6 +273,12 @@ impl MouseHandTool {
     /// Draws the hand.
     pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
         self.driver.draw(lines, spheres);
+    }
+
+    /// The hand's fingertip, if the hand has had a frame.
+    #[must_use]
+    pub fn fingertip(&self) -> Option<DVec3> {
+        self.driver.hand_loop().fingertip().map(|t| t.tip)
     }
 }
 

@@ -19,6 +19,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use nendo_devices::discover::{Inventory, inventory};
+use nendo_devices::profile::{Input, MouseProfile};
 use nendo_devices::{
     HandFrame, HandStream, Profile, SourceState, StreamOptions, Trace, TraceWriter, profile,
 };
@@ -194,6 +195,27 @@ impl LiveInput {
         (!t.is_empty()).then(|| PathBuf::from(t))
     }
 
+    /// The selected profile's mouse settings, when it is the mouse (driven by the window's
+    /// Hand tool rather than opened as a stream).
+    fn selected_mouse(&self) -> Option<MouseProfile> {
+        match self.profiles.get(self.selected)?.input {
+            Input::Mouse(m) => Some(m),
+            _ => None,
+        }
+    }
+
+    /// The Connect button: opens the devices of the selected profile, or, for the mouse
+    /// profile, returns its settings for the Hand tool (stopping any device session).
+    fn connect_or_mouse(&mut self, doc: &mut Document) -> Option<MouseProfile> {
+        if let Some(mouse) = self.selected_mouse() {
+            self.disconnect_from(doc);
+            self.message = Some("the mouse drives the hand (Hand tool)".into());
+            return Some(mouse);
+        }
+        self.connect(doc);
+        None
+    }
+
     /// Opens the devices of the selected profile.
     fn connect(&mut self, doc: &mut Document) {
         let Some(profile) = self.profiles.get(self.selected).cloned() else {
@@ -310,8 +332,15 @@ impl LiveInput {
         }
     }
 
-    /// The device panel.
-    pub fn ui(&mut self, ui: &mut egui::Ui, radius: f64, doc: &mut Document) {
+    /// The device panel. Returns the mouse profile's settings when the user chose the mouse
+    /// as the hand (the caller selects the Hand tool).
+    pub fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        radius: f64,
+        doc: &mut Document,
+    ) -> Option<MouseProfile> {
+        let mut use_mouse = None;
         self.radius = radius;
         if self.profiles.is_empty() {
             self.profiles = profile::builtin();
@@ -327,14 +356,29 @@ impl LiveInput {
         if let Some(p) = self.profiles.get(self.selected) {
             ui.small(&p.description);
         }
-        ui.horizontal(|ui| {
-            ui.label("record trace to");
-            ui.text_edit_singleline(&mut self.record_to);
-        });
-        ui.horizontal(|ui| {
+        // Fields on rows of their own, as wide as the panel: a field beside a label or a
+        // button would push the button off the fixed-width panel.
+        let mouse = self.selected_mouse().is_some();
+        if !mouse {
+            ui.label("record trace to (optional file):");
+            ui.add(
+                egui::TextEdit::singleline(&mut self.record_to)
+                    .desired_width(ui.available_width())
+                    .hint_text("trace.jsonl"),
+            );
+        }
+        ui.horizontal_wrapped(|ui| {
             if self.session.is_none() {
-                if ui.button("Connect").clicked() {
-                    self.connect(doc);
+                let (label, hint) = if mouse {
+                    (
+                        "Use the mouse hand",
+                        "selects the Hand tool: the view ray is the finger",
+                    )
+                } else {
+                    ("Connect", "opens the profile's devices")
+                };
+                if ui.button(label).on_hover_text(hint).clicked() {
+                    use_mouse = self.connect_or_mouse(doc);
                 }
             } else if ui.button("Disconnect").clicked() {
                 self.disconnect_from(doc);
@@ -343,14 +387,22 @@ impl LiveInput {
                 self.inventory = Some(inventory(&self.profiles));
             }
         });
-        ui.horizontal(|ui| {
-            ui.label("trace");
-            ui.text_edit_singleline(&mut self.trace_path);
-            if ui.button("Replay").clicked() && !self.trace_path.trim().is_empty() {
-                let path = PathBuf::from(self.trace_path.trim());
-                self.replay(&path, doc);
-            }
-        });
+        ui.label("trace to replay:");
+        ui.add(
+            egui::TextEdit::singleline(&mut self.trace_path)
+                .desired_width(ui.available_width())
+                .hint_text("trace.jsonl"),
+        );
+        if ui
+            .add_enabled(
+                !self.trace_path.trim().is_empty(),
+                egui::Button::new("Replay trace"),
+            )
+            .clicked()
+        {
+            let path = PathBuf::from(self.trace_path.trim());
+            self.replay(&path, doc);
+        }
         if let Some(inv) = &self.inventory {
             egui::CollapsingHeader::new(format!(
                 "ports ({} serial, {} HID)",
@@ -405,6 +457,7 @@ impl LiveInput {
         if let Some(m) = &self.message {
             ui.small(m);
         }
+        use_mouse
     }
 }
 
@@ -439,5 +492,77 @@ mod tests {
         let got = std::mem::take(&mut *lock(&session.shared.inbox));
         assert_eq!(got.len() as u64, n, "every sample arrives");
         assert!(got.windows(2).all(|w| w[0].time < w[1].time), "in order");
+    }
+
+    fn plane_doc() -> Document {
+        use crate::model::Model;
+        use crate::surface::{Primitive, PrimitiveParams};
+        Document::new(Model::new(
+            Primitive::Plane
+                .build(&PrimitiveParams::default())
+                .expect("plane"),
+        ))
+    }
+
+    /// The panel fits the fixed-width tool panel: nothing (the Replay button, the record
+    /// field) reaches past its right edge, whichever profile is selected.
+    #[test]
+    fn the_device_panel_fits_the_tool_panel() {
+        let mut live = LiveInput::default();
+        let mut doc = plane_doc();
+        live.trace_path = "/some/rather/long/path/to/a/recorded/trace.jsonl".into();
+        let ctx = egui::Context::default();
+        let count = profile::builtin().len();
+        for selected in 0..count {
+            live.selected = selected;
+            let mut overflow = None;
+            for _ in 0..2 {
+                let raw = egui::RawInput {
+                    screen_rect: Some(egui::Rect::from_min_size(
+                        egui::Pos2::ZERO,
+                        egui::vec2(1280.0, 800.0),
+                    )),
+                    ..Default::default()
+                };
+                let _ = ctx.run_ui(raw, |ui| {
+                    egui::Panel::left("devices test")
+                        .exact_size(crate::app::panels::PANEL_WIDTH)
+                        .show(ui, |ui| {
+                            let right = ui.max_rect().max.x;
+                            live.ui(ui, 1.25, &mut doc);
+                            overflow = Some(ui.min_rect().max.x - right);
+                        });
+                });
+            }
+            let overflow = overflow.expect("the panel ran");
+            assert!(
+                overflow <= 0.5,
+                "profile {selected}: the panel's content runs {overflow} points past its edge"
+            );
+        }
+    }
+
+    /// Connect on the mouse profile opens no stream: it hands the mouse settings to the Hand
+    /// tool, with no error.
+    #[test]
+    fn the_mouse_profile_selects_the_mouse_hand() {
+        let mut live = LiveInput {
+            profiles: profile::builtin(),
+            ..LiveInput::default()
+        };
+        let mouse = live
+            .profiles
+            .iter()
+            .position(|p| matches!(p.input, Input::Mouse(_)))
+            .expect("a built-in mouse profile");
+        live.selected = mouse;
+        let mut doc = plane_doc();
+        let got = live.connect_or_mouse(&mut doc);
+        assert!(got.is_some(), "the mouse profile's settings");
+        assert!(!live.is_connected());
+        assert_eq!(
+            live.message.as_deref(),
+            Some("the mouse drives the hand (Hand tool)")
+        );
     }
 }

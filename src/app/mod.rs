@@ -5,7 +5,7 @@
 //!
 //! | input | does |
 //! |---|---|
-//! | left button | the active tool (see [`tools`]): push / pull (drag sets the depth, click uses the panel's), draw a line, grab / split / tangent-edit curves |
+//! | left button | the active tool (see [`tools`]): push / pull (drag sets the depth, click uses the panel's), draw a line, grab / split / tangent-edit curves, the mouse as the hand (Shift: grip and pull) |
 //! | right drag | orbit |
 //! | middle drag, Shift + right drag | pan |
 //! | wheel | zoom; while a tool is pressed: the depth (push, line) or the grab depth (curves) |
@@ -26,6 +26,7 @@
 //! | [`tools`], [`curve_edit`] | the mouse tools and the curve edits they make |
 //! | [`modeller`], `panels` | the modeller's state, input handling and egui panels |
 //! | [`file_dialog`] | the egui file dialog |
+//! | [`export_job`] | mesh export off the UI thread |
 //! | [`hand_input`] | device frames and the mouse as a hand: the hand loop on the document, the hand drawn |
 //! | [`live`] | the device loop on its own thread |
 //! | [`window`] | winit, the surface, egui and the renderer together |
@@ -34,6 +35,7 @@ pub mod autosave;
 pub mod camera;
 pub mod curve_edit;
 pub mod document;
+pub mod export_job;
 pub mod file_dialog;
 pub mod hand_input;
 pub mod history;

@@ -7,20 +7,20 @@ use std::path::{Path, PathBuf};
 
 use super::camera::ViewPreset;
 use super::curve_edit::straight_cubic;
-use super::document::Document;
+use super::export_job::{ExportJob, TOLERANCE_RANGE};
 use super::file_dialog::{DialogPurpose, DialogResult, FileDialog};
-use super::modeller::{Modeller, PrimitiveForm, Prompt, Replay};
+use super::modeller::{Modeller, Pending, PrimitiveForm, Prompt, Replay, UnsavedAnswer};
 use super::tools::Tool;
 use crate::curve::edit::GrabMethod;
 use crate::curve::json::DynCurve;
-use crate::mesh::{MeshFormat, Tessellation, save_mesh, tessellate};
+use crate::mesh::Tessellation;
 use crate::model::ops::{op_to_json, parse_ops};
 use crate::surface::{Primitive, Regulation, Topology};
 
 const ERROR: Color32 = Color32::from_rgb(235, 95, 75);
 
 /// Width of the tool panel, points (`.ci/checks/window.sh` clicks right of it).
-const PANEL_WIDTH: f32 = 290.0;
+pub(super) const PANEL_WIDTH: f32 = 290.0;
 
 impl Modeller {
     /// Draws the panels and dialogs; returns the rectangle left for the 3D view, in points.
@@ -79,6 +79,7 @@ impl Modeller {
 
     pub(super) fn undo(&mut self) {
         self.tools.cancel();
+        self.end_hand_contacts();
         if !self.doc.undo() {
             self.set_status("nothing to undo", false);
         }
@@ -86,6 +87,7 @@ impl Modeller {
 
     pub(super) fn redo(&mut self) {
         self.tools.cancel();
+        self.end_hand_contacts();
         if !self.doc.redo() {
             self.set_status("nothing to redo", false);
         }
@@ -93,19 +95,16 @@ impl Modeller {
 
     fn save(&mut self) {
         match self.doc.path.clone() {
-            Some(path) => self.save_to(&path),
+            Some(path) => {
+                self.save_to(&path);
+            }
             None => self.open_dialog(DialogPurpose::SaveModel),
         }
     }
 
-    fn save_to(&mut self, path: &Path) {
-        match self.doc.save(path) {
-            Ok(()) => self.set_status(format!("saved {}", path.display()), false),
-            Err(e) => self.set_status(format!("cannot save: {e}"), true),
-        }
-    }
-
-    fn open_dialog(&mut self, purpose: DialogPurpose) {
+    /// Opens a file dialog (forgetting any action that waited for an earlier save dialog).
+    pub(super) fn open_dialog(&mut self, purpose: DialogPurpose) {
+        self.after_save = None;
         let default = match purpose {
             DialogPurpose::SaveModel | DialogPurpose::OpenModel => "model.nendo.json",
             DialogPurpose::ExportMesh => "model.obj",
@@ -118,27 +117,25 @@ impl Modeller {
         ));
     }
 
+    /// Starts exporting the surface to `path` on its own thread (see [`ExportJob`]).
     fn export(&mut self, path: &Path) {
-        let format = match MeshFormat::from_path(path) {
-            Ok(f) => f,
-            Err(e) => return self.set_status(e.to_string(), true),
-        };
-        let mesh = tessellate(
-            &self.patches,
-            &Tessellation::with_tolerance(self.export_tolerance),
-        )
-        .welded();
-        match save_mesh(path, format, &mesh) {
-            Ok(()) => self.set_status(
-                format!(
-                    "exported {} ({} triangles, tolerance {})",
-                    path.display(),
-                    mesh.triangle_count(),
-                    self.export_tolerance
-                ),
-                false,
-            ),
-            Err(e) => self.set_status(format!("cannot export: {e}"), true),
+        if let Some(job) = &self.export_job {
+            let busy = format!("still exporting {}", job.path().display());
+            return self.set_status(busy, true);
+        }
+        let tolerance = self
+            .export_tolerance
+            .clamp(*TOLERANCE_RANGE.start(), *TOLERANCE_RANGE.end());
+        match ExportJob::start(
+            self.patches.clone(),
+            path.to_path_buf(),
+            Tessellation::with_tolerance(tolerance),
+        ) {
+            Ok(job) => {
+                self.set_status(format!("exporting {}…", path.display()), false);
+                self.export_job = Some(job);
+            }
+            Err(e) => self.set_status(e, true),
         }
     }
 
@@ -239,13 +236,24 @@ impl Modeller {
             });
         egui::CollapsingHeader::new("Export").default_open(false).show(ui, |ui| {
             ui.add(
-                egui::Slider::new(&mut self.export_tolerance, 1e-5..=0.1)
+                egui::Slider::new(&mut self.export_tolerance, TOLERANCE_RANGE)
                     .logarithmic(true)
                     .text("tolerance (side)"),
             );
-            ui.small("Largest distance from the mesh to the surface. OBJ (with normals), binary STL or GLB, by the file's extension.");
-            if ui.button("Export…").clicked() {
-                self.open_dialog(DialogPurpose::ExportMesh);
+            ui.small("Largest distance from the mesh to the surface. OBJ (with normals), binary STL or GLB, by the file's extension. Written in the background.");
+            match &self.export_job {
+                Some(job) => {
+                    ui.label(format!(
+                        "exporting {}… {:.0} s",
+                        job.path().display(),
+                        job.elapsed_s()
+                    ));
+                }
+                None => {
+                    if ui.button("Export…").clicked() {
+                        self.open_dialog(DialogPurpose::ExportMesh);
+                    }
+                }
             }
         });
         egui::CollapsingHeader::new("Continuity")
@@ -260,7 +268,9 @@ impl Modeller {
         egui::CollapsingHeader::new("Devices")
             .default_open(false)
             .show(ui, |ui| {
-                self.live.ui(ui, self.settings.radius, &mut self.doc)
+                if let Some(profile) = self.live.ui(ui, self.settings.radius, &mut self.doc) {
+                    self.use_mouse_hand(profile);
+                }
             });
     }
 
@@ -315,13 +325,11 @@ impl Modeller {
     }
 
     fn tool_ui(&mut self, ui: &mut Ui) {
-        let before = self.tool;
+        let mut chosen = self.tool;
         for tool in Tool::ALL {
-            ui.radio_value(&mut self.tool, tool, tool.label());
+            ui.radio_value(&mut chosen, tool, tool.label());
         }
-        if self.tool != before {
-            self.tools.cancel();
-        }
+        self.select_tool(chosen);
         let s = &mut self.settings;
         ui.add(
             egui::Slider::new(&mut s.radius, 0.05..=6.0)
@@ -357,6 +365,9 @@ impl Modeller {
             });
         ui.checkbox(&mut s.grab.keep_ends, "keep curve end points");
         ui.small("Left: tool · Right drag: orbit · Middle or Shift+Right: pan · Wheel: zoom (while pressing: depth)");
+        if self.tool == Tool::Hand {
+            ui.small("Hand: the view ray is the finger. Press pushes, drag draws a groove; with Shift (or \"draw ridges\") the finger grips and pulls; the wheel while pressing goes deeper.");
+        }
         if ui
             .button("Add a curve")
             .on_hover_text("a straight cubic above the surface, to grab and bend")
@@ -374,9 +385,10 @@ impl Modeller {
                 glam::DVec3::new(lo.x, mid_y, z),
                 glam::DVec3::new(hi.x, mid_y, z),
             );
+            self.end_hand_contacts();
             self.doc.begin_edit("add curve");
             self.doc.curves_mut().push(DynCurve::D3(curve));
-            self.tool = Tool::GrabCurve;
+            self.select_tool(Tool::GrabCurve);
         }
     }
 
@@ -496,38 +508,42 @@ impl Modeller {
                 ));
                 ui.horizontal(|ui| {
                     if ui.button("Recover").clicked() {
-                        match Document::open(&path) {
-                            Ok(mut doc) => {
-                                doc.path = None;
-                                self.replace_document(doc);
-                                self.set_status("recovered the autosave", false);
-                            }
-                            Err(e) => self.set_status(format!("cannot recover: {e}"), true),
-                        }
-                        self.prompt = None;
+                        self.recover(&path);
                     }
                     if ui.button("Discard it").clicked() {
-                        if let Some(a) = &mut self.autosave {
-                            a.discard();
-                        }
-                        self.prompt = None;
+                        self.discard_recovery();
                     }
                 });
             }
-            Prompt::UnsavedOnClose => {
+            Prompt::Unsaved(action) => {
                 ui.heading("Unsaved changes");
-                ui.label("The model has changes that are not saved.");
+                let (what, discard) = match &action {
+                    Pending::Close => ("before closing".to_string(), "Quit without saving"),
+                    Pending::Create(form) => (
+                        format!("before starting a new {}", form.primitive.name()),
+                        "Discard changes",
+                    ),
+                    Pending::Open(path) => (
+                        format!("before opening {}", path.display()),
+                        "Discard changes",
+                    ),
+                };
+                ui.label(format!(
+                    "The model has changes that are not saved. Save them {what}?"
+                ));
                 ui.horizontal(|ui| {
+                    let mut answer = None;
                     if ui.button("Save…").clicked() {
-                        self.prompt = None;
-                        self.save();
+                        answer = Some(UnsavedAnswer::Save);
                     }
-                    if ui.button("Quit without saving").clicked() {
-                        self.prompt = None;
-                        self.quit = true;
+                    if ui.button(discard).clicked() {
+                        answer = Some(UnsavedAnswer::Discard);
                     }
                     if ui.button("Cancel").clicked() {
-                        self.prompt = None;
+                        answer = Some(UnsavedAnswer::Cancel);
+                    }
+                    if let Some(answer) = answer {
+                        self.answer_unsaved(action.clone(), answer);
                     }
                 });
             }
@@ -541,7 +557,10 @@ impl Modeller {
         let purpose = dialog.purpose;
         match dialog.ui(ctx) {
             DialogResult::Open => {}
-            DialogResult::Cancelled => self.dialog = None,
+            DialogResult::Cancelled => {
+                self.dialog = None;
+                self.after_save = None;
+            }
             DialogResult::Chosen(path) => {
                 self.dialog = None;
                 self.dialog_chosen(purpose, path);
@@ -552,7 +571,14 @@ impl Modeller {
     fn dialog_chosen(&mut self, purpose: DialogPurpose, path: PathBuf) {
         match purpose {
             DialogPurpose::OpenModel => self.open(&path),
-            DialogPurpose::SaveModel => self.save_to(&path),
+            DialogPurpose::SaveModel => {
+                let then = self.after_save.take();
+                if self.save_to(&path)
+                    && let Some(action) = then
+                {
+                    self.carry_out(action);
+                }
+            }
             DialogPurpose::ExportMesh => self.export(&path),
             DialogPurpose::SaveOps => {
                 let ops = self.doc.recording.take().unwrap_or_default();

@@ -61,7 +61,7 @@ impl SurfaceDisplay {
         let start = Instant::now();
         let mesh = tessellate(patches, tessellation);
         let tessellate_ms = start.elapsed().as_secs_f64() * 1e3;
-        let seam_deg = seam_angles_deg(&mesh);
+        let seam_deg = seam_angles_deg(patches, &mesh);
         let max_seam_deg = seam_deg.iter().copied().fold(0.0, f32::max);
         let seam_heat = seam_bands(&mesh, &seam_deg, Self::HEAT_BAND);
         Self {
@@ -121,6 +121,26 @@ pub fn scene_bounds(mesh: &TriMesh, extra: &[DVec3]) -> Option<(Vec3, Vec3)> {
     let mut all = mesh.positions.iter().copied().chain(extra);
     let first = all.next()?;
     Some(all.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+}
+
+/// The points a camera framing the drawn model must see: the surface, the curves' control
+/// points and, when the control net is drawn, the patches' control points (which can stand
+/// well off the surface).
+#[must_use]
+pub fn framing_points(
+    model: &Model,
+    patches: &[PatchPoints],
+    display: &SurfaceDisplay,
+    overlays: &Overlays,
+) -> Vec<Vec3> {
+    let mut points = display.mesh.positions.clone();
+    for c in &model.curves {
+        points.extend(curve_control_points(c).into_iter().map(|p| p.as_vec3()));
+    }
+    if overlays.control_net {
+        points.extend(patches.iter().flatten().map(|p| p.as_vec3()));
+    }
+    points
 }
 
 /// Adds the lines of a model: patch boundaries, the control net, and the curves with their

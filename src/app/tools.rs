@@ -7,6 +7,7 @@
 //! | grab curve | press near a curve (ray closest point) and drag: the grabbed point follows the cursor at its depth; the wheel moves it nearer / farther; the probe sphere shows the reach |
 //! | split curve | click on a curve: it splits there |
 //! | tangent | drag a control point next to a joint of two curves: the other side follows, collinear |
+//! | hand | the mouse as the virtual hand ([`super::hand_input::MouseHandTool`], driven by the modeller): press pushes, drag draws a groove, with Shift (or "ridges") it grips and pulls; the wheel while pressed goes deeper |
 //!
 //! Tools read the surface, the curves and the camera through a [`ToolContext`] and answer with
 //! [`Edit`]s for the document; they draw their previews into the scene.
@@ -36,17 +37,21 @@ pub enum Tool {
     SplitCurve,
     /// Edit the tangent at a joint of two curves.
     Tangent,
+    /// The mouse as the virtual hand: the view ray is the finger (the modeller drives a
+    /// [`super::hand_input::MouseHandTool`]; the gestures here ignore it).
+    Hand,
 }
 
 impl Tool {
     /// Every tool, in panel order.
-    pub const ALL: [Tool; 6] = [
+    pub const ALL: [Tool; 7] = [
         Tool::Push,
         Tool::Pull,
         Tool::DrawLine,
         Tool::GrabCurve,
         Tool::SplitCurve,
         Tool::Tangent,
+        Tool::Hand,
     ];
 
     /// The tool's name in the panel.
@@ -59,13 +64,14 @@ impl Tool {
             Tool::GrabCurve => "Grab curve",
             Tool::SplitCurve => "Split curve",
             Tool::Tangent => "Tangent",
+            Tool::Hand => "Hand (the mouse as the hand)",
         }
     }
 
     /// True for the tools that sculpt the surface.
     #[must_use]
     pub fn sculpts(self) -> bool {
-        matches!(self, Tool::Push | Tool::Pull | Tool::DrawLine)
+        matches!(self, Tool::Push | Tool::Pull | Tool::DrawLine | Tool::Hand)
     }
 }
 
@@ -284,6 +290,8 @@ impl ToolState {
     ) -> Vec<Edit> {
         self.gesture = Gesture::Idle;
         match tool {
+            // The modeller drives the mouse hand itself.
+            Tool::Hand => Vec::new(),
             Tool::Push | Tool::Pull | Tool::DrawLine => {
                 let Some(hit) = ctx.pick_surface(pixel) else {
                     return Vec::new();
@@ -448,12 +456,18 @@ impl ToolState {
             } => {
                 let depth = press_depth(ctx, settings, &hit, start, pixel) + wheel_depth;
                 let sign = if tool == Tool::Pull { -1.0 } else { 1.0 };
-                vec![Edit::Sculpt(Op::Push {
-                    at: hit.point,
-                    dir: -facing,
-                    depth: sign * depth,
-                    radius: settings.radius,
-                })]
+                // The wheel can take a press back to nothing, never past it (a push never
+                // turns into a pull).
+                if depth > 0.0 {
+                    vec![Edit::Sculpt(Op::Push {
+                        at: hit.point,
+                        dir: -facing,
+                        depth: sign * depth,
+                        radius: settings.radius,
+                    })]
+                } else {
+                    Vec::new()
+                }
             }
             Gesture::Stroke {
                 path,
@@ -462,12 +476,16 @@ impl ToolState {
             } if path.len() >= 2 => {
                 let depth = settings.depth + wheel_depth;
                 let sign = if settings.ridge { -1.0 } else { 1.0 };
-                vec![Edit::Sculpt(Op::Drag {
-                    path,
-                    dir: -facing,
-                    depth: sign * depth,
-                    radius: settings.radius,
-                })]
+                if depth > 0.0 {
+                    vec![Edit::Sculpt(Op::Drag {
+                        path,
+                        dir: -facing,
+                        depth: sign * depth,
+                        radius: settings.radius,
+                    })]
+                } else {
+                    Vec::new()
+                }
             }
             _ => Vec::new(),
         };
@@ -476,12 +494,25 @@ impl ToolState {
     }
 
     /// Wheel notches (positive: away from the user) during a gesture; false when no gesture
-    /// takes the wheel (the camera zooms then).
-    pub fn wheel(&mut self, settings: &ToolSettings, steps: f32) -> bool {
+    /// takes the wheel (the camera zooms then). The wheel adds depth to a press or a stroke,
+    /// or takes it away down to nothing: never past the depth the drag (or the click, or the
+    /// panel for a stroke) gives, so a push never becomes a pull.
+    pub fn wheel(&mut self, ctx: &ToolContext<'_>, settings: &ToolSettings, steps: f32) -> bool {
+        let step = 0.05 * settings.radius * f64::from(steps);
         match &mut self.gesture {
-            Gesture::Press { wheel_depth, .. } | Gesture::Stroke { wheel_depth, .. } => {
-                *wheel_depth =
-                    (*wheel_depth + 0.05 * settings.radius * f64::from(steps)).max(-settings.depth);
+            Gesture::Press {
+                hit,
+                start,
+                cursor,
+                wheel_depth,
+                ..
+            } => {
+                let base = press_depth(ctx, settings, hit, *start, *cursor);
+                *wheel_depth = (*wheel_depth + step).max(-base);
+                true
+            }
+            Gesture::Stroke { wheel_depth, .. } => {
+                *wheel_depth = (*wheel_depth + step).max(-settings.depth);
                 true
             }
             Gesture::Grab { ray_t, .. } | Gesture::Tangent { ray_t, .. } => {
@@ -490,6 +521,12 @@ impl ToolState {
             }
             Gesture::Idle => false,
         }
+    }
+
+    /// The surface under the cursor, as the last hover found it (sculpting tools).
+    #[must_use]
+    pub fn hover_hit(&self) -> Option<SurfaceHit> {
+        self.hover.surface
     }
 
     /// For a grab in progress, the edit that moves the curve after a wheel step.
@@ -549,10 +586,13 @@ impl ToolState {
                 cursor,
                 wheel_depth,
             } => {
-                let depth = press_depth(ctx, settings, hit, *start, *cursor) + wheel_depth;
+                let depth =
+                    (press_depth(ctx, settings, hit, *start, *cursor) + wheel_depth).max(0.0);
                 let sign = if tool == Tool::Pull { -1.0 } else { 1.0 };
                 let tip = hit.point - *facing * (sign * depth);
-                lines.segment(hit.point.as_vec3(), tip.as_vec3(), Rgba::HIGHLIGHT);
+                // A push goes into the surface, where the clay would hide it: the finger's
+                // travel is drawn on top.
+                lines.segment_on_top(hit.point.as_vec3(), tip.as_vec3(), Rgba::HIGHLIGHT);
                 spheres.push(marker(tip, 0.06 * settings.radius, [0.95, 0.3, 0.1, 1.0]));
             }
             Gesture::Stroke { path, .. } => {
@@ -687,6 +727,65 @@ mod tests {
             state
                 .release(Tool::Push, &ctx, &settings, Vec2::new(2.0, 2.0))
                 .is_empty()
+        );
+    }
+
+    #[test]
+    fn the_wheel_never_turns_a_dragged_push_into_a_pull() {
+        let patches = Primitive::Plane
+            .build(&PrimitiveParams::default())
+            .expect("plane")
+            .patches();
+        let mesh = tessellate(&patches, &Tessellation::DISPLAY);
+        let viewport = Vec2::new(800.0, 600.0);
+        let camera =
+            OrbitCamera::framing(ViewPreset::Iso, &mesh.positions, viewport.x / viewport.y);
+        let ctx = ToolContext {
+            camera: &camera,
+            viewport,
+            patches: &patches,
+            mesh: &mesh,
+            curves: &[],
+        };
+        // A deep click depth, a short drag: the drag's depth is far below the panel's.
+        let settings = ToolSettings {
+            depth: 3.0,
+            ..ToolSettings::default()
+        };
+        let centre = viewport / 2.0;
+        let end = centre + Vec2::new(0.0, 10.0);
+        let mut state = ToolState::default();
+        state.press(Tool::Push, &ctx, &settings, centre);
+        state.drag(&ctx, &settings, end);
+        for _ in 0..40 {
+            assert!(state.wheel(&ctx, &settings, -1.0));
+        }
+        let mut lines = LineBatch::new();
+        let mut spheres = Vec::new();
+        state.preview(Tool::Push, &ctx, &settings, &mut lines, &mut spheres);
+        assert_eq!(lines.on_top_len(), 1, "the push's travel is drawn on top");
+        let edits = state.release(Tool::Push, &ctx, &settings, end);
+        assert!(
+            edits.iter().all(|e| match e {
+                Edit::Sculpt(Op::Push { depth, .. }) => *depth > 0.0,
+                _ => false,
+            }),
+            "wheeled back to nothing, a push is no pull: {edits:?}"
+        );
+        // One notch forward from the floor pushes again, by one notch.
+        state.press(Tool::Push, &ctx, &settings, centre);
+        state.drag(&ctx, &settings, end);
+        for _ in 0..40 {
+            state.wheel(&ctx, &settings, -1.0);
+        }
+        state.wheel(&ctx, &settings, 1.0);
+        let edits = state.release(Tool::Push, &ctx, &settings, end);
+        let [Edit::Sculpt(Op::Push { depth, .. })] = edits.as_slice() else {
+            panic!("{edits:?}")
+        };
+        assert!(
+            (*depth - 0.05 * settings.radius).abs() < 1e-9,
+            "one notch: {depth}"
         );
     }
 }

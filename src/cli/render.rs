@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::app::ViewPreset;
-use crate::app::scene::{Overlays, SurfaceDisplay, curve_control_points, model_lines};
+use crate::app::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
 use crate::mesh::Tessellation;
 use crate::model::Model;
 use crate::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
@@ -105,10 +105,7 @@ fn render(args: &Args) -> anyhow::Result<()> {
     renderer.set_lines(&gpu.device, &gpu.queue, &lines);
     let (w, h) = args.size;
     let aspect = w as f32 / h as f32;
-    let mut points = display.mesh.positions.clone();
-    for c in &model.curves {
-        points.extend(curve_control_points(c).into_iter().map(|p| p.as_vec3()));
-    }
+    let points = framing_points(&model, &patches, &display, &overlays);
     let camera = crate::app::OrbitCamera::framing(args.view, &points, aspect);
     let style = Style {
         heat_map: args.heat,

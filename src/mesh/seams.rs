@@ -1,55 +1,77 @@
 //! The G1 error along patch seams, per mesh vertex, for the heat map.
 //!
 //! Where patches meet, the tessellation puts bit-identical vertices on both sides of the seam
-//! (see [`super::tessellate`]), each carrying its own patch's exact normal. The angle between
-//! those normals is the G1 error of SPEC §9 sampled at the mesh's seam vertices; at a pole the
-//! largest angle among all the patches around it is the spread of their tangent planes. Normals
-//! are compared as lines (`acos |n₁·n₂|`), so neighbouring patches parametrised in opposite
+//! (see [`super::tessellate`]). At each such vertex the angle between the two patches' exact
+//! normals — evaluated again in `f64` from the patches at the vertex's parameters, not the
+//! single-precision normals the mesh carries — is the G1 error of SPEC §9 sampled at the mesh's
+//! seam vertices; at a pole the largest angle among all the patches around it is the spread of
+//! their tangent planes. The angle is `atan2(|n₁ × n₂|, |n₁·n₂|)`, accurate down to rounding
+//! (an `acos` of a dot product is not: `acos(1 − ε)` in `f32` reads hundredths of a degree on
+//! a G1 seam). Normals are compared as lines, so neighbouring patches parametrised in opposite
 //! orientations still read 0° where they are tangent-continuous.
 
 use std::collections::HashMap;
 
-use super::tessellate::{TriMesh, position_key};
+use glam::DVec3;
+
+use super::tessellate::{PatchPoints, TriMesh, patch_normal, position_key};
 
 /// Per-vertex seam angle in degrees: for a vertex on a patch boundary, the largest angle
-/// between its normal and the normal of any coincident vertex of another patch; 0 elsewhere.
-/// Needs the blocks of a freshly tessellated mesh (an empty result for a welded one).
+/// between its patch's exact normal and the exact normal of any coincident vertex of another
+/// patch; 0 elsewhere. `patches` are the ones `mesh` was tessellated from; the mesh needs its
+/// blocks (an empty result for a welded mesh, or one whose blocks do not match `patches`).
 #[must_use]
-pub fn seam_angles_deg(mesh: &TriMesh) -> Vec<f32> {
-    let mut angles = vec![0.0f32; mesh.positions.len()];
-    if mesh.blocks.is_empty() {
+pub fn seam_angles_deg(patches: &[PatchPoints], mesh: &TriMesh) -> Vec<f32> {
+    if mesh.blocks.is_empty()
+        || mesh
+            .blocks
+            .iter()
+            .any(|b| b.patch as usize >= patches.len())
+    {
         return Vec::new();
     }
-    let mut at: HashMap<[u32; 3], Vec<(u32, u32)>> = HashMap::new();
+    let mut angles = vec![0.0f32; mesh.positions.len()];
+    // Position → every boundary vertex there: (patch, vertex), exact normal.
+    type Coincident = Vec<((u32, u32), DVec3)>;
+    let mut at: HashMap<[u32; 3], Coincident> = HashMap::new();
     for block in &mesh.blocks {
+        let patch = &patches[block.patch as usize];
         for k in 0..=block.m_u {
             for l in 0..=block.m_v {
                 if k == 0 || l == 0 || k == block.m_u || l == block.m_v {
                     let v = block.vertex(k, l);
-                    at.entry(position_key(mesh.positions[v as usize]))
+                    let Some(position) = mesh.positions.get(v as usize) else {
+                        continue;
+                    };
+                    let (u, w) = (
+                        f64::from(k) / f64::from(block.m_u),
+                        f64::from(l) / f64::from(block.m_v),
+                    );
+                    at.entry(position_key(*position))
                         .or_default()
-                        .push((block.patch, v));
+                        .push(((block.patch, v), patch_normal(patch, u, w)));
                 }
             }
         }
     }
     for group in at.values() {
-        for (i, &(patch_a, a)) in group.iter().enumerate() {
-            for &(patch_b, b) in &group[i + 1..] {
+        for (i, &((patch_a, a), na)) in group.iter().enumerate() {
+            for &((patch_b, b), nb) in &group[i + 1..] {
                 if patch_a == patch_b {
                     continue;
                 }
-                let cos = mesh.normals[a as usize]
-                    .dot(mesh.normals[b as usize])
-                    .abs()
-                    .min(1.0);
-                let deg = cos.acos().to_degrees();
+                let deg = line_angle_deg(na, nb) as f32;
                 angles[a as usize] = angles[a as usize].max(deg);
                 angles[b as usize] = angles[b as usize].max(deg);
             }
         }
     }
     angles
+}
+
+/// The angle between the lines along two unit vectors, degrees: `atan2(|a × b|, |a·b|)`.
+fn line_angle_deg(a: DVec3, b: DVec3) -> f64 {
+    a.cross(b).length().atan2(a.dot(b).abs()).to_degrees()
 }
 
 /// Spreads the seam angles of [`seam_angles_deg`] into bands for a heat map: for each vertex,
@@ -91,8 +113,10 @@ pub fn seam_bands(mesh: &TriMesh, angles_deg: &[f32], width: f32) -> Vec<[f32; 2
 
 /// Largest seam angle in degrees (0 for a single patch or a welded mesh).
 #[must_use]
-pub fn max_seam_angle_deg(mesh: &TriMesh) -> f32 {
-    seam_angles_deg(mesh).into_iter().fold(0.0, f32::max)
+pub fn max_seam_angle_deg(patches: &[PatchPoints], mesh: &TriMesh) -> f32 {
+    seam_angles_deg(patches, mesh)
+        .into_iter()
+        .fold(0.0, f32::max)
 }
 
 #[cfg(test)]
@@ -108,24 +132,23 @@ mod tests {
     #[test]
     fn a_smooth_join_reads_zero_and_a_fold_reads_its_angle() {
         let flat = |x: f64, y: f64| DVec3::new(x, y, 0.0);
-        let smooth = tessellate(
-            &[patch(flat, 0.0), patch(flat, 1.0)],
-            &Tessellation::DISPLAY,
-        );
-        assert!(max_seam_angle_deg(&smooth) < 1e-3);
+        let flat_patches = [patch(flat, 0.0), patch(flat, 1.0)];
+        let smooth = tessellate(&flat_patches, &Tessellation::DISPLAY);
+        assert_eq!(max_seam_angle_deg(&flat_patches, &smooth), 0.0);
         // The right patch rises at 30° from the seam x = 1: a crease of 30°.
         let t = 30f64.to_radians().tan();
         let folded = |x: f64, y: f64| DVec3::new(x, y, if x > 1.0 { (x - 1.0) * t } else { 0.0 });
+        let folded_patches = [patch(folded, 0.0), patch(folded, 1.0)];
         let mesh = tessellate(
-            &[patch(folded, 0.0), patch(folded, 1.0)],
+            &folded_patches,
             &Tessellation {
                 min_segments: 10,
                 ..Tessellation::DISPLAY
             },
         );
-        let a = max_seam_angle_deg(&mesh);
-        assert!((a - 30.0).abs() < 1e-3, "{a}");
-        let angles = seam_angles_deg(&mesh);
+        let a = max_seam_angle_deg(&folded_patches, &mesh);
+        assert!((a - 30.0).abs() < 1e-4, "{a}");
+        let angles = seam_angles_deg(&folded_patches, &mesh);
         let b = mesh.blocks[0];
         assert_eq!(
             angles[b.vertex(0, 1) as usize],
@@ -142,5 +165,31 @@ mod tests {
             "{inside:?}"
         );
         assert_eq!(bands[b.vertex(0, 1) as usize], [0.0, 0.0]);
+    }
+
+    /// Every primitive is G1 along its seams and has a tangent plane at its poles: the exact
+    /// normals read 0° up to rounding (an `f32` `acos` read up to ~0.03°).
+    #[test]
+    fn exact_primitives_read_no_seam_error() {
+        use crate::surface::{Primitive, PrimitiveParams};
+        for p in Primitive::ALL {
+            let patches = p
+                .build(&PrimitiveParams::default())
+                .expect("primitive")
+                .patches();
+            let mesh = tessellate(&patches, &Tessellation::DISPLAY);
+            let angles = seam_angles_deg(&patches, &mesh);
+            assert_eq!(angles.len(), mesh.positions.len());
+            let max = angles.iter().copied().fold(0.0, f32::max);
+            assert!(max < 1e-6, "{p}: seam max {max}°");
+        }
+        // A welded mesh has no blocks, and blocks that do not match the patches are refused.
+        let patches = Primitive::Sphere
+            .build(&PrimitiveParams::default())
+            .expect("sphere")
+            .patches();
+        let mesh = tessellate(&patches, &Tessellation::DISPLAY);
+        assert!(seam_angles_deg(&patches, &mesh.welded()).is_empty());
+        assert!(seam_angles_deg(&patches[..3], &mesh).is_empty());
     }
 }

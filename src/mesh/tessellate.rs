@@ -415,8 +415,23 @@ pub fn eval_patch(p: &PatchPoints, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
     (s, su, sv)
 }
 
-/// Unit normal of a patch at `(u, v)`; where `S_u × S_v` vanishes (a collapsed edge), the limit
-/// from a point nudged towards the patch centre.
+/// The mixed derivative `S_uv` of a patch at `(u, v)`.
+fn eval_twist(p: &PatchPoints, u: f64, v: f64) -> DVec3 {
+    let (_, du) = cubic_basis(u);
+    let (_, dv) = cubic_basis(v);
+    let mut suv = DVec3::ZERO;
+    for i in 0..4 {
+        for j in 0..4 {
+            suv += p[4 * i + j] * (du[i] * dv[j]);
+        }
+    }
+    suv
+}
+
+/// Unit normal of a patch at `(u, v)`. On a collapsed boundary (a pole, where `S_u` or `S_v`
+/// vanishes) it is the exact limit from inside the patch: there `S_u ≈ (v − v₀) S_uv`, so the
+/// normal is along `±S_uv × S_v` (and likewise for a collapsed column). At any other singular
+/// point, the normal of a point nudged towards the patch centre.
 #[must_use]
 pub fn patch_normal(p: &PatchPoints, u: f64, v: f64) -> DVec3 {
     let (_, su, sv) = eval_patch(p, u, v);
@@ -424,6 +439,22 @@ pub fn patch_normal(p: &PatchPoints, u: f64, v: f64) -> DVec3 {
     let scale = su.length_squared().max(sv.length_squared());
     if n.length_squared() > 1e-20 * scale * scale && scale > 0.0 {
         return n.normalize();
+    }
+    let size = p
+        .iter()
+        .fold(0.0f64, |m, q| m.max((*q - p[0]).length_squared()));
+    let tiny = 1e-18 * size;
+    let limit = if su.length_squared() <= tiny && sv.length_squared() > tiny {
+        let sign = if v < 0.5 { 1.0 } else { -1.0 };
+        eval_twist(p, u, v).cross(sv) * sign
+    } else if sv.length_squared() <= tiny && su.length_squared() > tiny {
+        let sign = if u < 0.5 { 1.0 } else { -1.0 };
+        su.cross(eval_twist(p, u, v)) * sign
+    } else {
+        DVec3::ZERO
+    };
+    if let Some(n) = limit.try_normalize() {
+        return n;
     }
     for nudge in [1e-6, 1e-4, 1e-2] {
         let (_, su, sv) = eval_patch(p, u + nudge * (0.5 - u), v + nudge * (0.5 - v));

@@ -53,7 +53,13 @@ pub enum RenderError {
     /// Encoding or decoding a PNG failed.
     #[error("PNG: {0}")]
     Png(String),
-    /// A file could not be written.
-    #[error("cannot write the image: {0}")]
-    Io(#[from] std::io::Error),
+    /// The image file could not be written. The I/O error is part of the message (not a
+    /// separate `source`), so printing the error with its chain names it once.
+    #[error("cannot write the image {}: {error}", path.display())]
+    Io {
+        /// The file that was being written.
+        path: std::path::PathBuf,
+        /// What went wrong.
+        error: std::io::Error,
+    },
 }

@@ -43,25 +43,28 @@ impl RgbaImage {
     /// Writes the image as a PNG file, atomically (temporary file, then rename).
     ///
     /// # Errors
-    /// [`RenderError::Io`] or [`RenderError::Png`].
+    /// [`RenderError::Io`] (naming `path`) when the file cannot be written.
     pub fn save_png(&self, path: &Path) -> Result<(), RenderError> {
         let name = path
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-        let result = (|| {
+        let result = (|| -> std::io::Result<()> {
             let file = std::fs::File::create(&tmp)?;
             let mut out = std::io::BufWriter::new(file);
-            self.write_png(&mut out)?;
+            self.write_png(&mut out).map_err(std::io::Error::other)?;
             out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
             std::fs::rename(&tmp, path)?;
             Ok(())
         })();
-        if result.is_err() {
+        result.map_err(|error| {
             let _ = std::fs::remove_file(&tmp);
-        }
-        result
+            RenderError::Io {
+                path: path.to_path_buf(),
+                error,
+            }
+        })
     }
 
     /// Reads a PNG (8-bit RGBA or RGB).

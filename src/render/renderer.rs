@@ -32,6 +32,7 @@ pub struct Renderer {
     background: wgpu::RenderPipeline,
     clay: wgpu::RenderPipeline,
     lines: wgpu::RenderPipeline,
+    lines_on_top: wgpu::RenderPipeline,
     spheres_opaque: wgpu::RenderPipeline,
     spheres_translucent: wgpu::RenderPipeline,
     surface_vertices: GrowBuffer,
@@ -39,6 +40,8 @@ pub struct Renderer {
     surface_index_count: u32,
     line_vertices: GrowBuffer,
     line_vertex_count: u32,
+    on_top_vertices: GrowBuffer,
+    on_top_vertex_count: u32,
     sphere_mesh_vertices: wgpu::Buffer,
     sphere_mesh_indices: wgpu::Buffer,
     sphere_mesh_index_count: u32,
@@ -113,17 +116,27 @@ impl Renderer {
             depth_compare: wgpu::CompareFunction::Less,
             blend: None,
         });
+        let line_buffers = [wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<LineVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &LineVertex::ATTRIBUTES,
+        }];
         let lines = factory.build(&PipelineSpec {
             label: "lines",
             source: LINES_WGSL,
-            buffers: &[wgpu::VertexBufferLayout {
-                array_stride: std::mem::size_of::<LineVertex>() as u64,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &LineVertex::ATTRIBUTES,
-            }],
+            buffers: &line_buffers,
             topology: wgpu::PrimitiveTopology::LineList,
             depth_write: true,
             depth_compare: wgpu::CompareFunction::LessEqual,
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+        });
+        let lines_on_top = factory.build(&PipelineSpec {
+            label: "lines (on top)",
+            source: LINES_WGSL,
+            buffers: &line_buffers,
+            topology: wgpu::PrimitiveTopology::LineList,
+            depth_write: false,
+            depth_compare: wgpu::CompareFunction::Always,
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
         });
         let sphere_buffers = [
@@ -177,6 +190,7 @@ impl Renderer {
             background,
             clay,
             lines,
+            lines_on_top,
             spheres_opaque,
             spheres_translucent,
             surface_vertices: GrowBuffer::new("nendo surface vertices", wgpu::BufferUsages::VERTEX),
@@ -184,6 +198,11 @@ impl Renderer {
             surface_index_count: 0,
             line_vertices: GrowBuffer::new("nendo line vertices", wgpu::BufferUsages::VERTEX),
             line_vertex_count: 0,
+            on_top_vertices: GrowBuffer::new(
+                "nendo on-top line vertices",
+                wgpu::BufferUsages::VERTEX,
+            ),
+            on_top_vertex_count: 0,
             sphere_mesh_vertices,
             sphere_mesh_indices,
             sphere_mesh_index_count: unit_indices.len() as u32,
@@ -220,11 +239,14 @@ impl Renderer {
         self.surface_index_count = mesh.indices.len() as u32;
     }
 
-    /// Uploads the line segments.
+    /// Uploads the line segments (those on top are drawn last, over everything).
     pub fn set_lines(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, lines: &LineBatch) {
         self.line_vertices
             .write(device, queue, bytemuck::cast_slice(lines.vertices()));
         self.line_vertex_count = lines.vertices().len() as u32;
+        self.on_top_vertices
+            .write(device, queue, bytemuck::cast_slice(lines.on_top_vertices()));
+        self.on_top_vertex_count = lines.on_top_vertices().len() as u32;
     }
 
     /// Uploads the spheres (opaque ones are drawn before the lines, translucent ones last).
@@ -310,6 +332,11 @@ impl Renderer {
                 wgpu::IndexFormat::Uint32,
             );
             pass.draw_indexed(0..self.sphere_mesh_index_count, 0, range);
+        }
+        if let Some(vertices) = self.on_top_vertices.slice() {
+            pass.set_pipeline(&self.lines_on_top);
+            pass.set_vertex_buffer(0, vertices);
+            pass.draw(0..self.on_top_vertex_count, 0..1);
         }
     }
 }

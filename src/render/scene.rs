@@ -77,10 +77,12 @@ impl Rgba {
     }
 }
 
-/// Line segments to draw, each with its colour.
+/// Line segments to draw, each with its colour: most are depth-tested like the clay; a few
+/// (a push's travel into the surface) are drawn on top of everything.
 #[derive(Debug, Clone, Default)]
 pub struct LineBatch {
     vertices: Vec<LineVertex>,
+    on_top: Vec<LineVertex>,
 }
 
 impl LineBatch {
@@ -93,19 +95,18 @@ impl LineBatch {
     /// Removes every segment, keeping the allocation.
     pub fn clear(&mut self) {
         self.vertices.clear();
+        self.on_top.clear();
     }
 
     /// Adds the segment `a`–`b`.
     pub fn segment(&mut self, a: Vec3, b: Vec3, colour: Rgba) {
-        let colour = colour.to_unorm8();
-        self.vertices.push(LineVertex {
-            position: a.to_array(),
-            colour,
-        });
-        self.vertices.push(LineVertex {
-            position: b.to_array(),
-            colour,
-        });
+        push_segment(&mut self.vertices, a, b, colour);
+    }
+
+    /// Adds the segment `a`–`b` drawn over everything (no depth test): for what lies inside
+    /// or behind the surface and must still be seen.
+    pub fn segment_on_top(&mut self, a: Vec3, b: Vec3, colour: Rgba) {
+        push_segment(&mut self.on_top, a, b, colour);
     }
 
     /// Adds a polyline through `points` (nothing for fewer than two points).
@@ -125,15 +126,39 @@ impl LineBatch {
         &self.vertices
     }
 
+    /// The vertices of the segments drawn on top, two per segment.
+    #[must_use]
+    pub fn on_top_vertices(&self) -> &[LineVertex] {
+        &self.on_top
+    }
+
+    /// Number of segments drawn on top.
+    #[must_use]
+    pub fn on_top_len(&self) -> usize {
+        self.on_top.len() / 2
+    }
+
     /// Number of segments.
     #[must_use]
     pub fn len(&self) -> usize {
         self.vertices.len() / 2
     }
 
-    /// True when there is no segment.
+    /// True when there is no segment (of either kind).
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.vertices.is_empty()
+        self.vertices.is_empty() && self.on_top.is_empty()
     }
+}
+
+fn push_segment(vertices: &mut Vec<LineVertex>, a: Vec3, b: Vec3, colour: Rgba) {
+    let colour = colour.to_unorm8();
+    vertices.push(LineVertex {
+        position: a.to_array(),
+        colour,
+    });
+    vertices.push(LineVertex {
+        position: b.to_array(),
+        colour,
+    });
 }

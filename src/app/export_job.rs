@@ -1,0 +1,226 @@
+//! Mesh export from the window, off the UI thread: tessellating a big grid finely takes
+//! seconds (millions of triangles), and the window keeps drawing meanwhile.
+//!
+//! The job owns a copy of the patches, tessellates them with the library's mesher, welds and
+//! writes the file atomically ([`save_mesh`]), and reports back once through a channel; the
+//! window polls it every frame. Like `nendo export`, the report warns when the largest segment
+//! count could not reach the tolerance.
+
+use std::path::PathBuf;
+use std::sync::mpsc::{self, Receiver, TryRecvError};
+use std::time::Instant;
+
+use crate::mesh::{MeshFormat, PatchPoints, Tessellation, save_mesh, tessellate};
+
+/// The tolerances the window offers, sides: from 1/10 down to 1/10 000 of a side (finer
+/// gains nothing visible and, capped by [`Tessellation::max_segments`], only adds triangles).
+pub const TOLERANCE_RANGE: std::ops::RangeInclusive<f64> = 1e-4..=0.1;
+
+/// What a finished export did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Exported {
+    /// The file written.
+    pub path: PathBuf,
+    /// Triangles written.
+    pub triangles: usize,
+    /// The mesh's error bound (at most the tolerance unless the segment cap bound).
+    pub error_bound: f64,
+    /// The tolerance asked for.
+    pub tolerance: f64,
+    /// The segment cap per patch edge.
+    pub max_segments: u32,
+    /// Wall time, milliseconds.
+    pub ms: f64,
+}
+
+impl Exported {
+    /// True when the cap on segments kept the mesh from the tolerance.
+    #[must_use]
+    pub fn missed_tolerance(&self) -> bool {
+        self.error_bound > self.tolerance
+    }
+
+    /// The status line for it.
+    #[must_use]
+    pub fn message(&self) -> String {
+        let mut text = format!(
+            "exported {} ({} triangles, tolerance {}, error bound {:.2e}) in {:.0} ms",
+            self.path.display(),
+            self.triangles,
+            self.tolerance,
+            self.error_bound,
+            self.ms
+        );
+        if self.missed_tolerance() {
+            text.push_str(&format!(
+                "; warning: {} segments per patch edge could not reach the tolerance",
+                self.max_segments
+            ));
+        }
+        text
+    }
+}
+
+/// An export running on its own thread.
+#[derive(Debug)]
+pub struct ExportJob {
+    path: PathBuf,
+    started: Instant,
+    result: Receiver<Result<Exported, String>>,
+}
+
+impl ExportJob {
+    /// Starts exporting `patches` to `path` (the extension picks the format) with
+    /// `tessellation`.
+    ///
+    /// # Errors
+    /// A message for an unknown extension, a tolerance that is not a positive number, or a
+    /// thread that cannot be started.
+    pub fn start(
+        patches: Vec<PatchPoints>,
+        path: PathBuf,
+        tessellation: Tessellation,
+    ) -> Result<Self, String> {
+        let format = MeshFormat::from_path(&path).map_err(|e| e.to_string())?;
+        if !(tessellation.tolerance.is_finite() && tessellation.tolerance > 0.0) {
+            return Err(format!(
+                "the export tolerance must be a positive number, not {}",
+                tessellation.tolerance
+            ));
+        }
+        let (tx, result) = mpsc::channel();
+        let target = path.clone();
+        let started = Instant::now();
+        std::thread::Builder::new()
+            .name("nendo export".into())
+            .spawn(move || {
+                let raw = tessellate(&patches, &tessellation);
+                let mesh = raw.welded();
+                let outcome = save_mesh(&target, format, &mesh)
+                    .map(|()| Exported {
+                        path: target.clone(),
+                        triangles: mesh.triangle_count(),
+                        error_bound: raw.error_bound,
+                        tolerance: tessellation.tolerance,
+                        max_segments: tessellation.max_segments,
+                        ms: started.elapsed().as_secs_f64() * 1e3,
+                    })
+                    .map_err(|e| format!("cannot export {}: {e}", target.display()));
+                // The window may have gone; nothing to tell then.
+                let _ = tx.send(outcome);
+            })
+            .map_err(|e| format!("cannot start the export: {e}"))?;
+        Ok(Self {
+            path,
+            started,
+            result,
+        })
+    }
+
+    /// The file being written.
+    #[must_use]
+    pub fn path(&self) -> &std::path::Path {
+        &self.path
+    }
+
+    /// Seconds since the export started.
+    #[must_use]
+    pub fn elapsed_s(&self) -> f64 {
+        self.started.elapsed().as_secs_f64()
+    }
+
+    /// Waits for the job to end (the window closing: the file is finished, not cut off).
+    pub fn wait(self) -> Result<Exported, String> {
+        self.result.recv().map_err(|_| {
+            format!(
+                "the export of {} stopped without finishing",
+                self.path.display()
+            )
+        })?
+    }
+
+    /// The outcome once the job is done (`None` while it runs).
+    pub fn poll(&self) -> Option<Result<Exported, String>> {
+        match self.result.try_recv() {
+            Ok(outcome) => Some(outcome),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => Some(Err(format!(
+                "the export of {} stopped without finishing",
+                self.path.display()
+            ))),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface::{Primitive, PrimitiveParams};
+    use std::time::Duration;
+
+    fn wait(job: &ExportJob) -> Result<Exported, String> {
+        let deadline = Instant::now() + Duration::from_secs(30);
+        loop {
+            if let Some(outcome) = job.poll() {
+                return outcome;
+            }
+            assert!(Instant::now() < deadline, "the export never finished");
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    #[test]
+    fn exports_off_the_calling_thread_and_warns_when_the_tolerance_is_out_of_reach() {
+        let dir = std::env::temp_dir().join(format!("nendo-export-job-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let patches = Primitive::Sphere
+            .build(&PrimitiveParams::default())
+            .expect("sphere")
+            .patches();
+        let path = dir.join("sphere.stl");
+        let job = ExportJob::start(
+            patches.clone(),
+            path.clone(),
+            Tessellation::with_tolerance(1e-2),
+        )
+        .expect("started");
+        let done = wait(&job).expect("exported");
+        assert!(path.is_file() && done.triangles > 0 && !done.missed_tolerance());
+        assert!(!done.message().contains("warning"), "{}", done.message());
+        // A cap of 4 segments cannot reach 1e-6 on a sphere: the CLI's warning.
+        let capped = Tessellation {
+            tolerance: 1e-6,
+            min_segments: 1,
+            max_segments: 4,
+        };
+        let job =
+            ExportJob::start(patches.clone(), dir.join("coarse.obj"), capped).expect("started");
+        let done = job.wait().expect("exported");
+        assert!(done.missed_tolerance());
+        assert!(
+            done.message()
+                .contains("warning: 4 segments per patch edge could not reach the tolerance"),
+            "{}",
+            done.message()
+        );
+        // Refused up front: an unknown format, a tolerance that is no positive number; a
+        // write that fails is reported with the path.
+        assert!(
+            ExportJob::start(patches.clone(), dir.join("x.ply"), Tessellation::EXPORT).is_err()
+        );
+        assert!(
+            ExportJob::start(
+                patches.clone(),
+                dir.join("x.obj"),
+                Tessellation::with_tolerance(0.0)
+            )
+            .is_err()
+        );
+        let missing = dir.join("no-such-folder").join("x.glb");
+        let job =
+            ExportJob::start(patches, missing.clone(), Tessellation::EXPORT).expect("started");
+        let err = wait(&job).expect_err("no folder");
+        assert!(err.contains(&missing.display().to_string()), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

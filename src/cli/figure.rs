@@ -5,8 +5,9 @@
 //!   contour of a figure file (seeded on its medial axis, optimised) and prints the residual as
 //!   JSON.
 //! * `nendo figure render FIG.json [--png P] [--svg S] [--size 512x512]`.
-//! * `nendo figure warp FIG.json --curves DEFORMED.json --out OUT.json [--png P] [--svg S]`:
-//!   moves the figure's curves to the deformed ones; metacircles, contour and polygons follow.
+//! * `nendo figure warp FIG.json --curves DEFORMED.json --out OUT.json [--max-edge L]
+//!   [--png P] [--svg S]`: moves the figure's curves to the deformed ones; metacircles, contour
+//!   and polygons follow (edges longer than `L` divided first, none when no curve moved).
 //! * `nendo figure measure FIG.json`: the residual of a figure against its contour, as JSON.
 //! * `nendo figure shape SECTIONS.json`: the metaball shape fitted to horizontal sections, then
 //!   deformed by the curves of its `deformations`; meshes (OBJ/STL/GLB) and, with the `gui`
@@ -130,6 +131,11 @@ pub struct WarpArgs {
     /// Beier–Neely `p` (weight of curve length).
     #[arg(long, default_value_t = WarpParams::default().p)]
     pub p: f64,
+    /// Divide contour and polygon edges longer than this (figure units) before warping, so
+    /// that they bend with the curves (default: 1/200 of the frame's diagonal; `inf`: divide
+    /// none). No edge is divided when no curve moved.
+    #[arg(long, value_name = "LENGTH")]
+    pub max_edge: Option<f64>,
     /// Pictures of the result.
     #[command(flatten)]
     pub picture: PictureArgs,
@@ -285,7 +291,7 @@ fn warp(args: &WarpArgs) -> anyhow::Result<()> {
         &deformed,
         &WarpOptions {
             params,
-            max_edge: None,
+            max_edge: args.max_edge,
         },
     )?;
     write_text(&args.out, &out.to_json())?;

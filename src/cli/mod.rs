@@ -15,6 +15,7 @@ pub mod record;
 pub mod render;
 pub mod replay;
 pub mod sculpt;
+pub mod shape;
 pub mod window;
 use std::process::ExitCode;
 

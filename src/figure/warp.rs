@@ -64,17 +64,32 @@ pub fn warp_figure(figure: &Figure, warp: &CurveWarp<DVec2>) -> Figure {
     out
 }
 
+/// Most vertices a warped contour may get from dividing its edges.
+pub const MAX_WARPED_VERTICES: usize = 1_000_000;
+
 /// A contour warped, its edges divided first so that none is longer than `max_edge`.
 ///
 /// # Errors
-/// [`FigureError::Warp`] for a bad `max_edge`, [`FigureError::Contour`] if the warped polygon
-/// degenerates.
+/// [`FigureError::Warp`] for a bad `max_edge`, [`FigureError::Option`] when the division would
+/// make more than [`MAX_WARPED_VERTICES`] vertices, [`FigureError::Contour`] if the warped
+/// polygon degenerates.
 pub fn warp_contour(
     contour: &Contour,
     warp: &CurveWarp<DVec2>,
     max_edge: f64,
     what: &str,
 ) -> Result<Contour, FigureError> {
+    if max_edge.is_finite() && max_edge > 0.0 {
+        let pieces: f64 = contour
+            .edges()
+            .map(|(a, b)| (a.distance(b) / max_edge).ceil().max(1.0))
+            .sum();
+        if pieces > MAX_WARPED_VERTICES as f64 {
+            return Err(FigureError::Option(format!(
+                "{what}: edges divided to at most {max_edge} would make {pieces:.0} vertices (at most {MAX_WARPED_VERTICES})"
+            )));
+        }
+    }
     let pts = warp
         .warp_polygon(contour.points(), max_edge)
         .map_err(FigureError::Warp)?;

@@ -1,6 +1,7 @@
 //! `nendo bench figures`: the figures of issue 8 — the frame time of a 300-metacircle figure
 //! at 512 × 512 (the filled iso-region rasterised, the full picture with its SVG boundary, and
-//! one morph frame), the fit time of the shipped figures and their fit residuals.
+//! one morph frame), the fit time of the shipped figures and their fit residuals, and the
+//! metaball torso's fit, drag-and-re-fit and mesh times.
 //!
 //! Set-up: the shipped `tests/data/figures/horse.json` and `tiger.json` (compiled in).
 //!
@@ -19,23 +20,34 @@
 //!   ([`Morph::at`], `t` walking through `[0, 1]`) rendered, horse to tiger through the files'
 //!   four curves.
 //!
+//! * **Torso** (§4.3): the metaball shape of `tests/data/shapes/torso.json` fitted to its five
+//!   sections (12 seeds per section); its two front chest curves dragged 3 cm as the file says,
+//!   the chest section warped along and the balls re-fitted (warm start); the iso-surface
+//!   meshed by marching tetrahedra at 64 cells on the long side. Distances in cm (the torso is
+//!   about 36 cm wide and 44 cm tall), from the contour samples to the iso-surface.
+//!
 //! Times are medians over batches, in CPU time of the measuring thread where Linux reports it
 //! ([`super::cpu_median_ns`]).
 
 use std::hint::black_box;
 
 use super::{Table, cpu_median_ns, format_ns};
+use crate::curve::warp::WarpParams;
 use crate::figure::fit::{FitOptions, FitReport, fit_contour, measure};
+use crate::figure::marching::{MeshOptions, iso_surface};
 use crate::figure::morph::{Morph, MorphOptions};
 use crate::figure::optimise::Stopping;
 use crate::figure::picture::{PictureOptions, Scene, draw};
 use crate::figure::raster::{RasterStyle, render};
-use crate::figure::{FigureDocument, FigureError, ImageSize, View};
+use crate::figure::shape::{ShapeFitOptions, ShapeFitReport, deform, fit_sections};
+use crate::figure::{FigureDocument, FigureError, ImageSize, ShapeDocument, View};
 
 /// The shipped horse figure file.
 pub const HORSE: &str = include_str!("../../tests/data/figures/horse.json");
 /// The shipped tiger figure file.
 pub const TIGER: &str = include_str!("../../tests/data/figures/tiger.json");
+/// The shipped torso shape file (five sections, the chest dragged).
+pub const TORSO: &str = include_str!("../../tests/data/shapes/torso.json");
 
 /// Metacircles of the frame-time figure.
 pub const FRAME_METACIRCLES: usize = 300;
@@ -214,6 +226,7 @@ fn try_report(scale: f64) -> Result<String, FigureError> {
         format!("{count} → {}", tiger.figure.metacircles.len()),
         format_ns(ns),
     ]);
+    shape_rows(&mut table, fits, batches)?;
     let mut out = table.render();
     let diagonal = |d: &FigureDocument| {
         d.contour
@@ -226,6 +239,87 @@ fn try_report(scale: f64) -> Result<String, FigureError> {
         diagonal(&docs[1].1),
     ));
     Ok(out)
+}
+
+/// The metaball torso of `tests/data/shapes/torso.json`: fit, drag and re-fit, mesh.
+fn shape_rows(table: &mut Table, fits: usize, batches: usize) -> Result<(), FigureError> {
+    let doc = ShapeDocument::from_json(TORSO)?;
+    let options = ShapeFitOptions::default();
+    let mut fitted = None;
+    let mut failure = None;
+    let ns = cpu_median_ns(fits, 1, |_| match fit_sections(&doc.sections, &options) {
+        Ok(f) => fitted = Some(f),
+        Err(e) => failure = Some(e),
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    let (shape, report) =
+        fitted.ok_or_else(|| FigureError::Empty("the torso was not fitted".into()))?;
+    let shape_cells = |r: &ShapeFitReport| {
+        vec![
+            r.iterations.to_string(),
+            format!("{:.3}", r.rms_distance),
+            format!("{:.3}", r.max_distance),
+            String::new(),
+            r.guards_violated.to_string(),
+        ]
+    };
+    let mut row = vec![
+        format!("torso: fit to {} sections (3D)", doc.sections.len()),
+        format!("{} balls", report.balls),
+        format_ns(ns),
+    ];
+    row.extend(shape_cells(&report));
+    table.row(row);
+    let deformed = doc
+        .sections
+        .iter()
+        .zip(&doc.moves)
+        .map(|(s, m)| s.moved_curves(m))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut result = None;
+    let ns = cpu_median_ns(fits, 1, |_| {
+        match deform(
+            &shape,
+            &doc.sections,
+            &deformed,
+            WarpParams::default(),
+            None,
+            &options,
+        ) {
+            Ok(d) => result = Some(d),
+            Err(e) => failure = Some(e),
+        }
+    });
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    if let Some(report) = result.and_then(|d| d.report) {
+        let mut row = vec![
+            "torso: chest dragged 3 cm, warp + re-fit".into(),
+            format!("{} balls", report.balls),
+            format_ns(ns),
+        ];
+        row.extend(shape_cells(&report));
+        table.row(row);
+    }
+    let mesh_options = MeshOptions::default();
+    let mut triangles = 0;
+    let ns = cpu_median_ns(batches, 1, |_| {
+        if let Ok(m) = iso_surface(&shape, &mesh_options) {
+            triangles = m.triangle_count();
+        }
+    });
+    table.row(vec![
+        format!(
+            "torso: marching tetrahedra, {} cells on the long side",
+            mesh_options.resolution
+        ),
+        format!("{triangles} triangles"),
+        format_ns(ns),
+    ]);
+    Ok(())
 }
 
 #[cfg(test)]

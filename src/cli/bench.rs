@@ -29,7 +29,7 @@ pub enum Suite {
     Regulation,
     /// Tessellation of 100 / 1 600 sculpted patches and headless 1280x720 frames.
     Render,
-    /// Figures: 512x512 frame time of a 300-metacircle figure (render, picture, morph frame), fit time and residuals of the shipped figures.
+    /// Figures: 512x512 frame time of a 300-metacircle figure (render, picture, morph frame), fit time and residuals of the shipped figures, the metaball torso's fit, re-fit and mesh.
     Figures,
 }
 

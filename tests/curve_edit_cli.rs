@@ -202,3 +202,85 @@ fn bad_lines_get_errors_and_the_rest_is_answered() {
     assert!(out[2]["error"].as_str().expect("msg").contains("2D"));
     assert!(out[lines.len() - 1].get("curves").is_some());
 }
+
+#[test]
+fn overflowing_curves_and_mistyped_members_are_refused() {
+    let huge = json!({"bezier": [[1e308, 0], [-1e308, 1]]});
+    let cubic = json!({"bezier": [[0, 0], [1, 1], [2, 1], [3, 0]]});
+    let lines = [
+        json!({"op": "split", "curve": huge, "u": 0.5}),
+        json!({"op": "grab", "curve": huge, "from": [0, 0], "to": [1, 1]}),
+        json!({"op": "grab", "curve": cubic, "from": [1.5, 0], "to": [1.5, 1], "method": 3}),
+        json!({"op": "grab", "curve": cubic, "from": [1.5, 0], "to": [1.5, 1], "method": ["largest"]}),
+        json!({"op": "tangent", "left": {"bezier": [[0, 0], [1, 1], [2, 0]]},
+               "right": {"bezier": [[2, 0], [3, -1], [4, 0]]}, "side": "left", "to": [1, 2], "follow": 7}),
+        json!({"op": "tangent", "left": {"bezier": [[0, 0], [1, 1], [2, 0]]},
+               "right": {"bezier": [[2, 0], [3, -1], [4, 0]]}, "side": "left", "to": [1, 2], "follow": true}),
+        json!({"op": "insert", "curve": {"bspline": {"degree": 2.5, "knots": [0, 0, 0, 1, 1, 1],
+               "points": [[0, 0], [1, 1], [2, 0]]}}, "u": 0.5}),
+    ];
+    let input: String = lines.iter().map(|l| l.to_string() + "\n").collect();
+    let (out, code) = run(&input);
+    assert_eq!(code, 1);
+    assert_eq!(out.len(), lines.len());
+    for (i, v) in out.iter().enumerate() {
+        let msg = v["error"]
+            .as_str()
+            .unwrap_or_else(|| panic!("line {i} should fail: {v}"));
+        assert!(!msg.is_empty());
+    }
+    assert!(out[0]["error"].as_str().expect("msg").contains("finite"));
+    assert!(out[1]["error"].as_str().expect("msg").contains("finite"));
+    assert!(
+        out[2]["error"]
+            .as_str()
+            .expect("msg")
+            .contains("\"method\" must be a string")
+    );
+    assert!(
+        out[4]["error"]
+            .as_str()
+            .expect("msg")
+            .contains("\"follow\" must be a string")
+    );
+}
+
+#[test]
+fn whole_float_degrees_are_read_and_an_unconstrained_refine_reports_a_zero_residual() {
+    let lines = [
+        json!({"op": "insert", "curve": {"bspline": {"degree": 3.0, "knots": [0, 0, 0, 0, 1, 1, 1, 1],
+               "points": [[0, 0], [1, 1], [2, 1], [3, 0]]}}, "u": 0.5}),
+        json!({"op": "refine", "curve": {"bezier": [[0, 0], [1, 1], [2, 1], [3, 0]]},
+               "mode": "curvature", "constraints": []}),
+        json!({"op": "refine", "curve": {"bezier": [[0, 0], [0.5, 1], [2, 1.2], [3, 0]]}, "mode": "variation"}),
+        json!({"op": "grab", "curve": {"bezier": [[0, 0], [1, 1], [2, 1], [3, 0]]},
+               "from": [1.5, 0], "to": [1.5, 1], "method": null, "follow": null}),
+    ];
+    let input: String = lines.iter().map(|l| l.to_string() + "\n").collect();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_nendo"))
+        .args(["curve", "--batch"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("nendo runs");
+    child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(input.as_bytes())
+        .expect("write");
+    let raw = child.wait_with_output().expect("finishes");
+    let text = String::from_utf8(raw.stdout).expect("utf-8");
+    assert!(!text.contains("-0.0"), "{text}");
+    let out: Vec<Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("JSON"))
+        .collect();
+    assert_eq!(raw.status.code(), Some(0), "{text}");
+    assert!(out[0]["index"].as_u64().is_some(), "{}", out[0]);
+    for v in &out[1..3] {
+        assert_eq!(v["residual"].as_f64(), Some(0.0), "{v}");
+        assert!(v["residual"].as_f64().is_some_and(|r| r.is_sign_positive()));
+    }
+    assert!(out[3].get("curve").is_some_and(|c| !c.is_null()));
+}

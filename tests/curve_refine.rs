@@ -605,3 +605,86 @@ fn derivative_constraints_and_contradictions() {
     assert!((r.curve.eval(0.5) - DVec2::new(1.0, 1.5)).length() < 1e-9);
     assert!((r.constraint_residual - 0.5f64.sqrt()).abs() < 1e-9);
 }
+
+/// The constraint sets documented in `nendo::curve::refine` ("Which constraints give the similar
+/// copy"): in variation mode the two end points alone leave a linear term free and do not give
+/// the copy; adding a derivative, both end tangents, or a third point does; in curvature mode a
+/// point and a derivative suffice.
+#[test]
+fn which_constraints_give_the_similar_copy() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4242);
+    let mut ends_only_missed = 0;
+    let mut trials = 0;
+    for degree in 3..=7 {
+        for _ in 0..6 {
+            let c = random_bezier(&mut rng, degree);
+            let (a, b) = c.domain();
+            let start = c.eval(a);
+            let sim = random_similarity(&mut rng, start);
+            let turn = |v: DVec2| sim(v) - sim(DVec2::ZERO);
+            let copy = map_curve(&c, &sim);
+            let (t0, t1) = end_tangents(&c);
+            let ends = vec![
+                Constraint::Point { u: a, point: start },
+                Constraint::Point {
+                    u: b,
+                    point: sim(c.eval(b)),
+                },
+            ];
+            let gap = |mode, cons: &[Constraint]| {
+                let r = refine(&c, mode, cons).expect("refined");
+                assert!(r.similarity_rms < 1e-8, "{mode:?} {}", r.similarity_rms);
+                max_point_gap(r.curve.points(), copy.points())
+            };
+            // Variation, end points only: similarity 0, but generally not the copy.
+            if gap(Similarity::Variation, &ends) > 1e-6 {
+                ends_only_missed += 1;
+            }
+            // Variation, end points and one derivative.
+            let mut with_derivative = ends.clone();
+            with_derivative.push(Constraint::Derivative {
+                u: a,
+                vector: turn(t0),
+            });
+            assert!(gap(Similarity::Variation, &with_derivative) < 1e-9);
+            // Variation, end points and both end tangents.
+            let mut with_tangents = ends.clone();
+            with_tangents.push(Constraint::Tangent {
+                u: a,
+                direction: turn(t0),
+            });
+            with_tangents.push(Constraint::Tangent {
+                u: b,
+                direction: turn(t1),
+            });
+            assert!(gap(Similarity::Variation, &with_tangents) < 1e-9);
+            // Variation, three points (a random curve is not in uniform motion along a line).
+            let mid = 0.5 * (a + b);
+            let mut three = ends.clone();
+            three.push(Constraint::Point {
+                u: mid,
+                point: sim(c.eval(mid)),
+            });
+            assert!(gap(Similarity::Variation, &three) < 1e-8);
+            // Curvature: the end points; or one point and one derivative.
+            assert!(gap(Similarity::Curvature, &ends) < 1e-9);
+            let point_and_derivative = [
+                Constraint::Point {
+                    u: mid,
+                    point: sim(c.eval(mid)),
+                },
+                Constraint::Derivative {
+                    u: b,
+                    vector: turn(t1),
+                },
+            ];
+            assert!(gap(Similarity::Curvature, &point_and_derivative) < 1e-9);
+            trials += 1;
+        }
+    }
+    // The end points alone miss the copy in (nearly) every random case.
+    assert!(
+        ends_only_missed * 10 >= trials * 9,
+        "{ends_only_missed} of {trials}"
+    );
+}

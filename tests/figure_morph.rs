@@ -123,7 +123,7 @@ fn morph_cli_writes_frames_whose_ends_match_the_figures() {
         .args(["morph"])
         .arg(data("horse.json"))
         .arg(data("tiger.json"))
-        .args(["--frames", "4", "--svg", "--size", "256x256", "--out"])
+        .args(["--frames", "4", "--size", "256x256", "--out"])
         .arg(&out)
         .output()
         .unwrap();
@@ -168,6 +168,25 @@ fn morph_cli_writes_frames_whose_ends_match_the_figures() {
     )
     .unwrap();
     assert_eq!(&buf[..info.buffer_size()], &truth.image.pixels[..]);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn morph_cli_leaves_out_the_svg_with_no_svg() {
+    let out = scratch("no-svg");
+    let status = Command::new(env!("CARGO_BIN_EXE_nendo"))
+        .args(["morph"])
+        .arg(data("horse.json"))
+        .arg(data("tiger.json"))
+        .args(["--frames", "2", "--no-svg", "--size", "64x64", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(status.status.success());
+    for i in 0..2 {
+        assert!(out.join(format!("frame_{i:04}.png")).is_file());
+        assert!(!out.join(format!("frame_{i:04}.svg")).exists());
+    }
     let _ = std::fs::remove_dir_all(&out);
 }
 

@@ -25,12 +25,80 @@ fn warp_by_unchanged_curves_is_the_identity() {
         let doc = load(name);
         let out = warp_document(&doc, &doc.curves, &WarpOptions::default()).unwrap();
         assert_eq!(out.figure, doc.figure, "{name}");
-        // The contour is refined (edges divided) but every point stays where it was.
-        let c = doc.contour.as_ref().unwrap();
-        for p in out.contour.as_ref().unwrap().points() {
-            assert!(c.distance(*p) < 1e-9);
-        }
+        // No edge is divided: the contour keeps its vertices exactly.
+        assert_eq!(out.contour, doc.contour, "{name}");
+        assert_eq!(out, doc, "{name}");
     }
+}
+
+/// `nendo figure warp` with the figure's own curves writes the figure back unchanged (the
+/// contour keeps its vertex count), and `--max-edge` sets how finely a real warp divides edges.
+#[test]
+fn warp_cli_keeps_the_contour_when_no_curve_moves_and_honours_max_edge() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/figures");
+    let dir = std::env::temp_dir().join(format!("nendo-figure-warp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |curves: &Path, out: &Path, extra: &[&str]| {
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_nendo"))
+            .args(["figure", "warp"])
+            .arg(data.join("horse.json"))
+            .arg("--curves")
+            .arg(curves)
+            .arg("--out")
+            .arg(out)
+            .args(extra)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let text = std::fs::read_to_string(out).unwrap();
+        FigureDocument::from_json(&text).unwrap()
+    };
+    let doc = load("horse.json");
+    let same = run(&data.join("horse.json"), &dir.join("same.json"), &[]);
+    assert_eq!(
+        same.contour.as_ref().unwrap().len(),
+        doc.contour.as_ref().unwrap().len()
+    );
+    assert_eq!(same.figure, doc.figure);
+    // Move the spine: with --max-edge 5 every edge of the warped contour comes from edges
+    // divided into pieces of at most 5 units.
+    let mut deformed = doc.curves.clone();
+    let spine = doc.curves[0].points().to_vec();
+    deformed[0] = Bezier::new(vec![
+        spine[0],
+        spine[1],
+        spine[2],
+        spine[3] + DVec2::new(0.0, -20.0),
+    ])
+    .into();
+    let curves = dir.join("deformed.json");
+    std::fs::write(
+        &curves,
+        nendo::figure::document::curves_to_json(&deformed).to_string(),
+    )
+    .unwrap();
+    let c = doc.contour.as_ref().unwrap();
+    let expected: usize = c
+        .edges()
+        .map(|(a, b)| (a.distance(b) / 5.0).ceil().max(1.0) as usize)
+        .sum();
+    let fine = run(&curves, &dir.join("fine.json"), &["--max-edge", "5"]);
+    assert_eq!(fine.contour.as_ref().unwrap().len(), expected);
+    let coarse = run(&curves, &dir.join("coarse.json"), &["--max-edge", "inf"]);
+    assert_eq!(coarse.contour.as_ref().unwrap().len(), c.len());
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_nendo"))
+        .args(["figure", "warp"])
+        .arg(data.join("horse.json"))
+        .arg("--curves")
+        .arg(&curves)
+        .arg("--out")
+        .arg(dir.join("bad.json"))
+        .arg("--max-edge=-1")
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("positive"));
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// Fig. 10 (c): the head raised by dragging the end of the spine curve while the leg curves

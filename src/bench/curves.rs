@@ -18,8 +18,7 @@
 //! ([`super::Stopwatch`]).
 
 use super::closest::SplitMix;
-use super::sculpt::thread_cpu_ns;
-use super::{Stopwatch, Table, median};
+use super::{Table, cpu_median_ns, format_ns};
 use crate::curve::edit::{Grab, GrabMethod, GrabOptions, split};
 use crate::curve::refine::{Constraint, Similarity, refine, refine_piecewise};
 use crate::curve::warp::{CurveWarp, WarpParams};
@@ -223,44 +222,6 @@ pub fn warp_case() -> WarpCase {
     }
 }
 
-/// Median over `batches` of the mean time per call of `f` (which receives the call index), in
-/// thread CPU time when available.
-fn median_ns(batches: usize, calls_per_batch: usize, mut f: impl FnMut(usize)) -> f64 {
-    if thread_cpu_ns().is_none() {
-        return Stopwatch {
-            batches,
-            calls_per_batch,
-        }
-        .median_ns(f);
-    }
-    let mut k = 0usize;
-    for _ in 0..calls_per_batch {
-        f(k);
-        k += 1;
-    }
-    let mut per_call = Vec::with_capacity(batches);
-    for _ in 0..batches.max(1) {
-        let t0 = thread_cpu_ns().unwrap_or(0);
-        for _ in 0..calls_per_batch {
-            f(k);
-            k += 1;
-        }
-        let t1 = thread_cpu_ns().unwrap_or(0);
-        per_call.push(t1.saturating_sub(t0) as f64 / calls_per_batch.max(1) as f64);
-    }
-    median(&mut per_call)
-}
-
-fn fmt_ns(ns: f64) -> String {
-    if ns >= 1e6 {
-        format!("{:.2} ms", ns / 1e6)
-    } else if ns >= 1e3 {
-        format!("{:.2} µs", ns / 1e3)
-    } else {
-        format!("{ns:.0} ns")
-    }
-}
-
 /// Runs the suite and returns the report. `scale` multiplies the case counts (1.0: 1 000 grab
 /// and split cases, 200 refinement cases per row).
 #[must_use]
@@ -283,24 +244,24 @@ pub fn report(scale: f64) -> String {
                     worst = worst.max((moved.eval(n.u) - want).length());
                 }
             }
-            let ns = median_ns(15, cases.len(), |k| {
+            let ns = cpu_median_ns(15, cases.len(), |k| {
                 black_box(grab_once(&cases[k % cases.len()], method));
             });
             table.row(vec![
                 format!("grab ({name}), closest point included"),
                 format!("3D Bezier degree {degree}"),
-                fmt_ns(ns),
+                format_ns(ns),
                 format!("max |C'(u) − C(u) − ΔP| = {worst:.1e}"),
             ]);
         }
-        let ns = median_ns(15, cases.len(), |k| {
+        let ns = cpu_median_ns(15, cases.len(), |k| {
             let c = &cases[k % cases.len()];
             black_box(split(&c.curve, 0.37).ok());
         });
         table.row(vec![
             "split at u = 0.37".into(),
             format!("3D Bezier degree {degree}"),
-            fmt_ns(ns),
+            format_ns(ns),
             String::new(),
         ]);
     }
@@ -313,13 +274,13 @@ pub fn report(scale: f64) -> String {
                     .map(Curve::BSpline)
             })
             .collect();
-        let ns = median_ns(15, splines.len(), |k| {
+        let ns = cpu_median_ns(15, splines.len(), |k| {
             black_box(split(&splines[k % splines.len()], 0.37).ok());
         });
         table.row(vec![
             "split at u = 0.37".into(),
             "3D cubic B-spline, 8 points".into(),
-            fmt_ns(ns),
+            format_ns(ns),
             String::new(),
         ]);
     }
@@ -347,7 +308,7 @@ pub fn report(scale: f64) -> String {
                 None => refused += 1,
             }
         }
-        let ns = median_ns(11, cases.len(), |k| {
+        let ns = cpu_median_ns(11, cases.len(), |k| {
             black_box(refine_once(&cases[k % cases.len()]));
         });
         let refused = if refused > 0 {
@@ -358,7 +319,7 @@ pub fn report(scale: f64) -> String {
         table.row(vec![
             format!("refine ({mode:?}), end moved by a similarity"),
             label.into(),
-            fmt_ns(ns),
+            format_ns(ns),
             format!("max distance to the similar copy {worst:.1e}{refused}"),
         ]);
     }
@@ -369,7 +330,7 @@ pub fn report(scale: f64) -> String {
         Ok(w) => w,
         Err(e) => return format!("warp set-up failed: {e}\n"),
     };
-    let bind_ns = median_ns(5, 1, |_| {
+    let bind_ns = cpu_median_ns(5, 1, |_| {
         black_box(warp.bind(&case.nodes));
     });
     let bound = warp.bind(&case.nodes);
@@ -385,7 +346,7 @@ pub fn report(scale: f64) -> String {
         other => other.clone(),
     };
     let frames = [case.dragged.clone(), lower];
-    let apply_ns = median_ns(21, 4, |k| {
+    let apply_ns = cpu_median_ns(21, 4, |k| {
         let _ = warp.set_deformed(1, frames[k % 2].clone());
         black_box(bound.apply_into(&warp, &mut out).ok());
     });
@@ -401,37 +362,37 @@ pub fn report(scale: f64) -> String {
             other => other.clone(),
         }
     };
-    let all_ns = median_ns(21, 4, |k| {
+    let all_ns = cpu_median_ns(21, 4, |k| {
         for (i, c) in case.originals.iter().enumerate() {
             let _ = warp.set_deformed(i, lift(c, 0.5 + (k % 2) as f64 * 0.1));
         }
         black_box(bound.apply_into(&warp, &mut out).ok());
     });
-    let direct_ns = median_ns(3, 1, |_| {
+    let direct_ns = cpu_median_ns(3, 1, |_| {
         black_box(warp.warp_points(&case.nodes));
     });
     table.row(vec![
         "warp: bind the net to the curves (once per drag)".into(),
         format!("{} control points, 3 curves", case.nodes.len()),
-        fmt_ns(bind_ns),
+        format_ns(bind_ns),
         String::new(),
     ]);
     table.row(vec![
         "warp: one drag frame (set curve + carry the net)".into(),
         format!("{} control points, 3 curves", case.nodes.len()),
-        fmt_ns(apply_ns),
+        format_ns(apply_ns),
         format!("{lifted} points lifted; target ≤ 2 ms"),
     ]);
     table.row(vec![
         "warp: one drag frame, all 3 curves moved".into(),
         format!("{} control points, 3 curves", case.nodes.len()),
-        fmt_ns(all_ns),
+        format_ns(all_ns),
         String::new(),
     ]);
     table.row(vec![
         "warp: every point from scratch (no binding)".into(),
         format!("{} control points, 3 curves", case.nodes.len()),
-        fmt_ns(direct_ns),
+        format_ns(direct_ns),
         String::new(),
     ]);
     let mut text = String::from("nendo bench curves (issue 7)\n\n");

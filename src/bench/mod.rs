@@ -9,6 +9,7 @@ use std::time::Instant;
 
 pub mod closest;
 pub mod curves;
+pub mod figures;
 pub mod input;
 pub mod reference;
 pub mod regulation;
@@ -53,6 +54,48 @@ impl Stopwatch {
             per_call.push(start.elapsed().as_nanos() as f64 / self.calls_per_batch.max(1) as f64);
         }
         median(&mut per_call)
+    }
+}
+
+/// Median over `batches` of the mean time per call of `f` (which receives the call index), in
+/// nanoseconds of the measuring thread's CPU time where Linux reports it (other processes on a
+/// shared machine then do not inflate it), else in wall time through [`Stopwatch`]. One
+/// warm-up batch first.
+pub fn cpu_median_ns(batches: usize, calls_per_batch: usize, mut f: impl FnMut(usize)) -> f64 {
+    if sculpt::thread_cpu_ns().is_none() {
+        return Stopwatch {
+            batches,
+            calls_per_batch,
+        }
+        .median_ns(f);
+    }
+    let mut k = 0usize;
+    for _ in 0..calls_per_batch {
+        f(k);
+        k += 1;
+    }
+    let mut per_call = Vec::with_capacity(batches);
+    for _ in 0..batches.max(1) {
+        let t0 = sculpt::thread_cpu_ns().unwrap_or(0);
+        for _ in 0..calls_per_batch {
+            f(k);
+            k += 1;
+        }
+        let t1 = sculpt::thread_cpu_ns().unwrap_or(0);
+        per_call.push(t1.saturating_sub(t0) as f64 / calls_per_batch.max(1) as f64);
+    }
+    median(&mut per_call)
+}
+
+/// A duration in nanoseconds as `12.34 ms`, `5.67 µs` or `890 ns`.
+#[must_use]
+pub fn format_ns(ns: f64) -> String {
+    if ns >= 1e6 {
+        format!("{:.2} ms", ns / 1e6)
+    } else if ns >= 1e3 {
+        format!("{:.2} µs", ns / 1e3)
+    } else {
+        format!("{ns:.0} ns")
     }
 }
 

@@ -29,6 +29,8 @@ pub enum Suite {
     Regulation,
     /// Tessellation of 100 / 1 600 sculpted patches and headless 1280x720 frames.
     Render,
+    /// Figures: 512x512 frame time of a 300-metacircle figure (render, picture, morph frame), fit time and residuals of the shipped figures, the metaball torso's fit, re-fit and mesh.
+    Figures,
 }
 
 /// Runs `nendo bench`.
@@ -64,6 +66,15 @@ pub fn run(args: Args) -> ExitCode {
         Suite::Render => {
             print!("{}", crate::bench::render::report(args.scale));
             ExitCode::SUCCESS
+        }
+        Suite::Figures => {
+            let text = crate::bench::figures::report(args.scale);
+            print!("{text}");
+            if text.starts_with("nendo bench figures:") {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS
+            }
         }
     }
 }

@@ -31,6 +31,21 @@
 //!
 //!   `residual` is `|A V − b|` of the constraints (0 unless they contradict each other),
 //!   `similarity` the root mean square of the similarity variables (0 for a similar copy).
+//!
+//!   Which constraints return the *similar copy* (the curve rotated, scaled and moved) when the
+//!   constraints admit one — see [`crate::curve::refine`], "Which constraints give the similar
+//!   copy":
+//!   - `"curvature"`: the two end points suffice (`{"u":u0,"point":…}`, `{"u":u1,"point":…}`),
+//!     or any two points, or a point and a `derivative`;
+//!   - `"variation"`: the end points alone do **not** — that mode leaves the first derivative
+//!     free, so a straight-line term `c u` stays undetermined and the answer is the curve of
+//!     `similarity` 0 nearest the original, generally not the copy. Add the `tangent` at both
+//!     ends, or a `derivative` at one parameter, or a third `point` (off uniform motion along
+//!     the chord).
+//! * Strings are strict: `method` and `follow` must be strings from their lists (a number or
+//!   another type is refused, not defaulted); a B-spline's `degree` may be written `3` or `3.0`.
+//! * Curves whose control points are so far apart that arithmetic overflows (e.g. `±1e308`)
+//!   give an error from `grab` and `split`, never null coordinates.
 //! * Warping ([`crate::curve::warp`]): Beier–Neely weights with `a` (default 0), `b` (2), `p`
 //!   (0.5) and an optional still background `reach`; all curves and points of one dimension.
 //!
@@ -225,6 +240,15 @@ fn optional_number(req: &Value, name: &str, default: f64) -> Result<f64, String>
     }
 }
 
+/// An optional string member: absent or null gives `None`; anything but a string is an error.
+fn optional_string<'a>(req: &'a Value, name: &str) -> Result<Option<&'a str>, String> {
+    match req.get(name) {
+        None | Some(Value::Null) => Ok(None),
+        Some(Value::String(s)) => Ok(Some(s)),
+        Some(other) => Err(format!("\"{name}\" must be a string, got {other}")),
+    }
+}
+
 fn grab_reply<P: Point>(c: &Curve<P>, req: &Value) -> Result<Value, String> {
     let from: P = typed_point(field(req, "from")?, "from").map_err(e)?;
     let to: P = typed_point(field(req, "to")?, "to").map_err(e)?;
@@ -232,9 +256,8 @@ fn grab_reply<P: Point>(c: &Curve<P>, req: &Value) -> Result<Value, String> {
         None | Some(Value::Null) => f64::INFINITY,
         Some(_) => crate::curve::check_radius("rmax", number(req, "rmax")?).map_err(e)?,
     };
-    let method = match req.get("method").and_then(Value::as_str) {
-        None => GrabMethod::LargestWeight,
-        Some("largest") => GrabMethod::LargestWeight,
+    let method = match optional_string(req, "method")? {
+        None | Some("largest") => GrabMethod::LargestWeight,
         Some("nearest") => GrabMethod::NearestParameter,
         Some("least_change") => GrabMethod::LeastChange,
         Some(other) => {
@@ -267,7 +290,7 @@ fn tangent_reply<P: Point>(l: &Curve<P>, r: &Curve<P>, req: &Value) -> Result<Va
         Some("right") => Side::Right,
         _ => return Err("\"side\" must be \"left\" or \"right\"".into()),
     };
-    let follow = match req.get("follow").and_then(Value::as_str) {
+    let follow = match optional_string(req, "follow")? {
         None | Some("length") => Follow::KeepLength,
         Some("ratio") => Follow::KeepRatio,
         Some(other) => {

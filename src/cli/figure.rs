@@ -5,12 +5,15 @@
 //!   contour of a figure file (seeded on its medial axis, optimised) and prints the residual as
 //!   JSON.
 //! * `nendo figure render FIG.json [--png P] [--svg S] [--size 512x512]`.
-//! * `nendo figure warp FIG.json --curves DEFORMED.json --out OUT.json [--png P] [--svg S]`:
-//!   moves the figure's curves to the deformed ones; metacircles, contour and polygons follow.
+//! * `nendo figure warp FIG.json --curves DEFORMED.json --out OUT.json [--max-edge L]
+//!   [--png P] [--svg S]`: moves the figure's curves to the deformed ones; metacircles, contour
+//!   and polygons follow (edges longer than `L` divided first, none when no curve moved).
 //! * `nendo figure measure FIG.json`: the residual of a figure against its contour, as JSON.
-//! * `nendo figure shape SECTIONS.json`: the metaball shape fitted to horizontal sections, then
-//!   deformed by the curves of its `deformations`; meshes (OBJ/STL/GLB) and, with the `gui`
-//!   feature, PNG views through the renderer.
+//! * `nendo figure shape SHAPE.json --mesh OUT.obj [--png P] [--out RESULT.json]`: the
+//!   metaball shape fitted to the horizontal sections of a `nendo-shape` file, deformed by the
+//!   `moves` of the curves laid along them and re-fitted; writes the iso-surface as a mesh
+//!   (OBJ/STL/GLB) and, with the `gui` feature, a PNG through the renderer
+//!   ([`super::shape`]).
 
 use anyhow::{Context, bail};
 use clap::{Args as ClapArgs, Subcommand};
@@ -44,6 +47,9 @@ pub enum Action {
     Warp(WarpArgs),
     /// Print the residual of a figure against its contour as JSON.
     Measure(MeasureArgs),
+    /// Fit metaballs to horizontal sections, drag the curves laid along them, re-fit, and
+    /// write the iso-surface as a mesh (and a PNG through the renderer).
+    Shape(super::shape::ShapeArgs),
 }
 
 /// Picture outputs shared by the actions.
@@ -130,6 +136,11 @@ pub struct WarpArgs {
     /// Beier–Neely `p` (weight of curve length).
     #[arg(long, default_value_t = WarpParams::default().p)]
     pub p: f64,
+    /// Divide contour and polygon edges longer than this (figure units) before warping, so
+    /// that they bend with the curves (default: 1/200 of the frame's diagonal; `inf`: divide
+    /// none). No edge is divided when no curve moved.
+    #[arg(long, value_name = "LENGTH")]
+    pub max_edge: Option<f64>,
     /// Pictures of the result.
     #[command(flatten)]
     pub picture: PictureArgs,
@@ -149,6 +160,7 @@ pub fn run(args: Args) -> ExitCode {
         Action::Render(a) => render(&a),
         Action::Warp(a) => warp(&a),
         Action::Measure(a) => measure_cmd(&a),
+        Action::Shape(a) => super::shape::shape(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -285,7 +297,7 @@ fn warp(args: &WarpArgs) -> anyhow::Result<()> {
         &deformed,
         &WarpOptions {
             params,
-            max_edge: None,
+            max_edge: args.max_edge,
         },
     )?;
     write_text(&args.out, &out.to_json())?;

@@ -15,6 +15,7 @@ pub mod record;
 pub mod render;
 pub mod replay;
 pub mod sculpt;
+pub mod shape;
 pub mod window;
 use std::process::ExitCode;
 
@@ -48,7 +49,7 @@ pub enum Command {
     /// Figures of metacircles: fit to a contour, render to PNG / SVG, warp by curves, measure;
     /// metaball shapes fitted to sections.
     Figure(figure::Args),
-    /// Write the frames of a morph between two figure files as PNG (and SVG).
+    /// Write the frames of a morph between two figure files as PNG and SVG.
     Morph(morph::Args),
     /// Record hand frames from the devices of a profile into a trace file.
     Record(record::Args),

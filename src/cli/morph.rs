@@ -1,10 +1,11 @@
-//! `nendo morph SRC.json DST.json --frames N --out DIR`: the frames of a morph between two
-//! figure files (seed 000 §4.2, Fig. 11) as PNG (and SVG), in one view framing both figures.
+//! `nendo morph SRC.json DST.json --frames N --out DIR [--no-svg]`: the frames of a morph
+//! between two figure files (seed 000 §4.2, Fig. 11) as PNG and SVG, in one view framing both
+//! figures.
 //!
 //! Curve `k` of the source file corresponds to curve `k` of the destination; the metacircles
 //! are matched through the curves' coordinates and interpolated ([`crate::figure::morph`]).
-//! Frame `i` of `N` is the figure at `t = i / (N − 1)`, written as `DIR/frame_0000.png` (and
-//! `.svg`); a summary is printed as JSON.
+//! Frame `i` of `N` is the figure at `t = i / (N − 1)`, written as `DIR/frame_0000.png` and
+//! `DIR/frame_0000.svg` (the SVG left out with `--no-svg`); a summary is printed as JSON.
 
 use anyhow::{Context, bail};
 use clap::Args as ClapArgs;
@@ -38,9 +39,10 @@ pub struct Args {
     /// Supersampling of boundary pixels per axis (1..=16).
     #[arg(long, default_value_t = 4)]
     pub samples: u32,
-    /// Also write each frame's boundary (and interpolated curves) as SVG.
+    /// Write the PNG frames only: leave out each frame's SVG (the traced boundary and the
+    /// interpolated curves), which is written by default.
     #[arg(long)]
-    pub svg: bool,
+    pub no_svg: bool,
     /// Move the centres along the interpolated skeleton curves instead of straight lines.
     #[arg(long)]
     pub skeleton: bool,
@@ -109,7 +111,7 @@ fn morph(args: &Args) -> anyhow::Result<()> {
         let pic = draw(&figure, &scene, &view, &picture)?;
         let stem = format!("frame_{i:04}");
         write_png(&args.out.join(format!("{stem}.png")), &pic.image)?;
-        if args.svg {
+        if !args.no_svg {
             write_text(&args.out.join(format!("{stem}.svg")), &pic.svg)?;
         }
         counts.push(figure.metacircles.len());

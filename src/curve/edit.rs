@@ -239,8 +239,10 @@ impl<P: Point> Grab<P> {
     /// # Errors
     /// [`CurveError::OutOfDomain`] for `u` outside the domain; [`CurveError::Edit`] when no
     /// movable control point carries `C(u)` (e.g. an end point with `keep_ends`, or a degree-1
-    /// curve with `keep_ends`).
+    /// curve with `keep_ends`); [`CurveError::NotFinite`] when the control points are too far
+    /// apart to compute with ([`check_extent`]).
     pub fn new(curve: &Curve<P>, u: f64, options: GrabOptions) -> Result<Self, CurveError> {
+        check_extent(curve)?;
         let u = in_domain(curve, u)?;
         let w = control_weights(curve, u, 0)?;
         let last = w.len() - 1;
@@ -300,15 +302,25 @@ impl<P: Point> Grab<P> {
     /// curve lies that close).
     ///
     /// # Errors
-    /// As [`Self::new`].
+    /// As [`Self::new`]; [`CurveError::NotFinite`] when no closest point can be computed
+    /// (the curve's coordinates overflow: with `r_max = ∞` a closest point always exists).
     pub fn at_point(
         curve: &Curve<P>,
         from: P,
         r_max: f64,
         options: GrabOptions,
     ) -> Result<Option<Self>, CurveError> {
+        check_extent(curve)?;
         match curve.closest(from, r_max) {
-            Some(n) => Self::new(curve, n.u, options).map(Some),
+            Some(n) if n.u.is_finite() => Self::new(curve, n.u, options).map(Some),
+            Some(_) => Err(CurveError::NotFinite {
+                what: "the parameter of the closest point".into(),
+            }),
+            // Within an infinite reach every curve has a closest point: not finding one means
+            // the arithmetic overflowed.
+            None if r_max == f64::INFINITY => Err(CurveError::NotFinite {
+                what: "the distance to the curve".into(),
+            }),
             None => Ok(None),
         }
     }
@@ -416,7 +428,9 @@ pub fn with_points<P: Point>(curve: &Curve<P>, points: Vec<P>) -> Result<Curve<P
 /// share the split point (de Casteljau for a Bezier curve, knot insertion for a B-spline).
 ///
 /// # Errors
-/// [`CurveError::OutOfDomain`] at or beyond the ends of the domain.
+/// [`CurveError::OutOfDomain`] at or beyond the ends of the domain; [`CurveError::NotFinite`]
+/// when a control point of either half is not finite (control points so far apart that the
+/// subdivision overflows, e.g. `±10³⁰⁸`).
 pub fn split<P: Point>(curve: &Curve<P>, u: f64) -> Result<(Curve<P>, Curve<P>), CurveError> {
     let (a, b) = curve.domain();
     if !(u > a && u < b) {
@@ -425,7 +439,7 @@ pub fn split<P: Point>(curve: &Curve<P>, u: f64) -> Result<(Curve<P>, Curve<P>),
             range: format!("the open domain ({a}, {b})"),
         });
     }
-    Ok(match curve {
+    let (left, right) = match curve {
         Curve::Bezier(c) => {
             let (l, r) = c.split(u);
             (Curve::Bezier(l), Curve::Bezier(r))
@@ -434,7 +448,34 @@ pub fn split<P: Point>(curve: &Curve<P>, u: f64) -> Result<(Curve<P>, Curve<P>),
             let (l, r) = s.split(u)?;
             (Curve::BSpline(l), Curve::BSpline(r))
         }
-    })
+    };
+    for (side, half) in [("left", &left), ("right", &right)] {
+        if let Some(i) = half.points().iter().position(|p| !p.is_finite_coeff()) {
+            return Err(CurveError::NotFinite {
+                what: format!(
+                    "control point {i} of the {side} half (the curve's coordinates overflow when subdivided)"
+                ),
+            });
+        }
+    }
+    Ok((left, right))
+}
+
+/// Checks that the differences between a curve's control points are finite: beyond that (control
+/// points near `±f64::MAX`) evaluating the curve or its distances overflows.
+///
+/// # Errors
+/// [`CurveError::NotFinite`] naming the extent.
+pub fn check_extent<P: Point>(curve: &Curve<P>) -> Result<(), CurveError> {
+    let (lo, hi) = curve.control_bounds();
+    if (hi - lo).is_finite_coeff() {
+        Ok(())
+    } else {
+        Err(CurveError::NotFinite {
+            what: "the extent of the control points (they are too far apart to compute with)"
+                .into(),
+        })
+    }
 }
 
 /// Which neighbour of a joint the user moves.

@@ -2,7 +2,8 @@
 //! and the `nendo-model` file:
 //!
 //! * a Bezier curve: `{"bezier": [[x,y], ...]}` or `{"bezier": [[x,y,z], ...]}`;
-//! * a B-spline: `{"bspline": {"degree": p, "knots": [...], "points": [[...], ...]}}`;
+//! * a B-spline: `{"bspline": {"degree": p, "knots": [...], "points": [[...], ...]}}` (`p` a
+//!   whole number, `3` or `3.0`);
 //! * a point: `[x,y]` or `[x,y,z]`.
 //!
 //! The dimension of a curve is that of its points; all must agree. Everything is validated
@@ -118,6 +119,19 @@ enum Kind {
     BSpline { degree: usize, knots: Vec<f64> },
 }
 
+/// A non-negative whole number written as an integer (`3`) or as a float with no fractional
+/// part (`3.0`, as some JSON writers print every number); `None` for anything else.
+#[must_use]
+pub fn whole_number(v: &Value) -> Option<u64> {
+    if let Some(n) = v.as_u64() {
+        return Some(n);
+    }
+    let f = v.as_f64()?;
+    // 2⁵³: every whole float below is exactly an integer.
+    (f.is_finite() && f >= 0.0 && f.fract() == 0.0 && f <= 9_007_199_254_740_992.0)
+        .then_some(f as u64)
+}
+
 /// Reads a curve from its JSON form.
 ///
 /// ```
@@ -140,7 +154,7 @@ pub fn curve_from_json(v: &Value) -> Result<DynCurve, CurveError> {
         let s = s
             .as_object()
             .ok_or_else(|| CurveError::Format("\"bspline\" must be an object".into()))?;
-        let degree = s.get("degree").and_then(Value::as_u64).ok_or_else(|| {
+        let degree = s.get("degree").and_then(whole_number).ok_or_else(|| {
             CurveError::Format("\"bspline\" needs a non-negative integer \"degree\"".into())
         })?;
         let knots_v = s

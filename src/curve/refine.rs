@@ -47,6 +47,30 @@
 //! the middle of an arch onto its chord with the end tangents along the chord straightens it, and
 //! pinning it to the mirror position mirrors it (the paper's Fig. 5).
 //!
+//! ## Which constraints give the similar copy
+//! The result is the similar copy exactly when the copy meets the constraints *and* no other
+//! curve with `S = 0` everywhere does (stage 3 then has nothing to choose). The curves with
+//! `S = 0` are, with `a = λe^{iθ}` (rotation and scale) and `b` (translation) complex:
+//!
+//! * [`Similarity::Curvature`]: `V = a V₀ + b` — 4 real degrees of freedom. The copy is found
+//!   from any constraints that fix `a` and `b`: the two end points (`Point` at both ends,
+//!   `b − a`, the tested case), any two `Point`s at parameters where the original's points
+//!   differ, or one `Point` and one `Derivative` (where `Q'(u) ≠ 0`). One point and a `Tangent`
+//!   leave the scale free (3 equations): the solver then keeps the scale nearest the original.
+//! * [`Similarity::Variation`]: `V = a V₀ + b + c u` — the second and third derivatives do not
+//!   see a linear term `c u` (`c` complex, `u` the curve's parameter: on a Bezier curve of
+//!   degree `n` control point `k` moves by `c k/n`), so 6 real degrees of freedom. **The two end
+//!   points alone do not give the copy**: they leave `c` free (2 degrees), and the solver
+//!   returns the curve of that family nearest the original — the copy only if that has `c = 0`,
+//!   which a rotated or scaled move generally does not (the mode leaves the first derivative
+//!   free by design, §2.8). Two more equations that the copy meets fix `c`: the two end points
+//!   with the `Tangent`s at both ends (the tested case), the end points with one `Derivative`
+//!   (`C'(u) = a Q'(u)`), or three `Point`s at `u₀, u₁, u₂` whose original points are not in
+//!   uniform motion along a line (`Q(u₂) ≠ Q(u₀) + (Q(u₁) − Q(u₀)) (u₂ − u₀)/(u₁ − u₀)`).
+//!
+//! For a piecewise curve `u` is the global parameter and the joints keep their continuity, so
+//! the same counts hold for the whole curve.
+//!
 //! ## Curves
 //! A Bezier curve, a B-spline (its control points are the unknowns, so its joins are kept by
 //! construction), or a piecewise curve of Bezier segments ([`refine_piecewise`]) whose global

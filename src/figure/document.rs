@@ -305,11 +305,14 @@ pub fn curves_to_json(curves: &[Curve<DVec2>]) -> Value {
     Value::Array(curves.iter().map(curve_to_json).collect())
 }
 
-fn points_json(p: &[DVec2]) -> Value {
+pub(crate) fn points_json(p: &[DVec2]) -> Value {
     Value::Array(p.iter().map(|p| json!([p.x, p.y])).collect())
 }
 
-fn array<'a>(obj: &'a Map<String, Value>, key: &str) -> Result<&'a [Value], FigureError> {
+pub(crate) fn array<'a>(
+    obj: &'a Map<String, Value>,
+    key: &str,
+) -> Result<&'a [Value], FigureError> {
     match obj.get(key) {
         None | Some(Value::Null) => Ok(&[]),
         Some(Value::Array(a)) => Ok(a),
@@ -317,7 +320,7 @@ fn array<'a>(obj: &'a Map<String, Value>, key: &str) -> Result<&'a [Value], Figu
     }
 }
 
-fn number(v: &Value, what: &str) -> Result<f64, FigureError> {
+pub(crate) fn number(v: &Value, what: &str) -> Result<f64, FigureError> {
     let f = v
         .as_f64()
         .ok_or_else(|| FigureError::Format(format!("{what} must be a number")))?;

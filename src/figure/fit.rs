@@ -22,8 +22,8 @@
 //!   equations regular where a parameter touches no sample.
 //!
 //! The same core fits 3D metaballs to horizontal sections ([`super::shape`]): each ball then
-//! has a fixed height `z_i` and a vertical radius `R_z` shared by all, and its density at
-//! `(p, z)` is `q f(|p − P_i|² / R_i² + (z − z_i)² / R_z²)`.
+//! has five parameters `(P_i, z_i, ln R_i, q_i)`, the samples lie at their sections' heights,
+//! and the density at `(p, z)` is `q f((|p − P_i|² + (z − z_i)²) / R_i²)`.
 
 use glam::DVec2;
 
@@ -65,62 +65,95 @@ pub(crate) struct FitSample {
     pub kind: SampleKind,
 }
 
-/// The fitting problem over balls `x[4i..4i+4] = (x, y, ln R, q)` at fixed heights.
+/// Where a ball's centre must stay: inside one of `contours` (its section's level, in the
+/// plane), and in 3D between the heights of `z_range`; `weight` per unit of distance outside.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Home<'a> {
+    pub contours: &'a [Contour],
+    pub z_range: Option<(f64, f64)>,
+    pub weight: f64,
+}
+
+impl Home<'_> {
+    /// The point of the nearest contour boundary when `c` is inside none of them.
+    fn outside(&self, c: DVec2) -> Option<DVec2> {
+        if self.contours.iter().any(|k| k.contains(c)) {
+            return None;
+        }
+        self.contours
+            .iter()
+            .map(|k| k.closest_point(c))
+            .min_by(|a, b| a.distance_squared(c).total_cmp(&b.distance_squared(c)))
+    }
+}
+
+/// The fitting problem over balls: `x[k i .. k i + k]` is `(x, y, ln R, q)` in the plane
+/// (`k = 4`, every ball and sample at height 0) or `(x, y, z, ln R, q)` in space (`k = 5`).
 pub(crate) struct BallProblem<'a> {
-    pub heights: &'a [f64],
-    /// `1 / R_z²` (0 in 2D).
-    pub inv_rz2: f64,
+    /// Five parameters per ball (3D) instead of four (2D).
+    pub spatial: bool,
     pub samples: &'a [FitSample],
     pub threshold: f64,
     /// `(ln R⁰, q⁰)` per ball.
     pub prior: Vec<(f64, f64)>,
-    /// Per ball, the contour its centre must stay inside (its section), and the weight of
-    /// that hinge per unit of distance outside.
-    pub homes: Vec<Option<(&'a Contour, f64)>>,
+    /// Per ball, where its centre must stay.
+    pub homes: Vec<Option<Home<'a>>>,
 }
 
 impl BallProblem<'_> {
+    /// Parameters per ball.
+    pub fn stride(&self) -> usize {
+        if self.spatial { 5 } else { 4 }
+    }
+
+    /// Ball `i`'s centre `(x, y)`, height, `ln R` and `q`.
+    fn ball(&self, x: &[f64], i: usize) -> (DVec2, f64, f64, f64) {
+        let k = self.stride();
+        let b = &x[k * i..k * i + k];
+        if self.spatial {
+            (DVec2::new(b[0], b[1]), b[2], b[3], b[4])
+        } else {
+            (DVec2::new(b[0], b[1]), 0.0, b[2], b[3])
+        }
+    }
+
     /// The density at a sample, and (when asked) its partial derivatives.
     fn field(&self, x: &[f64], s: &FitSample, grads: Option<&mut Vec<(usize, f64)>>) -> f64 {
+        let k = self.stride();
+        let balls = x.len() / k;
         let mut f = 0.0;
         match grads {
             None => {
-                for (i, &z) in self.heights.iter().enumerate() {
-                    let b = &x[4 * i..4 * i + 4];
+                for i in 0..balls {
+                    let (c, z, lr, q) = self.ball(x, i);
                     let dz = s.z - z;
-                    let sz = dz * dz * self.inv_rz2;
-                    if sz >= 1.0 {
-                        continue;
-                    }
-                    let d = s.p - DVec2::new(b[0], b[1]);
-                    let sh = d.length_squared() * (-2.0 * b[2]).exp();
-                    f += b[3] * density(sh + sz);
+                    let d = s.p - c;
+                    let sh = (d.length_squared() + dz * dz) * (-2.0 * lr).exp();
+                    f += q * density(sh);
                 }
             }
             Some(g) => {
                 g.clear();
-                for (i, &z) in self.heights.iter().enumerate() {
-                    let b = &x[4 * i..4 * i + 4];
+                for i in 0..balls {
+                    let (c, z, lr, q) = self.ball(x, i);
                     let dz = s.z - z;
-                    let sz = dz * dz * self.inv_rz2;
-                    if sz >= 1.0 {
+                    let d = s.p - c;
+                    let inv_r2 = (-2.0 * lr).exp();
+                    let sh = (d.length_squared() + dz * dz) * inv_r2;
+                    if sh >= 1.0 {
                         continue;
                     }
-                    let d = s.p - DVec2::new(b[0], b[1]);
-                    let inv_r2 = (-2.0 * b[2]).exp();
-                    let sh = d.length_squared() * inv_r2;
-                    if sh + sz >= 1.0 {
-                        continue;
-                    }
-                    let (fv, df) = density_and_ds(sh + sz);
-                    let q = b[3];
+                    let (fv, df) = density_and_ds(sh);
                     f += q * fv;
-                    // ∂s/∂P = −2 (p − P) / R²,  ∂s/∂ln R = −2 s_h.
-                    let dp = d * (-2.0 * inv_r2 * q * df);
-                    g.push((4 * i, dp.x));
-                    g.push((4 * i + 1, dp.y));
-                    g.push((4 * i + 2, -2.0 * sh * q * df));
-                    g.push((4 * i + 3, fv));
+                    // ∂s/∂P = −2 (X − P) / R²,  ∂s/∂ln R = −2 s.
+                    let w = -2.0 * inv_r2 * q * df;
+                    g.push((k * i, w * d.x));
+                    g.push((k * i + 1, w * d.y));
+                    if self.spatial {
+                        g.push((k * i + 2, w * dz));
+                    }
+                    g.push((k * i + k - 2, -2.0 * sh * q * df));
+                    g.push((k * i + k - 1, fv));
                 }
             }
         }
@@ -130,11 +163,12 @@ impl BallProblem<'_> {
 
 impl LeastSquares for BallProblem<'_> {
     fn parameters(&self) -> usize {
-        4 * self.heights.len()
+        self.stride() * self.prior.len()
     }
 
     fn evaluate(&self, x: &[f64], jacobian: bool, out: &mut Jacobian) {
         out.clear();
+        let k = self.stride();
         let t = self.threshold;
         let m = GUARD_MARGIN * t;
         let mut grads: Vec<(usize, f64)> = Vec::new();
@@ -152,49 +186,58 @@ impl LeastSquares for BallProblem<'_> {
             }
         }
         for (i, home) in self.homes.iter().enumerate() {
-            let Some((contour, w)) = home else { continue };
-            let c = DVec2::new(x[4 * i], x[4 * i + 1]);
-            if contour.contains(c) {
-                out.push(0.0, std::iter::empty());
-                continue;
+            let Some(home) = home else { continue };
+            let w = home.weight;
+            let c = DVec2::new(x[k * i], x[k * i + 1]);
+            match home.outside(c) {
+                None => out.push(0.0, std::iter::empty()),
+                Some(near) => {
+                    let d = c.distance(near);
+                    let dir = if d > 0.0 { (c - near) / d } else { DVec2::ZERO };
+                    out.push(
+                        w * d,
+                        if jacobian {
+                            vec![(k * i, w * dir.x), (k * i + 1, w * dir.y)]
+                        } else {
+                            Vec::new()
+                        },
+                    );
+                }
             }
-            let near = contour.closest_point(c);
-            let d = c.distance(near);
-            let dir = if d > 0.0 { (c - near) / d } else { DVec2::ZERO };
-            out.push(
-                w * d,
-                if jacobian {
-                    vec![(4 * i, w * dir.x), (4 * i + 1, w * dir.y)]
+            if let (true, Some((lo, hi))) = (self.spatial, home.z_range) {
+                let z = x[k * i + 2];
+                if z < lo {
+                    out.push(w * (lo - z), jacobian.then_some((k * i + 2, -w)));
+                } else if z > hi {
+                    out.push(w * (z - hi), jacobian.then_some((k * i + 2, w)));
                 } else {
-                    Vec::new()
-                },
-            );
+                    out.push(0.0, None);
+                }
+            }
         }
         for (i, &(lr0, q0)) in self.prior.iter().enumerate() {
             // Radius bounds as hinges on ln R.
-            let lr = x[4 * i + 2];
+            let (il, iq) = (k * i + k - 2, k * i + k - 1);
+            let lr = x[il];
             let over = lr - (lr0 + RADIUS_GROWTH.ln());
             let under = (lr0 - RADIUS_SHRINK.ln()) - lr;
             if over > 0.0 {
-                out.push(
-                    BOUND_WEIGHT * over,
-                    jacobian.then_some((4 * i + 2, BOUND_WEIGHT)),
-                );
+                out.push(BOUND_WEIGHT * over, jacobian.then_some((il, BOUND_WEIGHT)));
             } else if under > 0.0 {
                 out.push(
                     BOUND_WEIGHT * under,
-                    jacobian.then_some((4 * i + 2, -BOUND_WEIGHT)),
+                    jacobian.then_some((il, -BOUND_WEIGHT)),
                 );
             } else {
                 out.push(0.0, None);
             }
             out.push(
-                PRIOR_WEIGHT * (x[4 * i + 2] - lr0),
-                jacobian.then_some((4 * i + 2, PRIOR_WEIGHT)),
+                PRIOR_WEIGHT * (lr - lr0),
+                jacobian.then_some((il, PRIOR_WEIGHT)),
             );
             out.push(
-                PRIOR_WEIGHT * (x[4 * i + 3] - q0),
-                jacobian.then_some((4 * i + 3, PRIOR_WEIGHT)),
+                PRIOR_WEIGHT * (x[iq] - q0),
+                jacobian.then_some((iq, PRIOR_WEIGHT)),
             );
         }
     }
@@ -332,19 +375,21 @@ pub fn refit(
         .collect();
     samples.extend(guard_samples(contour, options.guard_resolution, 0.0));
     samples.extend(ring_samples(contour, &on, options.guard_resolution, 0.0));
-    let home_weight = options.threshold / guard_cell(contour, options.guard_resolution);
-    let heights = vec![0.0; balls.len()];
+    let home = Home {
+        contours: std::slice::from_ref(contour),
+        z_range: None,
+        weight: options.threshold / guard_cell(contour, options.guard_resolution),
+    };
     let mut x: Vec<f64> = balls
         .iter()
         .flat_map(|m| [m.centre.x, m.centre.y, m.radius.ln(), m.density])
         .collect();
     let problem = BallProblem {
-        heights: &heights,
-        inv_rz2: 0.0,
+        spatial: false,
         samples: &samples,
         threshold: options.threshold,
         prior: balls.iter().map(|m| (m.radius.ln(), m.density)).collect(),
-        homes: vec![Some((contour, home_weight)); balls.len()],
+        homes: vec![Some(home); balls.len()],
     };
     let outcome = minimise(&problem, &mut x, options.optimiser, &options.stopping);
     let fitted = Figure {
@@ -584,25 +629,7 @@ mod tests {
 
     #[test]
     fn jacobian_matches_finite_differences() {
-        let heights = [0.0, 0.5, -0.3];
-        let samples = [
-            FitSample {
-                p: DVec2::new(0.3, 0.2),
-                z: 0.1,
-                kind: SampleKind::On,
-            },
-            FitSample {
-                p: DVec2::new(-0.4, 0.5),
-                z: 0.0,
-                kind: SampleKind::Above,
-            },
-            FitSample {
-                p: DVec2::new(0.9, -0.2),
-                z: 0.2,
-                kind: SampleKind::Below,
-            },
-        ];
-        let home = Contour::new(
+        let home = [Contour::new(
             vec![
                 DVec2::new(-0.2, -0.2),
                 DVec2::new(0.2, -0.2),
@@ -610,40 +637,73 @@ mod tests {
             ],
             "home",
         )
-        .unwrap();
-        let problem = BallProblem {
-            heights: &heights,
-            inv_rz2: 0.5,
-            samples: &samples,
-            threshold: 0.5,
-            prior: vec![(0.0, 1.0); 3],
-            homes: vec![Some((&home, 0.7)); 3],
-        };
-        let x = [0.0, 0.1, 0.2, 1.2, 0.5, -0.2, 0.4, 0.9, 0.1, 0.3, 0.1, -0.4];
-        let mut jac = Jacobian::default();
-        problem.evaluate(&x, true, &mut jac);
-        let mut dense = vec![vec![0.0; 12]; jac.residuals.len()];
-        for (j, row) in dense.iter_mut().enumerate() {
-            let (c, v) = jac.row(j);
-            for (&c, &v) in c.iter().zip(v) {
-                row[c as usize] += v;
+        .unwrap()];
+        for spatial in [false, true] {
+            let z = |v: f64| if spatial { v } else { 0.0 };
+            let samples = [
+                FitSample {
+                    p: DVec2::new(0.3, 0.2),
+                    z: z(0.1),
+                    kind: SampleKind::On,
+                },
+                FitSample {
+                    p: DVec2::new(-0.4, 0.5),
+                    z: z(0.0),
+                    kind: SampleKind::Above,
+                },
+                FitSample {
+                    p: DVec2::new(0.9, -0.2),
+                    z: z(0.2),
+                    kind: SampleKind::Below,
+                },
+            ];
+            let problem = BallProblem {
+                spatial,
+                samples: &samples,
+                threshold: 0.5,
+                prior: vec![(0.0, 1.0); 3],
+                homes: vec![
+                    Some(Home {
+                        contours: &home,
+                        z_range: Some((-0.1, 0.1)),
+                        weight: 0.7,
+                    });
+                    3
+                ],
+            };
+            let x: Vec<f64> = if spatial {
+                vec![
+                    0.0, 0.1, 0.0, 0.2, 1.2, 0.5, -0.2, 0.3, 0.4, 0.9, 0.1, 0.3, -0.2, 0.1, -0.4,
+                ]
+            } else {
+                vec![0.0, 0.1, 0.2, 1.2, 0.5, -0.2, 0.4, 0.9, 0.1, 0.3, 0.1, -0.4]
+            };
+            let n = x.len();
+            let mut jac = Jacobian::default();
+            problem.evaluate(&x, true, &mut jac);
+            let mut dense = vec![vec![0.0; n]; jac.residuals.len()];
+            for (j, row) in dense.iter_mut().enumerate() {
+                let (c, v) = jac.row(j);
+                for (&c, &v) in c.iter().zip(v) {
+                    row[c as usize] += v;
+                }
             }
-        }
-        let h = 1e-7;
-        for k in 0..12 {
-            let (mut xp, mut xm) = (x, x);
-            xp[k] += h;
-            xm[k] -= h;
-            let (mut jp, mut jm) = (Jacobian::default(), Jacobian::default());
-            problem.evaluate(&xp, false, &mut jp);
-            problem.evaluate(&xm, false, &mut jm);
-            for (j, row) in dense.iter().enumerate() {
-                let fd = (jp.residuals[j] - jm.residuals[j]) / (2.0 * h);
-                assert!(
-                    (fd - row[k]).abs() < 1e-6,
-                    "row {j} col {k}: {fd} vs {}",
-                    row[k]
-                );
+            let h = 1e-7;
+            for k in 0..n {
+                let (mut xp, mut xm) = (x.clone(), x.clone());
+                xp[k] += h;
+                xm[k] -= h;
+                let (mut jp, mut jm) = (Jacobian::default(), Jacobian::default());
+                problem.evaluate(&xp, false, &mut jp);
+                problem.evaluate(&xm, false, &mut jm);
+                for (j, row) in dense.iter().enumerate() {
+                    let fd = (jp.residuals[j] - jm.residuals[j]) / (2.0 * h);
+                    assert!(
+                        (fd - row[k]).abs() < 1e-6,
+                        "spatial {spatial} row {j} col {k}: {fd} vs {}",
+                        row[k]
+                    );
+                }
             }
         }
     }

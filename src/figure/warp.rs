@@ -6,7 +6,7 @@
 //! Radii and densities are kept, as in the seed ("moving the vertex coordinates by the method
 //! above deforms the figure"); polygon edges are divided before warping so that they bend with
 //! the curves. Curves that did not move warp nothing: the warp by unchanged curves is the
-//! identity.
+//! identity, and then no edge is divided either (the polygons keep their vertices).
 
 use glam::DVec2;
 
@@ -24,7 +24,7 @@ pub struct WarpOptions {
     /// The Beier–Neely weights.
     pub params: WarpParams,
     /// Polygon edges longer than this are divided before warping (`None`: 1/200 of the
-    /// diagonal of the document's frame).
+    /// diagonal of the document's frame; `f64::INFINITY`: none). Ignored when no curve moved.
     pub max_edge: Option<f64>,
 }
 
@@ -64,17 +64,32 @@ pub fn warp_figure(figure: &Figure, warp: &CurveWarp<DVec2>) -> Figure {
     out
 }
 
+/// Most vertices a warped contour may get from dividing its edges.
+pub const MAX_WARPED_VERTICES: usize = 1_000_000;
+
 /// A contour warped, its edges divided first so that none is longer than `max_edge`.
 ///
 /// # Errors
-/// [`FigureError::Warp`] for a bad `max_edge`, [`FigureError::Contour`] if the warped polygon
-/// degenerates.
+/// [`FigureError::Warp`] for a bad `max_edge`, [`FigureError::Option`] when the division would
+/// make more than [`MAX_WARPED_VERTICES`] vertices, [`FigureError::Contour`] if the warped
+/// polygon degenerates.
 pub fn warp_contour(
     contour: &Contour,
     warp: &CurveWarp<DVec2>,
     max_edge: f64,
     what: &str,
 ) -> Result<Contour, FigureError> {
+    if max_edge.is_finite() && max_edge > 0.0 {
+        let pieces: f64 = contour
+            .edges()
+            .map(|(a, b)| (a.distance(b) / max_edge).ceil().max(1.0))
+            .sum();
+        if pieces > MAX_WARPED_VERTICES as f64 {
+            return Err(FigureError::Option(format!(
+                "{what}: edges divided to at most {max_edge} would make {pieces:.0} vertices (at most {MAX_WARPED_VERTICES})"
+            )));
+        }
+    }
     let pts = warp
         .warp_polygon(contour.points(), max_edge)
         .map_err(FigureError::Warp)?;
@@ -86,14 +101,23 @@ pub fn warp_contour(
 /// the deformed ones.
 ///
 /// # Errors
-/// As [`curve_warp`] and [`warp_contour`].
+/// As [`curve_warp`] and [`warp_contour`]; [`FigureError::Option`] for a `max_edge` that is not
+/// positive.
 pub fn warp_document(
     doc: &FigureDocument,
     deformed: &[Curve<DVec2>],
     options: &WarpOptions,
 ) -> Result<FigureDocument, FigureError> {
     let warp = curve_warp(&doc.curves, deformed, options.params)?;
+    let moved = doc.curves.as_slice() != deformed;
     let max_edge = match options.max_edge {
+        // Nothing moves: dividing the edges would only add vertices on them.
+        _ if !moved => f64::INFINITY,
+        Some(m) if m.is_nan() || m <= 0.0 => {
+            return Err(FigureError::Option(format!(
+                "the longest polygon edge must be a positive number, got {m}"
+            )));
+        }
         Some(m) => m,
         None => doc
             .frame()
@@ -161,16 +185,19 @@ mod tests {
             curves: curves.clone(),
             ..Default::default()
         };
-        let out = warp_document(
-            &doc,
-            &curves,
-            &WarpOptions {
-                max_edge: Some(f64::INFINITY),
-                ..Default::default()
-            },
-        )
-        .unwrap();
-        assert_eq!(out, doc);
+        // Whatever the longest edge asked for: unchanged curves divide no edge.
+        for max_edge in [None, Some(0.01), Some(f64::INFINITY)] {
+            let out = warp_document(
+                &doc,
+                &curves,
+                &WarpOptions {
+                    max_edge,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            assert_eq!(out, doc);
+        }
     }
 
     #[test]
@@ -186,5 +213,10 @@ mod tests {
             warp_document(&doc, std::slice::from_ref(&moved), &WarpOptions::default()).unwrap();
         assert!((out.figure.metacircles[0].centre - DVec2::new(5.0, 5.0)).length() < 1e-9);
         assert!(warp_document(&doc, &[], &WarpOptions::default()).is_err());
+        let bad = WarpOptions {
+            max_edge: Some(-1.0),
+            ..Default::default()
+        };
+        assert!(warp_document(&doc, std::slice::from_ref(&moved), &bad).is_err());
     }
 }

@@ -279,10 +279,12 @@ pub(super) fn refine_model(
         });
     }
     let v: Vec<f64> = z.iter().copied().collect();
+    // Folded from +0.0: an empty sum of floats is −0.0, which would print as a residual of
+    // "-0.0" when there are no constraints.
     let residual = hard
         .iter()
         .map(|(row, rhs)| (dot_sparse(row, &v) - rhs).powi(2))
-        .sum::<f64>()
+        .fold(0.0, |acc, x| acc + x)
         .sqrt();
     let sim = (&smat * &z).norm_squared();
     let rms = (sim / sims.len() as f64).sqrt();

@@ -1,0 +1,421 @@
+//! The shape file (`nendo-shape` JSON): the horizontal sections of a metaball shape, the curves
+//! laid along them, the drags to apply to those curves, and (once fitted) the metaballs — the
+//! input and output of `nendo figure shape`.
+//!
+//! ```json
+//! {"format": "nendo-shape", "version": 1,
+//!  "name": "torso",
+//!  "threshold": 0.5,
+//!  "sections": [
+//!    {"z": 30.0,
+//!     "contour": [[x, y], …],
+//!     "curves": [{"bezier": [[x, y], …]}, …],
+//!     "moves": [{"curve": 2, "from": [x, y], "to": [x, y], "method": "largest", "keep_ends": false},
+//!               {"curve": 3, "deformed": {"bezier": [[x, y], …]}}]},
+//!    …],
+//!  "metaballs": [{"centre": [x, y, z], "radius": R, "density": q}, …]}
+//! ```
+//!
+//! * Coordinates: `x, y` in each section's horizontal plane, `z` up (the modeller's axes,
+//!   right-handed); any unit.
+//! * `format` and `version` are required, and at least one section; every section needs `z`
+//!   (finite) and `contour` (a closed polygon: at least three distinct vertices, non-zero
+//!   area; the closing vertex need not be repeated). Sections may share a height (two legs).
+//! * `curves` (optional, per section): 2D curves in the form of [`crate::curve::json`], laid
+//!   along (or near) the section's outline; dragging them moves the outline
+//!   ([`super::section`]).
+//! * `moves` (optional, per section), applied in order, each naming a curve of the section by
+//!   its index: `{"curve": k, "from": P, "to": Q}` grabs curve `k` at its point closest to `P`
+//!   and moves that point by `Q − P` exactly (`method` `"largest"` — the default, the control
+//!   point of largest weight —, `"nearest"` or `"least_change"`, and `keep_ends`, as in
+//!   `nendo curve --batch`); `{"curve": k, "deformed": C}` replaces the curve by `C` (same
+//!   parameter domain).
+//! * `metaballs` (optional): a fitted shape to start from; without it the shape is fitted to
+//!   the sections first. `threshold` (default 0.5, positive) is the iso-surface's.
+//! * Written back ([`ShapeDocument::to_json`]) with the moved curves and warped contours in
+//!   place of the originals, the fitted metaballs, and no `moves`: the file of the deformed
+//!   shape, ready for further drags.
+
+use glam::DVec3;
+use serde_json::{Map, Value, json};
+
+use crate::curve::edit::{GrabMethod, GrabOptions};
+use crate::curve::json::{DynCurve, curve_from_json, curve_to_json};
+
+use super::document::{
+    array, contour_from_json, curves_from_json, curves_to_json, number, point, points_json,
+};
+use super::error::FigureError;
+use super::falloff::DEFAULT_THRESHOLD;
+use super::metaball::{Metaball, Shape};
+use super::section::{CurveMove, Section};
+
+/// The `format` member of every shape file.
+pub const FORMAT: &str = "nendo-shape";
+/// The version this build reads and writes.
+pub const VERSION: u64 = 1;
+
+/// Everything a shape file holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeDocument {
+    /// A name, for people.
+    pub name: Option<String>,
+    /// The threshold of the iso-surface.
+    pub threshold: f64,
+    /// The sections, in the order of the file.
+    pub sections: Vec<Section>,
+    /// Per section, the drags of its curves (empty when none).
+    pub moves: Vec<Vec<CurveMove>>,
+    /// The fitted metaballs, if the file has them.
+    pub shape: Option<Shape>,
+}
+
+impl ShapeDocument {
+    /// Reads a document from JSON text.
+    ///
+    /// # Errors
+    /// [`FigureError::Format`] naming the member for malformed JSON or members, and the
+    /// validation errors of the parts (contours, curves, metaballs).
+    pub fn from_json(text: &str) -> Result<Self, FigureError> {
+        let v: Value = serde_json::from_str(text)
+            .map_err(|e| FigureError::Format(format!("not valid JSON: {e}")))?;
+        let obj = v
+            .as_object()
+            .ok_or_else(|| FigureError::Format("a shape file must be a JSON object".into()))?;
+        match obj.get("format").and_then(Value::as_str) {
+            Some(FORMAT) => {}
+            Some(other) => {
+                return Err(FigureError::Format(format!(
+                    "\"format\" is {other:?}; expected {FORMAT:?}"
+                )));
+            }
+            None => {
+                return Err(FigureError::Format(format!(
+                    "missing \"format\": {FORMAT:?}"
+                )));
+            }
+        }
+        match obj.get("version").and_then(Value::as_u64) {
+            Some(VERSION) => {}
+            Some(v) => {
+                return Err(FigureError::Format(format!(
+                    "version {v} is not supported (this build reads {VERSION})"
+                )));
+            }
+            None => return Err(FigureError::Format("missing \"version\"".into())),
+        }
+        let threshold = match obj.get("threshold") {
+            None | Some(Value::Null) => DEFAULT_THRESHOLD,
+            Some(t) => number(t, "threshold")?,
+        };
+        if threshold <= 0.0 {
+            return Err(FigureError::Threshold(threshold));
+        }
+        let name = match obj.get("name") {
+            None | Some(Value::Null) => None,
+            Some(Value::String(s)) => Some(s.clone()),
+            Some(_) => return Err(FigureError::Format("\"name\" must be a string".into())),
+        };
+        let list = array(obj, "sections")?;
+        if list.is_empty() {
+            return Err(FigureError::Format(
+                "\"sections\" must list at least one section {\"z\", \"contour\"}".into(),
+            ));
+        }
+        let mut sections = Vec::with_capacity(list.len());
+        let mut moves = Vec::with_capacity(list.len());
+        for (i, s) in list.iter().enumerate() {
+            let what = format!("section {i}");
+            let o = s
+                .as_object()
+                .ok_or_else(|| FigureError::Format(format!("{what} must be an object")))?;
+            let get = |k: &str| {
+                o.get(k)
+                    .ok_or_else(|| FigureError::Format(format!("{what} needs \"{k}\"")))
+            };
+            let z = number(get("z")?, &format!("{what} z"))?;
+            let contour = contour_from_json(get("contour")?, &format!("{what} contour"))?;
+            let curves = curves_from_json(o.get("curves").unwrap_or(&Value::Null))
+                .map_err(|e| FigureError::Format(format!("{what}: {e}")))?;
+            let mut section_moves = Vec::new();
+            for (j, m) in array(o, "moves")
+                .map_err(|e| FigureError::Format(format!("{what}: {e}")))?
+                .iter()
+                .enumerate()
+            {
+                section_moves.push(curve_move(m, &format!("{what} move {j}"), curves.len())?);
+            }
+            sections.push(Section::new(z, contour, curves)?);
+            moves.push(section_moves);
+        }
+        let shape = match obj.get("metaballs") {
+            None | Some(Value::Null) => None,
+            Some(_) => {
+                let mut balls = Vec::new();
+                for (i, b) in array(obj, "metaballs")?.iter().enumerate() {
+                    let what = format!("metaball {i}");
+                    let o = b
+                        .as_object()
+                        .ok_or_else(|| FigureError::Format(format!("{what} must be an object")))?;
+                    let get = |k: &str| {
+                        o.get(k)
+                            .ok_or_else(|| FigureError::Format(format!("{what} needs \"{k}\"")))
+                    };
+                    let ball = Metaball {
+                        centre: point3(get("centre")?, &format!("{what} centre"))?,
+                        radius: number(get("radius")?, &format!("{what} radius"))?,
+                        density: number(get("density")?, &format!("{what} density"))?,
+                    };
+                    ball.validate(&what)?;
+                    balls.push(ball);
+                }
+                Some(Shape { balls, threshold })
+            }
+        };
+        Ok(Self {
+            name,
+            threshold,
+            sections,
+            moves,
+            shape,
+        })
+    }
+
+    /// Whether any section has a move.
+    #[must_use]
+    pub fn has_moves(&self) -> bool {
+        self.moves.iter().any(|m| !m.is_empty())
+    }
+
+    /// The document as pretty-printed JSON text (moves included).
+    #[must_use]
+    pub fn to_json(&self) -> String {
+        let mut o = Map::new();
+        o.insert("format".into(), json!(FORMAT));
+        o.insert("version".into(), json!(VERSION));
+        if let Some(n) = &self.name {
+            o.insert("name".into(), json!(n));
+        }
+        o.insert("threshold".into(), json!(self.threshold));
+        let sections: Vec<Value> = self
+            .sections
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                let mut so = Map::new();
+                so.insert("z".into(), json!(s.z));
+                so.insert("contour".into(), points_json(s.contour.points()));
+                if !s.curves.is_empty() {
+                    so.insert("curves".into(), curves_to_json(&s.curves));
+                }
+                let moves = self.moves.get(i).map_or(&[][..], Vec::as_slice);
+                if !moves.is_empty() {
+                    so.insert(
+                        "moves".into(),
+                        Value::Array(moves.iter().map(move_json).collect()),
+                    );
+                }
+                Value::Object(so)
+            })
+            .collect();
+        o.insert("sections".into(), Value::Array(sections));
+        if let Some(shape) = &self.shape {
+            o.insert(
+                "metaballs".into(),
+                Value::Array(
+                    shape
+                        .balls
+                        .iter()
+                        .map(|b| {
+                            json!({
+                                "centre": [b.centre.x, b.centre.y, b.centre.z],
+                                "radius": b.radius,
+                                "density": b.density,
+                            })
+                        })
+                        .collect(),
+                ),
+            );
+        }
+        let mut s = serde_json::to_string_pretty(&Value::Object(o)).unwrap_or_default();
+        s.push('\n');
+        s
+    }
+}
+
+fn point3(v: &Value, what: &str) -> Result<DVec3, FigureError> {
+    match v.as_array().map(Vec::as_slice) {
+        Some([x, y, z]) => Ok(DVec3::new(
+            number(x, what)?,
+            number(y, what)?,
+            number(z, what)?,
+        )),
+        _ => Err(FigureError::Format(format!(
+            "{what} must be a point [x, y, z]"
+        ))),
+    }
+}
+
+/// One entry of a section's `moves`.
+fn curve_move(v: &Value, what: &str, curves: usize) -> Result<CurveMove, FigureError> {
+    let o = v
+        .as_object()
+        .ok_or_else(|| FigureError::Format(format!("{what} must be an object")))?;
+    let curve = o
+        .get("curve")
+        .and_then(crate::curve::json::whole_number)
+        .and_then(|k| usize::try_from(k).ok())
+        .ok_or_else(|| FigureError::Format(format!("{what} needs \"curve\", a curve index")))?;
+    if curve >= curves {
+        return Err(FigureError::Format(format!(
+            "{what} names curve {curve}, but the section has {curves} curves"
+        )));
+    }
+    if let Some(d) = o.get("deformed") {
+        let deformed = match curve_from_json(d) {
+            Ok(DynCurve::D2(c)) => c,
+            Ok(DynCurve::D3(_)) => {
+                return Err(FigureError::Format(format!(
+                    "{what}: the deformed curve is 3D; sections hold 2D curves"
+                )));
+            }
+            Err(e) => return Err(FigureError::Format(format!("{what} deformed: {e}"))),
+        };
+        return Ok(CurveMove::Replace { curve, deformed });
+    }
+    let get = |k: &str| {
+        o.get(k)
+            .ok_or_else(|| {
+                FigureError::Format(format!(
+                    "{what} needs \"from\" and \"to\" (a grab) or \"deformed\" (a curve)"
+                ))
+            })
+            .and_then(|v| point(v, &format!("{what} {k}")))
+    };
+    let (from, to) = (get("from")?, get("to")?);
+    let method = match o.get("method") {
+        None | Some(Value::Null) => GrabMethod::LargestWeight,
+        Some(Value::String(s)) => match s.as_str() {
+            "largest" => GrabMethod::LargestWeight,
+            "nearest" => GrabMethod::NearestParameter,
+            "least_change" => GrabMethod::LeastChange,
+            other => {
+                return Err(FigureError::Format(format!(
+                    "{what}: unknown method {other:?}; expected largest, nearest or least_change"
+                )));
+            }
+        },
+        Some(_) => {
+            return Err(FigureError::Format(format!(
+                "{what}: \"method\" must be a string"
+            )));
+        }
+    };
+    let keep_ends = match o.get("keep_ends") {
+        None | Some(Value::Null) => false,
+        Some(Value::Bool(b)) => *b,
+        Some(_) => {
+            return Err(FigureError::Format(format!(
+                "{what}: \"keep_ends\" must be true or false"
+            )));
+        }
+    };
+    Ok(CurveMove::Grab {
+        curve,
+        from,
+        to,
+        options: GrabOptions { method, keep_ends },
+    })
+}
+
+fn move_json(m: &CurveMove) -> Value {
+    match m {
+        CurveMove::Grab {
+            curve,
+            from,
+            to,
+            options,
+        } => json!({
+            "curve": curve,
+            "from": [from.x, from.y],
+            "to": [to.x, to.y],
+            "method": match options.method {
+                GrabMethod::LargestWeight => "largest",
+                GrabMethod::NearestParameter => "nearest",
+                GrabMethod::LeastChange => "least_change",
+            },
+            "keep_ends": options.keep_ends,
+        }),
+        CurveMove::Replace { curve, deformed } => {
+            json!({"curve": curve, "deformed": curve_to_json(deformed)})
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SQUARE: &str = "[[0, 0], [2, 0], [2, 2], [0, 2]]";
+
+    #[test]
+    fn round_trip() {
+        let text = format!(
+            r#"{{"format": "nendo-shape", "version": 1, "name": "box",
+               "sections": [
+                 {{"z": 0, "contour": {SQUARE}}},
+                 {{"z": 1.5, "contour": {SQUARE},
+                   "curves": [{{"bezier": [[2, 0], [2, 1], [2, 2]]}}],
+                   "moves": [{{"curve": 0, "from": [2, 1], "to": [2.5, 1], "method": "least_change"}},
+                             {{"curve": 0, "deformed": {{"bezier": [[2, 0], [3, 1], [2, 2]]}}}}]}}],
+               "metaballs": [{{"centre": [1, 1, 0.5], "radius": 2, "density": 0.8}}]}}"#
+        );
+        let doc = ShapeDocument::from_json(&text).unwrap();
+        assert_eq!(doc.sections.len(), 2);
+        assert_eq!(doc.moves[1].len(), 2);
+        assert!(doc.has_moves());
+        assert_eq!(doc.shape.as_ref().map(|s| s.balls.len()), Some(1));
+        let back = ShapeDocument::from_json(&doc.to_json()).unwrap();
+        assert_eq!(back, doc);
+    }
+
+    #[test]
+    fn errors_name_the_member() {
+        for (text, needle) in [
+            (r#"{"format": "nendo-figure", "version": 1}"#.to_string(), "format"),
+            (r#"{"format": "nendo-shape", "version": 2}"#.to_string(), "version 2"),
+            (r#"{"format": "nendo-shape", "version": 1, "sections": []}"#.to_string(), "at least one"),
+            (
+                format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{{"contour": {SQUARE}}}]}}"#),
+                "section 0 needs \"z\"",
+            ),
+            (
+                r#"{"format": "nendo-shape", "version": 1, "sections": [{"z": 0, "contour": [[0, 0], [1, 1]]}]}"#.to_string(),
+                "section 0 contour",
+            ),
+            (
+                format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{{"z": 0, "contour": {SQUARE}, "moves": [{{"curve": 0, "from": [0, 0], "to": [1, 1]}}]}}]}}"#),
+                "section 0 move 0 names curve 0",
+            ),
+            (
+                format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{{"z": 0, "contour": {SQUARE}, "curves": [{{"bezier": [[0, 0], [1, 0]]}}], "moves": [{{"curve": 0, "from": [0, 0], "to": [1, 1], "method": 3}}]}}]}}"#),
+                "\"method\" must be a string",
+            ),
+            (
+                format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{{"z": 0, "contour": {SQUARE}}}], "metaballs": [{{"centre": [0, 0], "radius": 1, "density": 1}}]}}"#),
+                "metaball 0 centre",
+            ),
+            (
+                format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{{"z": 0, "contour": {SQUARE}}}], "metaballs": [{{"centre": [0, 0, 0], "radius": -1, "density": 1}}]}}"#),
+                "metaball 0",
+            ),
+            (
+                format!(r#"{{"format": "nendo-shape", "version": 1, "threshold": 0, "sections": [{{"z": 0, "contour": {SQUARE}}}]}}"#),
+                "threshold",
+            ),
+        ] {
+            let e = ShapeDocument::from_json(&text).unwrap_err().to_string();
+            assert!(e.contains(needle), "{text}: {e}");
+        }
+    }
+}

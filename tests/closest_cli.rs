@@ -109,3 +109,18 @@ fn extreme_but_valid_inputs_are_answered_or_refused_never_null() {
     );
     assert_eq!(code, 1, "one line failed");
 }
+
+#[test]
+fn a_curve_is_one_kind() {
+    let input = r#"{"op":"closest","curve":{"bezier":[[0,0],[1,0]],"bspline":{"degree":1,"knots":[0,0,1,1],"points":[[0,0],[1,0]]}},"point":[0,1]}
+"#;
+    let (out, code) = run(input);
+    assert!(
+        out[0]["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("not both")),
+        "{}",
+        out[0]
+    );
+    assert_eq!(code, 1);
+}

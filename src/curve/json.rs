@@ -148,6 +148,11 @@ pub fn curve_from_json(v: &Value) -> Result<DynCurve, CurveError> {
             "a curve must be an object {\"bezier\": [...]} or {\"bspline\": {...}}".into(),
         )
     })?;
+    if obj.contains_key("bezier") && obj.contains_key("bspline") {
+        return Err(CurveError::Format(
+            "a curve is either {\"bezier\": ...} or {\"bspline\": ...}, not both".into(),
+        ));
+    }
     let (kind, pts_v) = if let Some(b) = obj.get("bezier") {
         (Kind::Bezier, b)
     } else if let Some(s) = obj.get("bspline") {

@@ -143,7 +143,7 @@ struct Pending<const F: usize> {
 /// A small stack of pending intervals that only allocates past 4 entries (deeper splits are
 /// rare: they happen only near several close roots of `g`).
 struct IntervalStack<const F: usize> {
-    small: [Pending<F>; 4],
+    small: [Option<Pending<F>>; 4],
     len: usize,
     spill: Vec<Pending<F>>,
 }
@@ -152,11 +152,8 @@ impl<const F: usize> IntervalStack<F> {
     #[inline]
     fn new() -> Self {
         Self {
-            small: [Pending {
-                w: [0.0; F],
-                a: 0.0,
-                b: 0.0,
-            }; 4],
+            // Only the tags are written: no zeroing of the coefficient arrays per query.
+            small: [None, None, None, None],
             len: 0,
             spill: Vec::new(),
         }
@@ -164,7 +161,7 @@ impl<const F: usize> IntervalStack<F> {
     #[inline]
     fn push(&mut self, p: Pending<F>) {
         if self.len < self.small.len() {
-            self.small[self.len] = p;
+            self.small[self.len] = Some(p);
             self.len += 1;
         } else {
             self.spill.push(p);
@@ -179,7 +176,7 @@ impl<const F: usize> IntervalStack<F> {
             return None;
         }
         self.len -= 1;
-        Some(self.small[self.len])
+        self.small[self.len].take()
     }
 }
 

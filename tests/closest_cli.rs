@@ -124,3 +124,21 @@ fn a_curve_is_one_kind() {
     );
     assert_eq!(code, 1);
 }
+
+#[test]
+fn coordinates_too_large_for_the_arithmetic_are_refused_not_a_panic() {
+    let input = r#"{"op":"closest","curve":{"bspline":{"degree":2,"knots":[0,0,0,0.5,1,1,1],"points":[[1e308,0],[-1e308,0],[1e308,1],[0,0]]}},"point":[0,1]}
+{"op":"closest","curve":{"bezier":[[1e308,0],[-1e308,0]]},"point":[0,1]}
+{"op":"closest","curve":{"bezier":[[8e307,0],[-8e307,0],[8e307,1]]},"point":[0,1]}
+"#;
+    let (out, code) = run(input);
+    assert_eq!(out.len(), 3, "every line answered");
+    for o in &out[..2] {
+        assert!(
+            o["error"].as_str().is_some_and(|e| e.contains("too large")),
+            "{o}"
+        );
+    }
+    assert_eq!(out[2]["u"].as_f64(), Some(0.5), "{}", out[2]);
+    assert_eq!(code, 1);
+}

@@ -46,7 +46,21 @@ impl<P: Point> Bezier<P> {
                 what: format!("control point {i}"),
             });
         }
+        if let Some(i) = points.iter().position(|&p| too_large(p)) {
+            return Err(CurveError::TooLarge {
+                what: format!("control point {i}"),
+            });
+        }
         Ok(Self { points })
+    }
+
+    /// A curve from control points derived from a valid curve (a blossom, a subdivision):
+    /// finite by construction, and within rounding of the source's magnitude, so not
+    /// checked again (a check could only fail by an ulp at [`MAX_COORDINATE`] and would then
+    /// have to panic).
+    pub(crate) fn from_derived(points: Vec<P>) -> Self {
+        debug_assert!(!points.is_empty() && points.len() <= Self::MAX_DEGREE + 1);
+        Self { points }
     }
 
     /// A curve from its control points.
@@ -157,6 +171,16 @@ impl<P: Point> Bezier<P> {
         self.points[k] = p;
         Ok(())
     }
+}
+
+/// Largest coordinate magnitude a curve accepts: half the largest double, so that the
+/// difference of two coordinates (the step of de Casteljau's and de Boor's algorithms) never
+/// overflows.
+pub const MAX_COORDINATE: f64 = f64::MAX / 2.0;
+
+/// Whether a point has a coordinate beyond [`MAX_COORDINATE`].
+pub(crate) fn too_large<P: Point>(p: P) -> bool {
+    (0..P::DIM).any(|i| p.coord(i).abs() > MAX_COORDINATE)
 }
 
 #[cfg(test)]

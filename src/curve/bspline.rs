@@ -130,6 +130,11 @@ impl<P: Point> BSpline<P> {
                 what: format!("control point {i}"),
             });
         }
+        if let Some(i) = points.iter().position(|&p| super::bezier::too_large(p)) {
+            return Err(CurveError::TooLarge {
+                what: format!("control point {i}"),
+            });
+        }
         Ok(Self {
             degree,
             knots,
@@ -271,7 +276,7 @@ impl<P: Point> BSpline<P> {
                 })
                 .collect();
             out.push(Segment {
-                bezier: Bezier::new(pts),
+                bezier: Bezier::from_derived(pts),
                 start: a,
                 end: b,
             });

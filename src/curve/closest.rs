@@ -556,17 +556,18 @@ pub fn closest_bezier_with_stats<P: Point>(
     let m = magnitude(pts, q);
     let slack = WITHIN_SLACK * m;
     let s = rescale_for(m);
-    let u = if s == 1.0 {
-        with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(pts, q, r_max + slack, stats), None)?
+    let (u, point, distance) = if s == 1.0 {
+        let u = with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(pts, q, r_max + slack, stats), None)?;
+        let point = curve.eval(u);
+        (u, point, (point - q).length())
     } else {
         let scaled: Vec<P> = pts.iter().map(|&c| c * s).collect();
-        with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(&scaled, q * s, (r_max + slack) * s, stats), None)?
-    };
-    let point = curve.eval(u);
-    let distance = if s == 1.0 {
-        (point - q).length()
-    } else {
-        (point * s - q * s).length() / s
+        let qs = q * s;
+        let u = with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(&scaled, qs, (r_max + slack) * s, stats), None)?;
+        // Evaluated on the scaled copy too: de Casteljau's differences of huge coordinates
+        // could overflow on the original.
+        let ps = bernstein::eval(&scaled, u);
+        (u, ps * (1.0 / s), (ps - qs).length() / s)
     };
     (distance <= r_max + slack).then_some(Nearest { u, point, distance })
 }

@@ -22,6 +22,16 @@ pub enum CurveError {
         /// Which value (e.g. "control point 3", "knot 2", "query point").
         what: String,
     },
+    /// A coordinate is so large that differences of coordinates overflow (beyond
+    /// [`MAX_COORDINATE`](crate::curve::MAX_COORDINATE), half the largest double).
+    #[error(
+        "{what} is too large: coordinates beyond ±{:e} overflow the curve's arithmetic",
+        crate::curve::MAX_COORDINATE
+    )]
+    TooLarge {
+        /// Which value.
+        what: String,
+    },
     /// Points of different dimensions were mixed, or a point has a dimension other than 2 or 3.
     #[error("dimension mismatch: {0}")]
     Dimension(String),

@@ -21,7 +21,7 @@ pub mod svg;
 pub mod warp;
 
 pub use any::{Curve, CurveSet, Picked, check_radius, pick};
-pub use bezier::{Bezier, MAX_DEGREE};
+pub use bezier::{Bezier, MAX_COORDINATE, MAX_DEGREE};
 pub use bspline::{BSpline, Segment};
 pub use closest::{ClipStats, Nearest, closest_bezier, closest_bezier_with_stats};
 pub use error::CurveError;

@@ -63,10 +63,9 @@ pub fn ray_closest_bezier_with_stats<P: Point>(
     if sp != 1.0 {
         let scaled = Bezier::try_new(curve.points().iter().map(|&c| c * sp).collect()).ok()?;
         let r = ray_closest_bezier_with_stats(&scaled, origin * sp, dir, stats)?;
-        let point = curve.eval(r.u);
         return Some(RayNearest {
             u: r.u,
-            point,
+            point: r.point * (1.0 / sp),
             ray_t: r.ray_t / sp,
             distance: r.distance / sp,
         });

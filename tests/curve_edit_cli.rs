@@ -285,3 +285,24 @@ fn whole_float_degrees_are_read_and_an_unconstrained_refine_reports_a_zero_resid
     }
     assert!(out[3].get("curve").is_some_and(|c| !c.is_null()));
 }
+
+#[test]
+fn a_refinement_too_large_to_solve_densely_is_refused() {
+    let n = 400;
+    let points: Vec<[f64; 2]> = (0..n).map(|i| [i as f64, ((i * 7) % 5) as f64]).collect();
+    let mut knots = vec![0.0; 4];
+    knots.extend((1..n - 3).map(|i| i as f64));
+    knots.extend([(n - 3) as f64; 4]);
+    let line = json!({"op": "refine", "mode": "curvature",
+        "curve": {"bspline": {"degree": 3, "knots": knots, "points": points}},
+        "constraints": [{"u": 0.0, "point": [0, 0]}, {"u": (n - 3) as f64, "point": [1, 1]}]});
+    let (out, code) = run(&(line.to_string() + "\n"));
+    assert_eq!(code, 1);
+    assert!(
+        out[0]["error"]
+            .as_str()
+            .is_some_and(|e| e.contains("too many")),
+        "{}",
+        out[0]
+    );
+}

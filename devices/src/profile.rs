@@ -548,6 +548,11 @@ impl Default for MouseProfile {
     }
 }
 
+/// Slowest replay speed a profile may ask for (a thousandth of real time).
+pub const MIN_REPLAY_SPEED: f64 = 1e-3;
+/// Fastest replay speed a profile may ask for.
+pub const MAX_REPLAY_SPEED: f64 = 1e3;
+
 fn default_speed() -> f64 {
     1.0
 }
@@ -806,8 +811,11 @@ impl Profile {
                 }
             }
             Input::Replay(r) => {
-                if !(r.speed.is_finite() && r.speed > 0.0) {
-                    return Err(bad(format!("replay speed {}", r.speed)));
+                if !(MIN_REPLAY_SPEED..=MAX_REPLAY_SPEED).contains(&r.speed) {
+                    return Err(bad(format!(
+                        "replay speed {} (expected {MIN_REPLAY_SPEED} to {MAX_REPLAY_SPEED})",
+                        r.speed
+                    )));
                 }
             }
         }
@@ -889,6 +897,21 @@ pub fn resolve(name_or_path: &str) -> Result<Profile, DeviceError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn replay_speeds_beyond_a_thousandfold_are_refused() {
+        for speed in ["1e-300", "5e-324", "1.5e-21", "1e9"] {
+            let text = format!(
+                r#"{{"format":"nendo-device-profile","version":1,"name":"rp","description":"r",
+                   "input":{{"replay":{{"trace":"t.trace","speed":{speed}}}}}}}"#
+            );
+            let e = Profile::from_json(&text, "rp").unwrap_err().to_string();
+            assert!(e.contains("replay speed"), "{speed}: {e}");
+        }
+        let ok = r#"{"format":"nendo-device-profile","version":1,"name":"rp","description":"r",
+                    "input":{"replay":{"trace":"t.trace","speed":10}}}"#;
+        assert!(Profile::from_json(ok, "rp").is_ok());
+    }
 
     #[test]
     fn every_shipped_profile_parses_and_validates() {

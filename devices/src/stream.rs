@@ -482,7 +482,9 @@ impl HandStream {
                 loop {
                     for f in &frames {
                         let t = f.time.as_micros() - first + offset;
-                        let due = t0 + Duration::from_secs_f64(t as f64 * 1e-6 / speed);
+                        // Never a panic, whatever the speed: a delay beyond a day waits a day.
+                        let delay = (t as f64 * 1e-6 / speed).clamp(0.0, 86_400.0);
+                        let due = t0 + Duration::from_secs_f64(delay);
                         loop {
                             if worker.stop.load(Ordering::Relaxed) {
                                 return;

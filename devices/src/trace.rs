@@ -483,6 +483,17 @@ impl TraceWriter {
             path: path.to_path_buf(),
             error,
         };
+        // The finished trace is renamed over the path: never over a device, pipe or socket
+        // (as root that would turn `/dev/null` into a plain file).
+        if let Ok(m) = std::fs::symlink_metadata(path)
+            && !m.is_file()
+            && !m.file_type().is_symlink()
+        {
+            return Err(io(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "is not a regular file: traces are written atomically, by renaming, and will not replace it",
+            )));
+        }
         let file = File::create(&tmp).map_err(io)?;
         let mut out = BufWriter::new(file);
         if let Err(e) = out.write_all(format_header(&header).as_bytes()) {

@@ -20,7 +20,7 @@ use crate::surface::deviation::{DeviationStats, distances, samples};
 pub struct Args {
     /// The model file.
     pub model: PathBuf,
-    /// Points per shared edge (at least 33).
+    /// Points per shared edge (33 to 100 000).
     #[arg(long, default_value_t = MIN_SAMPLES_PER_EDGE)]
     pub samples: usize,
     /// Also report the deviation from this model (same topology and patch counts).
@@ -28,11 +28,18 @@ pub struct Args {
     pub against: Option<PathBuf>,
 }
 
+/// Most points per shared edge `--samples` accepts.
+const MAX_SAMPLES_PER_EDGE: usize = 100_000;
+
 /// Samples per patch side for `--against`.
 const DEVIATION_SAMPLES: usize = 40;
 
 /// Runs `nendo check`.
 pub fn run(args: Args) -> ExitCode {
+    if args.samples > MAX_SAMPLES_PER_EDGE {
+        eprintln!("nendo check: --samples must be at most {MAX_SAMPLES_PER_EDGE}");
+        return ExitCode::from(2);
+    }
     let loaded = match Model::read(&args.model) {
         Ok(l) => l,
         Err(e) => {

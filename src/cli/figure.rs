@@ -237,7 +237,21 @@ pub(crate) fn report_json(r: &FitReport) -> serde_json::Value {
     })
 }
 
+/// Refuses an option beyond what a fit can use: a mistyped count is an error, not an
+/// allocation failure or an hour of work.
+pub(crate) fn at_most(name: &str, value: usize, max: usize) -> anyhow::Result<()> {
+    if value > max {
+        bail!("{name} must be at most {max}, got {value}");
+    }
+    Ok(())
+}
+
 fn fit(args: &FitArgs) -> anyhow::Result<()> {
+    at_most("--circles", args.circles, 5_000)?;
+    at_most("--seed-resolution", args.seed_resolution, 2_048)?;
+    at_most("--contour-samples", args.contour_samples, 100_000)?;
+    at_most("--guard-resolution", args.guard_resolution, 1_024)?;
+    at_most("--iterations", args.iterations, 100_000)?;
     let mut doc = read_document(&args.input)?;
     let Some(contour) = doc.contour.clone() else {
         bail!(

@@ -11,6 +11,9 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
+/// The longest recording `--seconds` accepts: a day.
+const MAX_SECONDS: f64 = 86_400.0;
+
 use clap::Args as ClapArgs;
 use nendo_devices::profile::{self, Input};
 use nendo_devices::{HandStream, StreamOptions, TraceWriter};
@@ -24,7 +27,7 @@ pub struct Args {
     /// The trace file to write (written atomically when recording ends).
     #[arg(long)]
     pub out: PathBuf,
-    /// How long to record, in seconds.
+    /// How long to record, in seconds (at most a day).
     #[arg(long, default_value_t = 10.0)]
     pub seconds: f64,
     /// Serial port replacing the profile's, for a profile with a single serial device.
@@ -64,8 +67,8 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 fn record(args: Args) -> anyhow::Result<String> {
-    if !(args.seconds.is_finite() && args.seconds > 0.0) {
-        anyhow::bail!("--seconds must be a positive number");
+    if !(args.seconds.is_finite() && args.seconds > 0.0 && args.seconds <= MAX_SECONDS) {
+        anyhow::bail!("--seconds must be a positive number of at most {MAX_SECONDS} (a day)");
     }
     let profile = profile::resolve(&args.profile)?;
     let mut options = StreamOptions {

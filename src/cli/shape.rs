@@ -135,6 +135,10 @@ pub fn shape(args: &ShapeArgs) -> anyhow::Result<()> {
     if !(2..=256).contains(&args.resolution) {
         bail!("--resolution must be 2 to 256, got {}", args.resolution);
     }
+    super::figure::at_most("--balls", args.balls, 500)?;
+    super::figure::at_most("--samples", args.samples, 100_000)?;
+    super::figure::at_most("--guard-resolution", args.guard_resolution, 512)?;
+    super::figure::at_most("--iterations", args.iterations, 100_000)?;
     // Check the picture's settings before any work.
     if args.png.is_some() {
         picture_settings(args)?;

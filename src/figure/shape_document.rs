@@ -39,6 +39,9 @@
 use glam::DVec3;
 use serde_json::{Map, Value, json};
 
+/// Most metaballs a shape file may hold.
+pub const MAX_METABALLS: usize = 2_000;
+
 use crate::curve::edit::{GrabMethod, GrabOptions};
 use crate::curve::json::{DynCurve, curve_from_json, curve_to_json};
 
@@ -152,7 +155,14 @@ impl ShapeDocument {
             None | Some(Value::Null) => None,
             Some(_) => {
                 let mut balls = Vec::new();
-                for (i, b) in array(obj, "metaballs")?.iter().enumerate() {
+                let list = array(obj, "metaballs")?;
+                if list.len() > MAX_METABALLS {
+                    return Err(FigureError::Format(format!(
+                        "{} metaballs: at most {MAX_METABALLS} (the fit's Jacobian grows with their number)",
+                        list.len()
+                    )));
+                }
+                for (i, b) in list.iter().enumerate() {
                     let what = format!("metaball {i}");
                     let o = b
                         .as_object()

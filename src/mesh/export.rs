@@ -86,6 +86,7 @@ impl MeshFormat {
 /// # Errors
 /// As [`MeshFormat::write`], or [`ExportError::Io`] from the file system.
 pub fn save_mesh(path: &Path, format: MeshFormat, mesh: &TriMesh) -> Result<(), ExportError> {
+    crate::model::check_replaceable(path)?;
     let tmp = temporary_beside(path);
     let result = (|| {
         let mut out = BufWriter::new(File::create(&tmp)?);

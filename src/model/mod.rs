@@ -41,6 +41,9 @@ use crate::surface::{Grid, Regulation, SurfaceError, Topology};
 pub const FORMAT: &str = "nendo-model";
 /// The version this build reads and writes.
 pub const VERSION: u64 = 1;
+/// Largest model file read: 512 MB, several times the largest grid
+/// ([`crate::surface::grid::MAX_PATCHES`] patches of 16 points).
+pub const MAX_FILE_BYTES: u64 = 512 << 20;
 /// Copies of a shared point may differ by this much relative to the model's size (1 or the
 /// largest coordinate, whichever is larger).
 pub const SHARED_POINT_TOLERANCE: f64 = 1e-9;
@@ -333,10 +336,23 @@ impl Model {
     /// # Errors
     /// [`ModelError::Io`] when the file cannot be read; otherwise as [`Model::from_json_str`].
     pub fn read(path: &Path) -> Result<Loaded, ModelError> {
-        let text = fs::read_to_string(path).map_err(|error| ModelError::Io {
+        use std::io::Read;
+        let io = |error| ModelError::Io {
             path: path.to_path_buf(),
             error,
-        })?;
+        };
+        // Read at most one byte past the limit, so a device or a runaway file is refused
+        // without reading it all.
+        let mut text = String::new();
+        fs::File::open(path)
+            .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_string(&mut text))
+            .map_err(io)?;
+        if text.len() as u64 > MAX_FILE_BYTES {
+            return Err(ModelError::Format(format!(
+                "larger than {} MB; not a model this build reads",
+                MAX_FILE_BYTES >> 20
+            )));
+        }
         Self::from_json_str(&text)
     }
 
@@ -346,6 +362,27 @@ impl Model {
     /// [`ModelError::Io`]; the target is then untouched.
     pub fn write(&self, path: &Path) -> Result<(), ModelError> {
         write_atomically(path, self.to_json_string().as_bytes())
+    }
+}
+
+/// Refuses to replace anything but a regular file (or nothing): an atomic write renames its
+/// temporary file over the target, which would turn a device such as `/dev/null` into a
+/// plain file.
+///
+/// # Errors
+/// An `InvalidInput` error naming what is there.
+pub fn check_replaceable(path: &Path) -> std::io::Result<()> {
+    match fs::symlink_metadata(path) {
+        Ok(m) if !m.is_file() && !m.file_type().is_symlink() => Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            if m.is_dir() {
+                "is a directory"
+            } else {
+                "is not a regular file (a device, pipe or socket): nendo writes files \
+                     atomically, by renaming, and will not replace it"
+            },
+        )),
+        _ => Ok(()),
     }
 }
 
@@ -367,6 +404,7 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ModelError> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "model".into());
     let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
+    check_replaceable(path).map_err(io)?;
     let result = (|| {
         let mut f = fs::File::create(&tmp)?;
         f.write_all(bytes)?;

@@ -51,6 +51,7 @@ impl RgbaImage {
             .unwrap_or_default();
         let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
         let result = (|| -> std::io::Result<()> {
+            crate::model::check_replaceable(path)?;
             let file = std::fs::File::create(&tmp)?;
             let mut out = std::io::BufWriter::new(file);
             self.write_png(&mut out).map_err(std::io::Error::other)?;

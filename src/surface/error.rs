@@ -32,7 +32,10 @@ pub enum SurfaceError {
         got: usize,
     },
     /// The grid would hold more control points than this build can index.
-    #[error("a {patches_u} x {patches_v} grid is too large")]
+    #[error(
+        "a {patches_u} x {patches_v} grid is too large (at most {} patches)",
+        crate::surface::grid::MAX_PATCHES
+    )]
     TooLarge {
         /// Patches along u.
         patches_u: usize,

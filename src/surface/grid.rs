@@ -33,8 +33,10 @@ use super::error::SurfaceError;
 use super::patch::{Patch, PatchPoints};
 use super::topology::Topology;
 
-/// Largest number of patches a grid may have.
-pub const MAX_PATCHES: usize = 1 << 20;
+/// Largest number of patches a grid may have: 65 536 (256 × 256), about 0.5 GB with its
+/// samples and groups — far past any interactive model (the paper's largest is 128), and a
+/// clear error rather than an allocation failure for a mistyped count.
+pub const MAX_PATCHES: usize = 1 << 16;
 
 /// A grid of bicubic Bezier patches on a shared control net.
 #[derive(Debug, Clone, PartialEq)]

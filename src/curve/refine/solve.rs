@@ -201,12 +201,24 @@ pub(super) struct Solved {
     pub(super) joined: Vec<bool>,
 }
 
+/// Most control points a refinement solves for at once.
+pub const MAX_REFINE_POINTS: usize = 256;
+
 /// The refined control points and how well they meet the terms.
 pub(super) fn refine_model(
     model: &Model,
     mode: Similarity,
     constraints: &[Constraint],
 ) -> Result<Solved, CurveError> {
+    // The solve is dense (SVDs of the stacked rows): its cost grows as the cube of the
+    // unknowns, about a second at this size. Longer curves are refined in pieces.
+    let unknowns = model.original().len();
+    if unknowns > 2 * MAX_REFINE_POINTS {
+        return Err(CurveError::Refine(format!(
+            "{} control points is too many to refine at once (at most {MAX_REFINE_POINTS}); refine the curve in pieces",
+            unknowns / 2
+        )));
+    }
     let sims = similarity_rows(model, mode)?;
     let (hard, joined) = hard_rows(model, constraints)?;
     let v0 = model.original();

@@ -1,0 +1,111 @@
+//! Absurd sizes and odd targets get a clear error from every subcommand that takes them —
+//! never an allocation failure, a panic, hours of work, or a device replaced by a file.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn nendo(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_nendo"))
+        .args(args)
+        .output()
+        .expect("the nendo binary runs")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("nendo-limits-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+fn refused(out: &Output, want: &str) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && out.status.code() != Some(101),
+        "expected a clean failure, got {:?}: {err}",
+        out.status
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains(want), "expected {want:?} in {err}");
+}
+
+#[test]
+fn grids_beyond_the_patch_limit_are_refused() {
+    let dir = temp_dir("grid");
+    let out = dir.join("o.json");
+    let o = out.to_str().expect("utf-8 path");
+    for patches in ["1000x1000", "6x100000"] {
+        let r = nendo(&[
+            "sculpt",
+            "--primitive",
+            "plane",
+            "--patches",
+            patches,
+            "--out",
+            o,
+        ]);
+        refused(&r, "too large");
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn a_fifo_is_not_replaced_by_an_atomic_write() {
+    let dir = temp_dir("fifo");
+    let fifo = dir.join("pipe");
+    let made = Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        panic!("mkfifo (coreutils) is needed for this test");
+    }
+    let p = fifo.to_str().expect("utf-8 path");
+    let r = nendo(&["sculpt", "--primitive", "plane", "--out", p]);
+    refused(&r, "not a regular file");
+    let kind = std::fs::symlink_metadata(&fifo)
+        .expect("still there")
+        .file_type();
+    assert!(!kind.is_file(), "the pipe was replaced by a file");
+}
+
+#[test]
+fn counts_and_durations_beyond_use_are_refused() {
+    let dir = temp_dir("counts");
+    let model = dir.join("m.json");
+    let m = model.to_str().expect("utf-8 path");
+    assert!(
+        nendo(&["sculpt", "--primitive", "sphere", "--out", m])
+            .status
+            .success()
+    );
+    refused(&nendo(&["check", m, "--samples", "4294967296"]), "at most");
+    let o = dir.join("t.trace");
+    let t = o.to_str().expect("utf-8 path");
+    for s in ["1e300", "1e19", "100000"] {
+        let r = nendo(&["record", "--profile", "mouse", "--seconds", s, "--out", t]);
+        refused(&r, "--seconds");
+    }
+    let horse = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/figures/horse.json");
+    let f = dir.join("f.json");
+    let r = nendo(&[
+        "figure",
+        "fit",
+        horse,
+        "--out",
+        f.to_str().expect("utf-8 path"),
+        "--contour-samples",
+        "18446744073709551615",
+    ]);
+    refused(&r, "--contour-samples");
+    let torso = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/shapes/torso.json");
+    let mesh = dir.join("s.obj");
+    let r = nendo(&[
+        "figure",
+        "shape",
+        torso,
+        "--mesh",
+        mesh.to_str().expect("utf-8 path"),
+        "--samples",
+        "18446744073709551615",
+    ]);
+    refused(&r, "--samples");
+    assert!(!f.exists() && !mesh.exists());
+}

@@ -672,23 +672,48 @@ mod tests {
     use crate::mesh::{Tessellation, tessellate};
     use crate::surface::{Primitive, PrimitiveParams};
 
+    /// The default plane seen from the iso view in an 800 × 600 viewport.
+    struct PlaneScene {
+        patches: Vec<PatchPoints>,
+        mesh: TriMesh,
+        camera: OrbitCamera,
+        viewport: Vec2,
+    }
+
+    impl PlaneScene {
+        fn new() -> Self {
+            let patches = Primitive::Plane
+                .build(&PrimitiveParams::default())
+                .expect("plane")
+                .patches();
+            let mesh = tessellate(&patches, &Tessellation::DISPLAY);
+            let viewport = Vec2::new(800.0, 600.0);
+            let camera =
+                OrbitCamera::framing(ViewPreset::Iso, &mesh.positions, viewport.x / viewport.y);
+            Self {
+                patches,
+                mesh,
+                camera,
+                viewport,
+            }
+        }
+
+        fn context(&self) -> ToolContext<'_> {
+            ToolContext {
+                camera: &self.camera,
+                viewport: self.viewport,
+                patches: &self.patches,
+                mesh: &self.mesh,
+                curves: &[],
+            }
+        }
+    }
+
     #[test]
     fn a_click_on_the_plane_pushes_it_away_from_the_viewer() {
-        let patches = Primitive::Plane
-            .build(&PrimitiveParams::default())
-            .expect("plane")
-            .patches();
-        let mesh = tessellate(&patches, &Tessellation::DISPLAY);
-        let viewport = Vec2::new(800.0, 600.0);
-        let camera =
-            OrbitCamera::framing(ViewPreset::Iso, &mesh.positions, viewport.x / viewport.y);
-        let ctx = ToolContext {
-            camera: &camera,
-            viewport,
-            patches: &patches,
-            mesh: &mesh,
-            curves: &[],
-        };
+        let scene = PlaneScene::new();
+        let ctx = scene.context();
+        let viewport = scene.viewport;
         let settings = ToolSettings::default();
         let mut state = ToolState::default();
         let centre = viewport / 2.0;
@@ -732,21 +757,9 @@ mod tests {
 
     #[test]
     fn the_wheel_never_turns_a_dragged_push_into_a_pull() {
-        let patches = Primitive::Plane
-            .build(&PrimitiveParams::default())
-            .expect("plane")
-            .patches();
-        let mesh = tessellate(&patches, &Tessellation::DISPLAY);
-        let viewport = Vec2::new(800.0, 600.0);
-        let camera =
-            OrbitCamera::framing(ViewPreset::Iso, &mesh.positions, viewport.x / viewport.y);
-        let ctx = ToolContext {
-            camera: &camera,
-            viewport,
-            patches: &patches,
-            mesh: &mesh,
-            curves: &[],
-        };
+        let scene = PlaneScene::new();
+        let ctx = scene.context();
+        let viewport = scene.viewport;
         // A deep click depth, a short drag: the drag's depth is far below the panel's.
         let settings = ToolSettings {
             depth: 3.0,

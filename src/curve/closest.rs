@@ -556,18 +556,22 @@ pub fn closest_bezier_with_stats<P: Point>(
     let m = magnitude(pts, q);
     let slack = WITHIN_SLACK * m;
     let s = rescale_for(m);
-    let (u, point, distance) = if s == 1.0 {
-        let u = with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(pts, q, r_max + slack, stats), None)?;
-        let point = curve.eval(u);
-        (u, point, (point - q).length())
+    let scaled: Vec<P>;
+    let (search, qs) = if s == 1.0 {
+        (pts, q)
     } else {
-        let scaled: Vec<P> = pts.iter().map(|&c| c * s).collect();
-        let qs = q * s;
-        let u = with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(&scaled, qs, (r_max + slack) * s, stats), None)?;
+        scaled = pts.iter().map(|&c| c * s).collect();
+        (&scaled[..], q * s)
+    };
+    let u = with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(search, qs, (r_max + slack) * s, stats), None)?;
+    let (point, distance) = if s == 1.0 {
+        let point = curve.eval(u);
+        (point, (point - q).length())
+    } else {
         // Evaluated on the scaled copy too: de Casteljau's differences of huge coordinates
         // could overflow on the original.
-        let ps = bernstein::eval(&scaled, u);
-        (u, ps * (1.0 / s), (ps - qs).length() / s)
+        let ps = bernstein::eval(search, u);
+        (ps * (1.0 / s), (ps - qs).length() / s)
     };
     (distance <= r_max + slack).then_some(Nearest { u, point, distance })
 }

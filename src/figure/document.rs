@@ -105,33 +105,10 @@ impl FigureDocument {
     /// [`FigureError::Format`] (naming the member) for malformed JSON or members,
     /// [`FigureError::Curve`] for a bad curve, and the validation errors of the parts.
     pub fn from_json(text: &str) -> Result<Self, FigureError> {
-        let v: Value = serde_json::from_str(text)
-            .map_err(|e| FigureError::Format(format!("not valid JSON: {e}")))?;
+        let v = header_checked(text, "figure", FORMAT, VERSION)?;
         let obj = v
             .as_object()
             .ok_or_else(|| FigureError::Format("a figure file must be a JSON object".into()))?;
-        match obj.get("format").and_then(Value::as_str) {
-            Some(FORMAT) => {}
-            Some(other) => {
-                return Err(FigureError::Format(format!(
-                    "\"format\" is {other:?}; expected {FORMAT:?}"
-                )));
-            }
-            None => {
-                return Err(FigureError::Format(format!(
-                    "missing \"format\": {FORMAT:?}"
-                )));
-            }
-        }
-        match obj.get("version").and_then(Value::as_u64) {
-            Some(VERSION) => {}
-            Some(v) => {
-                return Err(FigureError::Format(format!(
-                    "version {v} is not supported (this build reads {VERSION})"
-                )));
-            }
-            None => return Err(FigureError::Format("missing \"version\"".into())),
-        }
         let threshold = match obj.get("threshold") {
             None => DEFAULT_THRESHOLD,
             Some(t) => number(t, "threshold")?,
@@ -266,6 +243,48 @@ impl FigureDocument {
         s.push('\n');
         s
     }
+}
+
+/// Parses `text` as JSON and checks its `format` and `version` members (the header every
+/// nendo figure and shape file starts with); `kind` names the file in errors.
+///
+/// # Errors
+/// [`FigureError::Format`] for text that is not JSON, not an object, of another format, or
+/// of another version.
+pub(crate) fn header_checked(
+    text: &str,
+    kind: &str,
+    format: &str,
+    version: u64,
+) -> Result<Value, FigureError> {
+    let v: Value = serde_json::from_str(text)
+        .map_err(|e| FigureError::Format(format!("not valid JSON: {e}")))?;
+    let obj = v
+        .as_object()
+        .ok_or_else(|| FigureError::Format(format!("a {kind} file must be a JSON object")))?;
+    match obj.get("format").and_then(Value::as_str) {
+        Some(f) if f == format => {}
+        Some(other) => {
+            return Err(FigureError::Format(format!(
+                "\"format\" is {other:?}; expected {format:?}"
+            )));
+        }
+        None => {
+            return Err(FigureError::Format(format!(
+                "missing \"format\": {format:?}"
+            )));
+        }
+    }
+    match obj.get("version").and_then(Value::as_u64) {
+        Some(v) if v == version => {}
+        Some(v) => {
+            return Err(FigureError::Format(format!(
+                "version {v} is not supported (this build reads {version})"
+            )));
+        }
+        None => return Err(FigureError::Format("missing \"version\"".into())),
+    }
+    Ok(v)
 }
 
 /// Reads a list of 2D curves: a JSON array of curves, or an object with a `"curves"` array

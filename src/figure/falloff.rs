@@ -12,6 +12,8 @@
 //! iso-curve at the threshold 0.5, as the seed says. The polynomial is even, so it is evaluated
 //! in `s = ρ² = r² / R²` without a square root: `f = 1 + s (−22/9 + s (17/9 − 4/9 s))`.
 
+use crate::curve::Point;
+
 /// The default threshold `T` of the iso-curve `Σ q_i f_i = T` (seed 000 eq. (9)).
 pub const DEFAULT_THRESHOLD: f64 = 0.5;
 
@@ -54,6 +56,39 @@ pub fn density_and_ds(s: f64) -> (f64, f64) {
     } else {
         (0.0, 0.0)
     }
+}
+
+/// Distance from `x` to the level set `F = t` of a density field, by Newton steps along the
+/// gradient (`X ← X − (F − t) ∇F / |∇F|²`, each step at most `size / 20`); `None` when the
+/// iteration does not settle on the level set (no density gradient near `x`). `field` gives
+/// `(F, ∇F)`; the same iteration serves the 2D figures and the 3D shapes.
+pub fn distance_to_level<P: Point>(
+    field: impl Fn(P) -> (f64, P),
+    t: f64,
+    x: P,
+    size: f64,
+) -> Option<f64> {
+    let max_step = (size / 20.0).max(1e-12);
+    let mut q = x;
+    for _ in 0..60 {
+        let (f, g) = field(q);
+        let g2 = g.length_squared();
+        if g2 <= 1e-300 {
+            return None;
+        }
+        let step = g * ((f - t) / g2);
+        let len = step.length();
+        q = q - if len > max_step {
+            step * (max_step / len)
+        } else {
+            step
+        };
+        if len <= 1e-10 * size.max(1e-300) {
+            return Some((q - x).length());
+        }
+    }
+    let (f, g) = field(q);
+    ((f - t).abs() <= 1e-9 * g.length().max(1e-300) * size).then(|| (q - x).length())
 }
 
 #[cfg(test)]

@@ -490,28 +490,7 @@ pub fn measure(
 /// does not settle on the curve (no density gradient near `p`).
 #[must_use]
 pub fn distance_to_iso(figure: &Figure, p: DVec2, size: f64) -> Option<f64> {
-    let t = figure.threshold;
-    let max_step = (size / 20.0).max(1e-12);
-    let mut q = p;
-    for _ in 0..60 {
-        let (f, g) = figure.field_and_gradient(q);
-        let g2 = g.length_squared();
-        if g2 <= 1e-300 {
-            return None;
-        }
-        let step = g * ((f - t) / g2);
-        let len = step.length();
-        q -= if len > max_step {
-            step * (max_step / len)
-        } else {
-            step
-        };
-        if len <= 1e-10 * size.max(1e-300) {
-            return Some(q.distance(p));
-        }
-    }
-    let (f, g) = figure.field_and_gradient(q);
-    ((f - t).abs() <= 1e-9 * g.length().max(1e-300) * size).then(|| q.distance(p))
+    super::falloff::distance_to_level(|q| figure.field_and_gradient(q), figure.threshold, p, size)
 }
 
 fn check(options: &FitOptions) -> Result<(), FigureError> {

@@ -184,28 +184,7 @@ impl Shape {
     /// does not settle on the surface (no density gradient near `x`).
     #[must_use]
     pub fn distance_to_surface(&self, x: DVec3, size: f64) -> Option<f64> {
-        let t = self.threshold;
-        let max_step = (size / 20.0).max(1e-12);
-        let mut q = x;
-        for _ in 0..60 {
-            let (f, g) = self.field_and_gradient(q);
-            let g2 = g.length_squared();
-            if g2 <= 1e-300 {
-                return None;
-            }
-            let step = g * ((f - t) / g2);
-            let len = step.length();
-            q -= if len > max_step {
-                step * (max_step / len)
-            } else {
-                step
-            };
-            if len <= 1e-10 * size.max(1e-300) {
-                return Some(q.distance(x));
-            }
-        }
-        let (f, g) = self.field_and_gradient(q);
-        ((f - t).abs() <= 1e-9 * g.length().max(1e-300) * size).then(|| q.distance(x))
+        super::falloff::distance_to_level(|q| self.field_and_gradient(q), self.threshold, x, size)
     }
 }
 

@@ -46,7 +46,8 @@ use crate::curve::edit::{GrabMethod, GrabOptions};
 use crate::curve::json::{DynCurve, curve_from_json, curve_to_json};
 
 use super::document::{
-    array, contour_from_json, curves_from_json, curves_to_json, number, point, points_json,
+    array, contour_from_json, curves_from_json, curves_to_json, header_checked, number, point,
+    points_json,
 };
 use super::error::FigureError;
 use super::falloff::DEFAULT_THRESHOLD;
@@ -80,33 +81,10 @@ impl ShapeDocument {
     /// [`FigureError::Format`] naming the member for malformed JSON or members, and the
     /// validation errors of the parts (contours, curves, metaballs).
     pub fn from_json(text: &str) -> Result<Self, FigureError> {
-        let v: Value = serde_json::from_str(text)
-            .map_err(|e| FigureError::Format(format!("not valid JSON: {e}")))?;
+        let v = header_checked(text, "shape", FORMAT, VERSION)?;
         let obj = v
             .as_object()
             .ok_or_else(|| FigureError::Format("a shape file must be a JSON object".into()))?;
-        match obj.get("format").and_then(Value::as_str) {
-            Some(FORMAT) => {}
-            Some(other) => {
-                return Err(FigureError::Format(format!(
-                    "\"format\" is {other:?}; expected {FORMAT:?}"
-                )));
-            }
-            None => {
-                return Err(FigureError::Format(format!(
-                    "missing \"format\": {FORMAT:?}"
-                )));
-            }
-        }
-        match obj.get("version").and_then(Value::as_u64) {
-            Some(VERSION) => {}
-            Some(v) => {
-                return Err(FigureError::Format(format!(
-                    "version {v} is not supported (this build reads {VERSION})"
-                )));
-            }
-            None => return Err(FigureError::Format("missing \"version\"".into())),
-        }
         let threshold = match obj.get("threshold") {
             None | Some(Value::Null) => DEFAULT_THRESHOLD,
             Some(t) => number(t, "threshold")?,

@@ -10,14 +10,9 @@ use glam::{DVec3, Vec3};
 use nendo::mesh::{MeshFormat, Tessellation, TriMesh, save_mesh, tessellate};
 use nendo::model::Model;
 use nendo::surface::{Op, Primitive, PrimitiveParams, deform};
+use crate::support::temp_dir;
 
 const TOLERANCE: f64 = 1e-3;
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("nendo-export-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
 
 /// The paper's sphere (8 × 4 patches, radius 3, two poles), welded.
 fn sphere_mesh() -> TriMesh {

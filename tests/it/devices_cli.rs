@@ -9,16 +9,7 @@ use std::time::{Duration, Instant};
 use nendo_devices::Trace;
 use nendo_devices::cyberglove::SensorCount;
 use nendo_devices::emulator::{CyberGloveModel, FastrakModel, PtyEmulator};
-
-fn nendo() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_nendo"))
-}
-
-fn temp(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("nendo-cli-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use crate::support::{nendo, temp_dir as temp};
 
 #[test]
 fn devices_lists_ports_hid_and_profiles() {

@@ -3,20 +3,7 @@
 
 use std::path::PathBuf;
 use std::process::{Command, Output};
-
-fn nendo(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nendo"))
-        .args(args)
-        .output()
-        .expect("the nendo binary runs")
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("nendo-limits-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
-}
+use crate::support::{run as nendo, temp_dir};
 
 fn refused(out: &Output, want: &str) {
     let err = String::from_utf8_lossy(&out.stderr);

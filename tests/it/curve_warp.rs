@@ -8,19 +8,15 @@ use nendo::curve::{BSpline, Bezier, Curve, Point};
 use nendo::surface::{Grid, Primitive, PrimitiveParams};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-
-fn random_point<P: Point>(rng: &mut ChaCha8Rng, scale: f64) -> P {
-    let c: Vec<f64> = (0..P::DIM).map(|_| rng.gen_range(-scale..scale)).collect();
-    P::from_coords(&c).expect("DIM coordinates")
-}
+use crate::support::random;
 
 fn random_curve<P: Point>(rng: &mut ChaCha8Rng) -> Curve<P> {
     let degree = rng.gen_range(1..=5);
-    let pts: Vec<P> = (0..=degree).map(|_| random_point(rng, 2.0)).collect();
+    let pts: Vec<P> = (0..=degree).map(|_| random::point(rng, 2.0)).collect();
     if rng.gen_bool(0.3) && degree >= 2 {
         let more: Vec<P> = pts
             .iter()
-            .chain(std::iter::once(&random_point(rng, 2.0)))
+            .chain(std::iter::once(&random::point(rng, 2.0)))
             .copied()
             .collect();
         Curve::BSpline(BSpline::clamped_uniform(degree, more).expect("valid"))
@@ -46,7 +42,7 @@ fn mapped<P: Point>(c: &Curve<P>, f: impl Fn(P) -> P) -> Curve<P> {
 
 fn jiggled<P: Point>(rng: &mut ChaCha8Rng, c: &Curve<P>) -> Curve<P> {
     let moves: Vec<P> = (0..c.points().len())
-        .map(|_| random_point(rng, 0.7))
+        .map(|_| random::point(rng, 0.7))
         .collect();
     let mut i = 0;
     let pts: Vec<P> = c
@@ -74,7 +70,7 @@ fn unchanged_curves_warp_nothing() {
             .collect();
         let warp = CurveWarp::still(&curves, WarpParams::default()).expect("valid");
         for _ in 0..20 {
-            let x: DVec2 = random_point(&mut rng, 4.0);
+            let x: DVec2 = random::point(&mut rng, 4.0);
             assert_eq!(warp.warp_point(x), x);
         }
         // Also when the pairs are given explicitly (equal curves are recognised as still).
@@ -83,7 +79,7 @@ fn unchanged_curves_warp_nothing() {
             WarpParams::default(),
         )
         .expect("valid");
-        let xs: Vec<DVec2> = (0..20).map(|_| random_point(&mut rng, 4.0)).collect();
+        let xs: Vec<DVec2> = (0..20).map(|_| random::point(&mut rng, 4.0)).collect();
         assert_eq!(warp.bind(&xs).apply(&warp).expect("same curves"), xs);
     }
 }
@@ -166,13 +162,13 @@ fn degree_one_curves_are_beier_neely_line_warping() {
     for _ in 0..40 {
         let lines: Vec<(DVec2, DVec2, DVec2, DVec2)> = (0..3)
             .map(|_| {
-                let p: DVec2 = random_point(&mut rng, 2.0);
-                let q: DVec2 = random_point(&mut rng, 2.0);
+                let p: DVec2 = random::point(&mut rng, 2.0);
+                let q: DVec2 = random::point(&mut rng, 2.0);
                 (
                     p,
                     q,
-                    p + random_point::<DVec2>(&mut rng, 0.5),
-                    q + random_point::<DVec2>(&mut rng, 0.5),
+                    p + random::point::<DVec2>(&mut rng, 0.5),
+                    q + random::point::<DVec2>(&mut rng, 0.5),
                 )
             })
             .collect();
@@ -187,7 +183,7 @@ fn degree_one_curves_are_beier_neely_line_warping() {
             .collect();
         let warp = CurveWarp::new(pairs, params).expect("valid");
         for _ in 0..50 {
-            let x: DVec2 = random_point(&mut rng, 3.0);
+            let x: DVec2 = random::point(&mut rng, 3.0);
             // Within every line's perpendicular strip the two constructions agree (beyond an
             // end Beier and Neely extrapolate the line, nendo carries the end's frame).
             let inside = lines.iter().all(|&(p, q, _, _)| {
@@ -212,14 +208,14 @@ fn a_rigid_motion_of_all_curves_moves_every_point_by_it() {
     for _ in 0..30 {
         let originals: Vec<Curve<DVec2>> = (0..3).map(|_| random_curve(&mut rng)).collect();
         let rot = DMat2::from_angle(rng.gen_range(-3.0..3.0));
-        let shift: DVec2 = random_point(&mut rng, 2.0);
+        let shift: DVec2 = random::point(&mut rng, 2.0);
         let motion = |p: DVec2| rot * p + shift;
         let pairs = originals
             .iter()
             .map(|c| (c.clone(), mapped(c, motion)))
             .collect();
         let warp = CurveWarp::new(pairs, WarpParams::default()).expect("valid");
-        let xs: Vec<DVec2> = (0..30).map(|_| random_point(&mut rng, 4.0)).collect();
+        let xs: Vec<DVec2> = (0..30).map(|_| random::point(&mut rng, 4.0)).collect();
         let bound = warp.bind(&xs).apply(&warp).expect("same curves");
         for (x, b) in xs.iter().zip(&bound) {
             let direct = warp.warp_point(*x);
@@ -407,7 +403,7 @@ fn space_curves_carry_points_by_rotation_minimising_frames() {
         let originals: Vec<Curve<DVec3>> = (0..2).map(|_| random_curve(&mut rng)).collect();
         let moved0 = jiggled(&mut rng, &originals[0]);
         let mut warp = CurveWarp::still(&originals, WarpParams::default()).expect("valid");
-        let xs: Vec<DVec3> = (0..40).map(|_| random_point(&mut rng, 3.0)).collect();
+        let xs: Vec<DVec3> = (0..40).map(|_| random::point(&mut rng, 3.0)).collect();
         let bound = warp.bind(&xs);
         assert_eq!(bound.apply(&warp).expect("same"), xs);
         warp.set_deformed(0, moved0.clone()).expect("same domain");
@@ -427,7 +423,7 @@ fn space_curves_carry_points_by_rotation_minimising_frames() {
             assert!((warp.warp_point(x) - want).length() < 1e-9);
         }
         // Translating every curve translates every point.
-        let shift: DVec3 = random_point(&mut rng, 2.0);
+        let shift: DVec3 = random::point(&mut rng, 2.0);
         let pairs = originals
             .iter()
             .map(|c| (c.clone(), mapped(c, |p| p + shift)))

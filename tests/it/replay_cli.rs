@@ -7,20 +7,7 @@ use nendo::surface::{Primitive, PrimitiveParams, Regulation};
 use nendo_devices::Trace;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn nendo(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_nendo"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("nendo-replay-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::support::{run as nendo, temp_dir};
 
 fn shipped(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))

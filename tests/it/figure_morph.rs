@@ -8,6 +8,7 @@ use nendo::figure::iso::polyline_distance;
 use nendo::figure::morph::{Morph, MorphOptions};
 use nendo::figure::picture::{PictureOptions, Scene, draw};
 use nendo::figure::{FigureDocument, Rgb, View};
+use crate::support::temp_dir as scratch;
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -17,13 +18,6 @@ fn data(name: &str) -> PathBuf {
 
 fn load(name: &str) -> FigureDocument {
     FigureDocument::from_json(&std::fs::read_to_string(data(name)).unwrap()).unwrap()
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("nendo-figure-morph-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 #[test]

@@ -2,13 +2,12 @@
 //! and golden-section polish, no clipping), on more than 10 000 random cases with fixed seeds,
 //! and the hard cases by name.
 
-mod support;
-
 use glam::{DVec2, DVec3};
 use nendo::curve::{BSpline, Bezier, Curve, CurveSet, Point, pick};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use support::reference;
+use crate::support::reference;
+use crate::support::random;
 
 /// Relative distance tolerance of the issue: 1e-9 of the distance (or of the curve's unit scale
 /// where the distance is below one).
@@ -16,59 +15,13 @@ fn tol(d: f64) -> f64 {
     1e-9 * d.max(1.0)
 }
 
-fn random_point<P: Point>(rng: &mut ChaCha8Rng, scale: f64) -> P {
-    let c: Vec<f64> = (0..P::DIM).map(|_| rng.gen_range(-scale..scale)).collect();
-    P::from_coords(&c).expect("DIM coordinates")
-}
-
-fn random_bezier<P: Point>(rng: &mut ChaCha8Rng, degree: usize) -> Curve<P> {
-    Curve::Bezier(Bezier::new(
-        (0..=degree).map(|_| random_point(rng, 1.0)).collect(),
-    ))
-}
-
-fn random_bspline<P: Point>(rng: &mut ChaCha8Rng, degree: usize) -> Curve<P> {
-    let n = degree + 1 + rng.gen_range(0..5);
-    let clamped = rng.gen_bool(0.5);
-    let mut knots: Vec<f64> = (0..n + degree + 1)
-        .map(|_| rng.gen_range(0.0..1.0))
-        .collect();
-    knots.sort_by(f64::total_cmp);
-    if clamped {
-        for k in knots.iter_mut().take(degree + 1) {
-            *k = 0.0;
-        }
-        for k in knots.iter_mut().skip(n) {
-            *k = 1.0;
-        }
-    }
-    // Occasionally a repeated interior knot.
-    if rng.gen_bool(0.3) && n > degree + 1 {
-        let i = degree + 1;
-        knots[i + 1] = knots[i];
-    }
-    let pts = (0..n).map(|_| random_point(rng, 1.0)).collect();
-    match BSpline::try_new(degree, knots, pts) {
-        Ok(s) => Curve::BSpline(s),
-        Err(_) => random_bezier(rng, degree),
-    }
-}
-
-fn random_curve<P: Point>(rng: &mut ChaCha8Rng, degree: usize) -> Curve<P> {
-    if rng.gen_bool(0.3) {
-        random_bspline(rng, degree.min(6))
-    } else {
-        random_bezier(rng, degree)
-    }
-}
-
 fn check_closest<P: Point>(rng: &mut ChaCha8Rng, cases: usize) -> usize {
     let mut checked = 0;
     for case in 0..cases {
         let degree = 1 + case % 9;
-        let c: Curve<P> = random_curve(rng, degree);
+        let c: Curve<P> = random::curve(rng, degree);
         let spread = if rng.gen_bool(0.2) { 5.0 } else { 1.5 };
-        let q: P = random_point(rng, spread);
+        let q: P = random::point(rng, spread);
         let (u_ref, d_ref) = reference::closest(&c, q);
         let rmax = if rng.gen_bool(0.4) {
             rng.gen_range(0.0..2.0)
@@ -129,8 +82,8 @@ fn pick_matches_reference() {
         let curves: Vec<Curve<DVec2>> = (0..k)
             .map(|_| {
                 let deg = rng.gen_range(1..=9);
-                let mut c = random_curve::<DVec2>(&mut rng, deg);
-                let shift = random_point::<DVec2>(&mut rng, 6.0);
+                let mut c = random::curve::<DVec2>(&mut rng, deg);
+                let shift = random::point::<DVec2>(&mut rng, 6.0);
                 c = match c {
                     Curve::Bezier(b) => {
                         Curve::Bezier(Bezier::new(b.points().iter().map(|&p| p + shift).collect()))
@@ -147,7 +100,7 @@ fn pick_matches_reference() {
                 c
             })
             .collect();
-        let q: DVec2 = random_point(&mut rng, 7.0);
+        let q: DVec2 = random::point(&mut rng, 7.0);
         let refs: Vec<f64> = curves.iter().map(|c| reference::closest(c, q).1).collect();
         let best = refs.iter().copied().fold(f64::INFINITY, f64::min);
         let rmax = if case % 3 == 0 {
@@ -182,13 +135,13 @@ fn sphere_intervals_match_reference() {
     for case in 0..2000 {
         let degree = 1 + case % 9;
         let (ok, amb) = if case % 2 == 0 {
-            let c: Curve<DVec2> = random_curve(&mut rng, degree);
-            let q: DVec2 = random_point(&mut rng, 1.0);
+            let c: Curve<DVec2> = random::curve(&mut rng, degree);
+            let q: DVec2 = random::point(&mut rng, 1.0);
             let r = rng.gen_range(0.05..1.5);
             compare_sphere(&c, q, r)
         } else {
-            let c: Curve<DVec3> = random_curve(&mut rng, degree);
-            let q: DVec3 = random_point(&mut rng, 1.0);
+            let c: Curve<DVec3> = random::curve(&mut rng, degree);
+            let q: DVec3 = random::point(&mut rng, 1.0);
             let r = rng.gen_range(0.05..1.5);
             compare_sphere(&c, q, r)
         };
@@ -230,9 +183,9 @@ fn ray_matches_reference() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x5eed_0004);
     for case in 0..1500 {
         let degree = 1 + case % 9;
-        let c: Curve<DVec3> = random_curve(&mut rng, degree);
-        let o: DVec3 = random_point(&mut rng, 3.0);
-        let d: DVec3 = random_point(&mut rng, 1.0);
+        let c: Curve<DVec3> = random::curve(&mut rng, degree);
+        let o: DVec3 = random::point(&mut rng, 3.0);
+        let d: DVec3 = random::point(&mut rng, 1.0);
         if d.length() < 1e-3 {
             continue;
         }
@@ -471,10 +424,10 @@ fn extreme_magnitudes_give_the_unit_scale_answers_scaled() {
         for _ in 0..100 {
             let c: Bezier<DVec2> = Bezier::new(
                 (0..4)
-                    .map(|_| random_point::<DVec2>(&mut rng, 1.0))
+                    .map(|_| random::point::<DVec2>(&mut rng, 1.0))
                     .collect(),
             );
-            let q: DVec2 = random_point(&mut rng, 1.5);
+            let q: DVec2 = random::point(&mut rng, 1.5);
             let unit = Curve::from(c.clone()).closest(q, f64::INFINITY).unwrap();
             let big = Bezier::new(c.points().iter().map(|&p| p * scale).collect());
             let n = Curve::from(big.clone())

@@ -3,17 +3,7 @@
 use serde_json::Value;
 use std::path::PathBuf;
 use std::process::Command;
-
-fn nendo() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_nendo"))
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("nendo-cli-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::support::{nendo, temp_dir};
 
 fn check(path: &PathBuf) -> Value {
     let out = nendo().arg("check").arg(path).output().unwrap();

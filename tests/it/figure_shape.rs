@@ -14,6 +14,7 @@ use nendo::curve::warp::WarpParams;
 use nendo::figure::marching::{MeshOptions, iso_surface};
 use nendo::figure::shape::{ShapeFitReport, deform, measure_sections};
 use nendo::figure::{Contour, Section, Shape, ShapeDocument, ShapeFitOptions, fit_sections};
+use crate::support::temp_dir as scratch;
 
 fn ellipse(a: f64, b: f64, n: usize) -> Contour {
     Contour::new(
@@ -275,12 +276,6 @@ fn nendo(args: &[&std::ffi::OsStr]) -> std::process::Output {
         .args(args)
         .output()
         .unwrap()
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("nendo-shape-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 #[test]

@@ -11,55 +11,15 @@ use nendo::curve::{BSpline, Bezier, Curve, CurveError, Point};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-
-fn random_point<P: Point>(rng: &mut ChaCha8Rng, scale: f64) -> P {
-    let c: Vec<f64> = (0..P::DIM).map(|_| rng.gen_range(-scale..scale)).collect();
-    P::from_coords(&c).expect("DIM coordinates")
-}
-
-fn random_bezier<P: Point>(rng: &mut ChaCha8Rng, degree: usize) -> Curve<P> {
-    Curve::Bezier(Bezier::new(
-        (0..=degree).map(|_| random_point(rng, 1.0)).collect(),
-    ))
-}
-
-/// A clamped or unclamped B-spline with random knots (some repeated).
-fn random_bspline<P: Point>(rng: &mut ChaCha8Rng, degree: usize) -> Curve<P> {
-    loop {
-        let n = degree + 1 + rng.gen_range(0..5);
-        let mut knots: Vec<f64> = (0..n + degree + 1)
-            .map(|_| rng.gen_range(0.0..1.0))
-            .collect();
-        knots.sort_by(f64::total_cmp);
-        if rng.gen_bool(0.6) {
-            for k in knots.iter_mut().take(degree + 1) {
-                *k = 0.0;
-            }
-            for k in knots.iter_mut().skip(n) {
-                *k = 1.0;
-            }
-        }
-        if rng.gen_bool(0.3) && n > degree + 1 {
-            knots[degree + 2] = knots[degree + 1];
-        }
-        let pts = (0..n).map(|_| random_point(rng, 1.0)).collect();
-        if let Ok(s) = BSpline::try_new(degree, knots, pts) {
-            return Curve::BSpline(s);
-        }
-    }
-}
+use crate::support::random;
 
 fn random_curve<P: Point>(rng: &mut ChaCha8Rng) -> Curve<P> {
     if rng.gen_bool(0.5) {
-        {
-            let d = rng.gen_range(1..=9);
-            random_bezier(rng, d)
-        }
+        let d = rng.gen_range(1..=9);
+        random::bezier(rng, d)
     } else {
-        {
-            let d = rng.gen_range(1..=5);
-            random_bspline(rng, d)
-        }
+        let d = rng.gen_range(1..=5);
+        random::bspline(rng, d)
     }
 }
 
@@ -101,7 +61,7 @@ fn derivative_weights_match_the_hodographs() {
             );
         }
     }
-    let c: Curve<DVec2> = random_bezier(&mut rng, 3);
+    let c: Curve<DVec2> = random::bezier(&mut rng, 3);
     assert!(matches!(
         control_weights(&c, 1.5, 0),
         Err(CurveError::OutOfDomain { .. })
@@ -112,7 +72,7 @@ fn derivative_weights_match_the_hodographs() {
 fn grab_case<P: Point>(rng: &mut ChaCha8Rng) -> usize {
     let c: Curve<P> = random_curve(rng);
     let u = random_u(rng, &c);
-    let delta: P = random_point(rng, 0.5);
+    let delta: P = random::point(rng, 0.5);
     let mut done = 0;
     for method in [
         GrabMethod::LargestWeight,
@@ -193,7 +153,7 @@ fn least_change_beats_every_other_exact_move() {
     for _ in 0..200 {
         let c: Curve<DVec3> = random_curve(&mut rng);
         let u = random_u(&mut rng, &c);
-        let delta: DVec3 = random_point(&mut rng, 1.0);
+        let delta: DVec3 = random::point(&mut rng, 1.0);
         let opts = |method| GrabOptions {
             method,
             keep_ends: false,
@@ -210,7 +170,7 @@ fn least_change_beats_every_other_exact_move() {
         assert!(change(&least) <= change(&single) * (1.0 + 1e-12));
         // Any other exact move: the least one plus a move of the control points that keeps C(u).
         let w = control_weights(&c, u, 0).expect("inside");
-        let extra: Vec<DVec3> = (0..w.len()).map(|_| random_point(&mut rng, 0.3)).collect();
+        let extra: Vec<DVec3> = (0..w.len()).map(|_| random::point(&mut rng, 0.3)).collect();
         let carried = extra
             .iter()
             .zip(&w)
@@ -348,14 +308,14 @@ fn tangent_edit_keeps_the_joint_collinear() {
     for _ in 0..200 {
         let c: Curve<DVec3> = {
             let d = rng.gen_range(2..=9);
-            random_bezier(&mut rng, d)
+            random::bezier(&mut rng, d)
         };
         let t = rng.gen_range(0.1..0.9);
         let (l, r) = split(&c, t).expect("inside");
         let (ql, q, qr) = joint(&l, &r).expect("a joint");
         for side in [Side::Left, Side::Right] {
             for follow in [Follow::KeepLength, Follow::KeepRatio] {
-                let target = q + random_point::<DVec3>(&mut rng, 1.0);
+                let target = q + random::point::<DVec3>(&mut rng, 1.0);
                 let (nl, nr) = tangent_edit(&l, &r, side, target, follow).expect("edit");
                 let (nql, nq, nqr) = joint(&nl, &nr).expect("still a joint");
                 assert_eq!(nq, q);
@@ -405,7 +365,7 @@ fn tangent_edit_keeps_the_joint_collinear() {
 fn split_bsplines_have_joints_too() {
     let mut rng = ChaCha8Rng::seed_from_u64(8006);
     let c = loop {
-        let c: Curve<DVec2> = random_bspline(&mut rng, 3);
+        let c: Curve<DVec2> = random::bspline(&mut rng, 3);
         if let Curve::BSpline(s) = &c
             && s.knots()[0] == s.knots()[3]
             && s.points().len() > 4
@@ -434,10 +394,10 @@ fn inserting_a_control_point_keeps_the_curve() {
         let c: Curve<DVec2> = if rng.gen_bool(0.5) {
             {
                 let d = rng.gen_range(1..=8);
-                random_bezier(&mut rng, d)
+                random::bezier(&mut rng, d)
             }
         } else {
-            random_bspline(&mut rng, 3)
+            random::bspline(&mut rng, 3)
         };
         let u = random_u(&mut rng, &c);
         let (new, k) = match insert_control_point(&c, u) {
@@ -492,7 +452,7 @@ fn edited_curves_round_trip_through_the_model_file() {
     for _ in 0..20 {
         let c3: Curve<DVec3> = random_curve(&mut rng);
         let u = random_u(&mut rng, &c3);
-        let delta: DVec3 = random_point(&mut rng, 0.5);
+        let delta: DVec3 = random::point(&mut rng, 0.5);
         let options = GrabOptions {
             method: GrabMethod::LeastChange,
             keep_ends: false,

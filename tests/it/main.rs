@@ -1,0 +1,33 @@
+//! nendo's integration tests, one binary: each module is one area (`cargo test --test it <module>::`).
+//! Shared helpers (the binary, temporary directories, near-equality) live in [`support`].
+
+mod support;
+mod closest_cli;
+mod curve_edit;
+mod curve_edit_cli;
+mod curve_properties;
+mod curve_queries;
+mod curve_refine;
+mod curve_refine_svg;
+mod curve_warp;
+mod devices_cli;
+mod export_roundtrip;
+mod figure_fit;
+mod figure_morph;
+mod figure_shape;
+mod figure_warp;
+mod hand_contact;
+mod hand_kinematics;
+mod hand_traces;
+mod limits_cli;
+mod model_cli;
+mod model_file;
+mod regulation_methods;
+mod regulation_strokes;
+mod render_cli;
+mod render_headless;
+mod replay_cli;
+mod replay_traces;
+mod shader_validation;
+mod surface_deform;
+mod surface_grid;

@@ -5,23 +5,25 @@
 //! patches kept tangent-continuous while they deform, and Bezier / B-spline curves queried by
 //! Bezier clipping. The geometry follows the four papers summarised in `shared/SPEC.md`.
 //!
-//! ## Parts, and which part may use which
+//! ## Crates, and which part may use which
+//!
+//! The geometry is its own crate, [`nendo_geom`], which depends on nothing of files, devices,
+//! GPU or UI; this crate re-exports its modules as [`curve`], [`surface`] and [`mesh`] and adds
+//! what the application needs around them. The device crate, `nendo-devices` (`devices/`),
+//! knows nothing of geometry. The compiler holds these boundaries; inside this crate the table
+//! below does.
 //!
 //! | part | what it is | may use |
 //! |---|---|---|
-//! | [`curve`] | Bernstein forms, Bezier and B-spline curves, closest point / pick / probe sphere / ray queries by Bezier clipping | glam |
-//! | [`surface`] | patch grids in five topologies, connected control-point groups, deformation by shape functions through the Bernstein inverse, G1 regulation, continuity measures | `curve`, glam |
-//! | [`model`] | the `nendo-model` JSON document (surface + curves), validated reading, atomic writing | `curve`, `surface`, serde |
-//! | [`mesh`] | tessellation of the exact patches within a tolerance, seam G1 error per vertex, ray picking, OBJ / STL / GLB writers | `curve`, `surface`, glam |
-//! | [`hand`] | the kinematic hand (bend angles → joint positions), contact of the fingertip capsule with the surface, the loop that turns device frames into push / pull / draw-a-line operations, the mouse as a hand, scripted traces | `surface`, `mesh` (ray picking), `nendo_devices` |
+//! | [`curve`], [`surface`], [`mesh`] | the geometry of `nendo-geom` re-exported, plus the curve file formats ([`curve::json`], [`curve::svg`]) and the OBJ / STL / GLB writers ([`mesh`]) | `nendo-geom`, serde, the file writer |
+//! | [`model`] | the `nendo-model` JSON document (surface + curves) and the sculpt operations, validated reading, safe writing | geometry, serde |
+//! | [`figure`] | 2D metacircle figures (fit, iso-curves, pictures, warping, morphing) and 3D metaball shapes fitted to sections (seed 000 §4), with their documents and pictures; it lives here, not in `nendo-geom`, because it reads and writes its own files and PNG/SVG pictures | geometry, serde, png |
+//! | [`hand`] | the kinematic hand (bend angles → joint positions), the contact of the fingertip capsule with the surface, the loop that turns device frames into displacement fields applied through `nendo-geom`'s deformation pipeline, the mouse as a hand, scripted traces; here because it joins devices and geometry | geometry, `nendo_devices` |
 //! | `render`, `app` | the wgpu renderer (CPU tessellation from `mesh`, drawn as clay) and the egui window; feature `gui` | everything above; nothing depends on them |
 //! | [`cli`] | the headless subcommands of the `nendo` binary | everything |
 //! | [`bench`] | the measurement suites behind `nendo bench` | everything |
 //!
-//! The rule the table encodes: **geometry (`curve`, `surface`) knows nothing of devices, the
-//! GPU, files or the UI**; the device crate (`nendo-devices`, in `devices/`) knows nothing of
-//! geometry; the application layers wire them together. The geometry modules never import a
-//! module below them in this table.
+//! No module imports one below it in this table.
 #![warn(missing_docs)]
 
 #[cfg(feature = "gui")]
@@ -35,4 +37,5 @@ pub mod mesh;
 pub mod model;
 #[cfg(feature = "gui")]
 pub mod render;
-pub mod surface;
+
+pub use nendo_geom::surface;

@@ -9,12 +9,12 @@
 //! The dimension of a curve is that of its points; all must agree. Everything is validated
 //! (finite numbers, counts, knots) with errors that say what is wrong.
 
-use super::any::Curve;
-use super::bezier::Bezier;
-use super::bspline::BSpline;
-use super::error::CurveError;
-use super::point::Point;
 use glam::{DVec2, DVec3};
+use nendo_geom::curve::BSpline;
+use nendo_geom::curve::Bezier;
+use nendo_geom::curve::Curve;
+use nendo_geom::curve::CurveError;
+use nendo_geom::curve::Point;
 use serde_json::{Value, json};
 
 /// A curve in 2D or in 3D.

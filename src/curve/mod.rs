@@ -1,30 +1,8 @@
-//! Curves: Bernstein forms, Bezier and B-spline curves in 2D and 3D, and the queries of SPEC §2
-//! (closest point within a radius, picking among many curves, probe-sphere intervals, closest
-//! point to a ray), all by Bezier clipping.
-//!
-//! Geometry only: this module uses nothing but glam and std.
+//! Curves: the geometry of [`nendo_geom::curve`] (re-exported here under the same names) and
+//! the two file formats curves travel in — the JSON objects of the batch protocols and model
+//! files ([`json`]) and SVG paths ([`svg`]).
 
-mod any;
-pub mod bernstein;
-mod bezier;
-mod bspline;
-pub mod clip;
-mod closest;
-pub mod edit;
-mod error;
+pub use nendo_geom::curve::*;
+
 pub mod json;
-pub mod point;
-mod ray;
-pub mod refine;
-mod sphere;
 pub mod svg;
-pub mod warp;
-
-pub use any::{Curve, CurveSet, Picked, check_radius, pick};
-pub use bezier::{Bezier, MAX_COORDINATE, MAX_DEGREE};
-pub use bspline::{BSpline, Segment};
-pub use closest::{ClipStats, Nearest, closest_bezier, closest_bezier_with_stats};
-pub use error::CurveError;
-pub use point::{Coeff, Point};
-pub use ray::{RayNearest, ray_closest_bezier, ray_closest_bezier_with_stats};
-pub use sphere::{sphere_function, sphere_intervals_bezier};

@@ -15,10 +15,10 @@
 //! Coordinates are written as they are; SVG's y axis points down, so [`SvgOptions::flip_y`]
 //! mirrors y on the way out for curves drawn with y up.
 
-use super::any::Curve;
-use super::bezier::Bezier;
-use super::error::CurveError;
 use glam::DVec2;
+use nendo_geom::curve::Bezier;
+use nendo_geom::curve::Curve;
+use nendo_geom::curve::CurveError;
 use std::fmt::Write as _;
 
 /// One subpath read from SVG path data.

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use super::glb::write_glb;
 use super::obj::write_obj;
 use super::stl::write_stl;
-use super::tessellate::TriMesh;
+use nendo_geom::mesh::TriMesh;
 
 /// What can go wrong when exporting a mesh.
 #[derive(Debug, thiserror::Error)]

@@ -8,7 +8,7 @@ use serde_json::json;
 use std::io::Write;
 
 use super::export::ExportError;
-use super::tessellate::TriMesh;
+use nendo_geom::mesh::TriMesh;
 
 const MAGIC: u32 = 0x4654_6C67; // "glTF"
 const CHUNK_JSON: u32 = 0x4E4F_534A; // "JSON"

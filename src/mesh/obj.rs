@@ -4,7 +4,7 @@
 use std::io::Write;
 
 use super::export::ExportError;
-use super::tessellate::TriMesh;
+use nendo_geom::mesh::TriMesh;
 
 /// Writes a mesh as OBJ text.
 ///

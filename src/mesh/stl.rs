@@ -5,7 +5,7 @@ use glam::Vec3;
 use std::io::Write;
 
 use super::export::ExportError;
-use super::tessellate::TriMesh;
+use nendo_geom::mesh::TriMesh;
 
 /// Writes a mesh as binary STL. The face normal is the normalised cross product of the
 /// triangle's edges (zero for a degenerate triangle).

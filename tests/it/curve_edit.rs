@@ -2,16 +2,16 @@
 //! grabs that carry the grabbed point exactly (every method, Bezier and B-spline, 2D and 3D,
 //! degrees 1–9), the least-change grab's optimality, split, tangent edit, insertion.
 
+use crate::support::random;
 use glam::{DVec2, DVec3};
 use nendo::curve::edit::{
     Follow, Grab, GrabMethod, GrabOptions, Side, control_weights, derivative, grab,
     insert_control_point, joint, move_joint, split, tangent_edit,
 };
-use nendo::curve::{BSpline, Bezier, Curve, CurveError, Point};
+use nendo::curve::{Bezier, Curve, CurveError, Point};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use crate::support::random;
 
 fn random_curve<P: Point>(rng: &mut ChaCha8Rng) -> Curve<P> {
     if rng.gen_bool(0.5) {

@@ -2,12 +2,12 @@
 //! and golden-section polish, no clipping), on more than 10 000 random cases with fixed seeds,
 //! and the hard cases by name.
 
+use crate::support::random;
+use crate::support::reference;
 use glam::{DVec2, DVec3};
 use nendo::curve::{BSpline, Bezier, Curve, CurveSet, Point, pick};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use crate::support::reference;
-use crate::support::random;
 
 /// Relative distance tolerance of the issue: 1e-9 of the distance (or of the curve's unit scale
 /// where the distance is below one).

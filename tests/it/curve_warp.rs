@@ -2,13 +2,13 @@
 //! curves, Beier and Neely's line-segment warp as the degree-1 reference, rigid motions, and
 //! the 3D warp of a patch grid's control net by curves laid on it.
 
+use crate::support::random;
 use glam::{DMat2, DVec2, DVec3};
 use nendo::curve::warp::{CurveWarp, WarpParams};
 use nendo::curve::{BSpline, Bezier, Curve, Point};
 use nendo::surface::{Grid, Primitive, PrimitiveParams};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use crate::support::random;
 
 fn random_curve<P: Point>(rng: &mut ChaCha8Rng) -> Curve<P> {
     let degree = rng.gen_range(1..=5);

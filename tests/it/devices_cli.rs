@@ -6,10 +6,10 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+use crate::support::{nendo, temp_dir as temp};
 use nendo_devices::Trace;
 use nendo_devices::cyberglove::SensorCount;
 use nendo_devices::emulator::{CyberGloveModel, FastrakModel, PtyEmulator};
-use crate::support::{nendo, temp_dir as temp};
 
 #[test]
 fn devices_lists_ports_hid_and_profiles() {

@@ -3,14 +3,13 @@
 //! with the right volume, and `nendo export` on the command line.
 
 use std::collections::HashMap;
-use std::path::PathBuf;
 use std::process::Command;
 
+use crate::support::temp_dir;
 use glam::{DVec3, Vec3};
 use nendo::mesh::{MeshFormat, Tessellation, TriMesh, save_mesh, tessellate};
 use nendo::model::Model;
 use nendo::surface::{Op, Primitive, PrimitiveParams, deform};
-use crate::support::temp_dir;
 
 const TOLERANCE: f64 = 1e-3;
 

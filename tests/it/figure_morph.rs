@@ -4,11 +4,11 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::support::temp_dir as scratch;
 use nendo::figure::iso::polyline_distance;
 use nendo::figure::morph::{Morph, MorphOptions};
 use nendo::figure::picture::{PictureOptions, Scene, draw};
 use nendo::figure::{FigureDocument, Rgb, View};
-use crate::support::temp_dir as scratch;
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -8,13 +8,13 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
+use crate::support::temp_dir as scratch;
 use glam::{DVec2, DVec3};
 use nendo::curve::Curve;
 use nendo::curve::warp::WarpParams;
 use nendo::figure::marching::{MeshOptions, iso_surface};
 use nendo::figure::shape::{ShapeFitReport, deform, measure_sections};
 use nendo::figure::{Contour, Section, Shape, ShapeDocument, ShapeFitOptions, fit_sections};
-use crate::support::temp_dir as scratch;
 
 fn ellipse(a: f64, b: f64, n: usize) -> Contour {
     Contour::new(

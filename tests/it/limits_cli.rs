@@ -1,9 +1,8 @@
 //! Absurd sizes and odd targets get a clear error from every subcommand that takes them —
 //! never an allocation failure, a panic, hours of work, or a device replaced by a file.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
 use crate::support::{run as nendo, temp_dir};
+use std::process::{Command, Output};
 
 fn refused(out: &Output, want: &str) {
     let err = String::from_utf8_lossy(&out.stderr);

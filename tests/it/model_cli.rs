@@ -1,9 +1,8 @@
 //! `nendo sculpt` and `nendo check` end to end.
 
+use crate::support::{nendo, temp_dir};
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::Command;
-use crate::support::{nendo, temp_dir};
 
 fn check(path: &PathBuf) -> Value {
     let out = nendo().arg("check").arg(path).output().unwrap();

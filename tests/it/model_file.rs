@@ -1,5 +1,6 @@
 //! The `nendo-model` document: exact round trips, validation with clear errors, atomic writes.
 
+use crate::support::temp_dir;
 use glam::DVec3;
 use nendo::curve::json::curve_from_json;
 use nendo::model::{Model, ModelError};
@@ -7,8 +8,6 @@ use nendo::surface::{Op, Primitive, PrimitiveParams, Regulation, Sculptor};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
-use std::path::PathBuf;
-use crate::support::temp_dir;
 
 /// Every node bit for bit, reporting only the first difference.
 fn assert_same_nodes(a: &Model, b: &Model) {

@@ -1,13 +1,12 @@
 //! `nendo replay` end to end: byte-identical output for the same trace, progress on long
 //! traces, the same result as the library loop, clear errors that write nothing.
 
+use crate::support::{run as nendo, temp_dir};
 use nendo::hand::{Hand, HandOptions, Session};
 use nendo::model::Model;
 use nendo::surface::{Primitive, PrimitiveParams, Regulation};
 use nendo_devices::Trace;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-use crate::support::{run as nendo, temp_dir};
+use std::path::Path;
 
 fn shipped(name: &str) -> String {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -38,7 +38,7 @@ pub struct RayNearest<P> {
 ///
 /// ```
 /// use glam::DVec3;
-/// use nendo::curve::{ray_closest_bezier, Bezier};
+/// use nendo_geom::curve::{ray_closest_bezier, Bezier};
 /// // An arch over the ray's path: its apex C(1/2) = (0, 1, 1) passes 1 from the ray.
 /// let c = Bezier::new(vec![DVec3::new(-1.0, 1.0, 0.0), DVec3::new(0.0, 1.0, 2.0), DVec3::new(1.0, 1.0, 0.0)]);
 /// let r = ray_closest_bezier(&c, DVec3::new(0.0, 0.0, 5.0), DVec3::new(0.0, 0.0, -1.0)).expect("valid ray");

@@ -13,11 +13,11 @@ pub const MAX_DEGREE: usize = 20;
 ///
 /// ```
 /// use glam::DVec2;
-/// use nendo::curve::Bezier;
+/// use nendo_geom::curve::Bezier;
 /// let c = Bezier::try_new(vec![DVec2::ZERO, DVec2::new(1.0, 2.0), DVec2::new(2.0, 0.0)])?;
 /// assert_eq!(c.degree(), 2);
 /// assert_eq!(c.eval(0.5), DVec2::new(1.0, 1.0));
-/// # Ok::<(), nendo::curve::CurveError>(())
+/// # Ok::<(), nendo_geom::curve::CurveError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bezier<P> {

@@ -176,8 +176,8 @@ pub struct SimilaritySample {
 ///
 /// ```
 /// use glam::DVec2;
-/// use nendo::curve::{Bezier, Curve};
-/// use nendo::curve::refine::{refine, Constraint, Similarity};
+/// use nendo_geom::curve::{Bezier, Curve};
+/// use nendo_geom::curve::refine::{refine, Constraint, Similarity};
 /// let arch: Curve<DVec2> = Bezier::new(vec![DVec2::ZERO, DVec2::new(0.5, 1.0), DVec2::new(2.0, 1.2), DVec2::new(3.0, 0.0)]).into();
 /// // Move the end from (3, 0) to (0, 3) — a quarter turn about the start: the result is the
 /// // arch turned a quarter.
@@ -188,7 +188,7 @@ pub struct SimilaritySample {
 /// let r = refine(&arch, Similarity::Curvature, &constraints)?;
 /// let p = r.curve.points()[1];
 /// assert!((p - DVec2::new(-1.0, 0.5)).length() < 1e-9);
-/// # Ok::<(), nendo::curve::CurveError>(())
+/// # Ok::<(), nendo_geom::curve::CurveError>(())
 /// ```
 ///
 /// # Errors

@@ -186,7 +186,7 @@ fn closest_in_segments<P: Point>(
 ///
 /// ```
 /// use glam::DVec2;
-/// use nendo::curve::{pick, Bezier, Curve};
+/// use nendo_geom::curve::{pick, Bezier, Curve};
 /// let curves: Vec<Curve<DVec2>> = (0..5)
 ///     .map(|i| Bezier::new(vec![DVec2::new(0.0, i as f64), DVec2::new(1.0, i as f64)]).into())
 ///     .collect();

@@ -50,7 +50,7 @@ static PASCAL: [[f64; MAX_BINOMIAL + 1]; MAX_BINOMIAL + 1] = pascal_f64();
 /// Exact for `n ≤ MAX_BINOMIAL`; beyond that it is computed by the multiplicative formula.
 ///
 /// ```
-/// use nendo::curve::bernstein::binomial;
+/// use nendo_geom::curve::bernstein::binomial;
 /// assert_eq!(binomial(6, 3), 20.0);
 /// assert_eq!(binomial(3, 4), 0.0);
 /// ```
@@ -81,7 +81,7 @@ pub fn binomial_row(n: usize) -> &'static [f64; MAX_BINOMIAL + 1] {
 /// The Bernstein basis polynomial `B_i^n(t) = C(n,i) t^i (1-t)^(n-i)`.
 ///
 /// ```
-/// use nendo::curve::bernstein::basis;
+/// use nendo_geom::curve::bernstein::basis;
 /// assert!((basis(3, 1, 0.5) - 0.375).abs() < 1e-15);
 /// ```
 #[inline]
@@ -125,7 +125,7 @@ pub fn basis_all(n: usize, t: f64, out: &mut [f64]) {
 /// numerically stable evaluation of a Bernstein form.
 ///
 /// ```
-/// use nendo::curve::bernstein::eval;
+/// use nendo_geom::curve::bernstein::eval;
 /// // B-form of t² on degree 2 is [0, 0, 1].
 /// assert!((eval(&[0.0, 0.0, 1.0], 0.3) - 0.09).abs() < 1e-15);
 /// ```
@@ -303,7 +303,7 @@ pub fn elevate<T: Coeff>(c: &[T]) -> Vec<T> {
 /// `f·g = Σ_k h_k B_k^{m+n}`, `h_k = Σ_{i+j=k} C(m,i) C(n,j) / C(m+n,k) · pair(a_i, b_j)`.
 ///
 /// ```
-/// use nendo::curve::bernstein::{product, eval};
+/// use nendo_geom::curve::bernstein::{product, eval};
 /// let f = [1.0, 2.0, 0.5];
 /// let g = [3.0, -1.0];
 /// let h = product(&f, &g, |x, y| x * y);

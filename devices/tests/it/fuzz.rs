@@ -2,13 +2,11 @@
 //! CI runs the same inputs every time). Case counts are stated per suite; the totals are in
 //! `devices/README.md`.
 
-mod support;
-
+use crate::support::{ALL, accounted, canonical, decode, random_record};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use support::{ALL, accounted, canonical, decode, random_record};
 
 /// Cases per property; every case runs all ten decoder configurations, so each decoder sees
 /// `CASES` inputs per property.

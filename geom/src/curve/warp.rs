@@ -163,15 +163,15 @@ struct Pair<P: WarpSpace> {
 ///
 /// ```
 /// use glam::DVec2;
-/// use nendo::curve::{Bezier, Curve};
-/// use nendo::curve::warp::{CurveWarp, WarpParams};
+/// use nendo_geom::curve::{Bezier, Curve};
+/// use nendo_geom::curve::warp::{CurveWarp, WarpParams};
 /// let original: Curve<DVec2> = Bezier::new(vec![DVec2::ZERO, DVec2::new(1.0, 1.0), DVec2::new(2.0, 0.0)]).into();
 /// // The deformed curve: the same one lifted by 0.5.
 /// let lifted: Curve<DVec2> = Bezier::new(vec![DVec2::new(0.0, 0.5), DVec2::new(1.0, 1.5), DVec2::new(2.0, 0.5)]).into();
 /// let warp = CurveWarp::new(vec![(original, lifted)], WarpParams::default())?;
 /// let moved = warp.warp_point(DVec2::new(1.0, -2.0));
 /// assert!((moved - DVec2::new(1.0, -1.5)).length() < 1e-9);
-/// # Ok::<(), nendo::curve::CurveError>(())
+/// # Ok::<(), nendo_geom::curve::CurveError>(())
 /// ```
 #[derive(Debug, Clone)]
 pub struct CurveWarp<P: WarpSpace> {

@@ -580,7 +580,7 @@ pub fn closest_bezier_with_stats<P: Point>(
 ///
 /// ```
 /// use glam::DVec2;
-/// use nendo::curve::{closest_bezier, Bezier};
+/// use nendo_geom::curve::{closest_bezier, Bezier};
 /// let c = Bezier::new(vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 2.0), DVec2::new(2.0, 0.0)]);
 /// let n = closest_bezier(&c, DVec2::new(1.0, 3.0), f64::INFINITY).expect("unbounded search");
 /// assert!((n.u - 0.5).abs() < 1e-12 && (n.distance - 2.0).abs() < 1e-12);

@@ -273,7 +273,7 @@ pub(crate) fn position_key(p: Vec3) -> [u32; 3] {
 ///
 /// ```
 /// use glam::DVec3;
-/// use nendo::mesh::{Tessellation, tessellate};
+/// use nendo_geom::mesh::{Tessellation, tessellate};
 /// // A flat unit square as a bicubic patch.
 /// let square: [DVec3; 16] =
 ///     std::array::from_fn(|k| DVec3::new((k / 4) as f64 / 3.0, (k % 4) as f64 / 3.0, 0.0));

@@ -279,7 +279,8 @@ impl Grid {
         &self.nodes
     }
 
-    pub(crate) fn nodes_mut(&mut self) -> &mut [DVec3] {
+    #[doc(hidden)]
+    pub fn nodes_mut(&mut self) -> &mut [DVec3] {
         &mut self.nodes
     }
 
@@ -372,12 +373,14 @@ impl Grid {
         self.hierarchy.leaf(index)
     }
 
-    pub(crate) fn hierarchy(&self) -> &Hierarchy {
+    #[doc(hidden)]
+    pub fn hierarchy(&self) -> &Hierarchy {
         &self.hierarchy
     }
 
     /// Recomputes the boxes of the given patches (after their control points changed).
-    pub(crate) fn refit(&mut self, patches: &[usize], scratch: &mut Vec<usize>) {
+    #[doc(hidden)]
+    pub fn refit(&mut self, patches: &[usize], scratch: &mut Vec<usize>) {
         let changed: Vec<(usize, Aabb)> = patches
             .iter()
             .map(|&p| (p, self.patch_struct(p).bounds()))

@@ -46,12 +46,12 @@ use super::point::Point;
 ///
 /// ```
 /// use glam::DVec2;
-/// use nendo::curve::{Bezier, Curve};
-/// use nendo::curve::edit::control_weights;
+/// use nendo_geom::curve::{Bezier, Curve};
+/// use nendo_geom::curve::edit::control_weights;
 /// let c: Curve<DVec2> = Bezier::new(vec![DVec2::ZERO, DVec2::X, DVec2::Y, DVec2::ONE]).into();
 /// let w = control_weights(&c, 0.5, 0)?;
 /// assert_eq!(w, vec![0.125, 0.375, 0.375, 0.125]);
-/// # Ok::<(), nendo::curve::CurveError>(())
+/// # Ok::<(), nendo_geom::curve::CurveError>(())
 /// ```
 ///
 /// # Errors
@@ -216,13 +216,13 @@ const MIN_WEIGHT: f64 = 1e-9;
 ///
 /// ```
 /// use glam::DVec3;
-/// use nendo::curve::{Bezier, Curve};
-/// use nendo::curve::edit::{Grab, GrabOptions};
+/// use nendo_geom::curve::{Bezier, Curve};
+/// use nendo_geom::curve::edit::{Grab, GrabOptions};
 /// let c: Curve<DVec3> = Bezier::new(vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::ONE]).into();
 /// let grab = Grab::new(&c, 0.3, GrabOptions::default())?;
 /// let moved = grab.moved_by(DVec3::new(0.0, 0.0, 0.5))?;
 /// assert!((moved.eval(0.3) - (c.eval(0.3) + DVec3::new(0.0, 0.0, 0.5))).length() < 1e-12);
-/// # Ok::<(), nendo::curve::CurveError>(())
+/// # Ok::<(), nendo_geom::curve::CurveError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grab<P> {

@@ -14,13 +14,13 @@ use super::point::Point;
 ///
 /// ```
 /// use glam::DVec2;
-/// use nendo::curve::BSpline;
+/// use nendo_geom::curve::BSpline;
 /// // A clamped cubic with one interior knot: two Bezier segments.
 /// let pts = vec![DVec2::ZERO, DVec2::X, DVec2::new(2.0, 1.0), DVec2::new(3.0, 0.0), DVec2::new(4.0, 0.0)];
 /// let s = BSpline::try_new(3, vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0], pts)?;
 /// assert_eq!(s.domain(), (0.0, 1.0));
 /// assert_eq!(s.to_bezier_segments().len(), 2);
-/// # Ok::<(), nendo::curve::CurveError>(())
+/// # Ok::<(), nendo_geom::curve::CurveError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct BSpline<P> {

@@ -40,7 +40,7 @@ pub fn sphere_function<P: Point>(curve: &Bezier<P>, centre: P, radius: f64) -> V
 ///
 /// ```
 /// use glam::DVec2;
-/// use nendo::curve::{sphere_intervals_bezier, Bezier};
+/// use nendo_geom::curve::{sphere_intervals_bezier, Bezier};
 /// let line = Bezier::new(vec![DVec2::new(-2.0, 0.0), DVec2::new(2.0, 0.0)]);
 /// let iv = sphere_intervals_bezier(&line, DVec2::ZERO, 1.0);
 /// assert_eq!(iv.len(), 1);

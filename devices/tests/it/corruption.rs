@@ -1,11 +1,9 @@
 //! Corrupted streams with fixed seeds: bit flips, dropped and inserted bytes, garbage bursts and
 //! truncated records. Every decoder must recover, count what it threw away, and never panic.
 
-mod support;
-
+use crate::support::{ALL, Proto, accounted, canonical, decode, random_record};
 use rand::{Rng, RngCore, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use support::{ALL, Proto, accounted, canonical, decode, random_record};
 
 #[derive(Debug, Default)]
 struct Outcome {

@@ -105,7 +105,8 @@ impl Aabb {
 
 /// The pyramid of patch boxes over an `M × N` patch grid.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Hierarchy {
+#[doc(hidden)]
+pub struct Hierarchy {
     /// `dims[L] = (width, height)` of level `L`.
     dims: Vec<(usize, usize)>,
     /// `levels[L][y * width + x]`.
@@ -181,7 +182,7 @@ impl Hierarchy {
 
     /// Appends to `out` the index of every patch whose box the predicate accepts and whose
     /// ancestors' boxes it accepts too, in a fixed (deterministic) order.
-    pub(crate) fn query(&self, accept: &impl Fn(&Aabb) -> bool, out: &mut Vec<usize>) {
+    pub fn query(&self, accept: &impl Fn(&Aabb) -> bool, out: &mut Vec<usize>) {
         let top = self.levels.len() - 1;
         self.descend(top, 0, 0, accept, out);
     }

@@ -1,0 +1,9 @@
+//! nendo-devices' integration tests, one binary: decoders against corrupted streams and fuzzing,
+//! the emulated devices on pseudo-terminals, the stream reader, traces.
+
+mod corruption;
+mod emulated_devices;
+mod fuzz;
+mod stream;
+mod support;
+mod trace;

@@ -1,0 +1,16 @@
+//! Triangle meshes of the exact surface: tessellation within a chosen tolerance, the G1 error
+//! along seams per vertex, and ray picking refined on the exact patches.
+//!
+//! It works on plain bicubic patches ([`PatchPoints`], 16 control points each) and uses nothing
+//! but [`crate::curve`] and glam; the renderer and the exporters (in the `nendo` crate) both
+//! draw on it, so what the window shows is what a file gets.
+
+mod pick;
+mod seams;
+mod tessellate;
+
+pub use pick::{Ray, SurfaceHit, pick};
+pub use seams::{max_seam_angle_deg, seam_angles_deg, seam_bands};
+pub use tessellate::{
+    PatchBlock, PatchPoints, Tessellation, TriMesh, eval_patch, patch_normal, tessellate,
+};

@@ -249,7 +249,7 @@ impl Lifecycle {
     }
 
     /// A plain save (Ctrl+S, "Save as…") with no action waiting on it.
-    pub fn save_requested(&mut self, file: Option<&Path>) -> Next {
+    pub fn save_requested(&self, file: Option<&Path>) -> Next {
         match file {
             Some(path) => Next::Save(path.to_path_buf()),
             None => Next::ChooseSavePath,
@@ -358,7 +358,7 @@ impl Session {
     }
 
     /// See [`Lifecycle::save_requested`].
-    pub fn save_requested(&mut self) -> Next {
+    pub fn save_requested(&self) -> Next {
         let file = self.doc.path.clone();
         self.lifecycle.save_requested(file.as_deref())
     }

@@ -282,6 +282,110 @@ impl MouseHandTool {
     }
 }
 
+/// The Hand tool's state: the mouse hand (made when the tool is first used, again when the
+/// finger radius changes between presses), the profile it is made with, and the press.
+#[derive(Debug, Clone, Default)]
+pub struct MouseHand {
+    /// The hand, once made.
+    hand: Option<MouseHandTool>,
+    /// The mouse profile the hand is made with (the Devices panel's "mouse" profile).
+    profile: MouseProfile,
+    /// The view ray of the last event (for a wheel step while pressed).
+    last_ray: Option<Ray>,
+    /// The press grips and pulls (Shift, or "ridges", at the press).
+    pull: bool,
+}
+
+impl MouseHand {
+    /// Uses `profile` from now on (the next event makes a new hand). End the contact first.
+    pub fn use_profile(&mut self, profile: MouseProfile) {
+        self.profile = profile;
+        self.hand = None;
+    }
+
+    /// The hand, if made.
+    #[must_use]
+    pub fn hand(&self) -> Option<&MouseHandTool> {
+        self.hand.as_ref()
+    }
+
+    /// True while a button holds the finger on the surface.
+    #[must_use]
+    pub fn is_pressed(&self) -> bool {
+        self.hand.as_ref().is_some_and(MouseHandTool::is_pressed)
+    }
+
+    /// A press starts: it pulls when `pull`, else pushes.
+    pub fn press(&mut self, pull: bool) {
+        self.pull = pull;
+    }
+
+    /// The view ray of the last event.
+    #[must_use]
+    pub fn last_ray(&self) -> Option<Ray> {
+        self.last_ray
+    }
+
+    /// Ends the contact in progress, if any.
+    pub fn end_contact(&mut self, doc: &mut Document) {
+        if let Some(h) = &mut self.hand {
+            h.end_contact(doc);
+        }
+    }
+
+    /// Feeds the hand the view ray `ray` (left button held or not; hovering, the fingertip sits
+    /// `hover` along the ray), making the hand first for `radius` and click `depth` when it is
+    /// missing or stale (not held, another radius).
+    ///
+    /// # Errors
+    /// [`HandError`] when the hand refuses the settings or the ray; a refused hand is dropped.
+    pub fn feed(
+        &mut self,
+        doc: &mut Document,
+        ray: Ray,
+        left: bool,
+        hover: f64,
+        radius: f64,
+        depth: f64,
+    ) -> Result<(), HandError> {
+        self.last_ray = Some(ray);
+        let stale = self
+            .hand
+            .as_ref()
+            .is_none_or(|h| !h.is_pressed() && h.radius() != radius);
+        if stale {
+            self.end_contact(doc);
+            self.hand = None;
+            self.hand = Some(MouseHandTool::with_profile(self.profile, radius, depth)?);
+        }
+        let Some(hand) = &mut self.hand else {
+            return Ok(());
+        };
+        if !hand.is_pressed() {
+            hand.set_click_depth(depth);
+        }
+        if left {
+            hand.event(doc, &ray, !self.pull, self.pull)
+        } else {
+            hand.hover_at(doc, &ray, hover)
+        }
+    }
+
+    /// Wheel steps while pressed: deeper or shallower.
+    pub fn wheel(&mut self, steps: f64) {
+        if let Some(h) = &mut self.hand {
+            h.wheel(steps);
+        }
+    }
+
+    /// Draws the hand, if made.
+    pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
+        if let Some(h) = &self.hand {
+            h.draw(lines, spheres);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

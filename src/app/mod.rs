@@ -22,9 +22,12 @@
 //! | [`camera`] | the orbit camera and the named views |
 //! | [`scene`] | the document turned into what the renderer draws |
 //! | [`document`], [`history`] | the model being edited, undo / redo |
-//! | [`autosave`] | autosave and crash recovery |
+//! | [`lifecycle`] | the document's lifecycle: unsaved changes, the questions, the action waiting on them (a state machine without I/O), autosave and recovery |
+//! | [`autosave`] | the autosave file |
 //! | [`tools`], [`curve_edit`] | the mouse tools and the curve edits they make |
-//! | [`modeller`], `panels` | the modeller's state, input handling and egui panels |
+//! | [`display_cache`] | what the window derives from the document (tessellation, continuity) |
+//! | [`modeller`] | the modeller's state, split by concern, its input handling, and [`Modeller::apply`] |
+//! | [`command`], `panels` | the egui panels (`*_ui` functions) and the [`Command`]s they return |
 //! | [`file_dialog`] | the egui file dialog |
 //! | [`export_job`] | mesh export off the UI thread |
 //! | [`hand_input`] | device frames and the mouse as a hand: the hand loop on the document, the hand drawn |
@@ -33,12 +36,15 @@
 
 pub mod autosave;
 pub mod camera;
+pub mod command;
 pub mod curve_edit;
+pub mod display_cache;
 pub mod document;
 pub mod export_job;
 pub mod file_dialog;
 pub mod hand_input;
 pub mod history;
+pub mod lifecycle;
 pub mod live;
 pub mod modeller;
 mod panels;
@@ -47,6 +53,7 @@ pub mod tools;
 pub mod window;
 
 pub use camera::{OrbitCamera, ViewPreset};
+pub use command::Command;
 pub use document::Document;
 pub use modeller::Modeller;
 pub use window::WindowApp;

@@ -1,26 +1,36 @@
-//! The modeller's state and its frame: the document, camera, tools and panels, independent of
-//! winit and of the GPU (the window feeds it input and draws what it builds).
+//! The modeller's state and its frame, independent of winit and of the GPU (the window feeds
+//! it input and draws what it builds).
+//!
+//! The state is split by concern: the document and its lifecycle ([`Session`]: unsaved
+//! changes, the questions, the action waiting on them, autosave), the camera and the pointer,
+//! each tool's state ([`ToolState`] for the mouse tools, [`MouseHand`] for the Hand tool,
+//! [`LiveInput`] for devices), what is derived from the document ([`DisplayCache`]), and the
+//! panels' settings. The panels return [`Command`]s; [`Modeller::apply`] carries them out.
 
 use glam::{DVec3, Vec2};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::autosave::{Autosave, Recovery};
 use super::camera::{OrbitCamera, ViewPreset};
+use super::command::Command;
+use super::curve_edit::straight_cubic;
+use super::display_cache::DisplayCache;
 use super::document::Document;
-use super::export_job::ExportJob;
-use super::file_dialog::FileDialog;
-use super::hand_input::MouseHandTool;
+use super::export_job::{ExportJob, TOLERANCE_RANGE};
+use super::file_dialog::{DialogPurpose, FileDialog};
+use super::hand_input::MouseHand;
+use super::lifecycle::{Next, Pending, PrimitiveForm, Session};
 use super::live::LiveInput;
+use super::panels::{self, FrameRate, PANEL_WIDTH, Status};
 use super::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
 use super::tools::{Edit, Tool, ToolContext, ToolSettings, ToolState};
 use crate::curve::Curve;
 use crate::curve::json::DynCurve;
-use crate::mesh::{PatchPoints, Ray, Tessellation};
+use crate::mesh::Tessellation;
 use crate::model::Model;
+use crate::model::ops::{op_to_json, parse_ops};
 use crate::render::{LineBatch, SphereInstance, Style};
-use crate::surface::continuity::{self, ContinuityReport};
-use crate::surface::{Op, Primitive, PrimitiveParams};
+use crate::surface::Op;
 
 /// Mouse buttons the viewport listens to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -49,150 +59,80 @@ pub enum PointerInput {
     Left,
 }
 
-/// A message for the status line.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct Status {
-    pub(super) text: String,
-    pub(super) error: bool,
-}
-
-/// The form for a new primitive.
+/// The pointer over the 3D view.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct PrimitiveForm {
-    pub(super) primitive: Primitive,
-    pub(super) patches: (usize, usize),
-    pub(super) radius: f64,
-    pub(super) height: f64,
-    pub(super) minor_radius: f64,
-}
-
-impl PrimitiveForm {
-    pub(super) fn defaults_for(primitive: Primitive) -> Self {
-        let d = primitive.defaults();
-        Self {
-            primitive,
-            patches: d.patches,
-            radius: d.radius,
-            height: d.height,
-            minor_radius: d.minor_radius,
-        }
-    }
-
-    pub(super) fn params(&self) -> PrimitiveParams {
-        PrimitiveParams {
-            patches: Some(self.patches),
-            radius: Some(self.radius),
-            height: Some(self.height),
-            minor_radius: Some(self.minor_radius),
-        }
-    }
+struct Pointer {
+    /// Viewport size in pixels.
+    viewport: Vec2,
+    cursor: Option<Vec2>,
+    /// Left, right, middle held (pressed in the view).
+    buttons: [bool; 3],
+    shift: bool,
 }
 
 /// Frame timing, smoothed.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub(super) struct Timing {
+struct Timing {
     /// Wall time of a frame from its start to the present, ms (exponentially smoothed): UI,
     /// scene, recording, and waiting for the GPU — on a software adapter, the rasterisation
     /// itself.
-    pub(super) frame_ms: f64,
+    frame_ms: f64,
     /// Frames in the last full second.
-    pub(super) fps: u32,
+    fps: u32,
     frames_this_second: u32,
     second_started: Option<Instant>,
 }
 
-/// A modal question on screen.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) enum Prompt {
-    /// An autosave from a session that did not close cleanly.
-    Recover(PathBuf),
-    /// The model has unsaved changes and `Pending` would drop them.
-    Unsaved(Pending),
-}
-
-/// Something that replaces or closes the document: it waits for the answer to
-/// [`Prompt::Unsaved`] when the document has unsaved changes.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) enum Pending {
-    /// Close the window.
-    Close,
-    /// Start a new document from the primitive form.
-    Create(PrimitiveForm),
-    /// Open a model file.
-    Open(PathBuf),
-}
-
-/// The answers to [`Prompt::Unsaved`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum UnsavedAnswer {
-    /// Save first (asking for a file when the document has none), then go on.
-    Save,
-    /// Go on and drop the changes.
-    Discard,
-    /// Do nothing.
-    Cancel,
-}
-
 /// Operations being replayed, one per frame.
 #[derive(Debug, Clone)]
-pub(super) struct Replay {
-    pub(super) ops: Vec<Op>,
-    pub(super) next: usize,
+struct Replay {
+    ops: Vec<Op>,
+    next: usize,
+}
+
+/// The panels' own settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct PanelSettings {
+    /// The new-primitive form.
+    form: PrimitiveForm,
+    /// What to draw besides the clay.
+    overlays: Overlays,
+    /// The mesh export's tolerance.
+    export_tolerance: f64,
+}
+
+/// The mouse tools: which is active, their settings and their gesture.
+#[derive(Debug, Clone)]
+struct Tools {
+    active: Tool,
+    settings: ToolSettings,
+    state: ToolState,
 }
 
 /// Everything the window shows and edits.
 pub struct Modeller {
-    pub(super) doc: Document,
-    pub(super) camera: OrbitCamera,
-    pub(super) tool: Tool,
-    pub(super) settings: ToolSettings,
-    pub(super) tools: ToolState,
-    pub(super) overlays: Overlays,
-    pub(super) display: SurfaceDisplay,
-    /// The document revision the display shows (`None`: rebuild).
-    display_revision: Option<u64>,
-    /// Counts display rebuilds across documents (a new document starts at revision 0 again).
-    display_generation: u64,
-    pub(super) patches: Vec<PatchPoints>,
-    pub(super) autosave: Option<Autosave>,
-    /// The autosave file is this session's: it did not exist at start-up, or this session
-    /// wrote it, or the user answered the recovery question. Only then may a clean exit remove
-    /// it (an earlier session's autosave nobody looked at stays for the next start).
-    owns_autosave: bool,
-    /// What to do once the save the user chose in [`Prompt::Unsaved`] succeeds.
-    pub(super) after_save: Option<Pending>,
-    /// The user chose to quit without saving: the exit may remove the autosave.
-    quit_discarding: bool,
-    pub(super) prompt: Option<Prompt>,
-    pub(super) dialog: Option<FileDialog>,
-    pub(super) status: Option<Status>,
-    pub(super) continuity: Option<ContinuityReport>,
-    continuity_revision: Option<u64>,
-    pub(super) continuity_ms: f64,
-    pub(super) form: PrimitiveForm,
-    pub(super) export_tolerance: f64,
-    /// A mesh export running in the background.
-    pub(super) export_job: Option<ExportJob>,
-    pub(super) timing: Timing,
-    pub(super) replay: Option<Replay>,
-    pub(super) live: LiveInput,
-    /// The mouse as the hand ([`Tool::Hand`]), made when the tool is first used.
-    pub(super) hand: Option<MouseHandTool>,
-    /// The mouse profile the hand is made with (the Devices panel's "mouse" profile).
-    pub(super) hand_profile: nendo_devices::profile::MouseProfile,
-    /// The view ray of the hand's last event (for a wheel step while pressed).
-    hand_ray: Option<Ray>,
-    /// The hand's press grips and pulls (Shift, or "ridges", at the press).
-    hand_pull: bool,
-    /// Viewport size in pixels.
-    viewport: Vec2,
-    cursor: Option<Vec2>,
-    buttons: [bool; 3],
-    pub(super) shift: bool,
-    /// Reframe the camera on the next frame (new model).
+    /// The document and its lifecycle.
+    session: Session,
+    camera: OrbitCamera,
+    pointer: Pointer,
+    /// The mouse tools.
+    tools: Tools,
+    /// The Hand tool.
+    hand: MouseHand,
+    /// Devices.
+    live: LiveInput,
+    /// What is derived from the document.
+    cache: DisplayCache,
+    /// Reframe the camera on the next refresh (new model).
     frame_pending: bool,
-    /// The window should close.
-    pub(super) quit: bool,
+    panel: PanelSettings,
+    /// The file dialog on screen.
+    dialog: Option<FileDialog>,
+    status: Option<Status>,
+    timing: Timing,
+    replay: Option<Replay>,
+    /// A mesh export running in the background.
+    export_job: Option<ExportJob>,
 }
 
 impl Modeller {
@@ -200,81 +140,74 @@ impl Modeller {
     /// earlier session left one and `offer_recovery` is set).
     #[must_use]
     pub fn new(doc: Document, autosave: Option<PathBuf>, offer_recovery: bool) -> Self {
-        let autosave = autosave.map(|path| {
-            let mut a = Autosave::new(path);
-            // The model as opened (or the starting plane) is not worth writing.
-            a.mark_saved(doc.revision());
-            a
-        });
-        let earlier = autosave.as_ref().and_then(Autosave::pending_recovery);
-        let owns_autosave = earlier.is_none();
-        let prompt = earlier
-            .filter(|_| offer_recovery)
-            .map(|Recovery { path, .. }| Prompt::Recover(path));
         Self {
-            doc,
+            session: Session::new(doc, autosave, offer_recovery),
             camera: OrbitCamera::default(),
-            tool: Tool::Push,
-            settings: ToolSettings::default(),
-            tools: ToolState::default(),
-            overlays: Overlays::default(),
-            display: SurfaceDisplay::default(),
-            display_revision: None,
-            display_generation: 0,
-            patches: Vec::new(),
-            autosave,
-            owns_autosave,
-            after_save: None,
-            quit_discarding: false,
-            prompt,
+            pointer: Pointer {
+                viewport: Vec2::ONE,
+                cursor: None,
+                buttons: [false; 3],
+                shift: false,
+            },
+            tools: Tools {
+                active: Tool::Push,
+                settings: ToolSettings::default(),
+                state: ToolState::default(),
+            },
+            hand: MouseHand::default(),
+            live: LiveInput::default(),
+            cache: DisplayCache::default(),
+            frame_pending: true,
+            panel: PanelSettings {
+                form: PrimitiveForm::defaults_for(crate::surface::Primitive::Plane),
+                overlays: Overlays::default(),
+                export_tolerance: Tessellation::EXPORT.tolerance,
+            },
             dialog: None,
             status: None,
-            continuity: None,
-            continuity_revision: None,
-            continuity_ms: 0.0,
-            form: PrimitiveForm::defaults_for(Primitive::Plane),
-            export_tolerance: Tessellation::EXPORT.tolerance,
-            export_job: None,
             timing: Timing::default(),
             replay: None,
-            live: LiveInput::default(),
-            hand: None,
-            hand_profile: nendo_devices::profile::MouseProfile::default(),
-            hand_ray: None,
-            hand_pull: false,
-            viewport: Vec2::new(1.0, 1.0),
-            cursor: None,
-            buttons: [false; 3],
-            shift: false,
-            frame_pending: true,
-            quit: false,
+            export_job: None,
         }
     }
 
     /// The document.
     #[must_use]
     pub fn document(&self) -> &Document {
-        &self.doc
+        &self.session.doc
+    }
+
+    /// The document's lifecycle and autosave.
+    #[must_use]
+    pub fn session(&self) -> &Session {
+        &self.session
     }
 
     /// True once the user asked to close (and answered any question about unsaved work).
     #[must_use]
     pub fn wants_to_quit(&self) -> bool {
-        self.quit
+        self.session.wants_to_quit()
     }
 
     /// The window's close button: asks about unsaved changes first. Closing while the
     /// recovery question is open quits and leaves that autosave for the next start.
     pub fn request_close(&mut self) {
-        if matches!(self.prompt, Some(Prompt::Recover(_))) {
-            self.quit = true;
-            return;
-        }
-        self.proceed(Pending::Close);
+        self.request(Pending::Close);
     }
 
-    /// The exit: the autosave is removed only when it is this session's and holds nothing
-    /// unsaved (or the user chose to quit without saving).
+    /// Opens a model file into the window, asking first when the document has unsaved
+    /// changes.
+    pub fn open(&mut self, path: &Path) {
+        self.request(Pending::Open(path.to_path_buf()));
+    }
+
+    /// Whether Shift is held (from the window's modifier events).
+    pub fn set_shift(&mut self, held: bool) {
+        self.pointer.shift = held;
+    }
+
+    /// The exit: finishes a running export; the autosave is removed only when it is this
+    /// session's and holds nothing unsaved (or the user chose to quit without saving).
     pub fn on_exit(&mut self) {
         if let Some(job) = self.export_job.take() {
             eprintln!("nendo: finishing the export of {}", job.path().display());
@@ -284,144 +217,329 @@ impl Modeller {
             }
         }
         self.end_hand_contacts();
-        self.live.disconnect_from(&mut self.doc);
-        let nothing_unsaved = !self.doc.is_dirty() || self.quit_discarding;
-        if self.owns_autosave
-            && nothing_unsaved
-            && let Some(a) = &mut self.autosave
-        {
-            a.discard();
-        }
+        self.live.disconnect_from(&mut self.session.doc);
+        self.session.on_exit();
     }
 
-    /// Does `action` now when the document has no unsaved changes, else asks first.
-    pub(super) fn proceed(&mut self, action: Pending) {
-        if self.doc.is_dirty() {
-            self.prompt = Some(Prompt::Unsaved(action));
-        } else {
-            self.carry_out(action);
+    /// Draws the panels and dialogs and carries out what the user asked for; returns the
+    /// rectangle left for the 3D view, in points.
+    pub fn ui(&mut self, ui: &mut egui::Ui) -> egui::Rect {
+        let mut commands = panels::shortcuts_ui(ui);
+        if !ui.ctx().egui_wants_keyboard_input() {
+            self.pointer.shift = ui.input(|i| i.modifiers.shift);
         }
+        egui::Panel::top("nendo top").show(ui, |ui| {
+            commands.extend(panels::top_bar_ui(ui, self.session.doc.history()));
+        });
+        egui::Panel::left("nendo tools")
+            .exact_size(PANEL_WIDTH)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.side_panel_ui(ui, &mut commands));
+            });
+        egui::Panel::bottom("nendo status").show(ui, |ui| {
+            panels::status_ui(ui, self.status.as_ref(), self.session.autosave());
+        });
+        let ctx = ui.ctx().clone();
+        if let Some(prompt) = self.session.prompt() {
+            commands.extend(panels::prompt_ui(&ctx, &prompt));
+        }
+        if let Some(dialog) = &mut self.dialog {
+            commands.extend(panels::dialog_ui(&ctx, dialog));
+        }
+        let view = ui.available_rect_before_wrap();
+        for command in commands {
+            self.apply(command);
+        }
+        view
     }
 
-    /// The answer to [`Prompt::Unsaved`] for `action`.
-    pub(super) fn answer_unsaved(&mut self, action: Pending, answer: UnsavedAnswer) {
-        self.prompt = None;
-        match answer {
-            UnsavedAnswer::Cancel => {}
-            UnsavedAnswer::Discard => {
-                if action == Pending::Close {
-                    self.quit_discarding = true;
+    /// The tool panel's sections, in order.
+    fn side_panel_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        egui::CollapsingHeader::new("New primitive")
+            .default_open(false)
+            .show(ui, |ui| {
+                commands.extend(panels::primitive_ui(ui, &mut self.panel.form));
+            });
+        egui::CollapsingHeader::new("Tool")
+            .default_open(true)
+            .show(ui, |ui| {
+                commands.extend(panels::tool_ui(
+                    ui,
+                    self.tools.active,
+                    &mut self.tools.settings,
+                ));
+            });
+        egui::CollapsingHeader::new("Regulation")
+            .default_open(true)
+            .show(ui, |ui| {
+                let current = self.session.doc.model().regulation;
+                commands.extend(panels::regulation_ui(ui, current));
+            });
+        egui::CollapsingHeader::new("Display")
+            .default_open(true)
+            .show(ui, |ui| panels::display_ui(ui, &mut self.panel.overlays));
+        egui::CollapsingHeader::new("Export")
+            .default_open(false)
+            .show(ui, |ui| {
+                commands.extend(panels::export_ui(
+                    ui,
+                    &mut self.panel.export_tolerance,
+                    self.export_job.as_ref(),
+                ));
+            });
+        egui::CollapsingHeader::new("Continuity")
+            .default_open(true)
+            .show(ui, |ui| {
+                let (report, ms) = self.cache.continuity();
+                panels::continuity_ui(ui, report, ms, self.cache.display().max_seam_deg);
+            });
+        egui::CollapsingHeader::new("Timing")
+            .default_open(true)
+            .show(ui, |ui| {
+                let rate = FrameRate {
+                    frame_ms: self.timing.frame_ms,
+                    fps: self.timing.fps,
+                };
+                panels::timing_ui(
+                    ui,
+                    self.session.doc.last_op.as_ref(),
+                    self.cache.display(),
+                    rate,
+                );
+            });
+        egui::CollapsingHeader::new("Record / replay")
+            .default_open(false)
+            .show(ui, |ui| {
+                let recorded = self.session.doc.recording.as_ref().map(Vec::len);
+                let replaying = self.replay.as_ref().map(|r| (r.next, r.ops.len()));
+                commands.extend(panels::record_ui(ui, recorded, replaying));
+            });
+        egui::CollapsingHeader::new("Devices")
+            .default_open(false)
+            .show(ui, |ui| {
+                let radius = self.tools.settings.radius;
+                if let Some(profile) = self.live.ui(ui, radius, &mut self.session.doc) {
+                    commands.push(Command::UseMouseHand(profile));
                 }
-                self.carry_out(action);
+            });
+    }
+
+    /// Carries out a command from the panels, a prompt, a dialog or a shortcut.
+    pub fn apply(&mut self, command: Command) {
+        match command {
+            Command::Undo => self.undo(),
+            Command::Redo => self.redo(),
+            Command::Save => {
+                let next = self.session.save_requested();
+                self.follow(next);
             }
-            UnsavedAnswer::Save => match self.doc.path.clone() {
-                Some(path) => {
-                    if self.save_to(&path) {
-                        self.carry_out(action);
-                    }
+            Command::ShowDialog(purpose) => self.show_dialog(purpose),
+            Command::DialogChosen(purpose, path) => {
+                self.dialog = None;
+                self.dialog_chosen(purpose, path);
+            }
+            Command::DialogCancelled => {
+                self.dialog = None;
+                self.session.save_dialog_closed();
+            }
+            Command::Create(form) => {
+                self.panel.form = form;
+                self.request(Pending::Create(form));
+            }
+            Command::AddCurve => self.add_curve(),
+            Command::SelectTool(tool) => self.select_tool(tool),
+            Command::SetRegulation(regulation) => {
+                self.end_hand_contacts();
+                self.session.doc.set_regulation(regulation);
+            }
+            Command::View(preset) => self.view_from(preset),
+            Command::FrameAll => self.frame_all(),
+            Command::StartRecording => self.session.doc.recording = Some(Vec::new()),
+            Command::DiscardRecording => self.session.doc.recording = None,
+            Command::StopReplay => self.replay = None,
+            Command::AnswerUnsaved(answer) => {
+                let next = self.session.answer_unsaved(answer);
+                self.follow(next);
+            }
+            Command::Recover(path) => match self.session.recover(&path) {
+                Ok(doc) => {
+                    self.replace_document(doc);
+                    self.set_status("recovered the autosave: save it to keep it", false);
                 }
-                None => {
-                    self.after_save = Some(action);
-                    self.open_dialog(super::file_dialog::DialogPurpose::SaveModel);
-                }
+                Err(e) => self.set_status(format!("cannot recover: {e}"), true),
             },
+            Command::DiscardRecovery => self.session.discard_recovery(),
+            Command::UseMouseHand(profile) => {
+                self.end_hand_contacts();
+                self.hand.use_profile(profile);
+                self.select_tool(Tool::Hand);
+                self.set_status("the mouse drives the hand: Hand tool selected", false);
+            }
+        }
+    }
+
+    /// Asks the lifecycle for `action` (it may ask the user first) and follows its answer.
+    fn request(&mut self, action: Pending) {
+        let next = self.session.request(action);
+        self.follow(next);
+    }
+
+    /// Carries out the lifecycle's next step, and the steps that follow from it.
+    fn follow(&mut self, next: Next) {
+        match next {
+            Next::Wait => {}
+            Next::Proceed(action) => self.carry_out(action),
+            Next::ChooseSavePath => {
+                // The lifecycle waits on this very dialog: no `show_dialog` (which would
+                // drop a waiting action along with the dialog it replaces).
+                self.dialog = Some(self.new_dialog(DialogPurpose::SaveModel));
+            }
+            Next::Save(path) => {
+                let (next, result) = self.session.save_to(&path);
+                match result {
+                    Ok(()) => self.set_status(format!("saved {}", path.display()), false),
+                    Err(e) => self.set_status(format!("cannot save: {e}"), true),
+                }
+                self.follow(next);
+            }
         }
     }
 
     /// Closes, creates or opens, the question about unsaved changes answered.
-    pub(super) fn carry_out(&mut self, action: Pending) {
+    fn carry_out(&mut self, action: Pending) {
         match action {
-            Pending::Close => self.quit = true,
+            // The lifecycle has set `wants_to_quit`.
+            Pending::Close => {}
             Pending::Create(form) => self.create_from(form),
             Pending::Open(path) => self.open_now(&path),
         }
     }
 
-    /// Saves to `path`, reporting on the status line; true when it worked.
-    pub(super) fn save_to(&mut self, path: &Path) -> bool {
-        match self.doc.save(path) {
-            Ok(()) => {
-                self.set_status(format!("saved {}", path.display()), false);
-                true
+    /// Shows a file dialog the user asked for, in place of any other (a save dialog that an
+    /// action waited on goes, and the action with it).
+    fn show_dialog(&mut self, purpose: DialogPurpose) {
+        if self.dialog.take().is_some() {
+            self.session.save_dialog_closed();
+        }
+        self.dialog = Some(self.new_dialog(purpose));
+    }
+
+    fn new_dialog(&self, purpose: DialogPurpose) -> FileDialog {
+        let default = match purpose {
+            DialogPurpose::SaveModel | DialogPurpose::OpenModel => "model.nendo.json",
+            DialogPurpose::ExportMesh => "model.obj",
+            DialogPurpose::SaveOps | DialogPurpose::ReplayOps => "ops.jsonl",
+        };
+        FileDialog::beside(purpose, self.session.doc.path.as_deref(), default)
+    }
+
+    /// A file dialog picked `path`.
+    fn dialog_chosen(&mut self, purpose: DialogPurpose, path: PathBuf) {
+        match purpose {
+            DialogPurpose::OpenModel => self.open(&path),
+            DialogPurpose::SaveModel => {
+                let next = self.session.save_path_chosen(path);
+                self.follow(next);
             }
+            DialogPurpose::ExportMesh => self.export(&path),
+            DialogPurpose::SaveOps => self.save_recording(&path),
+            DialogPurpose::ReplayOps => match std::fs::read_to_string(&path) {
+                Ok(text) => match parse_ops(&text) {
+                    Ok(ops) => self.replay = Some(Replay { ops, next: 0 }),
+                    Err(e) => self.set_status(format!("{}: {e}", path.display()), true),
+                },
+                Err(e) => self.set_status(format!("{}: {e}", path.display()), true),
+            },
+        }
+    }
+
+    /// Ends the recording and writes it to `path` as JSON lines (kept on failure).
+    fn save_recording(&mut self, path: &Path) {
+        let ops = self.session.doc.recording.take().unwrap_or_default();
+        let text: String = ops
+            .iter()
+            .map(|op| format!("{}\n", op_to_json(op)))
+            .collect();
+        match crate::model::write_atomically(path, text.as_bytes()) {
+            Ok(()) => self.set_status(
+                format!("saved {} operations to {}", ops.len(), path.display()),
+                false,
+            ),
             Err(e) => {
-                self.set_status(format!("cannot save: {e}"), true);
-                false
+                self.session.doc.recording = Some(ops);
+                self.set_status(format!("cannot save the recording: {e}"), true);
             }
         }
     }
 
-    /// Recovers the autosave at `path`: the model comes back as unsaved work (dirty until
-    /// saved; the autosave stays until then).
-    pub(super) fn recover(&mut self, path: &Path) {
-        self.prompt = None;
-        match Document::open(path) {
-            Ok(mut doc) => {
-                doc.path = None;
-                doc.mark_unsaved();
-                self.replace_document(doc);
-                self.owns_autosave = true;
-                self.set_status("recovered the autosave: save it to keep it", false);
+    /// Starts exporting the surface to `path` on its own thread (see [`ExportJob`]).
+    fn export(&mut self, path: &Path) {
+        if let Some(job) = &self.export_job {
+            let busy = format!("still exporting {}", job.path().display());
+            return self.set_status(busy, true);
+        }
+        let tolerance = self
+            .panel
+            .export_tolerance
+            .clamp(*TOLERANCE_RANGE.start(), *TOLERANCE_RANGE.end());
+        match ExportJob::start(
+            self.cache.patches().to_vec(),
+            path.to_path_buf(),
+            Tessellation::with_tolerance(tolerance),
+        ) {
+            Ok(job) => {
+                self.set_status(format!("exporting {}…", path.display()), false);
+                self.export_job = Some(job);
             }
-            Err(e) => self.set_status(format!("cannot recover: {e}"), true),
+            Err(e) => self.set_status(e, true),
         }
     }
 
-    /// Declines the recovery: the earlier autosave is removed.
-    pub(super) fn discard_recovery(&mut self) {
-        self.prompt = None;
-        if let Some(a) = &mut self.autosave {
-            a.discard();
+    fn undo(&mut self) {
+        self.tools.state.cancel();
+        self.end_hand_contacts();
+        if !self.session.doc.undo() {
+            self.set_status("nothing to undo", false);
         }
-        self.owns_autosave = true;
     }
 
-    /// Removes this session's autosave before the document is replaced by one that holds no
-    /// unsaved work (the old one was saved, or the user chose to drop it) — unless the new
-    /// document is the autosave file itself (opened by name), which must stay.
-    fn forget_autosave(&mut self, new_path: Option<&Path>) {
-        if !self.owns_autosave {
-            return;
+    fn redo(&mut self) {
+        self.tools.state.cancel();
+        self.end_hand_contacts();
+        if !self.session.doc.redo() {
+            self.set_status("nothing to redo", false);
         }
-        if let Some(a) = &mut self.autosave {
-            let same = |p: &Path| {
-                p == a.path()
-                    || matches!(
-                        (std::fs::canonicalize(p), std::fs::canonicalize(a.path())),
-                        (Ok(x), Ok(y)) if x == y
-                    )
-            };
-            if !new_path.is_some_and(same) {
-                a.discard();
-            }
-        }
+    }
+
+    /// Adds a straight cubic above the surface and selects the curve grab.
+    fn add_curve(&mut self) {
+        let (lo, hi) = self
+            .cache
+            .display()
+            .mesh
+            .bounds()
+            .unwrap_or((glam::Vec3::splat(-1.0), glam::Vec3::splat(1.0)));
+        let (lo, hi) = (lo.as_dvec3(), hi.as_dvec3());
+        let z = hi.z + 0.25 * (hi - lo).length();
+        let mid_y = 0.5 * (lo.y + hi.y);
+        let curve = straight_cubic(DVec3::new(lo.x, mid_y, z), DVec3::new(hi.x, mid_y, z));
+        self.end_hand_contacts();
+        self.session.doc.begin_edit("add curve");
+        self.session.doc.curves_mut().push(DynCurve::D3(curve));
+        self.select_tool(Tool::GrabCurve);
     }
 
     /// The window title.
     #[must_use]
     pub fn title(&self) -> String {
-        let name = self
-            .doc
-            .path
-            .as_ref()
-            .and_then(|p| p.file_name())
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "untitled".into());
-        format!(
-            "nendo — {name}{}",
-            if self.doc.is_dirty() { " *" } else { "" }
-        )
+        self.session.title()
     }
 
     /// When the window must run a frame even without input (a pending autosave, a background
     /// export to look in on).
     #[must_use]
     pub fn wake_at(&self, now: Instant) -> Option<Instant> {
-        let autosave = self
-            .autosave
-            .as_ref()
-            .filter(|_| self.prompt.is_none())
-            .and_then(|a| a.due(self.doc.revision(), now));
+        let autosave = self.session.autosave_due(now);
         let export = self
             .export_job
             .as_ref()
@@ -436,7 +554,7 @@ impl Modeller {
         self.replay.is_some() || self.live.is_connected()
     }
 
-    pub(super) fn set_status(&mut self, text: impl Into<String>, error: bool) {
+    fn set_status(&mut self, text: impl Into<String>, error: bool) {
         self.status = Some(Status {
             text: text.into(),
             error,
@@ -445,54 +563,35 @@ impl Modeller {
 
     /// Sets the viewport size (pixels) for this frame.
     pub fn set_viewport(&mut self, size: Vec2) {
-        self.viewport = size.max(Vec2::ONE);
+        self.pointer.viewport = size.max(Vec2::ONE);
     }
 
     /// Viewport size in pixels.
     #[must_use]
     pub fn viewport(&self) -> Vec2 {
-        self.viewport
+        self.pointer.viewport
     }
 
     /// Brings the cached tessellation, patches and continuity up to the document's revision.
     pub fn refresh(&mut self) {
-        let revision = self.doc.revision();
-        if self.display_revision != Some(revision) {
-            self.patches = self.doc.model().surface.patches();
-            self.display = SurfaceDisplay::new(&self.patches, &Tessellation::DISPLAY);
-            self.display_revision = Some(revision);
-            self.display_generation += 1;
-        }
+        let busy = self.gesture_busy() || self.replay.is_some();
+        self.cache.refresh(&self.session.doc, busy);
         if self.frame_pending {
             self.frame_all();
             self.frame_pending = false;
-        }
-        // The continuity measure (33 points per shared edge) is cheap for the paper's sizes;
-        // on big grids it is throttled to the end of a burst of edits.
-        if self.continuity_revision != Some(revision)
-            && !self.gesture_busy()
-            && self.replay.is_none()
-        {
-            let start = Instant::now();
-            self.continuity = Some(continuity::report(
-                &self.doc.model().surface,
-                continuity::MIN_SAMPLES_PER_EDGE,
-            ));
-            self.continuity_ms = start.elapsed().as_secs_f64() * 1e3;
-            self.continuity_revision = Some(revision);
         }
     }
 
     /// Frames the whole model.
     pub fn frame_all(&mut self) {
         let points = framing_points(
-            self.doc.model(),
-            &self.patches,
-            &self.display,
-            &self.overlays,
+            self.session.doc.model(),
+            self.cache.patches(),
+            self.cache.display(),
+            &self.panel.overlays,
         );
-        self.camera
-            .frame(&points, self.viewport.x / self.viewport.y);
+        let viewport = self.pointer.viewport;
+        self.camera.frame(&points, viewport.x / viewport.y);
     }
 
     /// Looks from a named direction at the whole model.
@@ -505,29 +604,19 @@ impl Modeller {
 
     /// Replaces the document (opened file, new primitive, recovery): clears the tool state
     /// and reframes.
-    pub(super) fn replace_document(&mut self, doc: Document) {
+    fn replace_document(&mut self, doc: Document) {
         self.end_hand_contacts();
-        self.doc = doc;
-        self.tools.cancel();
+        self.session.replace(doc);
+        self.tools.state.cancel();
         self.frame_pending = true;
-        self.display_revision = None;
-        self.continuity_revision = None;
-        if let Some(a) = &mut self.autosave {
-            a.mark_saved(self.doc.revision());
-        }
-    }
-
-    /// Opens a model file into the window, asking first when the document has unsaved
-    /// changes.
-    pub fn open(&mut self, path: &Path) {
-        self.proceed(Pending::Open(path.to_path_buf()));
+        self.cache.invalidate();
     }
 
     /// Opens a model file in place of the document (unsaved changes already dealt with).
     fn open_now(&mut self, path: &Path) {
         match Document::open(path) {
             Ok(doc) => {
-                self.forget_autosave(Some(path));
+                self.session.forget_autosave(Some(path));
                 self.replace_document(doc);
                 self.set_status(format!("opened {}", path.display()), false);
             }
@@ -535,97 +624,66 @@ impl Modeller {
         }
     }
 
+    /// Starts a new document from `form` (unsaved changes already dealt with). The fresh
+    /// primitive holds no work of the user's yet: it is clean, like the starting plane.
+    fn create_from(&mut self, form: PrimitiveForm) {
+        match form.primitive.build(&form.params()) {
+            Ok(grid) => {
+                let mut model = Model::new(grid);
+                model.regulation = self.session.doc.model().regulation;
+                self.session.forget_autosave(None);
+                self.replace_document(Document::new(model));
+                self.set_status(format!("new {}", form.primitive.name()), false);
+            }
+            Err(e) => self.set_status(format!("cannot build the primitive: {e}"), true),
+        }
+    }
+
     /// Ends the contacts of the hands (the live one and the mouse hand) before anything else
     /// edits the surface, as the hand loop requires.
-    pub(super) fn end_hand_contacts(&mut self) {
-        self.live.end_contact(&mut self.doc);
-        if let Some(h) = &mut self.hand {
-            h.end_contact(&mut self.doc);
-        }
+    fn end_hand_contacts(&mut self) {
+        self.live.end_contact(&mut self.session.doc);
+        self.hand.end_contact(&mut self.session.doc);
     }
 
     /// True while a gesture is in progress (a tool's or the mouse hand's).
     fn gesture_busy(&self) -> bool {
-        self.tools.busy() || self.hand.as_ref().is_some_and(MouseHandTool::is_pressed)
-    }
-
-    /// Makes the mouse hand for the current finger radius and click depth (a new one when the
-    /// radius changed and no button holds it); false, with a status message, when the hand
-    /// refuses the settings.
-    fn ensure_mouse_hand(&mut self) -> bool {
-        let radius = self.settings.radius;
-        let stale = self
-            .hand
-            .as_ref()
-            .is_none_or(|h| !h.is_pressed() && h.radius() != radius);
-        if stale {
-            self.end_hand_contacts();
-            match MouseHandTool::with_profile(self.hand_profile, radius, self.settings.depth) {
-                Ok(h) => self.hand = Some(h),
-                Err(e) => {
-                    self.hand = None;
-                    self.set_status(format!("the mouse hand: {e}"), true);
-                    return false;
-                }
-            }
-        }
-        match &mut self.hand {
-            Some(h) => {
-                if !h.is_pressed() {
-                    h.set_click_depth(self.settings.depth);
-                }
-                true
-            }
-            None => false,
-        }
+        self.tools.state.busy() || self.hand.is_pressed()
     }
 
     /// Feeds the mouse hand the view ray through `pixel` with the left button as held: the
     /// hand loop deforms the document (one undoable edit per contact). With no button held the
     /// fingertip hovers one finger radius in front of the surface under the cursor.
     fn drive_hand(&mut self, pixel: Vec2) {
-        let ray = self.camera.ray(pixel, self.viewport);
+        let ray = self.camera.ray(pixel, self.pointer.viewport);
         self.feed_hand(ray);
     }
 
-    fn feed_hand(&mut self, ray: Ray) {
-        self.hand_ray = Some(ray);
-        if !self.ensure_mouse_hand() {
-            return;
-        }
-        let left = self.buttons[0];
-        let hover = self.tools.hover_hit().map_or_else(
+    fn feed_hand(&mut self, ray: crate::mesh::Ray) {
+        let settings = &self.tools.settings;
+        let hover = self.tools.state.hover_hit().map_or_else(
             || f64::from(self.camera.distance),
-            |hit| (hit.t - self.settings.radius).max(0.0),
+            |hit| (hit.t - settings.radius).max(0.0),
         );
-        let pull = self.hand_pull;
-        let Some(hand) = &mut self.hand else { return };
-        let result = if left {
-            hand.event(&mut self.doc, &ray, !pull, pull)
-        } else {
-            hand.hover_at(&mut self.doc, &ray, hover)
-        };
+        let result = self.hand.feed(
+            &mut self.session.doc,
+            ray,
+            self.pointer.buttons[0],
+            hover,
+            settings.radius,
+            settings.depth,
+        );
         if let Err(e) = result {
             self.set_status(format!("the mouse hand: {e}"), true);
         }
     }
 
-    /// The Devices panel's "mouse" profile: the mouse drives the virtual hand through the
-    /// Hand tool (there is no device stream to open).
-    pub(super) fn use_mouse_hand(&mut self, profile: nendo_devices::profile::MouseProfile) {
-        self.end_hand_contacts();
-        self.hand_profile = profile;
-        self.hand = None;
-        self.select_tool(Tool::Hand);
-        self.set_status("the mouse drives the hand: Hand tool selected", false);
-    }
-
     /// Selects a tool, ending whatever the previous one was doing.
-    pub(super) fn select_tool(&mut self, tool: Tool) {
-        if tool != self.tool {
-            self.tools.cancel();
+    fn select_tool(&mut self, tool: Tool) {
+        if tool != self.tools.active {
+            self.tools.state.cancel();
             self.end_hand_contacts();
-            self.tool = tool;
+            self.tools.active = tool;
         }
     }
 
@@ -637,9 +695,9 @@ impl Modeller {
         for edit in edits {
             match edit {
                 Edit::Sculpt(op) => self.sculpt(&op),
-                Edit::BeginCurveEdit(what) => self.doc.begin_edit(what),
+                Edit::BeginCurveEdit(what) => self.session.doc.begin_edit(what),
                 Edit::ReplaceCurve { index, with } => {
-                    let curves = self.doc.curves_mut();
+                    let curves = self.session.doc.curves_mut();
                     if index < curves.len() {
                         let mut with = with.into_iter().map(DynCurve::D3);
                         if let Some(first) = with.next() {
@@ -655,13 +713,13 @@ impl Modeller {
     }
 
     /// Applies one sculpting operation, reporting failures on the status line.
-    pub(super) fn sculpt(&mut self, op: &Op) {
-        if let Err(e) = self.doc.apply(op) {
+    fn sculpt(&mut self, op: &Op) {
+        if let Err(e) = self.session.doc.apply(op) {
             self.set_status(format!("operation refused: {e}"), true);
         }
     }
 
-    /// Per-frame work that is not input: replay, live device frames, autosave.
+    /// Per-frame work that is not input: replay, live device frames, export, autosave.
     pub fn tick(&mut self, now: Instant) {
         if let Some(replay) = &mut self.replay {
             match replay.ops.get(replay.next).cloned() {
@@ -676,7 +734,7 @@ impl Modeller {
                 }
             }
         }
-        self.live.poll(&mut self.doc);
+        self.live.poll(&mut self.session.doc);
         if let Some(outcome) = self.export_job.as_ref().and_then(ExportJob::poll) {
             self.export_job = None;
             match outcome {
@@ -687,14 +745,7 @@ impl Modeller {
                 Err(e) => self.set_status(e, true),
             }
         }
-        let revision = self.doc.revision();
-        if let Some(a) = &mut self.autosave {
-            // Not while a prompt is open: the recovery question is about the file this would
-            // overwrite.
-            if self.prompt.is_none() && a.tick(self.doc.model(), revision, now) {
-                self.owns_autosave = true;
-            }
-        }
+        self.session.tick_autosave(now);
         let t = &mut self.timing;
         t.frames_this_second += 1;
         match t.second_started {
@@ -718,101 +769,107 @@ impl Modeller {
         };
     }
 
-    /// Handles pointer input over the 3D view (egui did not consume it).
-    pub fn pointer(&mut self, input: PointerInput) {
-        if self.prompt.is_some() {
-            return;
-        }
-        let curves_owned: Vec<(usize, Curve<DVec3>)> = self
+    /// The 3D curves of the document, owned (the tools read them while the document changes).
+    fn curves_3d(&self) -> Vec<(usize, Curve<DVec3>)> {
+        self.session
             .doc
             .curves_3d()
             .into_iter()
             .map(|(i, c)| (i, c.clone()))
-            .collect();
+            .collect()
+    }
+
+    /// Handles pointer input over the 3D view (egui did not consume it).
+    pub fn pointer(&mut self, input: PointerInput) {
+        if self.session.prompt().is_some() {
+            return;
+        }
+        let curves_owned = self.curves_3d();
         let curves: Vec<(usize, &Curve<DVec3>)> =
             curves_owned.iter().map(|(i, c)| (*i, c)).collect();
         let camera = self.camera;
         let ctx = ToolContext {
             camera: &camera,
-            viewport: self.viewport,
-            patches: &self.patches,
-            mesh: &self.display.mesh,
+            viewport: self.pointer.viewport,
+            patches: self.cache.patches(),
+            mesh: &self.cache.display().mesh,
             curves: &curves,
         };
+        let tool = self.tools.active;
         match input {
             PointerInput::Moved(p) => {
-                let previous = self.cursor.replace(p);
+                let previous = self.pointer.cursor.replace(p);
                 let delta = previous.map_or(Vec2::ZERO, |q| p - q);
-                if self.buttons[1] && !self.shift {
+                let [left, right, middle] = self.pointer.buttons;
+                let shift = self.pointer.shift;
+                if right && !shift {
                     self.camera.orbit(delta);
-                } else if self.buttons[2] || (self.buttons[1] && self.shift) {
-                    self.camera.pan(delta, self.viewport.y);
-                } else if self.tool == Tool::Hand {
-                    self.tools.hover(Tool::Hand, &ctx, p);
+                } else if middle || (right && shift) {
+                    self.camera.pan(delta, self.pointer.viewport.y);
+                } else if tool == Tool::Hand {
+                    self.tools.state.hover(Tool::Hand, &ctx, p);
                     self.drive_hand(p);
-                } else if self.buttons[0] {
-                    let edits = self.tools.drag(&ctx, &self.settings, p);
+                } else if left {
+                    let edits = self.tools.state.drag(&ctx, &self.tools.settings, p);
                     self.apply_edits(edits);
                 } else {
-                    self.tools.hover(self.tool, &ctx, p);
+                    self.tools.state.hover(tool, &ctx, p);
                 }
             }
             PointerInput::Pressed(button, p) => {
-                self.cursor = Some(p);
+                self.pointer.cursor = Some(p);
                 match button {
-                    Button::Left if self.tool == Tool::Hand => {
-                        self.tools.hover(Tool::Hand, &ctx, p);
-                        self.buttons[0] = true;
-                        self.hand_pull = self.shift || self.settings.ridge;
-                        self.live.end_contact(&mut self.doc);
+                    Button::Left if tool == Tool::Hand => {
+                        self.tools.state.hover(Tool::Hand, &ctx, p);
+                        self.pointer.buttons[0] = true;
+                        self.hand
+                            .press(self.pointer.shift || self.tools.settings.ridge);
+                        self.live.end_contact(&mut self.session.doc);
                         self.drive_hand(p);
                     }
                     Button::Left => {
-                        self.buttons[0] = true;
-                        let edits = self.tools.press(self.tool, &ctx, &self.settings, p);
+                        self.pointer.buttons[0] = true;
+                        let edits = self.tools.state.press(tool, &ctx, &self.tools.settings, p);
                         self.apply_edits(edits);
                     }
-                    Button::Right => self.buttons[1] = true,
-                    Button::Middle => self.buttons[2] = true,
+                    Button::Right => self.pointer.buttons[1] = true,
+                    Button::Middle => self.pointer.buttons[2] = true,
                 }
             }
             PointerInput::Released(button, p) => match button {
-                Button::Left if self.tool == Tool::Hand => {
-                    self.buttons[0] = false;
+                Button::Left if tool == Tool::Hand => {
+                    self.pointer.buttons[0] = false;
                     self.drive_hand(p);
-                    if let Some(h) = &mut self.hand {
-                        h.end_contact(&mut self.doc);
-                    }
+                    self.hand.end_contact(&mut self.session.doc);
                 }
                 Button::Left => {
-                    self.buttons[0] = false;
-                    let edits = self.tools.release(self.tool, &ctx, &self.settings, p);
+                    self.pointer.buttons[0] = false;
+                    let edits = self
+                        .tools
+                        .state
+                        .release(tool, &ctx, &self.tools.settings, p);
                     self.apply_edits(edits);
                 }
-                Button::Right => self.buttons[1] = false,
-                Button::Middle => self.buttons[2] = false,
+                Button::Right => self.pointer.buttons[1] = false,
+                Button::Middle => self.pointer.buttons[2] = false,
             },
             PointerInput::Wheel(steps) => {
-                let hand_pressed = self.tool == Tool::Hand
-                    && self.hand.as_ref().is_some_and(MouseHandTool::is_pressed);
-                if hand_pressed {
-                    if let Some(h) = &mut self.hand {
-                        h.wheel(f64::from(steps));
-                    }
-                    if let Some(ray) = self.hand_ray {
+                if tool == Tool::Hand && self.hand.is_pressed() {
+                    self.hand.wheel(f64::from(steps));
+                    if let Some(ray) = self.hand.last_ray() {
                         self.feed_hand(ray);
                     }
-                } else if self.tools.wheel(&ctx, &self.settings, steps) {
-                    let edits = self.tools.regrab(&ctx);
+                } else if self.tools.state.wheel(&ctx, &self.tools.settings, steps) {
+                    let edits = self.tools.state.regrab(&ctx);
                     self.apply_edits(edits);
                 } else {
                     self.camera.zoom(steps);
                 }
             }
             PointerInput::Left => {
-                self.cursor = None;
+                self.pointer.cursor = None;
                 if !self.gesture_busy() {
-                    self.tools.cancel();
+                    self.tools.state.cancel();
                 }
             }
         }
@@ -822,7 +879,7 @@ impl Modeller {
     /// until it is released, even over a panel).
     #[must_use]
     pub fn owns_pointer(&self) -> bool {
-        self.buttons.iter().any(|b| *b)
+        self.pointer.buttons.iter().any(|b| *b)
     }
 
     /// Builds what the renderer draws this frame: lines, spheres and the style. The surface
@@ -831,39 +888,35 @@ impl Modeller {
         lines.clear();
         spheres.clear();
         model_lines(
-            self.doc.model(),
-            &self.patches,
-            &self.display,
-            &self.overlays,
+            self.session.doc.model(),
+            self.cache.patches(),
+            self.cache.display(),
+            &self.panel.overlays,
             lines,
         );
-        let curves_owned: Vec<(usize, Curve<DVec3>)> = self
-            .doc
-            .curves_3d()
-            .into_iter()
-            .map(|(i, c)| (i, c.clone()))
-            .collect();
+        let curves_owned = self.curves_3d();
         let curves: Vec<(usize, &Curve<DVec3>)> =
             curves_owned.iter().map(|(i, c)| (*i, c)).collect();
         let ctx = ToolContext {
             camera: &self.camera,
-            viewport: self.viewport,
-            patches: &self.patches,
-            mesh: &self.display.mesh,
+            viewport: self.pointer.viewport,
+            patches: self.cache.patches(),
+            mesh: &self.cache.display().mesh,
             curves: &curves,
         };
+        let tool = self.tools.active;
+        let settings = &self.tools.settings;
         self.tools
-            .preview(self.tool, &ctx, &self.settings, lines, spheres);
-        if self.tool == Tool::Hand
-            && let Some(h) = &self.hand
-        {
-            h.draw(lines, spheres);
+            .state
+            .preview(tool, &ctx, settings, lines, spheres);
+        if tool == Tool::Hand {
+            self.hand.draw(lines, spheres);
         }
         self.live.draw(lines, spheres);
         Style {
-            heat_map: self.overlays.heat_map,
-            heat_max_deg: self.overlays.heat_max_deg,
-            tool: self.tools.footprint(self.tool, &ctx, &self.settings),
+            heat_map: self.panel.overlays.heat_map,
+            heat_max_deg: self.panel.overlays.heat_max_deg,
+            tool: self.tools.state.footprint(tool, &ctx, settings),
             ..Style::default()
         }
     }
@@ -871,13 +924,13 @@ impl Modeller {
     /// The tessellated surface to draw.
     #[must_use]
     pub fn surface(&self) -> &SurfaceDisplay {
-        &self.display
+        self.cache.display()
     }
 
     /// Changes whenever [`Modeller::surface`] does (also across documents).
     #[must_use]
     pub fn surface_generation(&self) -> u64 {
-        self.display_generation
+        self.cache.generation()
     }
 
     /// The camera.
@@ -885,32 +938,15 @@ impl Modeller {
     pub fn camera(&self) -> &OrbitCamera {
         &self.camera
     }
-
-    /// Starts a new document from the primitive form, asking first when the document has
-    /// unsaved changes.
-    pub(super) fn new_from_form(&mut self) {
-        self.proceed(Pending::Create(self.form));
-    }
-
-    /// Starts a new document from `form` (unsaved changes already dealt with). The fresh
-    /// primitive holds no work of the user's yet: it is clean, like the starting plane.
-    fn create_from(&mut self, form: PrimitiveForm) {
-        match form.primitive.build(&form.params()) {
-            Ok(grid) => {
-                let mut model = Model::new(grid);
-                model.regulation = self.doc.model().regulation;
-                self.forget_autosave(None);
-                self.replace_document(Document::new(model));
-                self.set_status(format!("new {}", form.primitive.name()), false);
-            }
-            Err(e) => self.set_status(format!("cannot build the primitive: {e}"), true),
-        }
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::autosave::Autosave;
+    use crate::app::lifecycle::{Prompt, UnsavedAnswer};
+    use crate::app::scene::SurfaceDisplay;
+    use crate::surface::{Primitive, PrimitiveParams};
 
     fn plane_doc() -> Document {
         Document::new(Model::new(
@@ -996,22 +1032,28 @@ mod tests {
         work.write(&autosave)
             .expect("an earlier session's autosave");
         let mut m = Modeller::new(plane_doc(), Some(autosave.clone()), true);
-        assert_eq!(m.prompt, Some(Prompt::Recover(autosave.clone())));
-        m.recover(&autosave);
+        assert_eq!(
+            m.session().prompt(),
+            Some(Prompt::Recover(autosave.clone()))
+        );
+        m.apply(Command::Recover(autosave.clone()));
         assert_eq!(m.document().model(), &work);
         assert!(m.document().is_dirty(), "recovered work is unsaved");
         assert!(m.title().ends_with('*'));
         m.request_close();
         assert!(!m.wants_to_quit(), "closing asks first");
-        assert_eq!(m.prompt, Some(Prompt::Unsaved(Pending::Close)));
-        m.answer_unsaved(Pending::Close, UnsavedAnswer::Cancel);
-        assert!(!m.wants_to_quit() && m.prompt.is_none());
+        assert_eq!(m.session().prompt(), Some(Prompt::Unsaved(Pending::Close)));
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Cancel));
+        assert!(!m.wants_to_quit() && m.session().prompt().is_none());
         // An exit that nobody confirmed (the window going away) keeps the autosave.
         m.on_exit();
         assert!(autosave.is_file(), "unsaved work keeps its autosave");
         // Saving makes the document clean; then closing quits and drops the autosave.
         let saved = autosave.with_file_name("kept.nendo.json");
-        assert!(m.save_to(&saved));
+        m.apply(Command::DialogChosen(
+            DialogPurpose::SaveModel,
+            saved.clone(),
+        ));
         assert!(!m.document().is_dirty());
         m.request_close();
         assert!(m.wants_to_quit());
@@ -1026,9 +1068,9 @@ mod tests {
         // document's autosave go.
         work.write(&autosave).expect("autosave again");
         let mut m = Modeller::new(plane_doc(), Some(autosave.clone()), true);
-        m.recover(&autosave);
+        m.apply(Command::Recover(autosave.clone()));
         m.request_close();
-        m.answer_unsaved(Pending::Close, UnsavedAnswer::Discard);
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Discard));
         assert!(m.wants_to_quit());
         m.on_exit();
         assert!(!autosave.exists());
@@ -1075,12 +1117,12 @@ mod tests {
         m.tick(t0 + Autosave::SETTLE * 2);
         assert_eq!(Model::read(&autosave).expect("autosaved").model, work);
 
-        m.form = PrimitiveForm::defaults_for(Primitive::Sphere);
-        m.new_from_form();
+        let sphere = PrimitiveForm::defaults_for(Primitive::Sphere);
+        m.apply(Command::Create(sphere));
         assert_eq!(m.document().model(), &work, "nothing replaced yet");
         assert_eq!(
-            m.prompt,
-            Some(Prompt::Unsaved(Pending::Create(m.form))),
+            m.session().prompt(),
+            Some(Prompt::Unsaved(Pending::Create(sphere))),
             "Create asks"
         );
         m.tick(t0 + Autosave::INTERVAL * 3);
@@ -1089,7 +1131,7 @@ mod tests {
             work,
             "the earlier work's autosave stays while the question is open"
         );
-        m.answer_unsaved(Pending::Create(m.form), UnsavedAnswer::Cancel);
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Cancel));
         assert_eq!(m.document().model(), &work, "cancel keeps the work");
         assert!(m.document().is_dirty());
 
@@ -1104,25 +1146,23 @@ mod tests {
         .expect("write");
         m.open(&other);
         assert_eq!(m.document().model(), &work, "Open asks first");
-        let Some(Prompt::Unsaved(action)) = m.prompt.clone() else {
-            panic!("{:?}", m.prompt)
-        };
+        assert!(matches!(m.session().prompt(), Some(Prompt::Unsaved(_))));
         let kept = autosave.with_file_name("work.nendo.json");
-        m.doc.path = Some(kept.clone());
-        m.answer_unsaved(action, UnsavedAnswer::Save);
+        m.session.doc.path = Some(kept.clone());
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Save));
         assert_eq!(Model::read(&kept).expect("saved").model, work);
         assert_eq!(m.document().path.as_deref(), Some(other.as_path()));
         assert!(!m.document().is_dirty());
 
         // Opening the autosave file itself by name keeps it (it is the opened document).
         work.write(&autosave).expect("an autosave");
-        m.answer_unsaved(Pending::Open(autosave.clone()), UnsavedAnswer::Discard);
+        m.open(&autosave);
         assert_eq!(m.document().path.as_deref(), Some(autosave.as_path()));
         assert!(autosave.is_file(), "the opened file is not removed");
 
         // With nothing unsaved, Create goes ahead without asking.
-        m.new_from_form();
-        assert!(m.prompt.is_none());
+        m.apply(Command::Create(sphere));
+        assert!(m.session().prompt().is_none());
         assert_eq!(
             m.document().model().surface.topology(),
             Primitive::Sphere.topology()
@@ -1138,8 +1178,10 @@ mod tests {
         let mut m = Modeller::new(plane_doc(), None, false);
         m.set_viewport(Vec2::new(800.0, 600.0));
         m.refresh();
-        m.use_mouse_hand(nendo_devices::profile::MouseProfile::default());
-        assert_eq!(m.tool, Tool::Hand);
+        m.apply(Command::UseMouseHand(
+            nendo_devices::profile::MouseProfile::default(),
+        ));
+        assert_eq!(m.tools.active, Tool::Hand);
         let centre = Vec2::new(400.0, 300.0);
         m.pointer(PointerInput::Moved(centre));
         assert_eq!(m.document().revision(), 0, "hovering does not sculpt");
@@ -1163,7 +1205,7 @@ mod tests {
         );
         assert!(m.document().is_dirty());
         assert_eq!(m.document().history().undo_name(), Some("hand"));
-        m.undo();
+        m.apply(Command::Undo);
         assert_eq!(
             m.document().model(),
             plane_doc().model(),
@@ -1219,5 +1261,136 @@ mod tests {
             "framed on the surface alone the net runs out: {}",
             worst(&Overlays::default())
         );
+    }
+
+    /// A modeller whose plane has one push and no file yet.
+    fn unsaved_work(name: &str) -> (Modeller, PathBuf) {
+        let dir = temp_autosave(name).parent().expect("dir").to_path_buf();
+        let mut m = Modeller::new(plane_doc(), None, false);
+        m.set_viewport(Vec2::new(800.0, 600.0));
+        m.refresh();
+        m.sculpt(&Op::Push {
+            at: DVec3::new(0.5, 0.5, 0.0),
+            dir: -DVec3::Z,
+            depth: 0.5,
+            radius: 1.25,
+        });
+        assert!(m.document().is_dirty() && m.document().path.is_none());
+        (m, dir)
+    }
+
+    /// "Save…" in the unsaved-changes question of a document with no file opens the save
+    /// dialog; once it picked a file and the save worked, the action that asked (Close,
+    /// Create, Open) goes on. It used to be lost: opening the dialog forgot it.
+    #[test]
+    fn save_in_the_unsaved_question_then_runs_the_waiting_action() {
+        // Close.
+        let (mut m, dir) = unsaved_work("save-close");
+        let work = m.document().model().clone();
+        m.request_close();
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Save));
+        assert_eq!(
+            m.dialog.as_ref().map(|d| d.purpose),
+            Some(DialogPurpose::SaveModel),
+            "Save… asks for a file"
+        );
+        assert!(!m.wants_to_quit(), "not before the save");
+        let file = dir.join("closing.nendo.json");
+        m.apply(Command::DialogChosen(
+            DialogPurpose::SaveModel,
+            file.clone(),
+        ));
+        assert_eq!(Model::read(&file).expect("saved").model, work);
+        assert!(m.wants_to_quit(), "the Close went on after the save");
+        assert!(m.dialog.is_none());
+
+        // Create.
+        let (mut m, dir) = unsaved_work("save-create");
+        let torus = PrimitiveForm::defaults_for(Primitive::Torus);
+        m.apply(Command::Create(torus));
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Save));
+        let file = dir.join("before-torus.nendo.json");
+        m.apply(Command::DialogChosen(
+            DialogPurpose::SaveModel,
+            file.clone(),
+        ));
+        assert!(file.is_file(), "saved");
+        assert_eq!(
+            m.document().model().surface.topology(),
+            Primitive::Torus.topology(),
+            "the Create went on after the save"
+        );
+
+        // Open.
+        let (mut m, dir) = unsaved_work("save-open");
+        let other = dir.join("other.nendo.json");
+        let sphere = Model::new(
+            Primitive::Sphere
+                .build(&PrimitiveParams::default())
+                .expect("sphere"),
+        );
+        sphere.write(&other).expect("write");
+        m.open(&other);
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Save));
+        let file = dir.join("before-open.nendo.json");
+        m.apply(Command::DialogChosen(
+            DialogPurpose::SaveModel,
+            file.clone(),
+        ));
+        assert!(file.is_file(), "saved");
+        assert_eq!(
+            m.document().model(),
+            &sphere,
+            "the Open went on after the save"
+        );
+        assert_eq!(m.document().path.as_deref(), Some(other.as_path()));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Cancelling the save dialog that "Save…" opened keeps the work and drops the action;
+    /// a failed save asks again; "Discard" goes on without writing anything.
+    #[test]
+    fn cancel_keeps_the_work_and_discard_drops_it() {
+        let (mut m, dir) = unsaved_work("cancel");
+        let work = m.document().model().clone();
+        m.request_close();
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Save));
+        m.apply(Command::DialogCancelled);
+        assert!(!m.wants_to_quit());
+        assert!(m.session().prompt().is_none() && m.dialog.is_none());
+        assert_eq!(m.document().model(), &work);
+        assert!(m.document().is_dirty());
+        // A later plain "Save as…" does not close the window.
+        let file = dir.join("plain.nendo.json");
+        m.apply(Command::ShowDialog(DialogPurpose::SaveModel));
+        m.apply(Command::DialogChosen(
+            DialogPurpose::SaveModel,
+            file.clone(),
+        ));
+        assert!(file.is_file() && !m.wants_to_quit());
+
+        // A save that fails asks the question again.
+        let (mut m, dir) = unsaved_work("fail");
+        m.request_close();
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Save));
+        let nowhere = dir.join("missing-folder").join("x.nendo.json");
+        m.apply(Command::DialogChosen(DialogPurpose::SaveModel, nowhere));
+        assert!(!m.wants_to_quit());
+        assert_eq!(m.session().prompt(), Some(Prompt::Unsaved(Pending::Close)));
+        assert!(m.status.as_ref().is_some_and(|s| s.error));
+
+        // Discard creates without writing a file.
+        let (mut m, dir) = unsaved_work("discard");
+        m.apply(Command::Create(PrimitiveForm::defaults_for(
+            Primitive::Torus,
+        )));
+        m.apply(Command::AnswerUnsaved(UnsavedAnswer::Discard));
+        assert_eq!(
+            m.document().model().surface.topology(),
+            Primitive::Torus.topology()
+        );
+        assert!(!m.document().is_dirty());
+        assert!(m.dialog.is_none());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

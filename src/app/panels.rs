@@ -1,20 +1,25 @@
 //! The egui panels: file and edit commands, the new-primitive form, tools, regulation,
-//! display options, the continuity and timing readouts, recording and replay, devices; and the
-//! modal prompts and file dialogs.
+//! display options, the continuity and timing readouts, recording and replay; the modal
+//! prompts and the file dialog; the keyboard shortcuts.
+//!
+//! Each `*_ui` function draws from the state it is handed and returns the [`Command`]s the user
+//! gave; it edits only plain settings in place (sliders, check boxes, the form) and never does
+//! file I/O or touches the document — [`Modeller::apply`](super::Modeller::apply) does.
 
 use egui::{Color32, Key, KeyboardShortcut, Modifiers, RichText, Ui};
-use std::path::{Path, PathBuf};
 
+use super::autosave::Autosave;
 use super::camera::ViewPreset;
-use super::curve_edit::straight_cubic;
+use super::command::Command;
+use super::document::OpTiming;
 use super::export_job::{ExportJob, TOLERANCE_RANGE};
 use super::file_dialog::{DialogPurpose, DialogResult, FileDialog};
-use super::modeller::{Modeller, Pending, PrimitiveForm, Prompt, Replay, UnsavedAnswer};
-use super::tools::Tool;
+use super::history::History;
+use super::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
+use super::scene::{Overlays, SurfaceDisplay};
+use super::tools::{Tool, ToolSettings};
 use crate::curve::edit::GrabMethod;
-use crate::curve::json::DynCurve;
-use crate::mesh::Tessellation;
-use crate::model::ops::{op_to_json, parse_ops};
+use crate::surface::continuity::ContinuityReport;
 use crate::surface::{Primitive, Regulation, Topology};
 
 const ERROR: Color32 = Color32::from_rgb(235, 95, 75);
@@ -22,588 +27,467 @@ const ERROR: Color32 = Color32::from_rgb(235, 95, 75);
 /// Width of the tool panel, points (`.ci/checks/window.sh` clicks right of it).
 pub(super) const PANEL_WIDTH: f32 = 290.0;
 
-impl Modeller {
-    /// Draws the panels and dialogs; returns the rectangle left for the 3D view, in points.
-    pub fn ui(&mut self, ui: &mut Ui) -> egui::Rect {
-        self.shortcuts(ui);
-        egui::Panel::top("nendo top").show(ui, |ui| self.top_bar_ui(ui));
-        egui::Panel::left("nendo tools")
-            .exact_size(PANEL_WIDTH)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| self.side_panel_ui(ui));
-            });
-        egui::Panel::bottom("nendo status").show(ui, |ui| self.status_ui(ui));
-        let ctx = ui.ctx().clone();
-        self.prompt_ui(&ctx);
-        self.dialog_ui(&ctx);
-        ui.available_rect_before_wrap()
-    }
+/// A message for the status line.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Status {
+    /// The message.
+    pub(super) text: String,
+    /// Shown as an error.
+    pub(super) error: bool,
+}
 
-    fn shortcuts(&mut self, ui: &mut Ui) {
-        if ui.ctx().egui_wants_keyboard_input() {
-            return;
-        }
-        let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
-        let redo_y = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
-        let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
-        let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
-        let open = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
-        // Consume the longer shortcut first: Ctrl+Shift+Z also matches Ctrl+Z.
-        let (r1, r2, u, s, o, f) = ui.input_mut(|i| {
-            (
-                i.consume_shortcut(&redo),
-                i.consume_shortcut(&redo_y),
-                i.consume_shortcut(&undo),
-                i.consume_shortcut(&save),
-                i.consume_shortcut(&open),
-                i.consume_key(Modifiers::NONE, Key::F),
-            )
-        });
-        self.shift = ui.input(|i| i.modifiers.shift);
-        if r1 || r2 {
-            self.redo();
-        }
-        if u {
-            self.undo();
-        }
-        if s {
-            self.save();
-        }
-        if o {
-            self.open_dialog(DialogPurpose::OpenModel);
-        }
-        if f {
-            self.frame_all();
-        }
-    }
+/// Frame timing for the Timing panel.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct FrameRate {
+    /// Wall time of a frame from its start to the present, ms (exponentially smoothed).
+    pub(super) frame_ms: f64,
+    /// Frames in the last full second.
+    pub(super) fps: u32,
+}
 
-    pub(super) fn undo(&mut self) {
-        self.tools.cancel();
-        self.end_hand_contacts();
-        if !self.doc.undo() {
-            self.set_status("nothing to undo", false);
-        }
+/// The keyboard shortcuts (none while egui takes the keyboard, a text field say).
+pub(super) fn shortcuts_ui(ui: &mut Ui) -> Vec<Command> {
+    if ui.ctx().egui_wants_keyboard_input() {
+        return Vec::new();
     }
-
-    pub(super) fn redo(&mut self) {
-        self.tools.cancel();
-        self.end_hand_contacts();
-        if !self.doc.redo() {
-            self.set_status("nothing to redo", false);
-        }
+    let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+    let redo_y = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
+    let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
+    let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
+    let open = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
+    // Consume the longer shortcut first: Ctrl+Shift+Z also matches Ctrl+Z.
+    let (r1, r2, u, s, o, f) = ui.input_mut(|i| {
+        (
+            i.consume_shortcut(&redo),
+            i.consume_shortcut(&redo_y),
+            i.consume_shortcut(&undo),
+            i.consume_shortcut(&save),
+            i.consume_shortcut(&open),
+            i.consume_key(Modifiers::NONE, Key::F),
+        )
+    });
+    let mut commands = Vec::new();
+    if r1 || r2 {
+        commands.push(Command::Redo);
     }
-
-    fn save(&mut self) {
-        match self.doc.path.clone() {
-            Some(path) => {
-                self.save_to(&path);
-            }
-            None => self.open_dialog(DialogPurpose::SaveModel),
-        }
+    if u {
+        commands.push(Command::Undo);
     }
-
-    /// Opens a file dialog (forgetting any action that waited for an earlier save dialog).
-    pub(super) fn open_dialog(&mut self, purpose: DialogPurpose) {
-        self.after_save = None;
-        let default = match purpose {
-            DialogPurpose::SaveModel | DialogPurpose::OpenModel => "model.nendo.json",
-            DialogPurpose::ExportMesh => "model.obj",
-            DialogPurpose::SaveOps | DialogPurpose::ReplayOps => "ops.jsonl",
-        };
-        self.dialog = Some(FileDialog::beside(
-            purpose,
-            self.doc.path.as_deref(),
-            default,
-        ));
+    if s {
+        commands.push(Command::Save);
     }
-
-    /// Starts exporting the surface to `path` on its own thread (see [`ExportJob`]).
-    fn export(&mut self, path: &Path) {
-        if let Some(job) = &self.export_job {
-            let busy = format!("still exporting {}", job.path().display());
-            return self.set_status(busy, true);
-        }
-        let tolerance = self
-            .export_tolerance
-            .clamp(*TOLERANCE_RANGE.start(), *TOLERANCE_RANGE.end());
-        match ExportJob::start(
-            self.patches.clone(),
-            path.to_path_buf(),
-            Tessellation::with_tolerance(tolerance),
-        ) {
-            Ok(job) => {
-                self.set_status(format!("exporting {}…", path.display()), false);
-                self.export_job = Some(job);
-            }
-            Err(e) => self.set_status(e, true),
-        }
+    if o {
+        commands.push(Command::ShowDialog(DialogPurpose::OpenModel));
     }
-
-    fn top_bar_ui(&mut self, ui: &mut Ui) {
-        ui.horizontal_wrapped(|ui| {
-            if ui.button("Open…").on_hover_text("Ctrl+O").clicked() {
-                self.open_dialog(DialogPurpose::OpenModel);
-            }
-            if ui.button("Save").on_hover_text("Ctrl+S").clicked() {
-                self.save();
-            }
-            if ui.button("Save as…").clicked() {
-                self.open_dialog(DialogPurpose::SaveModel);
-            }
-            if ui
-                .button("Export…")
-                .on_hover_text("OBJ, STL or GLB, by the file's extension")
-                .clicked()
-            {
-                self.open_dialog(DialogPurpose::ExportMesh);
-            }
-            ui.separator();
-            let undo_text = match self.doc.history().undo_name() {
-                Some(w) => format!("Undo {w}"),
-                None => "Undo".into(),
-            };
-            if ui
-                .add_enabled(
-                    self.doc.history().undo_name().is_some(),
-                    egui::Button::new(undo_text),
-                )
-                .on_hover_text("Ctrl+Z")
-                .clicked()
-            {
-                self.undo();
-            }
-            if ui
-                .add_enabled(
-                    self.doc.history().redo_name().is_some(),
-                    egui::Button::new("Redo"),
-                )
-                .on_hover_text("Ctrl+Shift+Z")
-                .clicked()
-            {
-                self.redo();
-            }
-            ui.separator();
-            for preset in [
-                ViewPreset::Front,
-                ViewPreset::Top,
-                ViewPreset::Right,
-                ViewPreset::Iso,
-            ] {
-                if ui.button(preset.name()).clicked() {
-                    self.view_from(preset);
-                }
-            }
-            if ui.button("frame").on_hover_text("F").clicked() {
-                self.frame_all();
-            }
-        });
+    if f {
+        commands.push(Command::FrameAll);
     }
+    commands
+}
 
-    fn side_panel_ui(&mut self, ui: &mut Ui) {
-        egui::CollapsingHeader::new("New primitive")
-            .default_open(false)
-            .show(ui, |ui| self.primitive_ui(ui));
-        egui::CollapsingHeader::new("Tool")
-            .default_open(true)
-            .show(ui, |ui| self.tool_ui(ui));
-        egui::CollapsingHeader::new("Regulation")
-            .default_open(true)
-            .show(ui, |ui| {
-                let mut regulation = self.doc.model().regulation;
-                egui::ComboBox::from_id_salt("regulation")
-                    .selected_text(regulation.name())
-                    .show_ui(ui, |ui| {
-                        for r in Regulation::ALL {
-                            ui.selectable_value(&mut regulation, r, r.name());
-                        }
-                    });
-                self.doc.set_regulation(regulation);
-            });
-        egui::CollapsingHeader::new("Display")
-            .default_open(true)
-            .show(ui, |ui| {
-                let o = &mut self.overlays;
-                ui.checkbox(&mut o.patch_edges, "patch boundaries");
-                ui.checkbox(&mut o.control_net, "control net");
-                ui.checkbox(&mut o.control_polygons, "curve control polygons");
-                ui.checkbox(&mut o.heat_map, "G1 heat map along seams");
-                ui.add_enabled(
-                    o.heat_map,
-                    egui::Slider::new(&mut o.heat_max_deg, 0.01..=30.0)
-                        .logarithmic(true)
-                        .text("° = red"),
-                );
-            });
-        egui::CollapsingHeader::new("Export").default_open(false).show(ui, |ui| {
-            ui.add(
-                egui::Slider::new(&mut self.export_tolerance, TOLERANCE_RANGE)
-                    .logarithmic(true)
-                    .text("tolerance (side)"),
-            );
-            ui.small("Largest distance from the mesh to the surface. OBJ (with normals), binary STL or GLB, by the file's extension. Written in the background.");
-            match &self.export_job {
-                Some(job) => {
-                    ui.label(format!(
-                        "exporting {}… {:.0} s",
-                        job.path().display(),
-                        job.elapsed_s()
-                    ));
-                }
-                None => {
-                    if ui.button("Export…").clicked() {
-                        self.open_dialog(DialogPurpose::ExportMesh);
-                    }
-                }
-            }
-        });
-        egui::CollapsingHeader::new("Continuity")
-            .default_open(true)
-            .show(ui, |ui| self.continuity_ui(ui));
-        egui::CollapsingHeader::new("Timing")
-            .default_open(true)
-            .show(ui, |ui| self.timing_ui(ui));
-        egui::CollapsingHeader::new("Record / replay")
-            .default_open(false)
-            .show(ui, |ui| self.record_ui(ui));
-        egui::CollapsingHeader::new("Devices")
-            .default_open(false)
-            .show(ui, |ui| {
-                if let Some(profile) = self.live.ui(ui, self.settings.radius, &mut self.doc) {
-                    self.use_mouse_hand(profile);
-                }
-            });
-    }
-
-    fn primitive_ui(&mut self, ui: &mut Ui) {
-        let mut form = self.form;
-        egui::ComboBox::from_id_salt("primitive")
-            .selected_text(form.primitive.name())
-            .show_ui(ui, |ui| {
-                for p in Primitive::ALL {
-                    if ui.selectable_label(form.primitive == p, p.name()).clicked() {
-                        form = PrimitiveForm::defaults_for(p);
-                    }
-                }
-            });
-        let topology = form.primitive.topology();
-        ui.label(format!("topology: {}", topology.name()));
-        let closed_u = !matches!(topology, Topology::Plane);
-        ui.horizontal(|ui| {
-            ui.label("patches");
-            let step_u = if closed_u { 2.0 } else { 1.0 };
-            ui.add(
-                egui::DragValue::new(&mut form.patches.0)
-                    .range(1..=256)
-                    .speed(step_u)
-                    .prefix("M "),
-            );
-            ui.add(
-                egui::DragValue::new(&mut form.patches.1)
-                    .range(1..=256)
-                    .prefix("N "),
-            );
-        });
-        match form.primitive {
-            Primitive::Plane => {}
-            Primitive::Cylinder | Primitive::Tube => {
-                ui.add(egui::Slider::new(&mut form.radius, 0.1..=20.0).text("radius"));
-                ui.add(egui::Slider::new(&mut form.height, 0.1..=40.0).text("height"));
-            }
-            Primitive::Hemisphere | Primitive::Sphere => {
-                ui.add(egui::Slider::new(&mut form.radius, 0.1..=20.0).text("radius"));
-            }
-            Primitive::Torus => {
-                ui.add(egui::Slider::new(&mut form.radius, 0.1..=20.0).text("major radius"));
-                ui.add(egui::Slider::new(&mut form.minor_radius, 0.05..=10.0).text("minor radius"));
-            }
+/// The top bar: file, undo / redo, the named views.
+pub(super) fn top_bar_ui(ui: &mut Ui, history: &History) -> Vec<Command> {
+    let mut commands = Vec::new();
+    ui.horizontal_wrapped(|ui| {
+        if ui.button("Open…").on_hover_text("Ctrl+O").clicked() {
+            commands.push(Command::ShowDialog(DialogPurpose::OpenModel));
         }
-        ui.label(format!("{} patches", form.patches.0 * form.patches.1));
-        self.form = form;
-        if ui.button("Create").clicked() {
-            self.new_from_form();
+        if ui.button("Save").on_hover_text("Ctrl+S").clicked() {
+            commands.push(Command::Save);
         }
-    }
-
-    fn tool_ui(&mut self, ui: &mut Ui) {
-        let mut chosen = self.tool;
-        for tool in Tool::ALL {
-            ui.radio_value(&mut chosen, tool, tool.label());
-        }
-        self.select_tool(chosen);
-        let s = &mut self.settings;
-        ui.add(
-            egui::Slider::new(&mut s.radius, 0.05..=6.0)
-                .logarithmic(true)
-                .text("finger radius"),
-        );
-        ui.add(
-            egui::Slider::new(&mut s.depth, 0.01..=3.0)
-                .logarithmic(true)
-                .text("depth (click)"),
-        );
-        ui.checkbox(&mut s.ridge, "draw ridges (not grooves)");
-        ui.add(
-            egui::Slider::new(&mut s.probe_radius, 0.02..=3.0)
-                .logarithmic(true)
-                .text("probe sphere"),
-        );
-        let method_name = |m: GrabMethod| match m {
-            GrabMethod::LargestWeight => "largest weight (seed 004)",
-            GrabMethod::NearestParameter => "nearest parameter (seed 000)",
-            GrabMethod::LeastChange => "least change",
-        };
-        egui::ComboBox::from_label("curve grab")
-            .selected_text(method_name(s.grab.method))
-            .show_ui(ui, |ui| {
-                for m in [
-                    GrabMethod::LargestWeight,
-                    GrabMethod::NearestParameter,
-                    GrabMethod::LeastChange,
-                ] {
-                    ui.selectable_value(&mut s.grab.method, m, method_name(m));
-                }
-            });
-        ui.checkbox(&mut s.grab.keep_ends, "keep curve end points");
-        ui.small("Left: tool · Right drag: orbit · Middle or Shift+Right: pan · Wheel: zoom (while pressing: depth)");
-        if self.tool == Tool::Hand {
-            ui.small("Hand: the view ray is the finger. Press pushes, drag draws a groove; with Shift (or \"draw ridges\") the finger grips and pulls; the wheel while pressing goes deeper.");
+        if ui.button("Save as…").clicked() {
+            commands.push(Command::ShowDialog(DialogPurpose::SaveModel));
         }
         if ui
-            .button("Add a curve")
-            .on_hover_text("a straight cubic above the surface, to grab and bend")
+            .button("Export…")
+            .on_hover_text("OBJ, STL or GLB, by the file's extension")
             .clicked()
         {
-            let (lo, hi) = self
-                .surface()
-                .mesh
-                .bounds()
-                .unwrap_or((glam::Vec3::splat(-1.0), glam::Vec3::splat(1.0)));
-            let (lo, hi) = (lo.as_dvec3(), hi.as_dvec3());
-            let z = hi.z + 0.25 * (hi - lo).length();
-            let mid_y = 0.5 * (lo.y + hi.y);
-            let curve = straight_cubic(
-                glam::DVec3::new(lo.x, mid_y, z),
-                glam::DVec3::new(hi.x, mid_y, z),
-            );
-            self.end_hand_contacts();
-            self.doc.begin_edit("add curve");
-            self.doc.curves_mut().push(DynCurve::D3(curve));
-            self.select_tool(Tool::GrabCurve);
+            commands.push(Command::ShowDialog(DialogPurpose::ExportMesh));
+        }
+        ui.separator();
+        let undo_text = match history.undo_name() {
+            Some(w) => format!("Undo {w}"),
+            None => "Undo".into(),
+        };
+        if ui
+            .add_enabled(history.undo_name().is_some(), egui::Button::new(undo_text))
+            .on_hover_text("Ctrl+Z")
+            .clicked()
+        {
+            commands.push(Command::Undo);
+        }
+        if ui
+            .add_enabled(history.redo_name().is_some(), egui::Button::new("Redo"))
+            .on_hover_text("Ctrl+Shift+Z")
+            .clicked()
+        {
+            commands.push(Command::Redo);
+        }
+        ui.separator();
+        for preset in [
+            ViewPreset::Front,
+            ViewPreset::Top,
+            ViewPreset::Right,
+            ViewPreset::Iso,
+        ] {
+            if ui.button(preset.name()).clicked() {
+                commands.push(Command::View(preset));
+            }
+        }
+        if ui.button("frame").on_hover_text("F").clicked() {
+            commands.push(Command::FrameAll);
+        }
+    });
+    commands
+}
+
+/// The new-primitive form and its Create button.
+pub(super) fn primitive_ui(ui: &mut Ui, form: &mut PrimitiveForm) -> Vec<Command> {
+    egui::ComboBox::from_id_salt("primitive")
+        .selected_text(form.primitive.name())
+        .show_ui(ui, |ui| {
+            for p in Primitive::ALL {
+                if ui.selectable_label(form.primitive == p, p.name()).clicked() {
+                    *form = PrimitiveForm::defaults_for(p);
+                }
+            }
+        });
+    let topology = form.primitive.topology();
+    ui.label(format!("topology: {}", topology.name()));
+    let closed_u = !matches!(topology, Topology::Plane);
+    ui.horizontal(|ui| {
+        ui.label("patches");
+        let step_u = if closed_u { 2.0 } else { 1.0 };
+        ui.add(
+            egui::DragValue::new(&mut form.patches.0)
+                .range(1..=256)
+                .speed(step_u)
+                .prefix("M "),
+        );
+        ui.add(
+            egui::DragValue::new(&mut form.patches.1)
+                .range(1..=256)
+                .prefix("N "),
+        );
+    });
+    match form.primitive {
+        Primitive::Plane => {}
+        Primitive::Cylinder | Primitive::Tube => {
+            ui.add(egui::Slider::new(&mut form.radius, 0.1..=20.0).text("radius"));
+            ui.add(egui::Slider::new(&mut form.height, 0.1..=40.0).text("height"));
+        }
+        Primitive::Hemisphere | Primitive::Sphere => {
+            ui.add(egui::Slider::new(&mut form.radius, 0.1..=20.0).text("radius"));
+        }
+        Primitive::Torus => {
+            ui.add(egui::Slider::new(&mut form.radius, 0.1..=20.0).text("major radius"));
+            ui.add(egui::Slider::new(&mut form.minor_radius, 0.05..=10.0).text("minor radius"));
         }
     }
-
-    fn continuity_ui(&mut self, ui: &mut Ui) {
-        let Some(r) = &self.continuity else {
-            ui.label("measuring…");
-            return;
-        };
-        egui::Grid::new("continuity").num_columns(2).show(ui, |ui| {
-            ui.label("G1 max");
-            ui.label(format!("{:.4}°", r.g1_max_deg));
-            ui.end_row();
-            ui.label("G1 mean");
-            ui.label(format!("{:.4}°", r.g1_mean_deg));
-            ui.end_row();
-            ui.label("G0 gap");
-            ui.label(format!("{:.2e}", r.g0_gap));
-            ui.end_row();
-            for pole in &r.poles {
-                ui.label(format!("pole {:?} spread", pole.end));
-                ui.label(format!("{:.4}°", pole.spread_deg));
-                ui.end_row();
-            }
-            ui.label("seam (mesh) max");
-            ui.label(format!("{:.4}°", self.display.max_seam_deg));
-            ui.end_row();
-        });
-        ui.small(format!(
-            "{} shared edges × {} points, {} undefined normals; measured in {:.1} ms",
-            r.shared_edges, r.samples_per_edge, r.undefined_normals, self.continuity_ms
-        ));
+    ui.label(format!("{} patches", form.patches.0 * form.patches.1));
+    if ui.button("Create").clicked() {
+        vec![Command::Create(*form)]
+    } else {
+        Vec::new()
     }
+}
 
-    fn timing_ui(&mut self, ui: &mut Ui) {
-        egui::Grid::new("timing").num_columns(2).show(ui, |ui| {
-            ui.label("last operation");
-            match &self.doc.last_op {
-                Some(t) => ui.label(format!("{:.2} ms, {} patches", t.ms, t.patches)),
-                None => ui.label("—"),
-            };
-            ui.end_row();
-            ui.label("tessellation");
+/// The tool choice and its settings.
+pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> Vec<Command> {
+    let mut commands = Vec::new();
+    let mut chosen = tool;
+    for t in Tool::ALL {
+        ui.radio_value(&mut chosen, t, t.label());
+    }
+    if chosen != tool {
+        commands.push(Command::SelectTool(chosen));
+    }
+    let s = settings;
+    ui.add(
+        egui::Slider::new(&mut s.radius, 0.05..=6.0)
+            .logarithmic(true)
+            .text("finger radius"),
+    );
+    ui.add(
+        egui::Slider::new(&mut s.depth, 0.01..=3.0)
+            .logarithmic(true)
+            .text("depth (click)"),
+    );
+    ui.checkbox(&mut s.ridge, "draw ridges (not grooves)");
+    ui.add(
+        egui::Slider::new(&mut s.probe_radius, 0.02..=3.0)
+            .logarithmic(true)
+            .text("probe sphere"),
+    );
+    let method_name = |m: GrabMethod| match m {
+        GrabMethod::LargestWeight => "largest weight (seed 004)",
+        GrabMethod::NearestParameter => "nearest parameter (seed 000)",
+        GrabMethod::LeastChange => "least change",
+    };
+    egui::ComboBox::from_label("curve grab")
+        .selected_text(method_name(s.grab.method))
+        .show_ui(ui, |ui| {
+            for m in [
+                GrabMethod::LargestWeight,
+                GrabMethod::NearestParameter,
+                GrabMethod::LeastChange,
+            ] {
+                ui.selectable_value(&mut s.grab.method, m, method_name(m));
+            }
+        });
+    ui.checkbox(&mut s.grab.keep_ends, "keep curve end points");
+    ui.small("Left: tool · Right drag: orbit · Middle or Shift+Right: pan · Wheel: zoom (while pressing: depth)");
+    if tool == Tool::Hand {
+        ui.small("Hand: the view ray is the finger. Press pushes, drag draws a groove; with Shift (or \"draw ridges\") the finger grips and pulls; the wheel while pressing goes deeper.");
+    }
+    if ui
+        .button("Add a curve")
+        .on_hover_text("a straight cubic above the surface, to grab and bend")
+        .clicked()
+    {
+        commands.push(Command::AddCurve);
+    }
+    commands
+}
+
+/// The regulation method.
+pub(super) fn regulation_ui(ui: &mut Ui, current: Regulation) -> Vec<Command> {
+    let mut regulation = current;
+    egui::ComboBox::from_id_salt("regulation")
+        .selected_text(regulation.name())
+        .show_ui(ui, |ui| {
+            for r in Regulation::ALL {
+                ui.selectable_value(&mut regulation, r, r.name());
+            }
+        });
+    if regulation == current {
+        Vec::new()
+    } else {
+        vec![Command::SetRegulation(regulation)]
+    }
+}
+
+/// What to draw besides the clay.
+pub(super) fn display_ui(ui: &mut Ui, overlays: &mut Overlays) {
+    let o = overlays;
+    ui.checkbox(&mut o.patch_edges, "patch boundaries");
+    ui.checkbox(&mut o.control_net, "control net");
+    ui.checkbox(&mut o.control_polygons, "curve control polygons");
+    ui.checkbox(&mut o.heat_map, "G1 heat map along seams");
+    ui.add_enabled(
+        o.heat_map,
+        egui::Slider::new(&mut o.heat_max_deg, 0.01..=30.0)
+            .logarithmic(true)
+            .text("° = red"),
+    );
+}
+
+/// The export tolerance, and the export in progress or its button.
+pub(super) fn export_ui(ui: &mut Ui, tolerance: &mut f64, job: Option<&ExportJob>) -> Vec<Command> {
+    ui.add(
+        egui::Slider::new(tolerance, TOLERANCE_RANGE)
+            .logarithmic(true)
+            .text("tolerance (side)"),
+    );
+    ui.small("Largest distance from the mesh to the surface. OBJ (with normals), binary STL or GLB, by the file's extension. Written in the background.");
+    match job {
+        Some(job) => {
             ui.label(format!(
-                "{:.2} ms, {} triangles",
-                self.display.tessellate_ms,
-                self.display.mesh.triangle_count()
+                "exporting {}… {:.0} s",
+                job.path().display(),
+                job.elapsed_s()
             ));
-            ui.end_row();
-            ui.label("frame (to present)");
-            ui.label(format!("{:.1} ms", self.timing.frame_ms));
-            ui.end_row();
-            ui.label("frame rate");
-            ui.label(format!("{} /s", self.timing.fps));
-            ui.end_row();
-        });
-    }
-
-    fn record_ui(&mut self, ui: &mut Ui) {
-        match &self.doc.recording {
-            None => {
-                if ui.button("Record operations").clicked() {
-                    self.doc.recording = Some(Vec::new());
-                }
-            }
-            Some(ops) => {
-                ui.label(format!("recording: {} operations", ops.len()));
-                if ui.button("Stop and save…").clicked() {
-                    self.open_dialog(DialogPurpose::SaveOps);
-                }
-                if ui.button("Discard recording").clicked() {
-                    self.doc.recording = None;
-                }
-            }
+            Vec::new()
         }
-        match &self.replay {
-            None => {
-                if ui.button("Replay operations…").clicked() {
-                    self.open_dialog(DialogPurpose::ReplayOps);
-                }
-            }
-            Some(r) => {
-                ui.label(format!("replaying {} / {}", r.next, r.ops.len()));
-                if ui.button("Stop replay").clicked() {
-                    self.replay = None;
-                }
-            }
+        None if ui.button("Export…").clicked() => {
+            vec![Command::ShowDialog(DialogPurpose::ExportMesh)]
         }
-        ui.small("Operations are JSON lines, as `nendo sculpt --ops` reads them.");
+        None => Vec::new(),
     }
+}
 
-    fn status_ui(&mut self, ui: &mut Ui) {
-        ui.horizontal(|ui| {
-            if let Some(s) = &self.status {
-                let text = RichText::new(&s.text);
-                ui.label(if s.error { text.color(ERROR) } else { text });
-            }
-            if let Some(a) = &self.autosave {
-                ui.separator();
-                match &a.last_error {
-                    Some(e) => ui.colored_label(ERROR, format!("autosave: {e}")),
-                    None => ui.small(format!("autosave: {}", a.path().display())),
-                };
-            }
-        });
-    }
+/// The continuity readout: `report` took `measure_ms`; `max_seam_deg` is the mesh's.
+pub(super) fn continuity_ui(
+    ui: &mut Ui,
+    report: Option<&ContinuityReport>,
+    measure_ms: f64,
+    max_seam_deg: f32,
+) {
+    let Some(r) = report else {
+        ui.label("measuring…");
+        return;
+    };
+    egui::Grid::new("continuity").num_columns(2).show(ui, |ui| {
+        ui.label("G1 max");
+        ui.label(format!("{:.4}°", r.g1_max_deg));
+        ui.end_row();
+        ui.label("G1 mean");
+        ui.label(format!("{:.4}°", r.g1_mean_deg));
+        ui.end_row();
+        ui.label("G0 gap");
+        ui.label(format!("{:.2e}", r.g0_gap));
+        ui.end_row();
+        for pole in &r.poles {
+            ui.label(format!("pole {:?} spread", pole.end));
+            ui.label(format!("{:.4}°", pole.spread_deg));
+            ui.end_row();
+        }
+        ui.label("seam (mesh) max");
+        ui.label(format!("{max_seam_deg:.4}°"));
+        ui.end_row();
+    });
+    ui.small(format!(
+        "{} shared edges × {} points, {} undefined normals; measured in {measure_ms:.1} ms",
+        r.shared_edges, r.samples_per_edge, r.undefined_normals
+    ));
+}
 
-    fn prompt_ui(&mut self, ctx: &egui::Context) {
-        let Some(prompt) = self.prompt.clone() else {
-            return;
+/// The timing readout.
+pub(super) fn timing_ui(
+    ui: &mut Ui,
+    last_op: Option<&OpTiming>,
+    display: &SurfaceDisplay,
+    rate: FrameRate,
+) {
+    egui::Grid::new("timing").num_columns(2).show(ui, |ui| {
+        ui.label("last operation");
+        match last_op {
+            Some(t) => ui.label(format!("{:.2} ms, {} patches", t.ms, t.patches)),
+            None => ui.label("—"),
         };
-        egui::Modal::new(egui::Id::unique("nendo prompt")).show(ctx, |ui| match prompt {
-            Prompt::Recover(path) => {
-                ui.heading("Recover unsaved work?");
-                ui.label(format!(
-                    "An autosave from a session that did not close cleanly exists:\n{}",
-                    path.display()
-                ));
-                ui.horizontal(|ui| {
-                    if ui.button("Recover").clicked() {
-                        self.recover(&path);
-                    }
-                    if ui.button("Discard it").clicked() {
-                        self.discard_recovery();
-                    }
-                });
-            }
-            Prompt::Unsaved(action) => {
-                ui.heading("Unsaved changes");
-                let (what, discard) = match &action {
-                    Pending::Close => ("before closing".to_string(), "Quit without saving"),
-                    Pending::Create(form) => (
-                        format!("before starting a new {}", form.primitive.name()),
-                        "Discard changes",
-                    ),
-                    Pending::Open(path) => (
-                        format!("before opening {}", path.display()),
-                        "Discard changes",
-                    ),
-                };
-                ui.label(format!(
-                    "The model has changes that are not saved. Save them {what}?"
-                ));
-                ui.horizontal(|ui| {
-                    let mut answer = None;
-                    if ui.button("Save…").clicked() {
-                        answer = Some(UnsavedAnswer::Save);
-                    }
-                    if ui.button(discard).clicked() {
-                        answer = Some(UnsavedAnswer::Discard);
-                    }
-                    if ui.button("Cancel").clicked() {
-                        answer = Some(UnsavedAnswer::Cancel);
-                    }
-                    if let Some(answer) = answer {
-                        self.answer_unsaved(action.clone(), answer);
-                    }
-                });
-            }
-        });
-    }
+        ui.end_row();
+        ui.label("tessellation");
+        ui.label(format!(
+            "{:.2} ms, {} triangles",
+            display.tessellate_ms,
+            display.mesh.triangle_count()
+        ));
+        ui.end_row();
+        ui.label("frame (to present)");
+        ui.label(format!("{:.1} ms", rate.frame_ms));
+        ui.end_row();
+        ui.label("frame rate");
+        ui.label(format!("{} /s", rate.fps));
+        ui.end_row();
+    });
+}
 
-    fn dialog_ui(&mut self, ctx: &egui::Context) {
-        let Some(dialog) = &mut self.dialog else {
-            return;
-        };
-        let purpose = dialog.purpose;
-        match dialog.ui(ctx) {
-            DialogResult::Open => {}
-            DialogResult::Cancelled => {
-                self.dialog = None;
-                self.after_save = None;
+/// Recording and replay: `recorded` operations so far when recording, `(next, of)` when
+/// replaying.
+pub(super) fn record_ui(
+    ui: &mut Ui,
+    recorded: Option<usize>,
+    replaying: Option<(usize, usize)>,
+) -> Vec<Command> {
+    let mut commands = Vec::new();
+    match recorded {
+        None => {
+            if ui.button("Record operations").clicked() {
+                commands.push(Command::StartRecording);
             }
-            DialogResult::Chosen(path) => {
-                self.dialog = None;
-                self.dialog_chosen(purpose, path);
+        }
+        Some(n) => {
+            ui.label(format!("recording: {n} operations"));
+            if ui.button("Stop and save…").clicked() {
+                commands.push(Command::ShowDialog(DialogPurpose::SaveOps));
+            }
+            if ui.button("Discard recording").clicked() {
+                commands.push(Command::DiscardRecording);
             }
         }
     }
-
-    fn dialog_chosen(&mut self, purpose: DialogPurpose, path: PathBuf) {
-        match purpose {
-            DialogPurpose::OpenModel => self.open(&path),
-            DialogPurpose::SaveModel => {
-                let then = self.after_save.take();
-                if self.save_to(&path)
-                    && let Some(action) = then
-                {
-                    self.carry_out(action);
-                }
+    match replaying {
+        None => {
+            if ui.button("Replay operations…").clicked() {
+                commands.push(Command::ShowDialog(DialogPurpose::ReplayOps));
             }
-            DialogPurpose::ExportMesh => self.export(&path),
-            DialogPurpose::SaveOps => {
-                let ops = self.doc.recording.take().unwrap_or_default();
-                let text: String = ops
-                    .iter()
-                    .map(|op| format!("{}\n", op_to_json(op)))
-                    .collect();
-                match crate::model::write_atomically(&path, text.as_bytes()) {
-                    Ok(()) => self.set_status(
-                        format!("saved {} operations to {}", ops.len(), path.display()),
-                        false,
-                    ),
-                    Err(e) => {
-                        self.doc.recording = Some(ops);
-                        self.set_status(format!("cannot save the recording: {e}"), true);
-                    }
-                }
-            }
-            DialogPurpose::ReplayOps => match std::fs::read_to_string(&path) {
-                Ok(text) => match parse_ops(&text) {
-                    Ok(ops) => self.replay = Some(Replay { ops, next: 0 }),
-                    Err(e) => self.set_status(format!("{}: {e}", path.display()), true),
-                },
-                Err(e) => self.set_status(format!("{}: {e}", path.display()), true),
-            },
         }
+        Some((next, of)) => {
+            ui.label(format!("replaying {next} / {of}"));
+            if ui.button("Stop replay").clicked() {
+                commands.push(Command::StopReplay);
+            }
+        }
+    }
+    ui.small("Operations are JSON lines, as `nendo sculpt --ops` reads them.");
+    commands
+}
+
+/// The status line: the last message and the autosave's file or error.
+pub(super) fn status_ui(ui: &mut Ui, status: Option<&Status>, autosave: Option<&Autosave>) {
+    ui.horizontal(|ui| {
+        if let Some(s) = status {
+            let text = RichText::new(&s.text);
+            ui.label(if s.error { text.color(ERROR) } else { text });
+        }
+        if let Some(a) = autosave {
+            ui.separator();
+            match &a.last_error {
+                Some(e) => ui.colored_label(ERROR, format!("autosave: {e}")),
+                None => ui.small(format!("autosave: {}", a.path().display())),
+            };
+        }
+    });
+}
+
+/// The modal question.
+pub(super) fn prompt_ui(ctx: &egui::Context, prompt: &Prompt) -> Vec<Command> {
+    let mut commands = Vec::new();
+    egui::Modal::new(egui::Id::unique("nendo prompt")).show(ctx, |ui| match prompt {
+        Prompt::Recover(path) => {
+            ui.heading("Recover unsaved work?");
+            ui.label(format!(
+                "An autosave from a session that did not close cleanly exists:\n{}",
+                path.display()
+            ));
+            ui.horizontal(|ui| {
+                if ui.button("Recover").clicked() {
+                    commands.push(Command::Recover(path.clone()));
+                }
+                if ui.button("Discard it").clicked() {
+                    commands.push(Command::DiscardRecovery);
+                }
+            });
+        }
+        Prompt::Unsaved(action) => {
+            ui.heading("Unsaved changes");
+            let (what, discard) = match action {
+                Pending::Close => ("before closing".to_string(), "Quit without saving"),
+                Pending::Create(form) => (
+                    format!("before starting a new {}", form.primitive.name()),
+                    "Discard changes",
+                ),
+                Pending::Open(path) => (
+                    format!("before opening {}", path.display()),
+                    "Discard changes",
+                ),
+            };
+            ui.label(format!(
+                "The model has changes that are not saved. Save them {what}?"
+            ));
+            ui.horizontal(|ui| {
+                if ui.button("Save…").clicked() {
+                    commands.push(Command::AnswerUnsaved(UnsavedAnswer::Save));
+                }
+                if ui.button(discard).clicked() {
+                    commands.push(Command::AnswerUnsaved(UnsavedAnswer::Discard));
+                }
+                if ui.button("Cancel").clicked() {
+                    commands.push(Command::AnswerUnsaved(UnsavedAnswer::Cancel));
+                }
+            });
+        }
+    });
+    commands
+}
+
+/// The file dialog.
+pub(super) fn dialog_ui(ctx: &egui::Context, dialog: &mut FileDialog) -> Vec<Command> {
+    let purpose = dialog.purpose;
+    match dialog.ui(ctx) {
+        DialogResult::Open => Vec::new(),
+        DialogResult::Cancelled => vec![Command::DialogCancelled],
+        DialogResult::Chosen(path) => vec![Command::DialogChosen(purpose, path)],
     }
 }

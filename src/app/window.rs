@@ -384,7 +384,7 @@ impl ApplicationHandler for WindowApp {
                 let delay = self.redraw();
                 self.next_redraw = delay.and_then(|d| Instant::now().checked_add(d));
             }
-            WindowEvent::ModifiersChanged(m) => self.modeller.shift = m.state().shift_key(),
+            WindowEvent::ModifiersChanged(m) => self.modeller.set_shift(m.state().shift_key()),
             WindowEvent::CursorMoved { position, .. } => {
                 gfx.cursor = Vec2::new(position.x as f32, position.y as f32);
                 if !response.consumed || owns {

@@ -1,12 +1,14 @@
 //! Data laid out for the GPU: `#[repr(C)]`, `bytemuck::Pod`, sizes asserted at compile time.
 //!
-//! **Keep in sync with the `.wgsl` files in `shaders/`.** `tests/shader_validation.rs` checks
-//! the size of `Globals` against naga's layout of every shader that declares it.
+//! **Keep in sync with the `.wgsl` files in `shaders/`.** `tests/it/shader_validation.rs` checks
+//! `Globals` member by member (offsets and size) against naga's layout of the one WGSL block,
+//! `shaders/globals.wgsl`.
 
 use bytemuck::{Pod, Zeroable};
 
 /// Per-frame uniform shared by every pass (`@group(0) @binding(0)`).
-/// Keep in sync with `struct Globals` in `shaders/{clay,lines,spheres}.wgsl`.
+/// Keep in sync with `struct Globals` in `shaders/globals.wgsl` (the one definition, prepended
+/// to the clay, lines and spheres shaders).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct Globals {

@@ -4,7 +4,8 @@
 //! It knows nothing of the application above it: it is handed a [`TriMesh`](crate::mesh::TriMesh)
 //! (the library's own tessellation, done on the CPU — see [`crate::mesh`]), a [`LineBatch`],
 //! [`SphereInstance`]s, a [`View`] and a [`Style`], and draws them. The shaders are in
-//! `shaders/*.wgsl`; the data they read is in [`gpu_data`].
+//! `shaders/*.wgsl`, the per-frame uniform block once in `shaders/globals.wgsl` (prepended to
+//! the shaders that read it); the data they read is in [`gpu_data`].
 //!
 //! Headless use:
 //!
@@ -31,7 +32,7 @@ mod targets;
 pub use context::GpuContext;
 pub use gpu_data::SphereInstance;
 pub use offscreen::{OFFSCREEN_FORMAT, Offscreen, RgbaImage};
-pub use renderer::{Renderer, SHADERS, look_at_view};
+pub use renderer::{GLOBALS_WGSL, Renderer, SHADERS, look_at_view};
 pub use scene::{LineBatch, Rgba, Style, ToolFootprint, View};
 pub use targets::{DEPTH_FORMAT, FrameTargets};
 

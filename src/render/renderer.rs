@@ -8,12 +8,28 @@ use super::scene::{LineBatch, Style, View};
 use super::targets::DEPTH_FORMAT;
 use crate::mesh::TriMesh;
 
-const BACKGROUND_WGSL: &str = include_str!("../../shaders/background.wgsl");
-const CLAY_WGSL: &str = include_str!("../../shaders/clay.wgsl");
-const LINES_WGSL: &str = include_str!("../../shaders/lines.wgsl");
-const SPHERES_WGSL: &str = include_str!("../../shaders/spheres.wgsl");
+/// The `Globals` uniform block and its binding, defined once (`shaders/globals.wgsl`) and
+/// prepended to every shader that reads it. Its layout is [`Globals`]'s.
+pub const GLOBALS_WGSL: &str = include_str!("../../shaders/globals.wgsl");
 
-/// Every shader of the renderer, `(file name, source)`, for validation and tools.
+/// `shaders/globals.wgsl` followed by `shaders/$file`, as one WGSL source.
+macro_rules! with_globals {
+    ($file:literal) => {
+        concat!(
+            include_str!("../../shaders/globals.wgsl"),
+            include_str!(concat!("../../shaders/", $file))
+        )
+    };
+}
+
+const BACKGROUND_WGSL: &str = include_str!("../../shaders/background.wgsl");
+const CLAY_WGSL: &str = with_globals!("clay.wgsl");
+const LINES_WGSL: &str = with_globals!("lines.wgsl");
+const SPHERES_WGSL: &str = with_globals!("spheres.wgsl");
+
+/// Every shader program of the renderer, `(file name, source as compiled)`, for validation and
+/// tools: the file's text, preceded by [`GLOBALS_WGSL`] for the programs that read the
+/// per-frame uniform (all but the background).
 pub const SHADERS: [(&str, &str); 4] = [
     ("background.wgsl", BACKGROUND_WGSL),
     ("clay.wgsl", CLAY_WGSL),

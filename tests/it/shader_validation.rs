@@ -1,14 +1,18 @@
-//! Every `.wgsl` in `shaders/` parses and validates with naga, every one is used by the
-//! renderer, and the `Globals` uniform they declare matches `render::gpu_data::Globals` field by
-//! field.
+//! Every shader program the renderer builds validates with naga as compiled (its `.wgsl` file,
+//! preceded by `shaders/globals.wgsl` where it reads the per-frame uniform), every file in
+//! `shaders/` is used, the `Globals` block is declared once (in `globals.wgsl`), and that block
+//! matches `render::gpu_data::Globals` member by member.
 #![cfg(feature = "gui")]
 
 use std::collections::BTreeSet;
 use std::mem::{offset_of, size_of};
 use std::path::Path;
 
-use nendo::render::SHADERS;
 use nendo::render::gpu_data::Globals;
+use nendo::render::{GLOBALS_WGSL, SHADERS};
+
+/// The shared block, not a program of its own.
+const GLOBALS_FILE: &str = "globals.wgsl";
 
 fn shader_files() -> Vec<(String, String)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
@@ -47,7 +51,8 @@ fn validate(name: &str, source: &str) -> naga::Module {
 fn every_shader_validates_and_is_used() {
     let files = shader_files();
     assert!(!files.is_empty(), "no shaders found");
-    for (name, source) in &files {
+    // Each program as the renderer compiles it.
+    for (name, source) in SHADERS {
         let module = validate(name, source);
         for entry in ["vs_main", "fs_main"] {
             assert!(
@@ -57,21 +62,51 @@ fn every_shader_validates_and_is_used() {
         }
     }
     let on_disk: BTreeSet<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
-    let used: BTreeSet<&str> = SHADERS.iter().map(|(n, _)| *n).collect();
+    let mut used: BTreeSet<&str> = SHADERS.iter().map(|(n, _)| *n).collect();
+    used.insert(GLOBALS_FILE);
     assert_eq!(on_disk, used, "shaders/ and render::SHADERS disagree");
-    // The renderer embeds the same text as the files.
-    for (name, source) in SHADERS {
-        let file = files
+    let file = |name: &str| {
+        files
             .iter()
             .find(|(n, _)| n == name)
-            .expect("listed shader exists");
-        assert_eq!(file.1, source, "{name} differs from the embedded copy");
+            .map(|(_, s)| s.as_str())
+            .expect("listed shader exists")
+    };
+    assert_eq!(
+        file(GLOBALS_FILE),
+        GLOBALS_WGSL,
+        "the embedded globals block"
+    );
+    // The renderer embeds the files' text, the globals block first where it is used.
+    for (name, source) in SHADERS {
+        let expected = if source.starts_with(GLOBALS_WGSL) {
+            format!("{GLOBALS_WGSL}{}", file(name))
+        } else {
+            file(name).to_string()
+        };
+        assert_eq!(expected, source, "{name} differs from the embedded copy");
     }
+}
+
+/// `Globals` in a naga module: `(member, offset)` and the struct's size.
+fn globals_layout(name: &str, module: &naga::Module) -> Option<(Vec<(String, usize)>, usize)> {
+    let (_, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some("Globals"))?;
+    let naga::TypeInner::Struct { members, span } = &ty.inner else {
+        panic!("{name}: Globals is not a struct");
+    };
+    let members = members
+        .iter()
+        .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+        .collect();
+    Some((members, *span as usize))
 }
 
 #[test]
 fn globals_layout_matches_the_rust_struct() {
-    let rust: Vec<(&str, usize)> = vec![
+    let rust: Vec<(String, usize)> = [
         ("clip_from_world", offset_of!(Globals, clip_from_world)),
         ("eye", offset_of!(Globals, eye)),
         ("heat_max_deg", offset_of!(Globals, heat_max_deg)),
@@ -85,31 +120,37 @@ fn globals_layout_matches_the_rust_struct() {
         ("viewport", offset_of!(Globals, viewport)),
         ("line_depth_bias", offset_of!(Globals, line_depth_bias)),
         ("pad", offset_of!(Globals, pad)),
-    ];
-    let mut declaring = 0;
+    ]
+    .into_iter()
+    .map(|(n, o)| (n.to_string(), o))
+    .collect();
+    // The one WGSL block.
+    let module = validate(GLOBALS_FILE, GLOBALS_WGSL);
+    let (members, size) =
+        globals_layout(GLOBALS_FILE, &module).expect("globals.wgsl declares Globals");
+    assert_eq!(size, size_of::<Globals>(), "size of Globals");
+    assert_eq!(members, rust, "Globals members and offsets");
+    // Declared nowhere else on disk: the block is defined once.
     for (name, source) in shader_files() {
-        let module = validate(&name, &source);
-        let Some(ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("Globals"))
-        else {
-            continue;
-        };
-        declaring += 1;
-        let naga::TypeInner::Struct { members, span } = &ty.1.inner else {
-            panic!("{name}: Globals is not a struct");
-        };
-        assert_eq!(
-            *span as usize,
-            size_of::<Globals>(),
-            "{name}: size of Globals"
-        );
-        let wgsl: Vec<(&str, usize)> = members
-            .iter()
-            .map(|m| (m.name.as_deref().unwrap_or("?"), m.offset as usize))
-            .collect();
-        assert_eq!(wgsl, rust, "{name}: Globals members and offsets");
+        if name != GLOBALS_FILE {
+            assert!(
+                !source.contains("struct Globals"),
+                "{name} declares its own Globals"
+            );
+        }
     }
-    assert_eq!(declaring, 3, "clay, lines and spheres declare Globals");
+    // And every compiled program that reads it has that very layout.
+    let mut reading = 0;
+    for (name, source) in SHADERS {
+        let module = validate(name, source);
+        if let Some(layout) = globals_layout(name, &module) {
+            reading += 1;
+            assert_eq!(
+                layout,
+                (rust.clone(), size_of::<Globals>()),
+                "{name}: Globals"
+            );
+        }
+    }
+    assert_eq!(reading, 3, "clay, lines and spheres read Globals");
 }

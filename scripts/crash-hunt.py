@@ -12,7 +12,7 @@ Options: `--bin PATH` (default target/release/nendo), `--seed S` (default 1; the
 count give the same inputs), `--count N` (total inputs, split over the subcommands in the
 proportions of the last hunt; default 84 000), `--jobs J` (parallel workers, default 2),
 `--timeout S` (per input, default 20 s), `--mem-gb G` (address-space limit per input, default 4),
-`--out DIR` (reproducers, default crash-hunt-out/), `--max-seconds S` (stop starting inputs after S
+`--out DIR` (reproducers, default target/crash-hunt/), `--max-seconds S` (stop starting inputs after S
 seconds and report what ran; Ctrl+C does the same), `--no-shrink`. `render` and the PNG of `figure shape` need a
 Vulkan driver (on Debian: `apt-get install -y mesa-vulkan-drivers libvulkan1`); XDG_RUNTIME_DIR
 is set to a temporary directory.
@@ -1189,6 +1189,8 @@ def run_case(cfg, case):
             t.start()
             threads.append(t)
         argv = [cfg.binary]
+        # an argument cannot hold a NUL byte (exec refuses it): generators may produce one
+        case["argv"] = [a.replace("\x00", "") for a in case["argv"]]
         for a in case["argv"]:
             if a in overrides:
                 argv.append(overrides[a])
@@ -1458,7 +1460,7 @@ def main():
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--timeout", type=float, default=20.0)
     ap.add_argument("--mem-gb", type=float, default=4.0)
-    ap.add_argument("--out", default="crash-hunt-out")
+    ap.add_argument("--out", default=os.path.join(ROOT, "target", "crash-hunt"))
     ap.add_argument("--replay-case", default="", help="SUB:I — run that one input and print its outcome")
     ap.add_argument("--no-shrink", action="store_true", help="save crashes as found, without shrinking")
     ap.add_argument("--max-seconds", type=float, default=0, help="stop starting inputs after this long and report (0: no limit)")

@@ -1,7 +1,6 @@
 //! nendo's integration tests, one binary: each module is one area (`cargo test --test it <module>::`).
 //! Shared helpers (the binary, temporary directories, near-equality) live in [`support`].
 
-mod support;
 mod closest_cli;
 mod curve_edit;
 mod curve_edit_cli;
@@ -28,6 +27,8 @@ mod render_cli;
 mod render_headless;
 mod replay_cli;
 mod replay_traces;
+mod safe_writer;
 mod shader_validation;
+mod support;
 mod surface_deform;
 mod surface_grid;

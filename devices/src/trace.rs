@@ -41,8 +41,8 @@
 //! truncated.
 
 use std::fmt::Write as _;
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
+
 use std::path::{Path, PathBuf};
 
 use glam::{DQuat, DVec3};
@@ -458,12 +458,13 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
     })
 }
 
-/// Writes a trace frame by frame to a temporary file beside the target, renamed into place by
-/// [`TraceWriter::finish`]; dropped unfinished, it removes the temporary file.
+/// Writes a trace frame by frame with the one safe writer ([`nendo_file::AtomicFile`]): into a
+/// temporary file beside the target, renamed into place by [`TraceWriter::finish`] (through a
+/// symbolic link, keeping the replaced file's permissions); dropped unfinished, or on a stop
+/// signal handled by the binary, the temporary file is removed.
 #[derive(Debug)]
 pub struct TraceWriter {
-    out: Option<BufWriter<File>>,
-    tmp: PathBuf,
+    out: Option<nendo_file::AtomicFile>,
     path: PathBuf,
     joints: Vec<Joint>,
     count: u64,
@@ -471,39 +472,20 @@ pub struct TraceWriter {
 }
 
 impl TraceWriter {
-    /// Starts a trace at `path` (nothing appears there until [`TraceWriter::finish`]).
+    /// Starts a trace at `path` (nothing appears there until [`TraceWriter::finish`]). A
+    /// directory, device, pipe or socket at `path` is refused.
     pub fn create(path: &Path, header: TraceHeader) -> Result<TraceWriter, DeviceError> {
-        let file_name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let tmp = path.with_file_name(format!(".{file_name}.tmp-{}", std::process::id()));
         // Errors name the trace asked for, not the temporary file beside it.
         let io = |error| DeviceError::File {
             path: path.to_path_buf(),
             error,
         };
-        // The finished trace is renamed over the path: never over a device, pipe or socket
-        // (as root that would turn `/dev/null` into a plain file).
-        if let Ok(m) = std::fs::symlink_metadata(path)
-            && !m.is_file()
-            && !m.file_type().is_symlink()
-        {
-            return Err(io(std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                "is not a regular file: traces are written atomically, by renaming, and will not replace it",
-            )));
-        }
-        let file = File::create(&tmp).map_err(io)?;
-        let mut out = BufWriter::new(file);
-        if let Err(e) = out.write_all(format_header(&header).as_bytes()) {
-            drop(out);
-            let _ = std::fs::remove_file(&tmp);
-            return Err(io(e));
-        }
+        let mut out = nendo_file::AtomicFile::create(path).map_err(|e| io(e.into_io()))?;
+        // Dropping `out` on failure removes the temporary file.
+        out.write_all(format_header(&header).as_bytes())
+            .map_err(io)?;
         Ok(TraceWriter {
             out: Some(out),
-            tmp,
             path: path.to_path_buf(),
             joints: header.joints,
             count: 0,
@@ -541,30 +523,14 @@ impl TraceWriter {
         let Some(mut out) = self.out.take() else {
             return Ok(self.count);
         };
-        let result = (|| {
-            writeln!(out, "end {}", self.count)?;
-            let file = out.into_inner().map_err(|e| e.into_error())?;
-            file.sync_all()?;
-            drop(file);
-            std::fs::rename(&self.tmp, &self.path)
-        })();
-        match result {
-            Ok(()) => Ok(self.count),
-            Err(error) => {
-                let _ = std::fs::remove_file(&self.tmp);
-                Err(DeviceError::File {
-                    path: self.path.clone(),
-                    error,
-                })
-            }
-        }
-    }
-}
-
-impl Drop for TraceWriter {
-    fn drop(&mut self) {
-        if self.out.take().is_some() {
-            let _ = std::fs::remove_file(&self.tmp);
-        }
+        writeln!(out, "end {}", self.count).map_err(|error| DeviceError::File {
+            path: self.path.clone(),
+            error,
+        })?;
+        out.commit().map_err(|e| DeviceError::File {
+            path: self.path.clone(),
+            error: e.into_io(),
+        })?;
+        Ok(self.count)
     }
 }

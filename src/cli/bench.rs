@@ -39,42 +39,31 @@ pub fn run(args: Args) -> ExitCode {
         eprintln!("nendo bench: --scale must be a positive number");
         return ExitCode::from(2);
     }
-    match args.suite {
-        Suite::Closest => {
-            print!("{}", crate::bench::closest::report(args.scale, &[]));
-            println!(
-                "(kurbo's CubicBez::nearest joins this table in `cargo bench --bench closest`.)"
-            );
-            ExitCode::SUCCESS
-        }
-        Suite::Curves => {
-            print!("{}", crate::bench::curves::report(args.scale));
-            ExitCode::SUCCESS
-        }
-        Suite::Sculpt => {
-            print!("{}", crate::bench::sculpt::report(args.scale));
-            ExitCode::SUCCESS
-        }
-        Suite::Input => {
-            print!("{}", crate::bench::input::report(args.scale));
-            ExitCode::SUCCESS
-        }
-        Suite::Regulation => {
-            print!("{}", crate::bench::regulation::report_text(args.scale));
-            ExitCode::SUCCESS
-        }
-        Suite::Render => {
-            print!("{}", crate::bench::render::report(args.scale));
-            ExitCode::SUCCESS
-        }
+    let (text, ok) = match args.suite {
+        Suite::Closest => (
+            format!(
+                "{}(kurbo's CubicBez::nearest joins this table in `cargo bench --bench closest`.)\n",
+                crate::bench::closest::report(args.scale, &[])
+            ),
+            true,
+        ),
+        Suite::Curves => (crate::bench::curves::report(args.scale), true),
+        Suite::Sculpt => (crate::bench::sculpt::report(args.scale), true),
+        Suite::Input => (crate::bench::input::report(args.scale), true),
+        Suite::Regulation => (crate::bench::regulation::report_text(args.scale), true),
+        Suite::Render => (crate::bench::render::report(args.scale), true),
         Suite::Figures => {
             let text = crate::bench::figures::report(args.scale);
-            print!("{text}");
-            if text.starts_with("nendo bench figures:") {
-                ExitCode::FAILURE
-            } else {
-                ExitCode::SUCCESS
-            }
+            let ok = !text.starts_with("nendo bench figures:");
+            (text, ok)
         }
+    };
+    if let Err(super::output::StdoutError(e)) = super::output::print(text) {
+        return super::output::stdout_failed("nendo bench", &e);
+    }
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
     }
 }

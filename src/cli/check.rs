@@ -122,6 +122,5 @@ pub fn run(args: Args) -> ExitCode {
         }
         (out, _) => out,
     };
-    println!("{out}");
-    ExitCode::SUCCESS
+    super::output::exit_after("nendo check", super::output::println(out))
 }

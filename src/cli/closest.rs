@@ -42,6 +42,10 @@ pub fn run(args: Args) -> ExitCode {
     match answer_lines(stdin.lock(), &mut out) {
         Ok(0) => ExitCode::SUCCESS,
         Ok(_) => ExitCode::from(1),
+        // A closed pipe ends the command quietly (see `super::output`).
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => {
+            ExitCode::from(super::output::BROKEN_PIPE_EXIT)
+        }
         Err(e) => {
             eprintln!("nendo closest: {e}");
             ExitCode::from(2)

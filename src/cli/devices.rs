@@ -37,8 +37,10 @@ pub fn run(args: Args) -> ExitCode {
         }
     }
     let inv = discover::inventory(&profiles);
-    print!("{}", render(&inv, &profiles));
-    ExitCode::SUCCESS
+    super::output::exit_after(
+        "nendo devices",
+        super::output::print(render(&inv, &profiles)),
+    )
 }
 
 /// Every `*.json` file of `dir`, in name order, each loaded or with the reason it does not

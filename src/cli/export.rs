@@ -48,7 +48,7 @@ pub fn run(args: Args) -> ExitCode {
         eprintln!("nendo export: {}: {e}", args.out.display());
         return ExitCode::FAILURE;
     }
-    println!(
+    let summary = format!(
         "{}: {} patches, {} vertices, {} triangles, error bound {:.3e} (tolerance {})",
         args.out.display(),
         patches.len(),
@@ -57,6 +57,9 @@ pub fn run(args: Args) -> ExitCode {
         raw.error_bound,
         args.tolerance
     );
+    if let Err(super::output::StdoutError(e)) = super::output::println(summary) {
+        return super::output::stdout_failed("nendo export", &e);
+    }
     if raw.error_bound > args.tolerance {
         eprintln!(
             "nendo export: warning: {} segments per patch edge could not reach the tolerance",

@@ -164,10 +164,7 @@ pub fn run(args: Args) -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("nendo figure: {e:#}");
-            ExitCode::FAILURE
-        }
+        Err(e) => super::output::failed("nendo figure", &e),
     }
 }
 
@@ -178,12 +175,12 @@ pub(crate) fn read_document(path: &Path) -> anyhow::Result<FigureDocument> {
     FigureDocument::from_json(&text).with_context(|| format!("{}", path.display()))
 }
 
-/// Writes text atomically.
+/// Writes text (an SVG, a figure file) with the one safe writer.
 pub(crate) fn write_text(path: &Path, text: &str) -> anyhow::Result<()> {
-    crate::model::write_atomically(path, text.as_bytes()).map_err(|e| anyhow::anyhow!("{e}"))
+    Ok(nendo_file::write_bytes(path, text.as_bytes())?)
 }
 
-/// Encodes an image as PNG and writes it atomically.
+/// Encodes an image as PNG and writes it with the one safe writer.
 pub(crate) fn write_png(path: &Path, image: &Image) -> anyhow::Result<()> {
     let mut bytes = Vec::new();
     {
@@ -195,7 +192,7 @@ pub(crate) fn write_png(path: &Path, image: &Image) -> anyhow::Result<()> {
         writer.write_image_data(&image.pixels).context("PNG data")?;
         writer.finish().context("PNG end")?;
     }
-    crate::model::write_atomically(path, &bytes).map_err(|e| anyhow::anyhow!("{e}"))
+    Ok(nendo_file::write_bytes(path, &bytes)?)
 }
 
 /// Writes the pictures a [`PictureArgs`] asks for.
@@ -281,7 +278,7 @@ fn fit(args: &FitArgs) -> anyhow::Result<()> {
     doc.figure = figure;
     write_text(&args.out, &doc.to_json())?;
     write_pictures(&doc, &args.picture)?;
-    println!("{}", report_json(&report));
+    super::output::println(report_json(&report))?;
     Ok(())
 }
 
@@ -323,10 +320,9 @@ fn warp(args: &WarpArgs) -> anyhow::Result<()> {
         .zip(&out.figure.metacircles)
         .map(|(a, b)| a.centre.distance(b.centre))
         .fold(0.0, f64::max);
-    println!(
-        "{}",
-        json!({"metacircles": out.figure.metacircles.len(), "largest_move": moved})
-    );
+    super::output::println(
+        json!({"metacircles": out.figure.metacircles.len(), "largest_move": moved}),
+    )?;
     Ok(())
 }
 
@@ -339,15 +335,12 @@ fn measure_cmd(args: &MeasureArgs) -> anyhow::Result<()> {
         );
     };
     let d = FitOptions::default();
-    println!(
-        "{}",
-        report_json(&measure(
-            &doc.figure,
-            contour,
-            d.samples,
-            d.guard_resolution
-        ))
-    );
+    super::output::println(report_json(&measure(
+        &doc.figure,
+        contour,
+        d.samples,
+        d.guard_resolution,
+    )))?;
     Ok(())
 }
 

@@ -10,12 +10,14 @@ pub mod devices;
 pub mod export;
 pub mod figure;
 pub mod morph;
+pub mod output;
 pub mod record;
 #[cfg(feature = "gui")]
 pub mod render;
 pub mod replay;
 pub mod sculpt;
 pub mod shape;
+pub mod signal;
 pub mod window;
 use std::process::ExitCode;
 
@@ -66,6 +68,8 @@ pub enum Command {
 /// Parses the process arguments and runs the chosen subcommand.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
+    // One handler for the whole binary: a stop signal removes unfinished writes' temporaries.
+    signal::install();
     match cli.command {
         None => window::run(cli.window),
         Some(Command::Bench(args)) => bench::run(args),

@@ -55,10 +55,7 @@ pub struct Args {
 pub fn run(args: Args) -> ExitCode {
     match morph(&args) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("nendo morph: {e:#}");
-            ExitCode::FAILURE
-        }
+        Err(e) => super::output::failed("nendo morph", &e),
     }
 }
 
@@ -117,19 +114,16 @@ fn morph(args: &Args) -> anyhow::Result<()> {
         counts.push(figure.metacircles.len());
     }
     let s = morph.stats();
-    println!(
-        "{}",
-        json!({
-            "frames": args.frames,
-            "source_metacircles": src.figure.metacircles.len(),
-            "destination_metacircles": dst.figure.metacircles.len(),
-            "pairs": morph.pairs().len(),
-            "forward_matches": s.forward,
-            "backward_matches": s.backward,
-            "dummies_at_destination": s.dummies_destination,
-            "dummies_at_source": s.dummies_source,
-            "out": args.out.display().to_string(),
-        })
-    );
+    super::output::println(json!({
+        "frames": args.frames,
+        "source_metacircles": src.figure.metacircles.len(),
+        "destination_metacircles": dst.figure.metacircles.len(),
+        "pairs": morph.pairs().len(),
+        "forward_matches": s.forward,
+        "backward_matches": s.backward,
+        "dummies_at_destination": s.dummies_destination,
+        "dummies_at_source": s.dummies_source,
+        "out": args.out.display().to_string(),
+    }))?;
     Ok(())
 }

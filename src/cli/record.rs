@@ -7,8 +7,6 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 /// The longest recording `--seconds` accepts: a day.
@@ -55,14 +53,8 @@ enum Ending {
 /// Runs `nendo record`.
 pub fn run(args: Args) -> ExitCode {
     match record(args) {
-        Ok(summary) => {
-            println!("{summary}");
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("nendo record: {e:#}");
-            ExitCode::FAILURE
-        }
+        Ok(summary) => super::output::exit_after("nendo record", super::output::println(summary)),
+        Err(e) => super::output::failed("nendo record", &e),
     }
 }
 
@@ -96,13 +88,9 @@ fn record(args: Args) -> anyhow::Result<String> {
     if let Input::Mouse(_) = profile.input {
         anyhow::bail!("the mouse hand is recorded from the window, not from the command line");
     }
-    // From here on a stop signal ends the loop below instead of killing the process.
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
-            .map_err(|e| anyhow::anyhow!("cannot handle stop signals: {e}"))?;
-    }
+    // From here on a stop signal ends the loop below instead of exiting the process (the
+    // binary's handler, `super::signal`, defers to it).
+    let stop = super::signal::DeferredStop::new();
     let stream = HandStream::open(&profile, &options)?;
     for w in stream.warnings() {
         eprintln!("nendo record: warning: {w}");
@@ -114,7 +102,7 @@ fn record(args: Args) -> anyhow::Result<String> {
     let end = started + Duration::from_secs_f64(args.seconds);
     let mut ending = Ending::Time;
     loop {
-        if stop.load(Ordering::SeqCst) {
+        if stop.requested() {
             ending = Ending::Signal;
             break;
         }

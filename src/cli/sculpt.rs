@@ -146,7 +146,9 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
         updates += t.patches.len();
     }
     let elapsed = start.elapsed();
-    model.write(&args.out)?;
+    model
+        .write(&args.out)
+        .map_err(|e| anyhow::anyhow!("{}", e.in_file(&args.out)))?;
     Ok(format!(
         "{} operations ({} patch updates, regulation {}) in {:.3} ms -> {}",
         ops.len(),

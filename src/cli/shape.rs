@@ -236,27 +236,24 @@ pub fn shape(args: &ShapeArgs) -> anyhow::Result<()> {
         };
         super::figure::write_text(out, &written.to_json())?;
     }
-    println!(
-        "{}",
-        json!({
-            "sections": doc.sections.len(),
-            "metaballs": result.shape.balls.len(),
-            "fit": fit_json,
-            "moved_sections": moved,
-            "refit": refit_json,
-            "mesh": {
-                "path": args.mesh.display().to_string(),
-                "vertices": mesh.positions.len(),
-                "triangles": mesh.triangle_count(),
-                "closed": is_closed(&mesh),
-                "resolution": args.resolution,
-                "sag": mesh.error_bound,
-                "seconds": mesh_seconds,
-            },
-            "png": args.png.as_ref().map(|p| p.display().to_string()),
-            "out": args.out.as_ref().map(|p| p.display().to_string()),
-        })
-    );
+    super::output::println(json!({
+        "sections": doc.sections.len(),
+        "metaballs": result.shape.balls.len(),
+        "fit": fit_json,
+        "moved_sections": moved,
+        "refit": refit_json,
+        "mesh": {
+            "path": args.mesh.display().to_string(),
+            "vertices": mesh.positions.len(),
+            "triangles": mesh.triangle_count(),
+            "closed": is_closed(&mesh),
+            "resolution": args.resolution,
+            "sag": mesh.error_bound,
+            "seconds": mesh_seconds,
+        },
+        "png": args.png.as_ref().map(|p| p.display().to_string()),
+        "out": args.out.as_ref().map(|p| p.display().to_string()),
+    }))?;
     Ok(())
 }
 
@@ -343,9 +340,8 @@ fn draw_png(
         [w as f32, h as f32],
     );
     let image = Offscreen::new(&gpu.device, [w, h], 4).render(&gpu, &renderer)?;
-    image
-        .save_png(path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    // The error names the file.
+    image.save_png(path)?;
     Ok(())
 }
 

@@ -1,8 +1,7 @@
-//! Mesh export: the formats, their errors, and atomic saving to a file.
+//! Mesh export: the formats, their errors, and saving to a file with the one safe writer.
 
-use std::fs::{self, File};
-use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::io::Write;
+use std::path::Path;
 
 use super::glb::write_glb;
 use super::obj::write_obj;
@@ -12,9 +11,19 @@ use nendo_geom::mesh::TriMesh;
 /// What can go wrong when exporting a mesh.
 #[derive(Debug, thiserror::Error)]
 pub enum ExportError {
-    /// Writing (or renaming the temporary file) failed.
+    /// Writing the encoded mesh failed.
     #[error("cannot write the mesh: {0}")]
     Io(#[from] std::io::Error),
+    /// The file could not be created, replaced or synced (the message does not name it, as
+    /// for [`ExportError::Io`]: callers do).
+    #[error("cannot write the mesh: {}", .0.reason())]
+    Write(#[from] nendo_file::WriteError),
+    /// A vertex position or normal is NaN or infinite.
+    #[error("vertex {vertex} has a coordinate that is not finite; nothing written")]
+    NonFinite {
+        /// The first such vertex.
+        vertex: usize,
+    },
     /// The mesh has no triangles, which the format cannot express.
     #[error("the mesh has no triangles")]
     Empty,
@@ -80,33 +89,30 @@ impl MeshFormat {
     }
 }
 
-/// Writes `mesh` to `path` atomically: into a temporary file beside it, flushed and synced, then
-/// renamed over `path`; on failure the temporary file is removed and `path` is untouched.
+/// Writes `mesh` to `path` with the one safe writer ([`nendo_file`]): atomically, through a
+/// symbolic link to its file, keeping the replaced file's permissions; on failure `path` is
+/// untouched and no temporary file is left.
+///
+/// A mesh with a NaN or infinite position or normal is refused before anything is written.
 ///
 /// # Errors
-/// As [`MeshFormat::write`], or [`ExportError::Io`] from the file system.
+/// [`ExportError::NonFinite`], as [`MeshFormat::write`], or [`ExportError::Write`] from the file
+/// system.
 pub fn save_mesh(path: &Path, format: MeshFormat, mesh: &TriMesh) -> Result<(), ExportError> {
-    crate::model::check_replaceable(path)?;
-    let tmp = temporary_beside(path);
-    let result = (|| {
-        let mut out = BufWriter::new(File::create(&tmp)?);
-        format.write(mesh, &mut out)?;
-        let file = out.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        fs::rename(&tmp, path)?;
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
+    if let Some(vertex) = first_non_finite(mesh) {
+        return Err(ExportError::NonFinite { vertex });
     }
-    result
+    nendo_file::write_atomic(path, |file| {
+        format.write(mesh, file)?;
+        Ok(())
+    })
 }
 
-/// `dir/.name.tmp-<pid>` beside `path`.
-fn temporary_beside(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.tmp-{}", std::process::id()))
+/// The first vertex of `mesh` whose position or normal has a NaN or infinite coordinate.
+#[must_use]
+pub fn first_non_finite(mesh: &TriMesh) -> Option<usize> {
+    mesh.positions
+        .iter()
+        .zip(mesh.normals.iter().map(Some).chain(std::iter::repeat(None)))
+        .position(|(p, n)| !p.is_finite() || n.is_some_and(|n| !n.is_finite()))
 }

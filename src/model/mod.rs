@@ -30,7 +30,6 @@ pub mod ops;
 
 use serde_json::{Map, Value, json};
 use std::fs;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::curve::CurveError;
@@ -356,66 +355,49 @@ impl Model {
         Self::from_json_str(&text)
     }
 
-    /// Writes the model atomically (temporary file in the same directory, then rename).
+    /// Writes the model with the one safe writer ([`nendo_file`]): atomically, through a
+    /// symbolic link to its file, keeping the replaced file's permissions.
+    ///
+    /// A model with a non-finite coordinate is refused before anything is written (a last
+    /// guard: such a file could not be read back).
     ///
     /// # Errors
-    /// [`ModelError::Io`]; the target is then untouched.
+    /// [`ModelError::Surface`] ([`SurfaceError::NotFinite`], naming the first bad patch and
+    /// control point) or [`ModelError::Io`]; the target is then untouched.
     pub fn write(&self, path: &Path) -> Result<(), ModelError> {
+        if let Some((patch, point)) = first_non_finite(&self.surface) {
+            return Err(ModelError::Surface(SurfaceError::NotFinite {
+                patch,
+                point,
+            }));
+        }
         write_atomically(path, self.to_json_string().as_bytes())
     }
 }
 
-/// Refuses to replace anything but a regular file (or nothing): an atomic write renames its
-/// temporary file over the target, which would turn a device such as `/dev/null` into a
-/// plain file.
-///
-/// # Errors
-/// An `InvalidInput` error naming what is there.
-pub fn check_replaceable(path: &Path) -> std::io::Result<()> {
-    match fs::symlink_metadata(path) {
-        Ok(m) if !m.is_file() && !m.file_type().is_symlink() => Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            if m.is_dir() {
-                "is a directory"
-            } else {
-                "is not a regular file (a device, pipe or socket): nendo writes files \
-                     atomically, by renaming, and will not replace it"
-            },
-        )),
-        _ => Ok(()),
+/// The first patch and control point (`4 i + j`) of `grid` with a NaN or infinite coordinate.
+#[must_use]
+pub fn first_non_finite(grid: &Grid) -> Option<(usize, usize)> {
+    if grid.nodes().iter().all(|p| p.is_finite()) {
+        return None;
     }
+    (0..grid.patch_count()).find_map(|patch| {
+        grid.patch_at(patch)
+            .iter()
+            .position(|p| !p.is_finite())
+            .map(|point| (patch, point))
+    })
 }
 
-/// Writes `bytes` to `path` through a temporary file in the same directory and a rename.
+/// Writes `bytes` to `path` with the one safe writer ([`nendo_file::write_bytes`]).
 ///
 /// # Errors
-/// [`ModelError::Io`]; the target is then untouched and the temporary file removed.
+/// [`ModelError::Io`] naming `path`; the target is then untouched and no temporary is left.
 pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ModelError> {
-    let io = |error| ModelError::Io {
+    nendo_file::write_bytes(path, bytes).map_err(|e| ModelError::Io {
         path: path.to_path_buf(),
-        error,
-    };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "model".into());
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    check_replaceable(path).map_err(io)?;
-    let result = (|| {
-        let mut f = fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = fs::remove_file(&tmp);
-        return Err(io(e));
-    }
-    Ok(())
+        error: e.into_io(),
+    })
 }
 
 fn object<'a>(v: &'a Value, what: &str) -> Result<&'a Map<String, Value>, ModelError> {

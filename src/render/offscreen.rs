@@ -40,32 +40,20 @@ impl RgbaImage {
         writer.finish().map_err(|e| RenderError::Png(e.to_string()))
     }
 
-    /// Writes the image as a PNG file, atomically (temporary file, then rename).
+    /// Writes the image as a PNG file with the one safe writer ([`nendo_file`]): atomically,
+    /// through a symbolic link, keeping the replaced file's permissions.
     ///
     /// # Errors
-    /// [`RenderError::Io`] (naming `path`) when the file cannot be written.
+    /// [`RenderError::Io`] (naming `path`) when the file cannot be written, [`RenderError::Png`]
+    /// when encoding fails; either way nothing is written.
     pub fn save_png(&self, path: &Path) -> Result<(), RenderError> {
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let tmp = path.with_file_name(format!(".{name}.tmp-{}", std::process::id()));
-        let result = (|| -> std::io::Result<()> {
-            crate::model::check_replaceable(path)?;
-            let file = std::fs::File::create(&tmp)?;
-            let mut out = std::io::BufWriter::new(file);
-            self.write_png(&mut out).map_err(std::io::Error::other)?;
-            out.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-            std::fs::rename(&tmp, path)?;
-            Ok(())
-        })();
-        result.map_err(|error| {
-            let _ = std::fs::remove_file(&tmp);
-            RenderError::Io {
-                path: path.to_path_buf(),
-                error,
-            }
-        })
+        let io = |error| RenderError::Io {
+            path: path.to_path_buf(),
+            error,
+        };
+        let mut file = nendo_file::AtomicFile::create(path).map_err(|e| io(e.into_io()))?;
+        self.write_png(&mut file)?;
+        file.commit().map_err(|e| io(e.into_io()))
     }
 
     /// Reads a PNG (8-bit RGBA or RGB).

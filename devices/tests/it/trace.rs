@@ -314,5 +314,5 @@ fn a_writer_error_names_the_trace_not_its_temporary_file() {
         .unwrap_err()
         .to_string();
     assert!(e.starts_with(&path.display().to_string()), "{e}");
-    assert!(!e.contains(".tmp-"), "{e}");
+    assert!(!e.contains("nendo-tmp"), "{e}");
 }

@@ -52,9 +52,15 @@ fn load_dir(dir: &std::path::Path) -> anyhow::Result<Vec<Result<Profile, String>
         .filter(|p| p.extension().is_some_and(|x| x == "json"))
         .collect();
     paths.sort();
+    // A fifo, socket or device named `*.json` would block or stream forever: only regular files
+    // (or links to them) are read as profiles.
     Ok(paths
         .iter()
-        .map(|p| Profile::load(p).map_err(|e| e.to_string()))
+        .map(|p| match std::fs::metadata(p) {
+            Ok(m) if m.is_file() => Profile::load(p).map_err(|e| e.to_string()),
+            Ok(_) => Err(format!("{}: not a regular file", p.display())),
+            Err(e) => Err(format!("{}: {e}", p.display())),
+        })
         .collect())
 }
 

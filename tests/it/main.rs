@@ -19,6 +19,7 @@ mod hand_contact;
 mod hand_kinematics;
 mod hand_traces;
 mod limits_cli;
+mod memory_limits;
 mod model_cli;
 mod model_file;
 mod regulation_methods;

@@ -32,3 +32,4 @@ mod shader_validation;
 mod support;
 mod surface_deform;
 mod surface_grid;
+mod svg_import;

@@ -88,7 +88,7 @@ fn the_estimate_is_the_raw_mesh_and_bounds_the_welded_one() {
     for _ in 0..12 {
         let primitive = primitives[rng.gen_range(0..primitives.len())];
         // Even counts: closed directions of a sphere or torus need them.
-        let counts = (2 * rng.gen_range(2..5), 2 * rng.gen_range(1..4));
+        let counts = (2 * rng.gen_range(3..6), 2 * rng.gen_range(2..4));
         let grid = primitive
             .build(&PrimitiveParams {
                 patches: Some(counts),

@@ -10,7 +10,9 @@ use std::path::PathBuf;
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::time::Instant;
 
-use crate::mesh::{MeshFormat, PatchPoints, Tessellation, save_mesh, tessellate};
+use crate::mesh::{
+    MeshFormat, PatchPoints, TessellateError, Tessellation, estimate, save_mesh, tessellate,
+};
 
 /// The tolerances the window offers, sides: from 1/10 down to 1/10 000 of a side (finer
 /// gains nothing visible and, capped by [`Tessellation::max_segments`], only adds triangles).
@@ -74,8 +76,9 @@ impl ExportJob {
     /// `tessellation`.
     ///
     /// # Errors
-    /// A message for an unknown extension, a tolerance that is not a positive number, or a
-    /// thread that cannot be started.
+    /// A message for an unknown extension, a tolerance that is not a positive number, a mesh
+    /// of more than [`Tessellation::DEFAULT_MAX_TRIANGLES`] triangles (counted before
+    /// anything is allocated), or a thread that cannot be started.
     pub fn start(
         patches: Vec<PatchPoints>,
         path: PathBuf,
@@ -86,6 +89,16 @@ impl ExportJob {
             return Err(format!(
                 "the export tolerance must be a positive number, not {}",
                 tessellation.tolerance
+            ));
+        }
+        let size = estimate(&patches, &tessellation);
+        if size.triangles > Tessellation::DEFAULT_MAX_TRIANGLES {
+            let refused = TessellateError::TooManyTriangles {
+                estimate: size,
+                limit: Tessellation::DEFAULT_MAX_TRIANGLES,
+            };
+            return Err(format!(
+                "cannot export: {refused}; choose a coarser tolerance"
             ));
         }
         let (tx, result) = mpsc::channel();
@@ -222,5 +235,22 @@ mod tests {
         let err = wait(&job).expect_err("no folder");
         assert!(err.contains(&missing.display().to_string()), "{err}");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn refuses_a_mesh_over_the_triangle_limit_before_tessellating() {
+        // 32 × 16 patches at 1e-9 all take 256 × 256 cells: 67 million triangles.
+        let patches = Primitive::Sphere
+            .build(&PrimitiveParams {
+                patches: Some((32, 16)),
+                ..PrimitiveParams::default()
+            })
+            .expect("sphere")
+            .patches();
+        let path = std::env::temp_dir().join(format!("nendo-refused-{}.stl", std::process::id()));
+        let err = ExportJob::start(patches, path.clone(), Tessellation::with_tolerance(1e-9))
+            .expect_err("over the limit");
+        assert!(err.contains("67108864 triangles"), "{err}");
+        assert!(!path.exists());
     }
 }

@@ -4,6 +4,11 @@
 //! edges, and every pole with the spread of its tangent plane. With `--against OTHER.json` (a
 //! model with the same topology and patch counts) it adds the deviation between the two
 //! surfaces on 40 × 40 samples per patch at the same parameters (SPEC §9).
+//!
+//! Memory is bounded: the deviation streams its samples (memory for the two models only), the
+//! edge samples are streamed too, and the one list the report holds — the directions out of a
+//! pole, `patches_u × samples` of them, 24 bytes each — is refused over
+//! [`MAX_POLE_DIRECTIONS`] (about 100 MB).
 
 use clap::Args as ClapArgs;
 use serde_json::json;
@@ -13,7 +18,7 @@ use std::process::ExitCode;
 use crate::model::Model;
 use crate::surface::PoleEnd;
 use crate::surface::continuity::{MIN_SAMPLES_PER_EDGE, report};
-use crate::surface::deviation::{DeviationStats, distances, samples};
+use crate::surface::deviation::{DeviationStats, distance_iter};
 
 /// Arguments of `nendo check`.
 #[derive(Debug, ClapArgs)]
@@ -30,6 +35,10 @@ pub struct Args {
 
 /// Most points per shared edge `--samples` accepts.
 const MAX_SAMPLES_PER_EDGE: usize = 100_000;
+
+/// Most directions out of a pole (`patches_u × --samples` on a grid with a pole) the report
+/// holds at once: 24 bytes each, about 100 MB.
+pub const MAX_POLE_DIRECTIONS: usize = 1 << 22;
 
 /// Samples per patch side for `--against`.
 const DEVIATION_SAMPLES: usize = 40;
@@ -48,6 +57,15 @@ pub fn run(args: Args) -> ExitCode {
         }
     };
     let g = &loaded.model.surface;
+    let directions = g.patches_u().saturating_mul(args.samples);
+    if !g.poles().is_empty() && directions > MAX_POLE_DIRECTIONS {
+        eprintln!(
+            "nendo check: {} patches around a pole × --samples {} = {directions} pole directions, more than the {MAX_POLE_DIRECTIONS} held at once (about 100 MB); lower --samples",
+            g.patches_u(),
+            args.samples
+        );
+        return ExitCode::from(2);
+    }
     let deviation = match &args.against {
         None => None,
         Some(path) => {
@@ -58,14 +76,14 @@ pub fn run(args: Args) -> ExitCode {
                     return ExitCode::from(1);
                 }
             };
-            let d = distances(
-                &samples(g, DEVIATION_SAMPLES),
-                &samples(&other, DEVIATION_SAMPLES),
-            );
+            // Streamed: the 40 × 40 samples per patch are compared one at a time, so memory
+            // stays at the two models whatever their size.
+            let d = distance_iter(g, &other, DEVIATION_SAMPLES);
             match (d, g.topology() == other.topology()) {
                 (Ok(d), true) => {
-                    let moved = d.iter().filter(|&&x| x > 1e-9).count();
-                    let s = DeviationStats::of(d.iter().copied(), 0.15);
+                    let mut moved = 0usize;
+                    let s =
+                        DeviationStats::of(d.inspect(|&x| moved += usize::from(x > 1e-9)), 0.15);
                     Some(json!({
                         "against": path.display().to_string(),
                         "samples": s.count,

@@ -183,7 +183,7 @@ pub fn answer(line: &str) -> Result<Value, String> {
             let text = field(&req, "svg")?
                 .as_str()
                 .ok_or("\"svg\" must be a string")?;
-            let paths = svg::read_svg(text).map_err(e)?;
+            let paths = svg::read_svg(text).map_err(|err| format!("svg: {err}"))?;
             Ok(json!({ "paths": paths.iter().map(|p| json!({
                 "curves": p.segments.iter().map(|b| curve_to_json(&Curve::Bezier(b.clone()))).collect::<Vec<_>>(),
                 "closed": p.closed,
@@ -213,7 +213,7 @@ pub fn answer(line: &str) -> Result<Value, String> {
                     ..svg::SvgOptions::default()
                 },
             )
-            .map_err(e)?;
+            .map_err(|err| format!("svg: {err}"))?;
             Ok(json!({ "svg": text }))
         }
         other => Err(format!(

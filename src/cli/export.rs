@@ -1,11 +1,15 @@
-//! `nendo export MODEL.json OUT.(obj|stl|glb) [--tolerance T]`: the model's surface as a mesh,
-//! tessellated by the library's own mesher within the tolerance.
+//! `nendo export MODEL.json OUT.(obj|stl|glb) [--tolerance T] [--max-triangles N]`: the model's
+//! surface as a mesh, tessellated by the library's own mesher within the tolerance.
+//!
+//! Memory is bounded: the size of the mesh is computed from the per-patch segment counts before
+//! anything is allocated, and a mesh of more than `--max-triangles` triangles (default
+//! [`Tessellation::DEFAULT_MAX_TRIANGLES`]) is refused with its size.
 
 use clap::Args as ClapArgs;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use crate::mesh::{MeshFormat, Tessellation, save_mesh, tessellate};
+use crate::mesh::{MeshFormat, Tessellation, save_mesh, try_tessellate};
 use crate::model::Model;
 
 /// Arguments of `nendo export`.
@@ -18,6 +22,10 @@ pub struct Args {
     /// Largest distance between the mesh and the surface, in model units (sides).
     #[arg(long, default_value_t = Tessellation::EXPORT.tolerance)]
     pub tolerance: f64,
+    /// Refuse meshes of more triangles than this (counted before welding, before anything is
+    /// allocated; 20 million take about 1 GB at the peak of writing).
+    #[arg(long, default_value_t = Tessellation::DEFAULT_MAX_TRIANGLES)]
+    pub max_triangles: u64,
 }
 
 /// Runs `nendo export`.
@@ -42,7 +50,16 @@ pub fn run(args: Args) -> ExitCode {
     };
     let patches = loaded.model.surface.patches();
     let settings = Tessellation::with_tolerance(args.tolerance);
-    let raw = tessellate(&patches, &settings);
+    let raw = match try_tessellate(&patches, &settings, args.max_triangles) {
+        Ok(raw) => raw,
+        Err(e) => {
+            eprintln!(
+                "nendo export: {e}; raise --max-triangles or the --tolerance (now {})",
+                args.tolerance
+            );
+            return ExitCode::FAILURE;
+        }
+    };
     let mesh = raw.welded();
     if let Err(e) = save_mesh(&args.out, format, &mesh) {
         eprintln!("nendo export: {}: {e}", args.out.display());

@@ -1,12 +1,20 @@
 //! SVG import and export of planar curves (seed 003 §3.1 kept its curves in SVG): path data with
 //! line, quadratic and cubic segments.
 //!
-//! * Reading ([`read_svg`], [`parse_path_data`]): every `<path d="…">` of a document (comments
-//!   skipped; other elements, `transform` attributes and styles ignored), every subpath as a list
-//!   of Bezier segments — `L`/`H`/`V` as degree 1, `Q`/`T` as degree 2, `C`/`S` as degree 3, in
-//!   absolute and relative forms, with `S`/`T` reflecting the previous control point as the SVG
+//! * Reading ([`read_svg`], [`parse_path_data`]): the document is parsed as XML by `roxmltree`
+//!   (entities — predefined, numeric and declared in an internal DTD — quoting with `"` or `'`,
+//!   comments, CDATA and a `>` inside an attribute value are all XML's business), path data and
+//!   transform lists by `svgtypes`. Every `<path d="…">` of the document (in the SVG namespace
+//!   or none, in document order, including those inside `<defs>`; `<use>` references are not
+//!   followed, styles are ignored) is read with the `transform` attributes of the path and of
+//!   all its ancestors applied (`matrix`, `translate`, `scale`, `rotate` with or without a
+//!   centre, `skewX`, `skewY`); an affine map of a Bezier segment is the segment of the mapped
+//!   control points, so this is exact. Every subpath becomes a list of Bezier segments —
+//!   `L`/`H`/`V` as degree 1, `Q`/`T` as degree 2, `C`/`S` as degree 3, in absolute and
+//!   relative forms, with `S`/`T` reflecting the previous control point as the SVG
 //!   specification says; `Z` closes the subpath with a line when it is not closed already.
-//!   Elliptical arcs (`A`) are refused with an error rather than approximated.
+//!   Elliptical arcs (`A`) are refused with an error rather than approximated (no Bezier
+//!   segment holds an arc exactly).
 //! * Writing ([`path_data`], [`write_svg`]): segments of degree 1–3 as `L`, `Q`, `C`, consecutive
 //!   segments that meet in one subpath. Numbers are written in Rust's shortest round-trip form, so
 //!   reading what was written gives back the same control points bit for bit. Higher degrees have
@@ -20,6 +28,7 @@ use nendo_geom::curve::Bezier;
 use nendo_geom::curve::Curve;
 use nendo_geom::curve::CurveError;
 use std::fmt::Write as _;
+use svgtypes::Transform;
 
 /// One subpath read from SVG path data.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,171 +60,161 @@ impl Default for SvgOptions {
     }
 }
 
-fn svg_err(msg: impl Into<String>) -> CurveError {
-    CurveError::Svg(msg.into())
+/// Why an SVG document or path data could not be read, or curves could not be written as SVG.
+#[derive(Debug, PartialEq, thiserror::Error)]
+pub enum SvgError {
+    /// The document is not well-formed XML (the message says where).
+    #[error("the document is not well-formed XML: {0}")]
+    Xml(#[from] roxmltree::Error),
+    /// A `<path>` without a `d` attribute.
+    #[error("path {index} has no d attribute")]
+    NoPathData {
+        /// The path's position among the document's paths.
+        index: usize,
+    },
+    /// A `transform` attribute (on the path or an ancestor) that is not a transform list.
+    #[error("path {index}: the transform {value:?} of <{element}> cannot be read: {reason}")]
+    Transform {
+        /// The path's position among the document's paths.
+        index: usize,
+        /// The element carrying the attribute.
+        element: String,
+        /// The attribute's value.
+        value: String,
+        /// What `svgtypes` found wrong.
+        reason: svgtypes::Error,
+    },
+    /// Path data that could not be read, in the path at `index`.
+    #[error("path {index}: {source}")]
+    InPath {
+        /// The path's position among the document's paths.
+        index: usize,
+        /// What was wrong with its data.
+        #[source]
+        source: Box<SvgError>,
+    },
+    /// Malformed path data: an unknown command, a missing or malformed number.
+    #[error("path data: {0}")]
+    Data(svgtypes::Error),
+    /// Path data whose first command is not a move.
+    #[error("path data must start with a move (M)")]
+    NoMove,
+    /// An elliptical arc command, which no Bezier segment holds exactly.
+    #[error("elliptical arc commands (A) are not supported")]
+    Arc,
+    /// A number (or a transformed coordinate) that is NaN or infinite.
+    #[error("{what} is not a finite number")]
+    NotFinite {
+        /// Which value.
+        what: String,
+    },
+    /// A segment whose degree SVG path data cannot hold.
+    #[error("segment {index} has degree {degree}; SVG paths hold degrees 1 to 3")]
+    Degree {
+        /// The segment's position.
+        index: usize,
+        /// Its degree.
+        degree: usize,
+    },
+    /// A segment that is not a valid curve.
+    #[error(transparent)]
+    Curve(#[from] CurveError),
 }
+
+/// The SVG namespace.
+const SVG_NS: &str = "http://www.w3.org/2000/svg";
 
 /// Reads every path of an SVG document (see the module docs).
 ///
 /// # Errors
-/// [`CurveError::Svg`] for a `<path>` without a readable `d` attribute or with path data that
-/// cannot be read (the message names the path by its position).
-pub fn read_svg(text: &str) -> Result<Vec<SvgPath>, CurveError> {
-    let text = strip_comments(text);
+/// [`SvgError::Xml`] for a document that is not well-formed XML, [`SvgError::NoPathData`] for a
+/// `<path>` without a `d` attribute, [`SvgError::Transform`] for an unreadable transform, and
+/// [`SvgError::InPath`] for path data that cannot be read (naming the path by its position).
+pub fn read_svg(text: &str) -> Result<Vec<SvgPath>, SvgError> {
+    let options = roxmltree::ParsingOptions {
+        // Documents from drawing tools declare entities in an internal DTD; roxmltree bounds
+        // their expansion.
+        allow_dtd: true,
+        ..roxmltree::ParsingOptions::default()
+    };
+    let doc = roxmltree::Document::parse_with_options(text, options)?;
     let mut out = Vec::new();
-    let mut rest = text.as_str();
-    let mut index = 0;
-    while let Some(at) = find_tag(rest, "path") {
-        let tag_end = rest[at..]
-            .find('>')
-            .map(|e| at + e)
-            .ok_or_else(|| svg_err(format!("path {index}: the tag is not closed")))?;
-        let tag = &rest[at..tag_end];
-        let d = attribute(tag, "d")
-            .ok_or_else(|| svg_err(format!("path {index} has no d attribute")))?;
-        let paths = parse_path_data(&d).map_err(|e| match e {
-            CurveError::Svg(m) => svg_err(format!("path {index}: {m}")),
-            other => other,
+    let is_path = |n: &roxmltree::Node<'_, '_>| {
+        n.is_element()
+            && n.tag_name().name() == "path"
+            && n.tag_name().namespace().is_none_or(|ns| ns == SVG_NS)
+    };
+    for (index, node) in doc.descendants().filter(is_path).enumerate() {
+        let d = node.attribute("d").ok_or(SvgError::NoPathData { index })?;
+        let transform = node_transform(node, index)?;
+        let mut paths = parse_path_data(d).map_err(|e| SvgError::InPath {
+            index,
+            source: Box::new(e),
         })?;
+        if !is_identity(&transform) {
+            for path in &mut paths {
+                for segment in &mut path.segments {
+                    let points = segment
+                        .points()
+                        .iter()
+                        .map(|&p| apply(&transform, p))
+                        .collect::<Result<Vec<_>, _>>()
+                        .map_err(|e| SvgError::InPath {
+                            index,
+                            source: Box::new(e),
+                        })?;
+                    *segment = Bezier::try_new(points)?;
+                }
+            }
+        }
         out.extend(paths);
-        rest = &rest[tag_end..];
-        index += 1;
     }
     Ok(out)
 }
 
-fn strip_comments(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text;
-    while let Some(start) = rest.find("<!--") {
-        out.push_str(&rest[..start]);
-        match rest[start..].find("-->") {
-            Some(end) => rest = &rest[start + end + 3..],
-            None => return out,
-        }
-    }
-    out.push_str(rest);
-    out
-}
-
-/// Position of the next `<name` tag (followed by whitespace, `/` or `>`).
-fn find_tag(text: &str, name: &str) -> Option<usize> {
-    let pat = format!("<{name}");
-    let mut from = 0;
-    while let Some(i) = text[from..].find(&pat) {
-        let at = from + i;
-        let next = text[at + pat.len()..].chars().next();
-        if matches!(next, Some(c) if c.is_whitespace() || c == '/' || c == '>') {
-            return Some(at);
-        }
-        from = at + pat.len();
-    }
-    None
-}
-
-/// The value of attribute `name` in a tag's text (quoted with `"` or `'`).
-fn attribute(tag: &str, name: &str) -> Option<String> {
-    let bytes = tag.as_bytes();
-    let mut from = 0;
-    while let Some(i) = tag[from..].find(name) {
-        let at = from + i;
-        from = at + name.len();
-        let before_ok = at > 0 && (bytes[at - 1] as char).is_whitespace();
-        let after = tag[at + name.len()..].trim_start();
-        if !before_ok || !after.starts_with('=') {
+/// The transform from a node's user space to the document's: the product of the `transform`
+/// attributes of the node and all its ancestors, outermost first.
+fn node_transform(node: roxmltree::Node<'_, '_>, index: usize) -> Result<Transform, SvgError> {
+    let mut total = Transform::default();
+    for n in node.ancestors().filter(roxmltree::Node::is_element) {
+        let Some(value) = n.attribute("transform") else {
             continue;
-        }
-        let value = after[1..].trim_start();
-        let quote = value.chars().next()?;
-        if quote != '"' && quote != '\'' {
-            return None;
-        }
-        let end = value[1..].find(quote)?;
-        return Some(value[1..1 + end].to_string());
+        };
+        let t: Transform = value.parse().map_err(|reason| SvgError::Transform {
+            index,
+            element: n.tag_name().name().to_string(),
+            value: value.to_string(),
+            reason,
+        })?;
+        total = multiply(&t, &total);
     }
-    None
+    Ok(total)
 }
 
-/// A tokenizer of SVG path data: command letters and numbers.
-struct Tokens<'a> {
-    s: &'a [u8],
-    i: usize,
+/// `a ∘ b`: first `b`, then `a`.
+fn multiply(a: &Transform, b: &Transform) -> Transform {
+    Transform::new(
+        a.a * b.a + a.c * b.b,
+        a.b * b.a + a.d * b.b,
+        a.a * b.c + a.c * b.d,
+        a.b * b.c + a.d * b.d,
+        a.a * b.e + a.c * b.f + a.e,
+        a.b * b.e + a.d * b.f + a.f,
+    )
 }
 
-impl<'a> Tokens<'a> {
-    fn skip_separators(&mut self) {
-        while self.i < self.s.len()
-            && (self.s[self.i].is_ascii_whitespace() || self.s[self.i] == b',')
-        {
-            self.i += 1;
-        }
-    }
+fn is_identity(t: &Transform) -> bool {
+    (t.a, t.b, t.c, t.d, t.e, t.f) == (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+}
 
-    fn peek_command(&mut self) -> Option<u8> {
-        self.skip_separators();
-        self.s
-            .get(self.i)
-            .copied()
-            .filter(|c| c.is_ascii_alphabetic() && *c != b'e' && *c != b'E')
-    }
-
-    fn at_number(&mut self) -> bool {
-        self.skip_separators();
-        matches!(self.s.get(self.i), Some(c) if c.is_ascii_digit() || *c == b'-' || *c == b'+' || *c == b'.')
-    }
-
-    fn number(&mut self) -> Result<f64, CurveError> {
-        self.skip_separators();
-        let start = self.i;
-        let s = self.s;
-        let mut j = self.i;
-        if j < s.len() && (s[j] == b'-' || s[j] == b'+') {
-            j += 1;
-        }
-        let mut digits = 0;
-        while j < s.len() && s[j].is_ascii_digit() {
-            j += 1;
-            digits += 1;
-        }
-        if j < s.len() && s[j] == b'.' {
-            j += 1;
-            while j < s.len() && s[j].is_ascii_digit() {
-                j += 1;
-                digits += 1;
-            }
-        }
-        if digits == 0 {
-            return Err(svg_err(format!("a number was expected at byte {start}")));
-        }
-        if j < s.len() && (s[j] == b'e' || s[j] == b'E') {
-            let mut k = j + 1;
-            if k < s.len() && (s[k] == b'-' || s[k] == b'+') {
-                k += 1;
-            }
-            if k < s.len() && s[k].is_ascii_digit() {
-                while k < s.len() && s[k].is_ascii_digit() {
-                    k += 1;
-                }
-                j = k;
-            }
-        }
-        self.i = j;
-        let text =
-            std::str::from_utf8(&s[start..j]).map_err(|_| svg_err("path data is not text"))?;
-        let v: f64 = text
-            .parse()
-            .map_err(|_| svg_err(format!("{text:?} is not a number")))?;
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(CurveError::NotFinite {
-                what: format!("path number {text}"),
-            })
-        }
-    }
-
-    fn point(&mut self) -> Result<DVec2, CurveError> {
-        Ok(DVec2::new(self.number()?, self.number()?))
+fn apply(t: &Transform, p: DVec2) -> Result<DVec2, SvgError> {
+    let q = DVec2::new(t.a * p.x + t.c * p.y + t.e, t.b * p.x + t.d * p.y + t.f);
+    if q.is_finite() {
+        Ok(q)
+    } else {
+        Err(SvgError::NotFinite {
+            what: format!("the transformed point ({}, {})", p.x, p.y),
+        })
     }
 }
 
@@ -228,17 +227,15 @@ impl<'a> Tokens<'a> {
 /// assert_eq!(paths[0].segments.len(), 2);
 /// // `s` reflects the previous control point (3, 2) about (4, 0).
 /// assert_eq!(paths[0].segments[1].points()[1], glam::DVec2::new(5.0, -2.0));
-/// # Ok::<(), nendo::curve::CurveError>(())
+/// # Ok::<(), nendo::curve::svg::SvgError>(())
 /// ```
 ///
 /// # Errors
-/// [`CurveError::Svg`] for unknown or unsupported commands (arcs), missing or malformed
-/// numbers, or data that does not start with a move.
-pub fn parse_path_data(d: &str) -> Result<Vec<SvgPath>, CurveError> {
-    let mut t = Tokens {
-        s: d.as_bytes(),
-        i: 0,
-    };
+/// [`SvgError::Data`] for unknown commands or missing or malformed numbers, [`SvgError::Arc`]
+/// for arcs, [`SvgError::NoMove`] for data that does not start with a move, and
+/// [`SvgError::NotFinite`] for numbers out of `f64`'s range.
+pub fn parse_path_data(d: &str) -> Result<Vec<SvgPath>, SvgError> {
+    use svgtypes::PathSegment as S;
     let mut paths: Vec<SvgPath> = Vec::new();
     let mut current: Option<SvgPath> = None;
     let mut pos = DVec2::ZERO;
@@ -246,41 +243,29 @@ pub fn parse_path_data(d: &str) -> Result<Vec<SvgPath>, CurveError> {
     // The last control point of the previous C/S (for S) or Q/T (for T).
     let mut last_cubic: Option<DVec2> = None;
     let mut last_quad: Option<DVec2> = None;
-    let mut cmd: Option<u8> = None;
     let mut moved = false;
-    loop {
-        let c = match t.peek_command() {
-            Some(c) => {
-                t.i += 1;
-                c
+    for segment in svgtypes::PathParser::from(d) {
+        let segment = segment.map_err(SvgError::Data)?;
+        let finite = |v: f64| {
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(SvgError::NotFinite {
+                    what: format!("path number {v}"),
+                })
             }
-            None if t.i >= t.s.len() => break,
-            None => match cmd {
-                // Repeated arguments: after a move, further pairs are lines.
-                Some(b'M') if t.at_number() => b'L',
-                Some(b'm') if t.at_number() => b'l',
-                Some(c) if c != b'Z' && c != b'z' && t.at_number() => c,
-                _ => {
-                    t.skip_separators();
-                    if t.i >= t.s.len() {
-                        break;
-                    }
-                    return Err(svg_err(format!(
-                        "unexpected {:?} at byte {}",
-                        t.s[t.i] as char, t.i
-                    )));
-                }
-            },
         };
-        let rel = c.is_ascii_lowercase();
-        let base = if rel { pos } else { DVec2::ZERO };
-        let upper = c.to_ascii_uppercase();
-        if upper != b'M' && current.is_none() {
+        let base = if segment.is_abs() { DVec2::ZERO } else { pos };
+        let at = |x: f64, y: f64| -> Result<DVec2, SvgError> {
+            Ok(base + DVec2::new(finite(x)?, finite(y)?))
+        };
+        let is_move = matches!(segment, S::MoveTo { .. });
+        let is_close = matches!(segment, S::ClosePath { .. });
+        if !is_move && current.is_none() {
             if !moved {
-                return Err(svg_err("path data must start with a move (M)"));
+                return Err(SvgError::NoMove);
             }
-            if upper == b'Z' {
-                cmd = Some(c);
+            if is_close {
                 continue;
             }
             // A drawing command after Z starts a new subpath at the current point.
@@ -291,12 +276,12 @@ pub fn parse_path_data(d: &str) -> Result<Vec<SvgPath>, CurveError> {
             start = pos;
         }
         let (mut cubic, mut quad) = (None, None);
-        match upper {
-            b'M' => {
+        match segment {
+            S::MoveTo { x, y, .. } => {
                 if let Some(p) = current.take() {
                     paths.push(p);
                 }
-                pos = base + t.point()?;
+                pos = at(x, y)?;
                 start = pos;
                 moved = true;
                 current = Some(SvgPath {
@@ -304,39 +289,56 @@ pub fn parse_path_data(d: &str) -> Result<Vec<SvgPath>, CurveError> {
                     closed: false,
                 });
             }
-            b'L' | b'H' | b'V' => {
-                let to = match upper {
-                    b'L' => base + t.point()?,
-                    b'H' => DVec2::new(t.number()? + if rel { pos.x } else { 0.0 }, pos.y),
-                    _ => DVec2::new(pos.x, t.number()? + if rel { pos.y } else { 0.0 }),
-                };
+            S::LineTo { x, y, .. } => {
+                let to = at(x, y)?;
                 push(&mut current, vec![pos, to])?;
                 pos = to;
             }
-            b'C' | b'S' => {
-                let c1 = if upper == b'C' {
-                    base + t.point()?
-                } else {
-                    last_cubic.map_or(pos, |q| pos * 2.0 - q)
-                };
-                let c2 = base + t.point()?;
-                let to = base + t.point()?;
+            S::HorizontalLineTo { x, .. } => {
+                let to = DVec2::new(base.x + finite(x)?, pos.y);
+                push(&mut current, vec![pos, to])?;
+                pos = to;
+            }
+            S::VerticalLineTo { y, .. } => {
+                let to = DVec2::new(pos.x, base.y + finite(y)?);
+                push(&mut current, vec![pos, to])?;
+                pos = to;
+            }
+            S::CurveTo {
+                x1,
+                y1,
+                x2,
+                y2,
+                x,
+                y,
+                ..
+            } => {
+                let (c1, c2, to) = (at(x1, y1)?, at(x2, y2)?, at(x, y)?);
                 push(&mut current, vec![pos, c1, c2, to])?;
                 cubic = Some(c2);
                 pos = to;
             }
-            b'Q' | b'T' => {
-                let c1 = if upper == b'Q' {
-                    base + t.point()?
-                } else {
-                    last_quad.map_or(pos, |q| pos * 2.0 - q)
-                };
-                let to = base + t.point()?;
+            S::SmoothCurveTo { x2, y2, x, y, .. } => {
+                let c1 = last_cubic.map_or(pos, |q| pos * 2.0 - q);
+                let (c2, to) = (at(x2, y2)?, at(x, y)?);
+                push(&mut current, vec![pos, c1, c2, to])?;
+                cubic = Some(c2);
+                pos = to;
+            }
+            S::Quadratic { x1, y1, x, y, .. } => {
+                let (c1, to) = (at(x1, y1)?, at(x, y)?);
                 push(&mut current, vec![pos, c1, to])?;
                 quad = Some(c1);
                 pos = to;
             }
-            b'Z' => {
+            S::SmoothQuadratic { x, y, .. } => {
+                let c1 = last_quad.map_or(pos, |q| pos * 2.0 - q);
+                let to = at(x, y)?;
+                push(&mut current, vec![pos, c1, to])?;
+                quad = Some(c1);
+                pos = to;
+            }
+            S::ClosePath { .. } => {
                 if pos != start {
                     push(&mut current, vec![pos, start])?;
                 }
@@ -346,12 +348,10 @@ pub fn parse_path_data(d: &str) -> Result<Vec<SvgPath>, CurveError> {
                 }
                 pos = start;
             }
-            b'A' => return Err(svg_err("elliptical arc commands (A) are not supported")),
-            other => return Err(svg_err(format!("unknown path command {:?}", other as char))),
+            S::EllipticalArc { .. } => return Err(SvgError::Arc),
         }
         last_cubic = cubic;
         last_quad = quad;
-        cmd = Some(c);
     }
     if let Some(p) = current.take() {
         paths.push(p);
@@ -360,10 +360,8 @@ pub fn parse_path_data(d: &str) -> Result<Vec<SvgPath>, CurveError> {
     Ok(paths)
 }
 
-fn push(current: &mut Option<SvgPath>, points: Vec<DVec2>) -> Result<(), CurveError> {
-    let p = current
-        .as_mut()
-        .ok_or_else(|| svg_err("path data must start with a move (M)"))?;
+fn push(current: &mut Option<SvgPath>, points: Vec<DVec2>) -> Result<(), SvgError> {
+    let p = current.as_mut().ok_or(SvgError::NoMove)?;
     p.segments.push(Bezier::try_new(points)?);
     Ok(())
 }
@@ -371,8 +369,8 @@ fn push(current: &mut Option<SvgPath>, points: Vec<DVec2>) -> Result<(), CurveEr
 /// SVG path data for segments of degree 1–3: one subpath per run of segments that meet.
 ///
 /// # Errors
-/// [`CurveError::Svg`] for a segment of degree 0 or above 3.
-pub fn path_data(segments: &[Bezier<DVec2>], flip_y: bool) -> Result<String, CurveError> {
+/// [`SvgError::Degree`] for a segment of degree 0 or above 3.
+pub fn path_data(segments: &[Bezier<DVec2>], flip_y: bool) -> Result<String, SvgError> {
     let f = |p: DVec2| {
         if flip_y {
             DVec2::new(p.x, 0.0 - p.y)
@@ -394,11 +392,7 @@ pub fn path_data(segments: &[Bezier<DVec2>], flip_y: bool) -> Result<String, Cur
             1 => 'L',
             2 => 'Q',
             3 => 'C',
-            d => {
-                return Err(svg_err(format!(
-                    "segment {i} has degree {d}; SVG paths hold degrees 1 to 3"
-                )));
-            }
+            degree => return Err(SvgError::Degree { index: i, degree }),
         };
         let _ = write!(out, " {letter}");
         for p in &pts[1..] {
@@ -412,8 +406,8 @@ pub fn path_data(segments: &[Bezier<DVec2>], flip_y: bool) -> Result<String, Cur
 /// An SVG document drawing every curve as a path (a B-spline as its Bezier segments).
 ///
 /// # Errors
-/// [`CurveError::Svg`] for a segment of degree 0 or above 3.
-pub fn write_svg(curves: &[Curve<DVec2>], options: SvgOptions) -> Result<String, CurveError> {
+/// [`SvgError::Degree`] for a segment of degree 0 or above 3.
+pub fn write_svg(curves: &[Curve<DVec2>], options: SvgOptions) -> Result<String, SvgError> {
     let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
     let mut paths = Vec::with_capacity(curves.len());
     for c in curves {

@@ -1,7 +1,7 @@
 //! Nonlinear least squares with a sparse Jacobian: minimise `½ Σ r_j(x)²`.
 //!
 //! * [`Optimiser::LevenbergMarquardt`] (the default): at each step solve
-//!   `(JᵀJ + λ (diag(JᵀJ) + μ I)) δ = −Jᵀr` (by Cholesky up to 256 parameters, beyond by
+//!   `(JᵀJ + λ (diag(JᵀJ) + μ I)) δ = −Jᵀr` (by nalgebra's Cholesky up to 256 parameters, beyond by
 //!   Jacobi-preconditioned conjugate gradients with `JᵀJ` applied through `J`), accept `x + δ` when it lowers the cost
 //!   (then `λ ← λ/3`), else raise `λ ← 4λ` and retry (Marquardt 1963, with Nielsen-style
 //!   updates simplified).
@@ -10,6 +10,8 @@
 //!   densities have different units) and a backtracking (Armijo) step `α`.
 //!
 //! The Jacobian is kept sparse: each row (a sample) touches only the few metacircles reaching it.
+
+use nalgebra::{Cholesky, DMatrix, DVector};
 
 /// Residuals and, row by row, the non-zeros of their Jacobian.
 #[derive(Debug, Clone, Default)]
@@ -186,7 +188,6 @@ fn levenberg_marquardt(problem: &impl LeastSquares, x: &mut [f64], stop: &Stoppi
     let mut lambda = 1e-3;
     let mut iterations = 0;
     let mut x_new = x.to_vec();
-    let mut m = vec![0.0; if n <= DENSE_LIMIT { n * n } else { 0 }];
     let mut step = vec![0.0; n];
     let mut cg = ConjugateGradient::new(n);
     'outer: while iterations < stop.max_iterations && cost > 0.0 {
@@ -207,12 +208,12 @@ fn levenberg_marquardt(problem: &impl LeastSquares, x: &mut [f64], stop: &Stoppi
                 .map(|&d| lambda * (d + 1e-9 * max_diag))
                 .collect();
             let solved = if n <= DENSE_LIMIT {
-                m.copy_from_slice(&a);
+                let mut m = DMatrix::from_row_slice(n, n, &a);
                 for i in 0..n {
-                    m[i * n + i] += damping[i];
+                    m[(i, i)] += damping[i];
                     step[i] = -g[i];
                 }
-                cholesky_solve(&mut m, n, &mut step)
+                cholesky_solve(m, &mut step)
             } else {
                 cg.solve(&jac, &diag, &damping, &g, &mut step)
             };
@@ -370,42 +371,22 @@ fn steepest_descent(problem: &impl LeastSquares, x: &mut [f64], stop: &Stopping)
     }
 }
 
-/// Solves `M y = b` for a symmetric positive-definite `M` (row-major `n × n`, overwritten by
-/// its Cholesky factor); `b` becomes `y`. False when `M` is not positive definite.
-fn cholesky_solve(m: &mut [f64], n: usize, b: &mut [f64]) -> bool {
-    for j in 0..n {
-        let mut d = m[j * n + j];
-        for k in 0..j {
-            d -= m[j * n + k] * m[j * n + k];
-        }
-        if !(d > 0.0 && d.is_finite()) {
-            return false;
-        }
-        let d = d.sqrt();
-        m[j * n + j] = d;
-        for i in j + 1..n {
-            let (ri, rj) = (i * n, j * n);
-            let mut s = m[ri + j];
-            for k in 0..j {
-                s -= m[ri + k] * m[rj + k];
-            }
-            m[ri + j] = s / d;
-        }
+/// Solves `M y = b` for a symmetric positive-definite `M` by [`nalgebra::Cholesky`]; `b`
+/// becomes `y`. False (and `b` unchanged) when `M` has an entry that is not finite, is not
+/// positive definite (a pivot that is zero, negative or NaN), or the solution overflows: the
+/// caller then raises the damping.
+fn cholesky_solve(m: DMatrix<f64>, b: &mut [f64]) -> bool {
+    if !m.iter().all(|v| v.is_finite()) {
+        return false;
     }
-    for i in 0..n {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= m[i * n + k] * b[k];
-        }
-        b[i] = s / m[i * n + i];
+    let Some(factor) = Cholesky::new(m) else {
+        return false;
+    };
+    let y = factor.solve(&DVector::from_column_slice(b));
+    if !y.iter().all(|v| v.is_finite()) {
+        return false;
     }
-    for i in (0..n).rev() {
-        let mut s = b[i];
-        for k in i + 1..n {
-            s -= m[k * n + i] * b[k];
-        }
-        b[i] = s / m[i * n + i];
-    }
+    b.copy_from_slice(y.as_slice());
     true
 }
 
@@ -503,11 +484,24 @@ mod tests {
     #[test]
     fn cholesky_matches_a_known_solution() {
         // M = [[4, 2], [2, 3]], b = M [1, 2] = [8, 8].
-        let mut m = vec![4.0, 2.0, 2.0, 3.0];
+        let m = DMatrix::from_row_slice(2, 2, &[4.0, 2.0, 2.0, 3.0]);
         let mut b = vec![8.0, 8.0];
-        assert!(cholesky_solve(&mut m, 2, &mut b));
+        assert!(cholesky_solve(m, &mut b));
         assert!((b[0] - 1.0).abs() < 1e-14 && (b[1] - 2.0).abs() < 1e-14);
-        let mut bad = vec![1.0, 2.0, 2.0, 1.0];
-        assert!(!cholesky_solve(&mut bad, 2, &mut [1.0, 1.0]));
+        // Indefinite, singular, NaN and infinite matrices are refused and leave b alone.
+        for bad in [
+            [1.0, 2.0, 2.0, 1.0],
+            [1.0, 1.0, 1.0, 1.0],
+            [0.0, 0.0, 0.0, 0.0],
+            [f64::NAN, 0.0, 0.0, 1.0],
+            [f64::INFINITY, 0.0, 0.0, 1.0],
+        ] {
+            let mut b = [1.0, 1.0];
+            assert!(
+                !cholesky_solve(DMatrix::from_row_slice(2, 2, &bad), &mut b),
+                "{bad:?}"
+            );
+            assert_eq!(b, [1.0, 1.0]);
+        }
     }
 }

@@ -4,8 +4,8 @@
 
 use glam::DVec2;
 use nendo::curve::refine::{Constraint, Similarity, refine_piecewise};
-use nendo::curve::svg::{SvgOptions, parse_path_data, path_data, read_svg, write_svg};
-use nendo::curve::{BSpline, Bezier, Curve, CurveError};
+use nendo::curve::svg::{SvgError, SvgOptions, parse_path_data, path_data, read_svg, write_svg};
+use nendo::curve::{BSpline, Bezier, Curve};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -121,7 +121,10 @@ fn what_svg_cannot_hold_is_refused() {
     ] {
         let e = parse_path_data(bad).expect_err(bad);
         assert!(
-            matches!(e, CurveError::Svg(_) | CurveError::NotFinite { .. }),
+            matches!(
+                e,
+                SvgError::Data(_) | SvgError::Arc | SvgError::NoMove | SvgError::NotFinite { .. }
+            ),
             "{bad}: {e}"
         );
     }
@@ -135,7 +138,10 @@ fn what_svg_cannot_hold_is_refused() {
     ]);
     assert!(matches!(
         path_data(std::slice::from_ref(&quartic), false),
-        Err(CurveError::Svg(_))
+        Err(SvgError::Degree {
+            index: 0,
+            degree: 4
+        })
     ));
     assert!(write_svg(&[quartic.into()], SvgOptions::default()).is_err());
     assert_eq!(read_svg("<svg></svg>").expect("no paths"), vec![]);

@@ -125,7 +125,4 @@ pub enum CurveError {
     /// fit the curve, derivatives that vanish at every similarity sample.
     #[error("refine: {0}")]
     Refine(String),
-    /// An SVG document or path could not be read.
-    #[error("svg: {0}")]
-    Svg(String),
 }

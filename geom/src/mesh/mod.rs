@@ -12,5 +12,6 @@ mod tessellate;
 pub use pick::{Ray, SurfaceHit, pick};
 pub use seams::{max_seam_angle_deg, seam_angles_deg, seam_bands};
 pub use tessellate::{
-    PatchBlock, PatchPoints, Tessellation, TriMesh, eval_patch, patch_normal, tessellate,
+    MeshSize, PatchBlock, PatchPoints, TessellateError, Tessellation, TriMesh, estimate,
+    eval_patch, patch_normal, tessellate, try_tessellate,
 };

@@ -64,6 +64,11 @@ impl Tessellation {
         max_segments: 256,
     };
 
+    /// The default limit on the triangles of an exported mesh (`nendo export --max-triangles`,
+    /// the window's export): 20 million triangles take about 0.5 GB as tessellated
+    /// ([`MeshSize::bytes`]) and about twice that at the peak of welding and writing.
+    pub const DEFAULT_MAX_TRIANGLES: u64 = 20_000_000;
+
     /// A tessellation to the given tolerance with the export limits.
     #[must_use]
     pub fn with_tolerance(tolerance: f64) -> Self {
@@ -269,7 +274,135 @@ pub(crate) fn position_key(p: Vec3) -> [u32; 3] {
     [p.x, p.y, p.z].map(|c| if c == 0.0 { 0 } else { c.to_bits() })
 }
 
+/// The size of the mesh [`tessellate`] makes for some patches and settings, computed from the
+/// same per-patch segment counts (after tying shared edges) without building the mesh.
+///
+/// The counts are exact for the mesh [`tessellate`] returns; [`TriMesh::welded`] only removes
+/// vertices and triangles, so they bound an exported mesh from above.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MeshSize {
+    /// Vertices before welding.
+    pub vertices: u64,
+    /// Triangles before welding.
+    pub triangles: u64,
+}
+
+impl MeshSize {
+    /// Bytes the tessellated mesh takes: a position and a normal (2 × 12 bytes) per vertex and
+    /// three `u32` indices per triangle. Welding it (as exporters do) needs about as much again
+    /// at its peak, plus a hash map entry per vertex.
+    #[must_use]
+    pub fn bytes(&self) -> u64 {
+        self.vertices
+            .saturating_mul(24)
+            .saturating_add(self.triangles.saturating_mul(12))
+    }
+}
+
+/// Why [`try_tessellate`] refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum TessellateError {
+    /// The mesh would have more triangles than the limit the caller set.
+    #[error(
+        "the mesh would have {} triangles ({} vertices, about {} MB), more than the limit of {limit} triangles",
+        .estimate.triangles,
+        .estimate.vertices,
+        .estimate.bytes() / 1_000_000
+    )]
+    TooManyTriangles {
+        /// The exact size of the mesh that was refused.
+        estimate: MeshSize,
+        /// The limit, triangles.
+        limit: u64,
+    },
+    /// The mesh would have more vertices than `u32` indices can address.
+    #[error(
+        "the mesh would have {} vertices, more than 32-bit indices can address",
+        .estimate.vertices
+    )]
+    TooManyVertices {
+        /// The exact size of the mesh that was refused.
+        estimate: MeshSize,
+    },
+}
+
+/// Segment counts of every patch for some settings: the plan [`tessellate`] follows.
+struct Plan {
+    /// Each patch's own counts and second-derivative bounds.
+    own: Vec<([u32; 2], [f64; 2])>,
+    /// The counts after tying shared edges.
+    counts: Vec<[u32; 2]>,
+}
+
+impl Plan {
+    fn new(patches: &[PatchPoints], settings: &Tessellation) -> Self {
+        let own: Vec<([u32; 2], [f64; 2])> =
+            patches.iter().map(|p| settings.own_counts(p)).collect();
+        let counts = tie_shared_edges(patches, &own);
+        Self { own, counts }
+    }
+
+    fn size(&self) -> MeshSize {
+        let mut size = MeshSize {
+            vertices: 0,
+            triangles: 0,
+        };
+        for [a, b] in &self.counts {
+            let (a, b) = (u64::from(*a), u64::from(*b));
+            size.vertices += (a + 1) * (b + 1);
+            size.triangles += 2 * a * b;
+        }
+        size
+    }
+}
+
+/// The size of the mesh [`tessellate`] would make, without making it: memory proportional to
+/// the number of patches only (the counts and the shared-edge map).
+///
+/// ```
+/// use glam::DVec3;
+/// use nendo_geom::mesh::{Tessellation, estimate, tessellate};
+/// let square: [DVec3; 16] =
+///     std::array::from_fn(|k| DVec3::new((k / 4) as f64 / 3.0, (k % 4) as f64 / 3.0, 0.0));
+/// let size = estimate(&[square], &Tessellation::with_tolerance(1e-3));
+/// assert_eq!(size.triangles, 2);
+/// assert_eq!(size.vertices, 4);
+/// ```
+#[must_use]
+pub fn estimate(patches: &[PatchPoints], settings: &Tessellation) -> MeshSize {
+    Plan::new(patches, settings).size()
+}
+
+/// [`tessellate`], refusing before it allocates the mesh when the mesh would have more than
+/// `max_triangles` triangles (or more vertices than `u32` indices address).
+///
+/// # Errors
+/// [`TessellateError::TooManyTriangles`] / [`TessellateError::TooManyVertices`], carrying the
+/// exact size of the refused mesh.
+pub fn try_tessellate(
+    patches: &[PatchPoints],
+    settings: &Tessellation,
+    max_triangles: u64,
+) -> Result<TriMesh, TessellateError> {
+    let plan = Plan::new(patches, settings);
+    let estimate = plan.size();
+    if estimate.triangles > max_triangles {
+        return Err(TessellateError::TooManyTriangles {
+            estimate,
+            limit: max_triangles,
+        });
+    }
+    // Indices are u32, and so are the index offsets of the blocks.
+    if estimate.vertices > u64::from(u32::MAX) || estimate.triangles * 3 > u64::from(u32::MAX) {
+        return Err(TessellateError::TooManyVertices { estimate });
+    }
+    Ok(build(patches, &plan))
+}
+
 /// Tessellates patches into one mesh, watertight across every edge the patches share exactly.
+///
+/// It allocates the whole mesh ([`estimate`] tells how big beforehand); where the patches or
+/// the tolerance come from a user, use [`try_tessellate`].
 ///
 /// ```
 /// use glam::DVec3;
@@ -282,23 +415,21 @@ pub(crate) fn position_key(p: Vec3) -> [u32; 3] {
 /// ```
 #[must_use]
 pub fn tessellate(patches: &[PatchPoints], settings: &Tessellation) -> TriMesh {
-    let own: Vec<([u32; 2], [f64; 2])> = patches.iter().map(|p| settings.own_counts(p)).collect();
-    let counts = tie_shared_edges(patches, &own);
+    build(patches, &Plan::new(patches, settings))
+}
 
-    let total_vertices: usize = counts
-        .iter()
-        .map(|[a, b]| ((a + 1) * (b + 1)) as usize)
-        .sum();
-    let total_indices: usize = counts.iter().map(|[a, b]| (6 * a * b) as usize).sum();
+/// Builds the mesh a plan describes.
+fn build(patches: &[PatchPoints], plan: &Plan) -> TriMesh {
+    let size = plan.size();
     let mut mesh = TriMesh {
-        positions: Vec::with_capacity(total_vertices),
-        normals: Vec::with_capacity(total_vertices),
-        indices: Vec::with_capacity(total_indices),
+        positions: Vec::with_capacity(size.vertices as usize),
+        normals: Vec::with_capacity(size.vertices as usize),
+        indices: Vec::with_capacity(3 * size.triangles as usize),
         blocks: Vec::with_capacity(patches.len()),
         error_bound: 0.0,
     };
-    for (index, (p, [m_u, m_v])) in patches.iter().zip(&counts).enumerate() {
-        let [a, b] = own[index].1;
+    for (index, (p, [m_u, m_v])) in patches.iter().zip(&plan.counts).enumerate() {
+        let [a, b] = plan.own[index].1;
         let bound = (a / f64::from(m_u * m_u) + b / f64::from(m_v * m_v)) / 8.0;
         mesh.error_bound = mesh.error_bound.max(bound);
         let block = PatchBlock {
@@ -594,6 +725,46 @@ mod tests {
                 let e = measured_error(&p, &mesh);
                 assert!(e <= tol + 1e-6, "error {e} > tolerance {tol}");
             }
+        }
+    }
+
+    #[test]
+    fn estimate_is_the_size_of_the_mesh_and_try_refuses_over_the_limit() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for tol in [1e-1, 1e-3, 1e-5] {
+            // Neighbours sharing edges, so the tie between them is part of the count.
+            let patches: Vec<PatchPoints> = (0..4)
+                .map(|k| {
+                    let mut p = random_patch(&mut rng);
+                    for q in &mut p {
+                        q.x += 3.0 * f64::from(k);
+                    }
+                    p
+                })
+                .collect();
+            let mut shared = patches.clone();
+            for k in 1..shared.len() {
+                for j in 0..4 {
+                    shared[k][j] = shared[k - 1][12 + j];
+                }
+            }
+            let settings = Tessellation::with_tolerance(tol);
+            let size = estimate(&shared, &settings);
+            let mesh = tessellate(&shared, &settings);
+            assert_eq!(size.triangles, mesh.triangle_count() as u64);
+            assert_eq!(size.vertices, mesh.positions.len() as u64);
+            assert!(mesh.welded().triangle_count() as u64 <= size.triangles);
+            assert_eq!(
+                try_tessellate(&shared, &settings, size.triangles).as_ref(),
+                Ok(&mesh)
+            );
+            assert_eq!(
+                try_tessellate(&shared, &settings, size.triangles - 1),
+                Err(TessellateError::TooManyTriangles {
+                    estimate: size,
+                    limit: size.triangles - 1
+                })
+            );
         }
     }
 

@@ -4,6 +4,9 @@
 //! centres `((i + ½)/k, (j + ½)/k)` (40 × 40 in the paper: 160 000 samples on 100 patches).
 //! The ideal surface of an operation is the starting surface with every sample moved by the
 //! shape function, `S₀ + F(S₀)` ([`super::Finger::ideal`]).
+//!
+//! [`sample_iter`] and [`distance_iter`] stream the samples (memory for a patch or two, however
+//! many samples); [`samples`] and [`distances`] hold them all (24 and 8 bytes per sample).
 
 use glam::DVec3;
 
@@ -11,18 +14,24 @@ use super::error::SurfaceError;
 use super::grid::Grid;
 use super::shape_fn::Finger;
 
-/// The samples of a grid, patch by patch (index order), `k × k` per patch.
+/// The samples of a grid, patch by patch (index order), `k × k` per patch, one at a time:
+/// memory for one patch, whatever the grid and `k`.
+pub fn sample_iter(grid: &Grid, k: usize) -> impl Iterator<Item = DVec3> + '_ {
+    (0..grid.patch_count()).flat_map(move |p| {
+        let patch = grid.patch_struct(p);
+        (0..k * k).map(move |s| {
+            let (i, j) = (s / k, s % k);
+            patch.eval((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64)
+        })
+    })
+}
+
+/// The samples of a grid, patch by patch (index order), `k × k` per patch, all in memory
+/// (24 bytes each); [`sample_iter`] streams them.
 #[must_use]
 pub fn samples(grid: &Grid, k: usize) -> Vec<DVec3> {
     let mut out = Vec::with_capacity(grid.patch_count() * k * k);
-    for p in 0..grid.patch_count() {
-        let patch = grid.patch_struct(p);
-        for i in 0..k {
-            for j in 0..k {
-                out.push(patch.eval((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64));
-            }
-        }
-    }
+    out.extend(sample_iter(grid, k));
     out
 }
 
@@ -44,6 +53,25 @@ pub fn distances(a: &[DVec3], b: &[DVec3]) -> Result<Vec<f64>, SurfaceError> {
         return Err(SurfaceError::Mismatch);
     }
     Ok(a.iter().zip(b).map(|(x, y)| (*x - *y).length()).collect())
+}
+
+/// Distances between two grids with the same number of patches at the same parameters (`k × k`
+/// samples per patch, as [`sample_iter`]), one at a time: memory for two patches, whatever the
+/// grids and `k`.
+///
+/// # Errors
+/// [`SurfaceError::Mismatch`] when the grids differ in their number of patches.
+pub fn distance_iter<'a>(
+    a: &'a Grid,
+    b: &'a Grid,
+    k: usize,
+) -> Result<impl Iterator<Item = f64> + 'a, SurfaceError> {
+    if a.patch_count() != b.patch_count() {
+        return Err(SurfaceError::Mismatch);
+    }
+    Ok(sample_iter(a, k)
+        .zip(sample_iter(b, k))
+        .map(|(x, y)| (x - y).length()))
 }
 
 /// Statistics of a set of distances.
@@ -95,7 +123,5 @@ pub fn max_distance(a: &Grid, b: &Grid, k: usize) -> Result<f64, SurfaceError> {
     {
         return Err(SurfaceError::Mismatch);
     }
-    Ok(distances(&samples(a, k), &samples(b, k))?
-        .into_iter()
-        .fold(0.0, f64::max))
+    Ok(distance_iter(a, b, k)?.fold(0.0, f64::max))
 }

@@ -27,6 +27,7 @@ mod render_cli;
 mod render_headless;
 mod replay_cli;
 mod replay_traces;
+mod sculpt_limits;
 mod shader_validation;
 mod support;
 mod surface_deform;

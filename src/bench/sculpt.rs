@@ -130,13 +130,13 @@ pub fn time_push(
     }
     let ns = if thread_cpu_ns().is_some() {
         for k in 0..calls_per_batch {
-            black_box(sculptor.apply_finger(&mut grid, &fingers[k % 2], regulation));
+            let _ = black_box(sculptor.apply_finger(&mut grid, &fingers[k % 2], regulation));
         }
         let mut per_call = Vec::with_capacity(21);
         for _ in 0..21 {
             let t0 = thread_cpu_ns().unwrap_or(0);
             for k in 0..calls_per_batch {
-                black_box(sculptor.apply_finger(&mut grid, &fingers[k % 2], regulation));
+                let _ = black_box(sculptor.apply_finger(&mut grid, &fingers[k % 2], regulation));
             }
             let t1 = thread_cpu_ns().unwrap_or(0);
             per_call.push(t1.saturating_sub(t0) as f64 / calls_per_batch.max(1) as f64);
@@ -148,7 +148,7 @@ pub fn time_push(
             calls_per_batch,
         };
         watch.median_ns(|k| {
-            black_box(sculptor.apply_finger(&mut grid, &fingers[k % 2], regulation));
+            let _ = black_box(sculptor.apply_finger(&mut grid, &fingers[k % 2], regulation));
         })
     };
     (ns, touched, examined)

@@ -121,10 +121,20 @@ pub fn run(args: Args) -> ExitCode {
         }
         Err(e) => {
             eprintln!("nendo replay: {e:#}");
-            ExitCode::from(1)
+            if e.is::<Refused>() {
+                ExitCode::from(2)
+            } else {
+                ExitCode::from(1)
+            }
         }
     }
 }
+
+/// A replay that ran to the end and wrote its result, but with frames the surface refused
+/// (exit status 2).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+struct Refused(String);
 
 fn replay(args: &Args) -> anyhow::Result<String> {
     let trace = Trace::read(&args.trace).map_err(|e| naming(&args.trace, &e))?;
@@ -184,8 +194,16 @@ fn replay(args: &Args) -> anyhow::Result<String> {
     let total = trace.frames.len();
     let start = Instant::now();
     let mut next_tenth = 1;
+    let mut refused = 0usize;
     for (k, frame) in trace.frames.iter().enumerate() {
-        session.feed(frame);
+        let out = session.feed(frame);
+        // A refused frame leaves the surface as the contact's last accepted application; the
+        // replay goes on, reports every refusal with its frame number (1-based), and ends
+        // with exit status 2 after writing the result.
+        if let Some(e) = &out.refused {
+            refused += 1;
+            eprintln!("nendo replay: frame {}: {e}", k + 1);
+        }
         if total >= PROGRESS_FROM && (k + 1) * 10 >= next_tenth * total {
             let st = session.hand_loop().stats();
             eprintln!(
@@ -204,6 +222,13 @@ fn replay(args: &Args) -> anyhow::Result<String> {
     let st = *session.hand_loop().stats();
     model.surface = session.into_grid();
     model.write(&args.out).map_err(|e| naming(&args.out, &e))?;
+    if refused > 0 {
+        return Err(Refused(format!(
+            "{refused} of {total} frames refused by the surface (see above); the surface kept the last accepted state -> {}",
+            args.out.display()
+        ))
+        .into());
+    }
     Ok(format!(
         "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}; {:.3} s -> {}",
         st.frames_with_finger,

@@ -133,16 +133,34 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
                     .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
             };
             let name = path.display().to_string();
-            ops::parse_ops(&text).map_err(|e| anyhow::anyhow!("{name}: {e}; nothing written"))?
+            let ops = ops::parse_ops(&text)
+                .map_err(|e| anyhow::anyhow!("{name}: {e}; nothing written"))?;
+            // The line of each operation (blank lines hold none), for refusals.
+            let lines = text
+                .lines()
+                .enumerate()
+                .filter(|(_, l)| !l.trim().is_empty())
+                .map(|(i, _)| i + 1);
+            ops.into_iter()
+                .zip(lines)
+                .map(|(op, l)| (op, name.clone(), l))
+                .collect()
         }
     };
     let start = Instant::now();
     let mut sculptor = Sculptor::new();
     let mut updates = 0usize;
-    for (i, op) in ops.iter().enumerate() {
+    for (i, (op, name, line)) in ops.iter().enumerate() {
+        // A refused operation (invalid, a result not finite or beyond the coordinate limit,
+        // a seam the regulation could not keep G1) stops the run before anything is written.
         let t = sculptor
             .apply(&mut model.surface, op, model.regulation)
-            .map_err(|e| anyhow::anyhow!("operation {}: {e}; nothing written", i + 1))?;
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "{name} line {line} (operation {}): {e}; nothing written",
+                    i + 1
+                )
+            })?;
         updates += t.patches.len();
     }
     let elapsed = start.elapsed();

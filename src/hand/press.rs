@@ -29,7 +29,7 @@ use glam::DVec3;
 use crate::surface::group::PoleEnd;
 use crate::surface::inverse::{control_update, samples};
 use crate::surface::regulate::{self, Projections, Regulation};
-use crate::surface::{Aabb, Finger, Grid, Op, SurfaceError};
+use crate::surface::{Aabb, Finger, Grid, Op, SurfaceError, verify};
 
 /// One placement of the finger during a contact.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -132,6 +132,11 @@ pub(crate) struct Presser {
     poles: Vec<PoleEnd>,
     changed: Vec<usize>,
     scratch: Vec<usize>,
+    /// The unregulated net and `deformed` flags of the area before this application.
+    saved_unregulated: Vec<(usize, DVec3)>,
+    saved_deformed: Vec<(usize, bool)>,
+    /// The grid's control points before this application overwrote them.
+    saved_grid: Vec<(usize, DVec3)>,
     projections: Projections,
 }
 
@@ -154,8 +159,10 @@ impl Presser {
     /// control points changed, sorted.
     ///
     /// # Errors
-    /// [`SurfaceError::BadOp`] for a placement that makes no valid finger; `grid` is then
-    /// left as it was.
+    /// [`SurfaceError::BadOp`] for a placement that makes no valid finger;
+    /// [`SurfaceError::OutOfRange`] or [`SurfaceError::NotG1`] for a result the surface
+    /// refuses ([`crate::surface::verify`]). `grid` and the contact's state are then left as
+    /// they were after the last accepted application.
     pub(crate) fn apply(
         &mut self,
         reference: &Grid,
@@ -213,6 +220,15 @@ impl Presser {
         // 2–3. Envelope flows on the reference samples, Bernstein inverse, unregulated net.
         let (m, n) = (grid.patches_u(), grid.patches_v());
         let topology = grid.topology();
+        self.saved_unregulated.clear();
+        self.saved_deformed.clear();
+        self.saved_grid.clear();
+        for &p in &self.area {
+            self.saved_deformed.push((p, self.deformed[p]));
+            for id in grid.patch_node_ids(p % m, p / m) {
+                self.saved_unregulated.push((id, self.unregulated[id]));
+            }
+        }
         for &p in &self.area {
             let bounds = reference.patch_bounds(p);
             self.near.clear();
@@ -291,6 +307,7 @@ impl Presser {
                 };
                 let nodes = grid.nodes_mut();
                 for id in group.nodes.iter().flatten().flatten() {
+                    self.saved_grid.push((*id, nodes[*id]));
                     nodes[*id] = self.unregulated[*id];
                 }
                 let mut moved = false;
@@ -320,6 +337,7 @@ impl Presser {
             let Some(pole) = grid.pole(end) else { continue };
             let nodes = grid.nodes_mut();
             for &id in std::iter::once(&pole.node).chain(&pole.ring) {
+                self.saved_grid.push((id, nodes[id]));
                 nodes[id] = self.unregulated[id];
             }
             let iv = if end == PoleEnd::Start { 0 } else { n - 1 };
@@ -346,6 +364,23 @@ impl Presser {
             );
         }
         self.changed.sort_unstable();
+        if let Err(e) = verify(grid, &self.changed, regulation, &self.saved_grid) {
+            // Back to the last application: the grid, the unregulated net, the fingers.
+            let nodes = grid.nodes_mut();
+            for &(id, x) in self.saved_grid.iter().rev() {
+                nodes[id] = x;
+            }
+            for &(id, x) in self.saved_unregulated.iter().rev() {
+                self.unregulated[id] = x;
+            }
+            for &(p, d) in &self.saved_deformed {
+                self.deformed[p] = d;
+            }
+            self.fingers.truncate(first);
+            self.fingers.append(&mut self.old);
+            self.changed.clear();
+            return Err(e);
+        }
         grid.refit(&self.changed, &mut self.scratch);
         self.applied.clear();
         self.applied.extend_from_slice(placements);

@@ -59,7 +59,7 @@ use super::HandError;
 use super::contact::{Fingertip, Probe};
 use super::kinematics::{Digit, Hand, HandPose};
 use super::press::{Placement, Presser, describe};
-use crate::surface::{Grid, Op, Regulation};
+use crate::surface::{Grid, Op, Regulation, SurfaceError};
 
 /// Which finger touches the surface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -213,6 +213,12 @@ pub struct FrameOutcome {
     /// A contact that ended this frame, as the operations it stands for (a push, then one
     /// draw-a-line segment per further placement; see [`super::press::describe`]).
     pub committed: Option<Vec<Op>>,
+    /// Why the surface refused this frame's application of the contact (a result not finite
+    /// or beyond [`crate::surface::COORDINATE_LIMIT`], or a seam the regulation could not
+    /// keep G1; see [`crate::surface::verify`]). The surface then stays as the contact's last
+    /// accepted application; the contact goes on, and a later frame whose placements the
+    /// surface accepts shows them.
+    pub refused: Option<SurfaceError>,
 }
 
 /// Counters of a loop.
@@ -234,7 +240,8 @@ pub struct LoopStats {
     pub placements: u64,
     /// Frames on which the surface was recomputed.
     pub applications: u64,
-    /// Applications the surface refused (never expected: every placement is built valid).
+    /// Applications the surface refused (a result not finite or beyond the coordinate limit,
+    /// or a seam the regulation could not keep G1; see [`FrameOutcome::refused`]).
     pub rejected: u64,
     /// Sum over frames of the patches whose control points changed.
     pub patch_updates: u64,
@@ -583,7 +590,10 @@ impl HandLoop {
                     out.changed.extend_from_slice(changed);
                     self.stats.patch_updates += changed.len() as u64;
                 }
-                Err(_) => self.stats.rejected += 1,
+                Err(e) => {
+                    self.stats.rejected += 1;
+                    out.refused = Some(e);
+                }
             }
             // Rule 7: where is the clay along the live placement's axis, at the fingertip?
             let dir = c.live().dir;

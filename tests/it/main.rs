@@ -29,6 +29,7 @@ mod render_headless;
 mod replay_cli;
 mod replay_traces;
 mod safe_writer;
+mod sculpt_limits;
 mod shader_validation;
 mod support;
 mod surface_deform;

@@ -17,17 +17,181 @@
 //!    disjoint, so this is local too; the patches returned in [`Touched`] are all those whose
 //!    control points may have changed.
 //!
+//! 5. **Verification** ([`verify`]): every control point of the touched patches must be finite
+//!    and within [`COORDINATE_LIMIT`], and under [`Regulation::Exact`] (the method that
+//!    promises G1) every edge of a touched patch must be G1 within [`G1_TOLERANCE_DEG`].
+//!    Otherwise the operation is refused with a typed error and the grid is restored exactly
+//!    as it was (the old control points of every patch that could change are kept aside
+//!    before anything is written). [`Regulation::None`], [`Regulation::C1`] and
+//!    [`Regulation::G1`] are documented baselines that do not promise G1 everywhere: only
+//!    the coordinate check applies to them (`nendo check` measures their seams).
+//!
 //! Everything runs in a fixed order on plain `f64` arithmetic: the same operation applied to
 //! the same grid gives bit-identical results.
 
 use glam::DVec3;
 
+use super::continuity::angle_deg;
 use super::error::SurfaceError;
 use super::grid::Grid;
 use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
 use super::regulate::{self, Projections, Regulation};
 use super::shape_fn::{Finger, Op};
+
+/// The largest absolute value a control-point coordinate may take (10⁵⁰).
+///
+/// Every product the pipeline forms stays finite below it: the mesher's and the measures'
+/// normals are cross products of derivative differences (coordinates² · small constants,
+/// ≈ 10¹⁰²) whose squared lengths reach ≈ 10²⁰⁵; the pole regulation's plane fit sums outer
+/// products of ring offsets (≈ 10¹⁰¹) and its eigen solve squares those (≈ 10²⁰³); all far
+/// below `f64::MAX` ≈ 1.8 · 10³⁰⁸. A limit of 10¹⁵⁴ or more would let the fourth powers
+/// overflow. Operations whose result would exceed it are refused
+/// ([`SurfaceError::OutOfRange`]); grids read from files beyond it are refused by
+/// [`Grid::from_net`] / [`Grid::from_patches`].
+pub const COORDINATE_LIMIT: f64 = 1e50;
+
+/// The largest crease (degrees) [`Regulation::Exact`] may leave along an edge of a touched
+/// patch: exact regulation holds G1 to rounding (≈ 10⁻¹²°), so anything above 10⁻⁶° means the
+/// construction failed (e.g. a pole's tangent plane folded the first ring) and the operation
+/// is refused ([`SurfaceError::NotG1`]).
+pub const G1_TOLERANCE_DEG: f64 = 1e-6;
+
+/// Points per edge at which [`verify`] compares the normals of the two sides: both ends and
+/// the middle (9 points cost about 3× more; the folds seen so far show at these three).
+const VERIFY_SAMPLES: usize = 3;
+
+/// Checks what an operation produced on `patches` (sorted patch indices): every control point
+/// finite and within [`COORDINATE_LIMIT`]; under [`Regulation::Exact`], every shared edge of
+/// those patches G1 within [`G1_TOLERANCE_DEG`] (normals compared at both ends and the middle of each edge;
+/// points where a side has no tangent plane are skipped, as in [`super::continuity`]).
+///
+/// `before` lists `(node id, old position)` for every control point the operation wrote (in
+/// the order written; repeats allowed). An edge that creases beyond the tolerance is only a
+/// failure if it was G1 before the operation: an edge creased already (a model made with
+/// another method) is not the operation's doing. To tell, the old positions are put back for
+/// the measure and the new ones restored afterwards, so `grid` is unchanged on return.
+///
+/// # Errors
+/// [`SurfaceError::OutOfRange`] for the first bad point; [`SurfaceError::NotG1`] naming the
+/// worst edge the operation creased and its angle.
+pub fn verify(
+    grid: &mut Grid,
+    patches: &[usize],
+    regulation: Regulation,
+    before: &[(usize, DVec3)],
+) -> Result<(), SurfaceError> {
+    let m = grid.patches_u();
+    for &p in patches {
+        let ids = grid.patch_node_ids(p % m, p / m);
+        for (k, &id) in ids.iter().enumerate() {
+            let x = grid.nodes()[id];
+            // `max_element` skips NaN: test finiteness first.
+            if !x.is_finite() || x.abs().max_element() > COORDINATE_LIMIT {
+                return Err(SurfaceError::OutOfRange {
+                    patch: p,
+                    point: k,
+                    limit: COORDINATE_LIMIT,
+                });
+            }
+        }
+    }
+    if regulation != Regulation::Exact {
+        return Ok(());
+    }
+    let mut creased = Vec::new();
+    shared_edges(grid, patches, |a, b, along_u| {
+        let angle = edge_angle(grid, a, b, along_u);
+        if angle.is_nan() || angle > G1_TOLERANCE_DEG {
+            creased.push((a, b, along_u, angle));
+        }
+    });
+    if creased.is_empty() {
+        return Ok(());
+    }
+    // Which of them were G1 before the operation?
+    let after: Vec<DVec3> = before.iter().map(|&(id, _)| grid.nodes()[id]).collect();
+    {
+        let nodes = grid.nodes_mut();
+        for &(id, x) in before.iter().rev() {
+            nodes[id] = x;
+        }
+    }
+    creased.retain(|&(a, b, along_u, _)| edge_angle(grid, a, b, along_u) <= G1_TOLERANCE_DEG);
+    {
+        let nodes = grid.nodes_mut();
+        for (&(id, _), &x) in before.iter().zip(&after) {
+            nodes[id] = x;
+        }
+    }
+    match creased
+        .iter()
+        .max_by(|x, y| x.3.partial_cmp(&y.3).unwrap_or(std::cmp::Ordering::Greater))
+    {
+        None => Ok(()),
+        Some(&(patch, other, _, angle_deg)) => Err(SurfaceError::NotG1 {
+            regulation,
+            patch,
+            other,
+            angle_deg,
+            tolerance_deg: G1_TOLERANCE_DEG,
+        }),
+    }
+}
+
+/// The largest angle (degrees) between the normals of the two sides of the edge between
+/// patches `a` and `b` (`b` after `a` along u when `along_u`, else along v), at
+/// `VERIFY_SAMPLES` points; NaN when a normal is not finite.
+fn edge_angle(grid: &Grid, a: usize, b: usize, along_u: bool) -> f64 {
+    let (pa, pb) = (grid.patch_struct(a), grid.patch_struct(b));
+    let mut worst = 0.0f64;
+    for i in 0..VERIFY_SAMPLES {
+        let t = i as f64 / (VERIFY_SAMPLES - 1) as f64;
+        let ((ua, va), (ub, vb)) = if along_u {
+            ((1.0, t), (0.0, t))
+        } else {
+            ((t, 1.0), (t, 0.0))
+        };
+        if let (Some(na), Some(nb)) = (pa.normal(ua, va), pb.normal(ub, vb)) {
+            let angle = angle_deg(na, nb);
+            // A NaN angle (a degenerate normal pair) stays the worst.
+            if angle.is_nan() || angle > worst {
+                worst = angle;
+            }
+        }
+    }
+    worst
+}
+
+/// Calls `f(a, b, along_u)` once for every shared edge of the listed patches (sorted).
+fn shared_edges(grid: &Grid, patches: &[usize], mut f: impl FnMut(usize, usize, bool)) {
+    let (m, n) = (grid.patches_u(), grid.patches_v());
+    let topology = grid.topology();
+    let listed = |p: usize| patches.binary_search(&p).is_ok();
+    for &p in patches {
+        let (iu, iv) = (p % m, p / m);
+        // The edges on the right (u = 1) and above (v = 1) of every listed patch, and those on
+        // the left and below when the neighbour there is not listed.
+        if (iu + 1 < m || topology.closed_u()) && grid.u_line_shared(iu + 1) {
+            f(p, iv * m + (iu + 1) % m, true);
+        }
+        if (iv + 1 < n || topology.closed_v()) && grid.v_line_shared(iv + 1) {
+            f(p, ((iv + 1) % n) * m + iu, false);
+        }
+        if (iu > 0 || topology.closed_u()) && grid.u_line_shared(iu) {
+            let left = iv * m + (iu + m - 1) % m;
+            if !listed(left) {
+                f(left, p, true);
+            }
+        }
+        if (iv > 0 || topology.closed_v()) && grid.v_line_shared(iv) {
+            let below = ((iv + n - 1) % n) * m + iu;
+            if !listed(below) {
+                f(below, p, false);
+            }
+        }
+    }
+}
 
 /// What one operation changed.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -57,6 +221,7 @@ pub struct Sculptor {
     vertices: Vec<(usize, usize)>,
     poles: Vec<PoleEnd>,
     scratch: Vec<usize>,
+    backup: Vec<(usize, DVec3)>,
     projections: Projections,
 }
 
@@ -79,7 +244,9 @@ impl Sculptor {
     /// Applies one operation.
     ///
     /// # Errors
-    /// [`SurfaceError::BadOp`] for an invalid operation; the grid is then unchanged.
+    /// [`SurfaceError::BadOp`] for an invalid operation; [`SurfaceError::OutOfRange`] or
+    /// [`SurfaceError::NotG1`] for a result that is refused (see [`verify`]). The grid is then
+    /// exactly as it was.
     pub fn apply(
         &mut self,
         grid: &mut Grid,
@@ -87,16 +254,20 @@ impl Sculptor {
         regulation: Regulation,
     ) -> Result<Touched, SurfaceError> {
         let finger = op.finger()?;
-        Ok(self.apply_finger(grid, &finger, regulation))
+        self.apply_finger(grid, &finger, regulation)
     }
 
     /// Applies a validated finger.
+    ///
+    /// # Errors
+    /// [`SurfaceError::OutOfRange`] or [`SurfaceError::NotG1`] (see [`verify`]); the grid is
+    /// then exactly as it was.
     pub fn apply_finger(
         &mut self,
         grid: &mut Grid,
         finger: &Finger,
         regulation: Regulation,
-    ) -> Touched {
+    ) -> Result<Touched, SurfaceError> {
         self.next_generation(grid);
         let stamp = self.generation;
         let depth = finger.reach_depth(&grid.bounds());
@@ -142,40 +313,16 @@ impl Sculptor {
             self.updates.push((p, delta));
         }
         let nodes_changed = !self.updates.is_empty();
-        {
-            let shape = grid.shape();
-            let nodes = grid.nodes_mut();
-            for (p, delta) in &self.updates {
-                let (iu, iv) = (p % m, p / m);
-                for i in 0..4 {
-                    for j in 0..4 {
-                        let id = shape.local_id(iu, iv, i, j);
-                        if self.node_mark[id] != stamp {
-                            self.node_mark[id] = stamp;
-                            nodes[id] += delta[4 * i + j];
-                        }
-                    }
-                }
-            }
-        }
         let deformed = self.updates.len();
         let mut changed: Vec<usize> = Vec::with_capacity(deformed * 2);
         for (p, _) in &self.updates {
             self.patch_mark[*p] = stamp;
             changed.push(*p);
         }
-
-        // 4. Regulation of the groups around the moved patches.
-        let mut groups = 0;
-        if nodes_changed && regulation != Regulation::None {
+        // The groups around the moved patches, and every patch their regulation may change.
+        let regulating = nodes_changed && regulation != Regulation::None;
+        if regulating {
             self.collect_groups(grid);
-            groups = regulate::regulate(
-                grid,
-                regulation,
-                &self.vertices,
-                &self.poles,
-                &mut self.projections,
-            );
             for &(k, q) in &self.vertices {
                 for (du, dv) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
                     let Some(iu) = wrap(k as isize - du, m, topology.closed_u()) else {
@@ -203,13 +350,56 @@ impl Sculptor {
             }
         }
         changed.sort_unstable();
+        // Everything that may change, kept aside to restore on a refusal.
+        self.backup.clear();
+        for &p in &changed {
+            for id in grid.patch_node_ids(p % m, p / m) {
+                self.backup.push((id, grid.nodes()[id]));
+            }
+        }
+        {
+            let shape = grid.shape();
+            let nodes = grid.nodes_mut();
+            for (p, delta) in &self.updates {
+                let (iu, iv) = (p % m, p / m);
+                for i in 0..4 {
+                    for j in 0..4 {
+                        let id = shape.local_id(iu, iv, i, j);
+                        if self.node_mark[id] != stamp {
+                            self.node_mark[id] = stamp;
+                            nodes[id] += delta[4 * i + j];
+                        }
+                    }
+                }
+            }
+        }
+
+        // 4. Regulation of the groups around the moved patches.
+        let mut groups = 0;
+        if regulating {
+            groups = regulate::regulate(
+                grid,
+                regulation,
+                &self.vertices,
+                &self.poles,
+                &mut self.projections,
+            );
+        }
+        // 5. Verification.
+        if let Err(e) = verify(grid, &changed, regulation, &self.backup) {
+            let nodes = grid.nodes_mut();
+            for &(id, x) in &self.backup {
+                nodes[id] = x;
+            }
+            return Err(e);
+        }
         grid.refit(&changed, &mut self.scratch);
-        Touched {
+        Ok(Touched {
             patches: changed,
             deformed,
             examined: self.candidates.len(),
             groups,
-        }
+        })
     }
 
     /// The grid vertices at the corners of the moved patches (deduplicated, in a fixed
@@ -286,5 +476,130 @@ fn wrap(i: isize, len: usize, closed: bool) -> Option<usize> {
         Some(i as usize)
     } else {
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface::{Primitive, PrimitiveParams};
+
+    fn sphere() -> Grid {
+        Primitive::Sphere
+            .build(&PrimitiveParams::default())
+            .expect("the default sphere")
+    }
+
+    fn pole_pull(depth: f64, radius: f64) -> Op {
+        Op::Push {
+            at: DVec3::new(0.0, 0.0, 3.0),
+            dir: -DVec3::Z,
+            depth,
+            radius,
+        }
+    }
+
+    #[test]
+    fn a_result_beyond_the_limit_is_refused_and_the_grid_kept() {
+        for depth in [1e308, -1e307, 1e302, 2.0 * COORDINATE_LIMIT] {
+            for reg in Regulation::ALL {
+                let before = sphere();
+                let mut grid = before.clone();
+                let mut sculptor = Sculptor::new();
+                let got = sculptor.apply(&mut grid, &pole_pull(depth, 0.5), reg);
+                assert!(
+                    matches!(got, Err(SurfaceError::OutOfRange { .. })),
+                    "{depth}, {reg}: {got:?}"
+                );
+                assert_eq!(grid, before, "{depth}, {reg}");
+                // The same sculptor goes on working on the kept grid.
+                sculptor
+                    .apply(&mut grid, &pole_pull(0.2, 1.0), reg)
+                    .expect("a small push");
+                let mut want = before.clone();
+                Sculptor::new()
+                    .apply(&mut want, &pole_pull(0.2, 1.0), reg)
+                    .expect("a small push");
+                assert_eq!(grid, want, "{depth}, {reg}");
+            }
+        }
+        // Accumulation: repeated pulls stop at the limit instead of overflowing.
+        let mut grid = sphere();
+        let mut sculptor = Sculptor::new();
+        let mut refused = false;
+        for _ in 0..20 {
+            let before = grid.clone();
+            if sculptor
+                .apply(&mut grid, &pole_pull(-2e49, 0.5), Regulation::None)
+                .is_err()
+            {
+                assert_eq!(grid, before);
+                refused = true;
+            }
+        }
+        assert!(refused);
+        assert!(
+            grid.nodes()
+                .iter()
+                .all(|x| x.abs().max_element() <= COORDINATE_LIMIT)
+        );
+    }
+
+    #[test]
+    fn exact_regulation_that_cannot_keep_g1_is_refused() {
+        let before = sphere();
+        let mut grid = before.clone();
+        let got = Sculptor::new().apply(&mut grid, &pole_pull(-30.0, 0.5), Regulation::Exact);
+        match got {
+            Err(SurfaceError::NotG1 { angle_deg, .. }) => {
+                assert!(angle_deg > 60.0, "{angle_deg}");
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(grid, before);
+        // At 10 sides the construction holds and the pull goes through, G1.
+        Sculptor::new()
+            .apply(&mut grid, &pole_pull(-10.0, 0.5), Regulation::Exact)
+            .expect("a 10-side pull");
+        assert!(crate::surface::continuity::report(&grid, 33).g1_max_deg < 1e-9);
+        // The baselines promise no G1 and are not refused for it.
+        let mut grid = before.clone();
+        Sculptor::new()
+            .apply(&mut grid, &pole_pull(-30.0, 0.5), Regulation::G1)
+            .expect("a baseline is not checked for G1");
+    }
+
+    #[test]
+    fn an_edge_creased_before_the_operation_is_not_its_fault() {
+        // Sculpted with no regulation: creases everywhere the finger went.
+        let mut grid = Primitive::Plane
+            .build(&PrimitiveParams::default())
+            .expect("plane");
+        let push = |x: f64| Op::Push {
+            at: DVec3::new(x, 0.3, 0.0),
+            dir: -DVec3::Z,
+            depth: 0.3,
+            radius: 0.8,
+        };
+        Sculptor::new()
+            .apply(&mut grid, &push(0.0), Regulation::None)
+            .expect("unregulated push");
+        assert!(crate::surface::continuity::report(&grid, 33).g1_max_deg > 1.0);
+        // Exact regulation next to it is accepted.
+        Sculptor::new()
+            .apply(&mut grid, &push(1.5), Regulation::Exact)
+            .expect("a push next to old creases");
+    }
+
+    #[test]
+    fn a_net_beyond_the_limit_is_refused() {
+        let g = sphere();
+        let mut nodes = g.nodes().to_vec();
+        nodes[3].x = 2.0 * COORDINATE_LIMIT;
+        let got = Grid::from_net(g.topology(), g.patches_u(), g.patches_v(), nodes);
+        assert!(
+            matches!(got, Err(SurfaceError::OutOfRange { .. })),
+            "{got:?}"
+        );
     }
 }

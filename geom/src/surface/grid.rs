@@ -118,8 +118,9 @@ impl Grid {
     ///
     /// # Errors
     /// Bad counts (see [`Grid::check_counts`]), a net of the wrong length
-    /// ([`SurfaceError::WrongCount`]) or a non-finite coordinate ([`SurfaceError::NotFinite`],
-    /// with the node index in `patch`).
+    /// ([`SurfaceError::WrongCount`]), a non-finite coordinate ([`SurfaceError::NotFinite`],
+    /// with the node index in `patch`) or one beyond [`super::deform::COORDINATE_LIMIT`]
+    /// ([`SurfaceError::OutOfRange`], node index in `patch`).
     pub fn from_net(
         topology: Topology,
         m: usize,
@@ -139,6 +140,16 @@ impl Grid {
             return Err(SurfaceError::NotFinite {
                 patch: bad,
                 point: 0,
+            });
+        }
+        if let Some(bad) = nodes
+            .iter()
+            .position(|p| p.abs().max_element() > super::deform::COORDINATE_LIMIT)
+        {
+            return Err(SurfaceError::OutOfRange {
+                patch: bad,
+                point: 0,
+                limit: super::deform::COORDINATE_LIMIT,
             });
         }
         let (la, lb) = lattice_dims(topology, m, n);

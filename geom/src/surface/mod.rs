@@ -30,7 +30,7 @@ pub mod topology;
 
 pub use bounds::Aabb;
 pub use continuity::{ContinuityReport, PoleReport};
-pub use deform::{Sculptor, Touched, deform};
+pub use deform::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, Sculptor, Touched, deform, verify};
 pub use error::SurfaceError;
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};

@@ -274,6 +274,28 @@ mod tests {
     }
 
     #[test]
+    fn a_stroke_the_regulation_cannot_keep_g1_is_refused_and_changes_nothing() {
+        // A pull of 30 sides at the pole of the default sphere folds the ring around it
+        // (the window shows the error on its status line).
+        let sphere = Primitive::Sphere
+            .build(&PrimitiveParams::default())
+            .expect("sphere");
+        let top = sphere.nodes().iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        let mut doc = Document::new(Model::new(sphere));
+        let original = doc.model().clone();
+        let pull = Op::Push {
+            at: DVec3::new(0.0, 0.0, top),
+            dir: -DVec3::Z,
+            depth: -30.0,
+            radius: 0.5,
+        };
+        let err = doc.apply(&pull).expect_err("the folded pull is refused");
+        assert!(matches!(err, SurfaceError::NotG1 { .. }), "{err}");
+        assert_eq!(doc.model(), &original);
+        assert!(!doc.is_dirty());
+    }
+
+    #[test]
     fn an_unsaved_document_stays_dirty_through_undo_until_saved() {
         let plane = Primitive::Plane
             .build(&PrimitiveParams::default())

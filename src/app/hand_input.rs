@@ -17,6 +17,7 @@ use crate::hand::{FingerModel, Hand, HandError, HandLoop, HandOptions, MouseFing
 use crate::mesh::Ray;
 use crate::model::Model;
 use crate::render::{LineBatch, Rgba, SphereInstance};
+use crate::surface::SurfaceError;
 
 /// A hand loop feeding a document.
 #[derive(Debug, Clone)]
@@ -26,6 +27,8 @@ pub struct HandDriver {
     before: Option<Model>,
     /// The contact in progress has been recorded for undo.
     recorded: bool,
+    /// Why the surface last refused a frame's placements (the status line shows it).
+    refused: Option<SurfaceError>,
 }
 
 impl HandDriver {
@@ -50,6 +53,7 @@ impl HandDriver {
             hand_loop,
             before: None,
             recorded: false,
+            refused: None,
         })
     }
 
@@ -80,6 +84,15 @@ impl HandDriver {
         if let Some(ops) = outcome.committed {
             doc.record_ops(&ops);
         }
+        if let Some(e) = outcome.refused {
+            self.refused = Some(e);
+        }
+    }
+
+    /// Why the surface refused a frame since the last call (the latest refusal), if it did: the
+    /// surface kept the contact's last accepted state (see [`crate::hand::FrameOutcome`]).
+    pub fn take_refused(&mut self) -> Option<SurfaceError> {
+        self.refused.take()
     }
 
     /// Ends the contact in progress (see the module docs).
@@ -154,6 +167,12 @@ pub struct MouseHandTool {
 }
 
 impl MouseHandTool {
+    /// Why the surface refused a frame since the last call, if it did (see
+    /// [`HandDriver::take_refused`]).
+    pub fn take_refused(&mut self) -> Option<SurfaceError> {
+        self.driver.take_refused()
+    }
+
     /// A mouse hand with finger radius `radius` and click depth `depth`.
     ///
     /// # Errors
@@ -297,6 +316,11 @@ pub struct MouseHand {
 }
 
 impl MouseHand {
+    /// Why the surface refused a frame of the hand since the last call, if it did.
+    pub fn take_refused(&mut self) -> Option<SurfaceError> {
+        self.hand.as_mut().and_then(MouseHandTool::take_refused)
+    }
+
     /// Uses `profile` from now on (the next event makes a new hand). End the contact first.
     pub fn use_profile(&mut self, profile: MouseProfile) {
         self.profile = profile;

@@ -28,6 +28,7 @@ use super::document::Document;
 use super::hand_input::HandDriver;
 use crate::hand::FingerModel;
 use crate::render::{LineBatch, SphereInstance};
+use crate::surface::SurfaceError;
 
 /// What the loop thread shares with the window.
 #[derive(Debug, Default)]
@@ -295,17 +296,19 @@ impl LiveInput {
     }
 
     /// Takes every frame the loop received since the last call and runs them, in order,
-    /// through the hand against `doc`.
-    pub fn poll(&mut self, doc: &mut Document) {
+    /// through the hand against `doc`; returns why the surface refused a frame, if it did.
+    pub fn poll(&mut self, doc: &mut Document) -> Option<SurfaceError> {
         let Some(session) = &self.session else {
-            return;
+            return None;
         };
         let frames = std::mem::take(&mut *lock(&session.shared.inbox));
         let finished = lock(&session.shared.status).finished;
+        let mut refused = None;
         if let Some(driver) = &mut self.driver {
             for f in &frames {
                 driver.feed(doc, f);
             }
+            refused = driver.take_refused();
         }
         let (count, since, _) = &mut self.rate;
         *count += frames.len() as u64;
@@ -322,6 +325,7 @@ impl LiveInput {
                 s.stop();
             }
         }
+        refused
     }
 
     /// Draws the hand the frames drive (it stays in place after a trace ends, until the next

@@ -675,6 +675,8 @@ impl Modeller {
         );
         if let Err(e) = result {
             self.set_status(format!("the mouse hand: {e}"), true);
+        } else if let Some(e) = self.hand.take_refused() {
+            self.set_status(format!("stroke refused: {e}"), true);
         }
     }
 
@@ -734,7 +736,9 @@ impl Modeller {
                 }
             }
         }
-        self.live.poll(&mut self.session.doc);
+        if let Some(e) = self.live.poll(&mut self.session.doc) {
+            self.set_status(format!("stroke refused: {e}"), true);
+        }
         if let Some(outcome) = self.export_job.as_ref().and_then(ExportJob::poll) {
             self.export_job = None;
             match outcome {

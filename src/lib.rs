@@ -33,6 +33,7 @@ pub mod cli;
 pub mod curve;
 pub mod figure;
 pub mod hand;
+pub mod json_doc;
 pub mod mesh;
 pub mod model;
 #[cfg(feature = "gui")]

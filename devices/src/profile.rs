@@ -726,11 +726,34 @@ impl HandSize {
 
 impl Profile {
     /// Parses and validates a profile from JSON text; `name` labels errors.
+    ///
+    /// Unknown and repeated members are refused; a syntax or member error names the member's
+    /// path (`input.glove.calibration[3]`), line and column; a text starting with a UTF-8
+    /// byte-order mark is refused as such.
     pub fn from_json(text: &str, name: &str) -> Result<Profile, DeviceError> {
-        let p: Profile = serde_json::from_str(text).map_err(|e| DeviceError::Profile {
+        let bad = |message: String| DeviceError::Profile {
             name: name.to_string(),
-            message: e.to_string(),
-        })?;
+            message,
+        };
+        if text.starts_with('\u{feff}') {
+            return Err(bad(
+                "the file starts with a UTF-8 byte-order mark (BOM); save it without one".into(),
+            ));
+        }
+        let mut de = serde_json::Deserializer::from_str(text);
+        let p: Profile = serde_path_to_error::deserialize(&mut de)
+            .map_err(|e| {
+                let path = e.path().to_string();
+                // Member names in JSON's double quotes, as nendo's other documents name them.
+                let inner = e.into_inner().to_string().replace('`', "\"");
+                if path == "." {
+                    inner
+                } else {
+                    format!("{path}: {inner}")
+                }
+            })
+            .and_then(|p| de.end().map(|()| p).map_err(|e| e.to_string()))
+            .map_err(bad)?;
         p.validate(name)?;
         Ok(p)
     }

@@ -9,13 +9,19 @@
 //! * `{"op":"sphere","curve":C,"center":Q,"radius":R}` → `{"intervals":[[a,b],...]}`;
 //! * `{"op":"ray","curve":C,"origin":O,"dir":D}` → `{"u":u,"point":[...],"ray_t":s,"distance":d}`.
 //!
-//! A line that cannot be answered gets `{"error":"<what is wrong>"}`; later lines are still
+//! A request has exactly the members listed (`rmax` may be absent or null): an unknown member
+//! (a misspelled `"rMax"`) or a repeated one is refused, as is a line starting with a
+//! byte-order mark. A line that cannot be answered gets `{"error":"<what is wrong>"}`, naming
+//! the bad member's path and column (e.g. `curve.bezier[2]: ...`); later lines are still
 //! answered, and the exit status is 1 if any line failed. Blank lines are skipped.
 
-use crate::curve::json::{DynCurve, curve_from_json, point_to_json, typed_point};
+use crate::curve::json::{DynCurve, JsonPoint, point_to_json};
 use crate::curve::{Curve, CurveError, Point, check_radius, pick};
+use crate::json_doc::{self, JsonError};
 use clap::Args as ClapArgs;
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
+use serde::de::IgnoredAny;
 use serde_json::{Value, json};
 use std::io::{self, BufRead, Write};
 use std::process::ExitCode;
@@ -71,9 +77,9 @@ pub fn answer_lines(input: impl BufRead, mut output: impl Write) -> io::Result<u
         }
         let reply = match answer(&line) {
             Ok(v) => v,
-            Err(msg) => {
+            Err(e) => {
                 failed += 1;
-                json!({ "error": msg })
+                json!({ "error": e.to_string() })
             }
         };
         writeln!(output, "{reply}")?;
@@ -82,146 +88,177 @@ pub fn answer_lines(input: impl BufRead, mut output: impl Write) -> io::Result<u
     Ok(failed)
 }
 
+/// Why one request line cannot be answered.
+#[derive(Debug, thiserror::Error)]
+pub enum RequestError {
+    /// Not JSON, or a member missing, unknown, repeated or invalid (with its path).
+    #[error("{0}")]
+    Json(#[from] JsonError),
+    /// An `op` this protocol does not have.
+    #[error("unknown op {0:?}; expected closest, pick, sphere or ray")]
+    UnknownOp(String),
+    /// The query's own constraints (a negative radius, a zero direction).
+    #[error("{0}")]
+    Curve(#[from] CurveError),
+    /// The ray query has no answer (non-finite input).
+    #[error("the ray query has no answer (non-finite input)")]
+    NoRayAnswer,
+    /// A number of the answer overflows a double.
+    #[error("the answer is not representable: a distance overflows a double")]
+    NotRepresentable,
+}
+
+/// Only the `op` member (the others are read by the request's own structure).
+#[derive(Deserialize)]
+#[serde(expecting = "a request (a JSON object with an \"op\")")]
+struct OpOnly {
+    op: String,
+}
+
+/// `{"op":"closest","curve":C,"point":Q,"rmax":R?}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ClosestRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    curve: DynCurve,
+    point: JsonPoint,
+    #[serde(default)]
+    rmax: Option<f64>,
+}
+
+/// `{"op":"pick","curves":[C...],"point":Q,"rmax":R?}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PickRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    curves: Vec<DynCurve>,
+    point: JsonPoint,
+    #[serde(default)]
+    rmax: Option<f64>,
+}
+
+/// `{"op":"sphere","curve":C,"center":Q,"radius":R}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SphereRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    curve: DynCurve,
+    center: JsonPoint,
+    radius: f64,
+}
+
+/// `{"op":"ray","curve":C,"origin":O,"dir":D}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RayRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    curve: DynCurve,
+    origin: JsonPoint,
+    dir: JsonPoint,
+}
+
 /// Answers one request line.
-pub fn answer(line: &str) -> Result<Value, String> {
-    let req: Value = serde_json::from_str(line).map_err(|e| format!("malformed JSON: {e}"))?;
-    let op = req
-        .get("op")
-        .and_then(Value::as_str)
-        .ok_or("missing \"op\" (closest, pick, sphere or ray)")?;
-    let e = |e: CurveError| e.to_string();
-    match op {
+///
+/// # Errors
+/// A [`RequestError`] saying what is wrong with the request (and at which member).
+pub fn answer(line: &str) -> Result<Value, RequestError> {
+    let op = json_doc::from_str::<OpOnly>(line)?.op;
+    match op.as_str() {
         "closest" => {
-            let curve = curve_from_json(field(&req, "curve")?).map_err(e)?;
-            let rmax = rmax(&req)?;
-            match curve {
-                DynCurve::D2(c) => closest_reply(
-                    &c,
-                    typed_point(field(&req, "point")?, "point").map_err(e)?,
-                    rmax,
-                ),
-                DynCurve::D3(c) => closest_reply(
-                    &c,
-                    typed_point(field(&req, "point")?, "point").map_err(e)?,
-                    rmax,
-                ),
+            let r: ClosestRequest = json_doc::from_str(line)?;
+            let rmax = rmax(r.rmax)?;
+            match r.curve {
+                DynCurve::D2(c) => closest_reply(&c, r.point.typed("point")?, rmax),
+                DynCurve::D3(c) => closest_reply(&c, r.point.typed("point")?, rmax),
             }
         }
         "pick" => {
-            let list = field(&req, "curves")?
-                .as_array()
-                .ok_or("\"curves\" must be an array")?;
-            let mut curves = Vec::with_capacity(list.len());
-            for (i, c) in list.iter().enumerate() {
-                curves.push(curve_from_json(c).map_err(|err| format!("curve {i}: {err}"))?);
-            }
-            let rmax = rmax(&req)?;
-            let q = field(&req, "point")?;
-            match curves.first().map(DynCurve::dim) {
-                None => {
-                    // No curve to pick; the point must still be a valid 2D or 3D point.
-                    typed_point::<DVec2>(q, "point")
-                        .map(|_| ())
-                        .or_else(|_| typed_point::<DVec3>(q, "point").map(|_| ()))
-                        .map_err(e)?;
-                    Ok(json!({ "index": null }))
-                }
+            let r: PickRequest = json_doc::from_str(line)?;
+            let rmax = rmax(r.rmax)?;
+            match r.curves.first().map(DynCurve::dim) {
+                // No curve to pick; the point was still read as a valid 2D or 3D point.
+                None => Ok(json!({ "index": null })),
                 Some(2) => pick_reply::<DVec2>(
-                    &same_dim(curves, |c| match c {
+                    &same_dim(r.curves, |c| match c {
                         DynCurve::D2(c) => Some(c),
                         DynCurve::D3(_) => None,
                     })?,
-                    typed_point(q, "point").map_err(e)?,
+                    r.point.typed("point")?,
                     rmax,
                 ),
                 Some(_) => pick_reply::<DVec3>(
-                    &same_dim(curves, |c| match c {
+                    &same_dim(r.curves, |c| match c {
                         DynCurve::D3(c) => Some(c),
                         DynCurve::D2(_) => None,
                     })?,
-                    typed_point(q, "point").map_err(e)?,
+                    r.point.typed("point")?,
                     rmax,
                 ),
             }
         }
         "sphere" => {
-            let curve = curve_from_json(field(&req, "curve")?).map_err(e)?;
-            let radius = number(&req, "radius")?;
-            check_radius("radius", radius).map_err(e)?;
-            let c = field(&req, "center")?;
-            let iv = match curve {
-                DynCurve::D2(cv) => {
-                    cv.sphere_intervals(typed_point(c, "center").map_err(e)?, radius)
-                }
-                DynCurve::D3(cv) => {
-                    cv.sphere_intervals(typed_point(c, "center").map_err(e)?, radius)
-                }
+            let r: SphereRequest = json_doc::from_str(line)?;
+            check_radius("radius", r.radius)?;
+            let iv = match r.curve {
+                DynCurve::D2(cv) => cv.sphere_intervals(r.center.typed("center")?, r.radius),
+                DynCurve::D3(cv) => cv.sphere_intervals(r.center.typed("center")?, r.radius),
             };
             Ok(json!({ "intervals": iv.iter().map(|&(a, b)| json!([a, b])).collect::<Vec<_>>() }))
         }
         "ray" => {
-            let curve = curve_from_json(field(&req, "curve")?).map_err(e)?;
-            match curve {
-                DynCurve::D2(c) => ray_reply(&c, &req),
-                DynCurve::D3(c) => ray_reply(&c, &req),
+            let r: RayRequest = json_doc::from_str(line)?;
+            match r.curve {
+                DynCurve::D2(c) => ray_reply(&c, r.origin.typed("origin")?, r.dir.typed("dir")?),
+                DynCurve::D3(c) => ray_reply(&c, r.origin.typed("origin")?, r.dir.typed("dir")?),
             }
         }
-        other => Err(format!(
-            "unknown op {other:?}; expected closest, pick, sphere or ray"
-        )),
+        _ => Err(RequestError::UnknownOp(op)),
     }
 }
 
-fn field<'a>(req: &'a Value, name: &str) -> Result<&'a Value, String> {
-    req.get(name).ok_or_else(|| format!("missing \"{name}\""))
-}
-
-fn number(req: &Value, name: &str) -> Result<f64, String> {
-    let v = field(req, name)?
-        .as_f64()
-        .ok_or_else(|| format!("\"{name}\" must be a number"))?;
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(format!("\"{name}\" is not a finite number"))
-    }
-}
-
-fn rmax(req: &Value) -> Result<f64, String> {
-    match req.get("rmax") {
-        None | Some(Value::Null) => Ok(f64::INFINITY),
-        Some(_) => {
-            let r = number(req, "rmax")?;
-            check_radius("rmax", r).map_err(|e| e.to_string())
-        }
+/// The search radius: infinite when absent or null.
+fn rmax(r: Option<f64>) -> Result<f64, RequestError> {
+    match r {
+        None => Ok(f64::INFINITY),
+        Some(r) => Ok(check_radius("rmax", r)?),
     }
 }
 
 fn same_dim<P: Point>(
     curves: Vec<DynCurve>,
     take: impl Fn(DynCurve) -> Option<Curve<P>>,
-) -> Result<Vec<Curve<P>>, String> {
+) -> Result<Vec<Curve<P>>, RequestError> {
     curves
         .into_iter()
         .enumerate()
         .map(|(i, c)| {
             let d = c.dim();
-            take(c).ok_or_else(|| format!("curve {i} is {d}D but curve 0 is {}D", P::DIM))
+            take(c).ok_or_else(|| {
+                JsonError::at(
+                    &format!("curves[{i}]"),
+                    format!("the curve is {d}D but curve 0 is {}D", P::DIM),
+                )
+                .into()
+            })
         })
         .collect()
 }
 
 /// `Ok` when every number of an answer is finite: a result that overflows a double (two
 /// points farther apart than ~1.8e308) is an error, never a JSON `null`.
-fn finite_answer<P: Point>(numbers: &[f64], point: P) -> Result<(), String> {
+fn finite_answer<P: Point>(numbers: &[f64], point: P) -> Result<(), RequestError> {
     if numbers.iter().all(|v| v.is_finite()) && point.is_finite_coeff() {
         Ok(())
     } else {
-        Err("the answer is not representable: a distance overflows a double".to_string())
+        Err(RequestError::NotRepresentable)
     }
 }
 
-fn closest_reply<P: Point>(c: &Curve<P>, q: P, rmax: f64) -> Result<Value, String> {
+fn closest_reply<P: Point>(c: &Curve<P>, q: P, rmax: f64) -> Result<Value, RequestError> {
     Ok(match c.closest(q, rmax) {
         Some(n) => {
             finite_answer(&[n.u, n.distance], n.point)?;
@@ -231,7 +268,7 @@ fn closest_reply<P: Point>(c: &Curve<P>, q: P, rmax: f64) -> Result<Value, Strin
     })
 }
 
-fn pick_reply<P: Point>(curves: &[Curve<P>], q: P, rmax: f64) -> Result<Value, String> {
+fn pick_reply<P: Point>(curves: &[Curve<P>], q: P, rmax: f64) -> Result<Value, RequestError> {
     Ok(match pick(curves, q, rmax) {
         Some(p) => {
             finite_answer(&[p.nearest.u, p.nearest.distance], p.nearest.point)?;
@@ -243,16 +280,11 @@ fn pick_reply<P: Point>(curves: &[Curve<P>], q: P, rmax: f64) -> Result<Value, S
     })
 }
 
-fn ray_reply<P: Point>(c: &Curve<P>, req: &Value) -> Result<Value, String> {
-    let e = |e: CurveError| e.to_string();
-    let o: P = typed_point(field(req, "origin")?, "origin").map_err(e)?;
-    let d: P = typed_point(field(req, "dir")?, "dir").map_err(e)?;
+fn ray_reply<P: Point>(c: &Curve<P>, o: P, d: P) -> Result<Value, RequestError> {
     if (0..P::DIM).all(|i| d.coord(i) == 0.0) {
-        return Err(CurveError::ZeroVector("dir").to_string());
+        return Err(CurveError::ZeroVector("dir").into());
     }
-    let r = c
-        .ray_closest(o, d)
-        .ok_or("the ray query has no answer (non-finite input)")?;
+    let r = c.ray_closest(o, d).ok_or(RequestError::NoRayAnswer)?;
     finite_answer(&[r.u, r.ray_t, r.distance], r.point)?;
     Ok(
         json!({ "u": r.u, "point": point_to_json(r.point), "ray_t": r.ray_t, "distance": r.distance }),

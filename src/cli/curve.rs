@@ -49,16 +49,22 @@
 //! * Warping ([`crate::curve::warp`]): Beier–Neely weights with `a` (default 0), `b` (2), `p`
 //!   (0.5) and an optional still background `reach`; all curves and points of one dimension.
 //!
-//! A line that cannot be answered gets `{"error":"<what is wrong>"}`; later lines are still
-//! answered, and the exit status is 1 if any line failed. Blank lines are skipped.
+//! A request has exactly the members listed (optional ones may be absent or null): an unknown
+//! or repeated member is refused, as is a line starting with a byte-order mark; a constraint
+//! has one form only. A line that cannot be answered gets `{"error":"<what is wrong>"}`,
+//! naming the bad member's path and column (e.g. `pairs[0][1].bezier[2]: ...`); later lines
+//! are still answered, and the exit status is 1 if any line failed. Blank lines are skipped.
 
 use crate::curve::edit::{self, Follow, Grab, GrabMethod, GrabOptions, Side};
-use crate::curve::json::{DynCurve, curve_from_json, curve_to_json, point_to_json, typed_point};
+use crate::curve::json::{DynCurve, JsonPoint, curve_to_json, point_to_json};
 use crate::curve::refine::{self, Constraint, Similarity};
 use crate::curve::warp::{CurveWarp, WarpParams, WarpSpace};
 use crate::curve::{Bezier, Curve, CurveError, Point, svg};
+use crate::json_doc::{self, JsonError};
 use clap::Args as ClapArgs;
 use glam::{DVec2, DVec3};
+use serde::Deserialize;
+use serde::de::IgnoredAny;
 use serde_json::{Value, json};
 use std::io::{self, BufRead, Write};
 use std::process::ExitCode;
@@ -117,9 +123,9 @@ pub fn answer_lines(input: impl BufRead, mut output: impl Write) -> io::Result<u
         }
         let reply = match answer(&line) {
             Ok(v) => v,
-            Err(msg) => {
+            Err(e) => {
                 failed += 1;
-                json!({ "error": msg })
+                json!({ "error": e.to_string() })
             }
         };
         writeln!(output, "{reply}")?;
@@ -128,328 +134,447 @@ pub fn answer_lines(input: impl BufRead, mut output: impl Write) -> io::Result<u
     Ok(failed)
 }
 
-fn e(err: CurveError) -> String {
-    err.to_string()
+/// Why one request line cannot be answered.
+#[derive(Debug, thiserror::Error)]
+pub enum RequestError {
+    /// Not JSON, or a member missing, unknown, repeated or invalid (with its path).
+    #[error("{0}")]
+    Json(#[from] JsonError),
+    /// An `op` this protocol does not have.
+    #[error(
+        "unknown op {0:?}; expected grab, split, tangent, insert, refine, warp, svg_read or svg_write"
+    )]
+    UnknownOp(String),
+    /// The edit, refinement or warp refused its input.
+    #[error("{0}")]
+    Curve(#[from] CurveError),
+    /// The SVG document could not be read or the curves written as SVG.
+    #[error("svg: {0}")]
+    Svg(#[from] svg::SvgError),
+}
+
+/// Only the `op` member (the others are read by the request's own structure).
+#[derive(Deserialize)]
+#[serde(expecting = "a request (a JSON object with an \"op\")")]
+struct OpOnly {
+    op: String,
+}
+
+/// `{"op":"grab","curve":C,"from":P,"to":T,"rmax":R?,"method":M?,"keep_ends":B?}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GrabRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    curve: DynCurve,
+    from: JsonPoint,
+    to: JsonPoint,
+    #[serde(default)]
+    rmax: Option<f64>,
+    #[serde(default)]
+    method: Option<Value>,
+    #[serde(default)]
+    keep_ends: Option<bool>,
+}
+
+/// `{"op":"split"|"insert","curve":C,"u":u}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AtRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    curve: DynCurve,
+    u: f64,
+}
+
+/// `{"op":"tangent","left":L,"right":R,"side":S,"to":T,"follow":F?}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TangentRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    left: DynCurve,
+    right: DynCurve,
+    side: SideDoc,
+    to: JsonPoint,
+    #[serde(default)]
+    follow: Option<Value>,
+}
+
+/// The side of a tangent edit.
+#[derive(Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum SideDoc {
+    Left,
+    Right,
+}
+
+/// `{"op":"refine","curve":C | "curves":[B…],"mode":M,"constraints":[…]?}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RefineRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    mode: ModeDoc,
+    #[serde(default)]
+    constraints: Option<Vec<ConstraintDoc>>,
+    #[serde(default)]
+    curve: Option<DynCurve>,
+    #[serde(default)]
+    curves: Option<Vec<DynCurve>>,
+}
+
+/// The similarity of a refinement.
+#[derive(Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum ModeDoc {
+    Curvature,
+    Variation,
+}
+
+/// One refinement constraint, of the forms listed in the module docs.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ConstraintDoc {
+    #[serde(default)]
+    join: Option<usize>,
+    #[serde(default)]
+    order: Option<usize>,
+    #[serde(default)]
+    u: Option<f64>,
+    #[serde(default)]
+    point: Option<JsonPoint>,
+    #[serde(default)]
+    tangent: Option<JsonPoint>,
+    #[serde(default)]
+    derivative: Option<JsonPoint>,
+}
+
+/// `{"op":"warp","pairs":[[C,C_d],…],"points":[P…],"a":a?,"b":b?,"p":p?,"reach":r?}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct WarpRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    pairs: Vec<(DynCurve, DynCurve)>,
+    points: Vec<JsonPoint>,
+    #[serde(default)]
+    a: Option<f64>,
+    #[serde(default)]
+    b: Option<f64>,
+    #[serde(default)]
+    p: Option<f64>,
+    #[serde(default)]
+    reach: Option<f64>,
+}
+
+/// `{"op":"svg_read","svg":"<svg …>"}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SvgReadRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    svg: String,
+}
+
+/// `{"op":"svg_write","curves":[C…],"flip_y":bool?}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SvgWriteRequest {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    curves: Vec<DynCurve>,
+    #[serde(default)]
+    flip_y: Option<bool>,
 }
 
 /// Answers one request line.
 ///
 /// # Errors
-/// A message saying what is wrong with the request.
-pub fn answer(line: &str) -> Result<Value, String> {
-    let req: Value = serde_json::from_str(line).map_err(|err| format!("malformed JSON: {err}"))?;
-    let op = req.get("op").and_then(Value::as_str).ok_or(
-        "missing \"op\" (grab, split, tangent, insert, refine, warp, svg_read or svg_write)",
-    )?;
-    match op {
-        "grab" => match curve_from_json(field(&req, "curve")?).map_err(e)? {
-            DynCurve::D2(c) => grab_reply(&c, &req),
-            DynCurve::D3(c) => grab_reply(&c, &req),
-        },
+/// A [`RequestError`] saying what is wrong with the request (and at which member).
+pub fn answer(line: &str) -> Result<Value, RequestError> {
+    let op = json_doc::from_str::<OpOnly>(line)?.op;
+    match op.as_str() {
+        "grab" => {
+            let r: GrabRequest = json_doc::from_str(line)?;
+            match &r.curve {
+                DynCurve::D2(c) => grab_reply(c, &r),
+                DynCurve::D3(c) => grab_reply(c, &r),
+            }
+        }
         "split" => {
-            let u = number(&req, "u")?;
-            match curve_from_json(field(&req, "curve")?).map_err(e)? {
-                DynCurve::D2(c) => pair_reply(edit::split(&c, u)),
-                DynCurve::D3(c) => pair_reply(edit::split(&c, u)),
+            let r: AtRequest = json_doc::from_str(line)?;
+            match r.curve {
+                DynCurve::D2(c) => pair_reply(edit::split(&c, r.u)),
+                DynCurve::D3(c) => pair_reply(edit::split(&c, r.u)),
             }
         }
         "tangent" => {
-            let left =
-                curve_from_json(field(&req, "left")?).map_err(|err| format!("left: {err}"))?;
-            let right =
-                curve_from_json(field(&req, "right")?).map_err(|err| format!("right: {err}"))?;
-            match (left, right) {
-                (DynCurve::D2(l), DynCurve::D2(r)) => tangent_reply(&l, &r, &req),
-                (DynCurve::D3(l), DynCurve::D3(r)) => tangent_reply(&l, &r, &req),
-                _ => Err("\"left\" and \"right\" must have the same dimension".into()),
+            let r: TangentRequest = json_doc::from_str(line)?;
+            match (&r.left, &r.right) {
+                (DynCurve::D2(le), DynCurve::D2(ri)) => tangent_reply(le, ri, &r),
+                (DynCurve::D3(le), DynCurve::D3(ri)) => tangent_reply(le, ri, &r),
+                _ => Err(JsonError::at(
+                    "right",
+                    "\"left\" and \"right\" must have the same dimension",
+                )
+                .into()),
             }
         }
         "insert" => {
-            let u = number(&req, "u")?;
-            let (curve, index) = match curve_from_json(field(&req, "curve")?).map_err(e)? {
+            let r: AtRequest = json_doc::from_str(line)?;
+            let (curve, index) = match r.curve {
                 DynCurve::D2(c) => {
-                    edit::insert_control_point(&c, u).map(|(c, k)| (curve_to_json(&c), k))
+                    edit::insert_control_point(&c, r.u).map(|(c, k)| (curve_to_json(&c), k))
                 }
                 DynCurve::D3(c) => {
-                    edit::insert_control_point(&c, u).map(|(c, k)| (curve_to_json(&c), k))
+                    edit::insert_control_point(&c, r.u).map(|(c, k)| (curve_to_json(&c), k))
                 }
-            }
-            .map_err(e)?;
+            }?;
             Ok(json!({ "curve": curve, "index": index }))
         }
-        "refine" => refine_reply(&req),
-        "warp" => warp_reply(&req),
+        "refine" => refine_reply(json_doc::from_str(line)?),
+        "warp" => warp_reply(json_doc::from_str(line)?),
         "svg_read" => {
-            let text = field(&req, "svg")?
-                .as_str()
-                .ok_or("\"svg\" must be a string")?;
-            let paths = svg::read_svg(text).map_err(|err| format!("svg: {err}"))?;
+            let r: SvgReadRequest = json_doc::from_str(line)?;
+            let paths = svg::read_svg(&r.svg)?;
             Ok(json!({ "paths": paths.iter().map(|p| json!({
                 "curves": p.segments.iter().map(|b| curve_to_json(&Curve::Bezier(b.clone()))).collect::<Vec<_>>(),
                 "closed": p.closed,
             })).collect::<Vec<_>>() }))
         }
         "svg_write" => {
-            let list = field(&req, "curves")?
-                .as_array()
-                .ok_or("\"curves\" must be an array")?;
-            let mut curves = Vec::with_capacity(list.len());
-            for (i, c) in list.iter().enumerate() {
-                match curve_from_json(c).map_err(|err| format!("curve {i}: {err}"))? {
+            let r: SvgWriteRequest = json_doc::from_str(line)?;
+            let mut curves = Vec::with_capacity(r.curves.len());
+            for (i, c) in r.curves.into_iter().enumerate() {
+                match c {
                     DynCurve::D2(c) => curves.push(c),
                     DynCurve::D3(_) => {
-                        return Err(format!("curve {i} is 3D; SVG holds planar curves"));
+                        return Err(JsonError::at(
+                            &format!("curves[{i}]"),
+                            "the curve is 3D; SVG holds planar curves",
+                        )
+                        .into());
                     }
                 }
             }
-            let flip_y = match req.get("flip_y") {
-                None | Some(Value::Null) => false,
-                Some(v) => v.as_bool().ok_or("\"flip_y\" must be true or false")?,
-            };
             let text = svg::write_svg(
                 &curves,
                 svg::SvgOptions {
-                    flip_y,
+                    flip_y: r.flip_y.unwrap_or(false),
                     ..svg::SvgOptions::default()
                 },
-            )
-            .map_err(|err| format!("svg: {err}"))?;
+            )?;
             Ok(json!({ "svg": text }))
         }
-        other => Err(format!(
-            "unknown op {other:?}; expected grab, split, tangent, insert, refine, warp, svg_read or svg_write"
-        )),
-    }
-}
-
-fn field<'a>(req: &'a Value, name: &str) -> Result<&'a Value, String> {
-    req.get(name).ok_or_else(|| format!("missing \"{name}\""))
-}
-
-fn number(req: &Value, name: &str) -> Result<f64, String> {
-    let v = field(req, name)?
-        .as_f64()
-        .ok_or_else(|| format!("\"{name}\" must be a number"))?;
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(format!("\"{name}\" is not a finite number"))
-    }
-}
-
-fn optional_number(req: &Value, name: &str, default: f64) -> Result<f64, String> {
-    match req.get(name) {
-        None | Some(Value::Null) => Ok(default),
-        Some(_) => number(req, name),
+        _ => Err(RequestError::UnknownOp(op)),
     }
 }
 
 /// An optional string member: absent or null gives `None`; anything but a string is an error.
-fn optional_string<'a>(req: &'a Value, name: &str) -> Result<Option<&'a str>, String> {
-    match req.get(name) {
+fn optional_string<'a>(v: Option<&'a Value>, name: &str) -> Result<Option<&'a str>, JsonError> {
+    match v {
         None | Some(Value::Null) => Ok(None),
         Some(Value::String(s)) => Ok(Some(s)),
-        Some(other) => Err(format!("\"{name}\" must be a string, got {other}")),
+        Some(other) => Err(JsonError::at(
+            name,
+            format!("\"{name}\" must be a string, got {other}"),
+        )),
     }
 }
 
-fn grab_reply<P: Point>(c: &Curve<P>, req: &Value) -> Result<Value, String> {
-    let from: P = typed_point(field(req, "from")?, "from").map_err(e)?;
-    let to: P = typed_point(field(req, "to")?, "to").map_err(e)?;
-    let rmax = match req.get("rmax") {
-        None | Some(Value::Null) => f64::INFINITY,
-        Some(_) => crate::curve::check_radius("rmax", number(req, "rmax")?).map_err(e)?,
+fn grab_reply<P: Point>(c: &Curve<P>, r: &GrabRequest) -> Result<Value, RequestError> {
+    let from: P = r.from.typed("from")?;
+    let to: P = r.to.typed("to")?;
+    let rmax = match r.rmax {
+        None => f64::INFINITY,
+        Some(x) => crate::curve::check_radius("rmax", x)?,
     };
-    let method = match optional_string(req, "method")? {
+    let method = match optional_string(r.method.as_ref(), "method")? {
         None | Some("largest") => GrabMethod::LargestWeight,
         Some("nearest") => GrabMethod::NearestParameter,
         Some("least_change") => GrabMethod::LeastChange,
         Some(other) => {
-            return Err(format!(
-                "unknown grab method {other:?}; expected largest, nearest or least_change"
-            ));
+            return Err(JsonError::at(
+                "method",
+                format!("unknown grab method {other:?}; expected largest, nearest or least_change"),
+            )
+            .into());
         }
     };
-    let keep_ends = match req.get("keep_ends") {
-        None | Some(Value::Null) => false,
-        Some(v) => v.as_bool().ok_or("\"keep_ends\" must be true or false")?,
-    };
-    match Grab::at_point(c, from, rmax, GrabOptions { method, keep_ends }).map_err(e)? {
+    let keep_ends = r.keep_ends.unwrap_or(false);
+    match Grab::at_point(c, from, rmax, GrabOptions { method, keep_ends })? {
         Some(g) => {
-            let moved = g.moved_by(to - from).map_err(e)?;
+            let moved = g.moved_by(to - from)?;
             Ok(json!({ "curve": curve_to_json(&moved), "u": g.u() }))
         }
         None => Ok(json!({ "curve": null, "u": null })),
     }
 }
 
-fn pair_reply<P: Point>(r: Result<(Curve<P>, Curve<P>), CurveError>) -> Result<Value, String> {
-    let (a, b) = r.map_err(e)?;
+fn pair_reply<P: Point>(
+    r: Result<(Curve<P>, Curve<P>), CurveError>,
+) -> Result<Value, RequestError> {
+    let (a, b) = r?;
     Ok(json!({ "curves": [curve_to_json(&a), curve_to_json(&b)] }))
 }
 
-fn tangent_reply<P: Point>(l: &Curve<P>, r: &Curve<P>, req: &Value) -> Result<Value, String> {
-    let side = match field(req, "side")?.as_str() {
-        Some("left") => Side::Left,
-        Some("right") => Side::Right,
-        _ => return Err("\"side\" must be \"left\" or \"right\"".into()),
+fn tangent_reply<P: Point>(
+    l: &Curve<P>,
+    r: &Curve<P>,
+    req: &TangentRequest,
+) -> Result<Value, RequestError> {
+    let side = match req.side {
+        SideDoc::Left => Side::Left,
+        SideDoc::Right => Side::Right,
     };
-    let follow = match optional_string(req, "follow")? {
+    let follow = match optional_string(req.follow.as_ref(), "follow")? {
         None | Some("length") => Follow::KeepLength,
         Some("ratio") => Follow::KeepRatio,
         Some(other) => {
-            return Err(format!(
-                "unknown follow {other:?}; expected length or ratio"
-            ));
+            return Err(JsonError::at(
+                "follow",
+                format!("unknown follow {other:?}; expected length or ratio"),
+            )
+            .into());
         }
     };
-    let to: P = typed_point(field(req, "to")?, "to").map_err(e)?;
+    let to: P = req.to.typed("to")?;
     pair_reply(edit::tangent_edit(l, r, side, to, follow))
 }
 
-fn vec2(v: &Value, what: &str) -> Result<DVec2, String> {
-    typed_point::<DVec2>(v, what).map_err(e)
-}
-
-/// Reads one constraint of the forms listed in the module docs.
-fn constraint(v: &Value, i: usize) -> Result<Constraint, String> {
-    let what = format!("constraint {i}");
-    if !v.is_object() {
-        return Err(format!("{what} must be an object"));
+/// One constraint of the forms listed in the module docs; `path` names it in errors.
+fn constraint(c: ConstraintDoc, path: &str) -> Result<Constraint, JsonError> {
+    let vectors = [&c.point, &c.tangent, &c.derivative]
+        .iter()
+        .filter(|v| v.is_some())
+        .count();
+    if let Some(at) = c.join {
+        if c.u.is_some() || vectors > 0 {
+            return Err(JsonError::at(
+                path,
+                "a join takes only \"join\" and \"order\"",
+            ));
+        }
+        let order = c
+            .order
+            .ok_or_else(|| JsonError::at(path, "a join needs \"order\" 0, 1 or 2"))?;
+        return Ok(Constraint::Join { at, order });
     }
-    if let Some(at) = v.get("join") {
-        let at = at
-            .as_u64()
-            .ok_or_else(|| format!("{what}: \"join\" must be a segment index"))?;
-        let order = v
-            .get("order")
-            .and_then(Value::as_u64)
-            .ok_or_else(|| format!("{what}: a join needs \"order\" 0, 1 or 2"))?;
-        return Ok(Constraint::Join {
-            at: at as usize,
-            order: order as usize,
-        });
+    if c.order.is_some() {
+        return Err(JsonError::at(path, "\"order\" belongs to a \"join\""));
     }
-    let u = v
-        .get("u")
-        .and_then(Value::as_f64)
-        .filter(|u| u.is_finite())
-        .ok_or_else(|| format!("{what}: needs a finite parameter \"u\""))?;
-    if let Some(p) = v.get("point") {
+    let u =
+        c.u.ok_or_else(|| JsonError::at(path, "needs a finite parameter \"u\""))?;
+    if vectors > 1 {
+        return Err(JsonError::at(
+            path,
+            "one of \"point\", \"tangent\" or \"derivative\" per constraint",
+        ));
+    }
+    let vec2 = |p: &JsonPoint, name: &str| p.typed::<DVec2>(&format!("{path}.{name}"));
+    if let Some(p) = &c.point {
         Ok(Constraint::Point {
             u,
-            point: vec2(p, &format!("{what} point"))?,
+            point: vec2(p, "point")?,
         })
-    } else if let Some(d) = v.get("tangent") {
+    } else if let Some(d) = &c.tangent {
         Ok(Constraint::Tangent {
             u,
-            direction: vec2(d, &format!("{what} tangent"))?,
+            direction: vec2(d, "tangent")?,
         })
-    } else if let Some(d) = v.get("derivative") {
+    } else if let Some(d) = &c.derivative {
         Ok(Constraint::Derivative {
             u,
-            vector: vec2(d, &format!("{what} derivative"))?,
+            vector: vec2(d, "derivative")?,
         })
     } else {
-        Err(format!(
-            "{what}: expected \"point\", \"tangent\", \"derivative\" (with \"u\") or \"join\""
+        Err(JsonError::at(
+            path,
+            "expected \"point\", \"tangent\", \"derivative\" (with \"u\") or \"join\"",
         ))
     }
 }
 
-fn refine_reply(req: &Value) -> Result<Value, String> {
-    let mode = match field(req, "mode")?.as_str() {
-        Some("curvature") => Similarity::Curvature,
-        Some("variation") => Similarity::Variation,
-        _ => return Err("\"mode\" must be \"curvature\" or \"variation\"".into()),
+fn refine_reply(req: RefineRequest) -> Result<Value, RequestError> {
+    let mode = match req.mode {
+        ModeDoc::Curvature => Similarity::Curvature,
+        ModeDoc::Variation => Similarity::Variation,
     };
-    let constraints = match req.get("constraints") {
-        None | Some(Value::Null) => Vec::new(),
-        Some(Value::Array(list)) => list
-            .iter()
-            .enumerate()
-            .map(|(i, c)| constraint(c, i))
-            .collect::<Result<Vec<_>, _>>()?,
-        Some(_) => return Err("\"constraints\" must be an array".into()),
-    };
-    if let Some(list) = req.get("curves") {
-        let list = list
-            .as_array()
-            .ok_or("\"curves\" must be an array of Bezier segments")?;
-        let mut segs = Vec::with_capacity(list.len());
-        for (i, c) in list.iter().enumerate() {
-            match curve_from_json(c).map_err(|err| format!("curve {i}: {err}"))? {
-                DynCurve::D2(Curve::Bezier(b)) => segs.push(b),
-                DynCurve::D2(Curve::BSpline(_)) => {
-                    return Err(format!(
-                        "curve {i}: a piecewise curve is made of Bezier segments"
-                    ));
-                }
-                DynCurve::D3(_) => {
-                    return Err(format!("curve {i}: refinement works on planar (2D) curves"));
+    let constraints = req
+        .constraints
+        .unwrap_or_default()
+        .into_iter()
+        .enumerate()
+        .map(|(i, c)| constraint(c, &format!("constraints[{i}]")))
+        .collect::<Result<Vec<_>, _>>()?;
+    match (req.curve, req.curves) {
+        (Some(_), Some(_)) => {
+            Err(JsonError::at("", "a refinement takes \"curve\" or \"curves\", not both").into())
+        }
+        (None, None) => Err(JsonError::at("", "a refinement needs \"curve\" or \"curves\"").into()),
+        (None, Some(list)) => {
+            let mut segs = Vec::with_capacity(list.len());
+            for (i, c) in list.into_iter().enumerate() {
+                let path = format!("curves[{i}]");
+                match c {
+                    DynCurve::D2(Curve::Bezier(b)) => segs.push(b),
+                    DynCurve::D2(Curve::BSpline(_)) => {
+                        return Err(JsonError::at(
+                            &path,
+                            "a piecewise curve is made of Bezier segments",
+                        )
+                        .into());
+                    }
+                    DynCurve::D3(_) => {
+                        return Err(
+                            JsonError::at(&path, "refinement works on planar (2D) curves").into(),
+                        );
+                    }
                 }
             }
+            let r = refine::refine_piecewise(&segs, mode, &constraints)?;
+            let out: Vec<Value> = r
+                .curve
+                .into_iter()
+                .map(|b: Bezier<DVec2>| curve_to_json(&Curve::Bezier(b)))
+                .collect();
+            Ok(
+                json!({ "curves": out, "residual": r.constraint_residual, "similarity": r.similarity_rms }),
+            )
         }
-        let r = refine::refine_piecewise(&segs, mode, &constraints).map_err(e)?;
-        let out: Vec<Value> = r
-            .curve
-            .into_iter()
-            .map(|b: Bezier<DVec2>| curve_to_json(&Curve::Bezier(b)))
-            .collect();
-        return Ok(
-            json!({ "curves": out, "residual": r.constraint_residual, "similarity": r.similarity_rms }),
-        );
-    }
-    match curve_from_json(field(req, "curve")?).map_err(e)? {
-        DynCurve::D2(c) => {
-            let r = refine::refine(&c, mode, &constraints).map_err(e)?;
+        (Some(DynCurve::D2(c)), None) => {
+            let r = refine::refine(&c, mode, &constraints)?;
             Ok(
                 json!({ "curve": curve_to_json(&r.curve), "residual": r.constraint_residual, "similarity": r.similarity_rms }),
             )
         }
-        DynCurve::D3(_) => Err("refinement works on planar (2D) curves".into()),
+        (Some(DynCurve::D3(_)), None) => {
+            Err(JsonError::at("curve", "refinement works on planar (2D) curves").into())
+        }
     }
 }
 
-fn warp_reply(req: &Value) -> Result<Value, String> {
-    let list = field(req, "pairs")?
-        .as_array()
-        .ok_or("\"pairs\" must be an array of [original, deformed]")?;
-    let mut pairs = Vec::with_capacity(list.len());
-    for (i, p) in list.iter().enumerate() {
-        let two = p
-            .as_array()
-            .filter(|a| a.len() == 2)
-            .ok_or_else(|| format!("pair {i} must be [original, deformed]"))?;
-        let a = curve_from_json(&two[0]).map_err(|err| format!("pair {i} original: {err}"))?;
-        let b = curve_from_json(&two[1]).map_err(|err| format!("pair {i} deformed: {err}"))?;
-        pairs.push((a, b));
-    }
+fn warp_reply(req: WarpRequest) -> Result<Value, RequestError> {
     let defaults = WarpParams::default();
     let params = WarpParams {
-        a: optional_number(req, "a", defaults.a)?,
-        b: optional_number(req, "b", defaults.b)?,
-        p: optional_number(req, "p", defaults.p)?,
-        reach: match req.get("reach") {
-            None | Some(Value::Null) => f64::INFINITY,
-            Some(_) => number(req, "reach")?,
-        },
+        a: req.a.unwrap_or(defaults.a),
+        b: req.b.unwrap_or(defaults.b),
+        p: req.p.unwrap_or(defaults.p),
+        reach: req.reach.unwrap_or(f64::INFINITY),
     };
-    let points = field(req, "points")?
-        .as_array()
-        .ok_or("\"points\" must be an array")?;
-    let dim = match (pairs.first(), points.first()) {
+    let dim = match (req.pairs.first(), req.points.first()) {
         (Some((a, _)), _) => a.dim(),
-        (None, Some(p)) => p.as_array().map_or(2, Vec::len),
+        (None, Some(p)) => p.dim(),
         (None, None) => 2,
     };
     if dim == 2 {
-        warp_points::<DVec2>(pairs, points, params, |c| match c {
+        warp_points::<DVec2>(req.pairs, &req.points, params, |c| match c {
             DynCurve::D2(c) => Some(c),
             DynCurve::D3(_) => None,
         })
     } else {
-        warp_points::<DVec3>(pairs, points, params, |c| match c {
+        warp_points::<DVec3>(req.pairs, &req.points, params, |c| match c {
             DynCurve::D3(c) => Some(c),
             DynCurve::D2(_) => None,
         })
@@ -458,24 +583,24 @@ fn warp_reply(req: &Value) -> Result<Value, String> {
 
 fn warp_points<P: WarpSpace>(
     pairs: Vec<(DynCurve, DynCurve)>,
-    points: &[Value],
+    points: &[JsonPoint],
     params: WarpParams,
     take: impl Fn(DynCurve) -> Option<Curve<P>>,
-) -> Result<Value, String> {
+) -> Result<Value, RequestError> {
     let mut typed = Vec::with_capacity(pairs.len());
     for (i, (a, b)) in pairs.into_iter().enumerate() {
         let mismatch = || {
-            format!(
-                "pair {i}: every curve and point of a warp must be {}D",
-                P::DIM
+            JsonError::at(
+                &format!("pairs[{i}]"),
+                format!("every curve and point of a warp must be {}D", P::DIM),
             )
         };
         typed.push((take(a).ok_or_else(mismatch)?, take(b).ok_or_else(mismatch)?));
     }
-    let warp = CurveWarp::new(typed, params).map_err(e)?;
+    let warp = CurveWarp::new(typed, params)?;
     let mut out = Vec::with_capacity(points.len());
     for (i, p) in points.iter().enumerate() {
-        let x: P = typed_point(p, &format!("point {i}")).map_err(e)?;
+        let x: P = p.typed(&format!("points[{i}]"))?;
         out.push(point_to_json(warp.warp_point(x)));
     }
     Ok(json!({ "points": out }))

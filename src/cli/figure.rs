@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use crate::curve::warp::WarpParams;
-use crate::figure::document::curves_from_json;
+use crate::figure::document::curves_from_json_str;
 use crate::figure::fit::{FitOptions, FitReport, fit_contour, measure};
 use crate::figure::optimise::{Optimiser, Stopping};
 use crate::figure::warp::{WarpOptions, warp_document};
@@ -294,9 +294,8 @@ fn warp(args: &WarpArgs) -> anyhow::Result<()> {
     let doc = read_document(&args.figure)?;
     let text = std::fs::read_to_string(&args.curves)
         .with_context(|| format!("cannot read {}", args.curves.display()))?;
-    let v: serde_json::Value = serde_json::from_str(&text)
-        .with_context(|| format!("{}: not valid JSON", args.curves.display()))?;
-    let deformed = curves_from_json(&v).with_context(|| format!("{}", args.curves.display()))?;
+    let deformed =
+        curves_from_json_str(&text).with_context(|| format!("{}", args.curves.display()))?;
     let params = WarpParams {
         a: args.a,
         b: args.b,

@@ -1,13 +1,17 @@
-//! The JSON form of curves and points, shared by `nendo closest --batch`, `nendo curve --batch`
-//! and the `nendo-model` file:
+//! The JSON form of curves and points, shared by `nendo closest --batch`, `nendo curve --batch`,
+//! the `nendo-model` file and the figure and shape documents:
 //!
 //! * a Bezier curve: `{"bezier": [[x,y], ...]}` or `{"bezier": [[x,y,z], ...]}`;
 //! * a B-spline: `{"bspline": {"degree": p, "knots": [...], "points": [[...], ...]}}` (`p` a
 //!   whole number, `3` or `3.0`);
 //! * a point: `[x,y]` or `[x,y,z]`.
 //!
-//! The dimension of a curve is that of its points; all must agree. Everything is validated
-//! (finite numbers, counts, knots) with errors that say what is wrong.
+//! The dimension of a curve is that of its points; all must agree. Curves and points are read
+//! by serde ([`DynCurve`], [`PlanarCurve`] and [`JsonPoint`] implement `Deserialize`) inside
+//! the documents that hold them: an unknown or repeated member is refused, and everything is
+//! validated (finite numbers, counts, knots) with a [`JsonError`] that names the member's path.
+//! Limits: a validation error of a whole curve (knot count, mixed dimensions) is placed at the
+//! curve, not at the knot or point it concerns (the message names those).
 
 use glam::{DVec2, DVec3};
 use nendo_geom::curve::BSpline;
@@ -15,7 +19,11 @@ use nendo_geom::curve::Bezier;
 use nendo_geom::curve::Curve;
 use nendo_geom::curve::CurveError;
 use nendo_geom::curve::Point;
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer};
 use serde_json::{Value, json};
+
+pub use crate::json_doc::JsonError;
 
 /// A curve in 2D or in 3D.
 #[derive(Debug, Clone, PartialEq)]
@@ -37,81 +45,110 @@ impl DynCurve {
     }
 }
 
-/// Reads a point `[x, y]` or `[x, y, z]` of finite numbers; `what` names it in errors.
-pub fn point_from_json(v: &Value, what: &str) -> Result<Vec<f64>, CurveError> {
-    let arr = v
-        .as_array()
-        .ok_or_else(|| CurveError::Format(format!("{what} must be an array of numbers")))?;
-    if arr.len() != 2 && arr.len() != 3 {
-        return Err(CurveError::Dimension(format!(
-            "{what} has {} coordinates; expected 2 or 3",
-            arr.len()
-        )));
+/// A point `[x, y]` or `[x, y, z]` as read (two or three finite numbers); its dimension is
+/// checked against a curve's with [`JsonPoint::typed`].
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(try_from = "Vec<f64>")]
+pub struct JsonPoint(Vec<f64>);
+
+/// A point that has neither two nor three coordinates.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("a point has {0} coordinates; expected 2 or 3")]
+pub struct PointDimension(usize);
+
+impl TryFrom<Vec<f64>> for JsonPoint {
+    type Error = PointDimension;
+    fn try_from(c: Vec<f64>) -> Result<Self, PointDimension> {
+        if c.len() == 2 || c.len() == 3 {
+            Ok(JsonPoint(c))
+        } else {
+            Err(PointDimension(c.len()))
+        }
     }
-    arr.iter()
-        .map(|x| {
-            let f = x.as_f64().ok_or_else(|| {
-                CurveError::Format(format!("{what} has a coordinate that is not a number"))
-            })?;
-            if f.is_finite() {
-                Ok(f)
-            } else {
-                Err(CurveError::NotFinite {
-                    what: what.to_string(),
-                })
-            }
+}
+
+impl JsonPoint {
+    /// The coordinates (two or three).
+    #[must_use]
+    pub fn coords(&self) -> &[f64] {
+        &self.0
+    }
+
+    /// The dimension, 2 or 3.
+    #[must_use]
+    pub fn dim(&self) -> usize {
+        self.0.len()
+    }
+
+    /// The point in `P`'s dimension; `path` names the member in the error.
+    ///
+    /// # Errors
+    /// [`JsonError`] when the dimensions differ or a coordinate is not finite.
+    pub fn typed<P: Point>(&self, path: &str) -> Result<P, JsonError> {
+        if self.0.iter().any(|x| !x.is_finite()) {
+            return Err(JsonError::at(path, "a coordinate is not a finite number"));
+        }
+        P::from_coords(&self.0).ok_or_else(|| {
+            JsonError::at(
+                path,
+                format!(
+                    "the point has {} coordinates but the curve is {}D",
+                    self.0.len(),
+                    P::DIM
+                ),
+            )
         })
-        .collect()
-}
-
-/// Reads a point of a known dimension `P::DIM`.
-pub fn typed_point<P: Point>(v: &Value, what: &str) -> Result<P, CurveError> {
-    let c = point_from_json(v, what)?;
-    P::from_coords(&c).ok_or_else(|| {
-        CurveError::Dimension(format!(
-            "{what} has {} coordinates but the curve is {}D",
-            c.len(),
-            P::DIM
-        ))
-    })
-}
-
-fn points_from_json(v: &Value, what: &str) -> Result<(usize, Vec<Vec<f64>>), CurveError> {
-    let arr = v
-        .as_array()
-        .ok_or_else(|| CurveError::Format(format!("{what} must be an array of points")))?;
-    if arr.is_empty() {
-        return Err(CurveError::Empty);
     }
-    let mut dim = 0;
-    let mut out = Vec::with_capacity(arr.len());
-    for (i, p) in arr.iter().enumerate() {
-        let c = point_from_json(p, &format!("control point {i}"))?;
-        if i == 0 {
-            dim = c.len();
-        } else if c.len() != dim {
-            return Err(CurveError::Dimension(format!(
-                "control point {i} has {} coordinates but control point 0 has {dim}",
-                c.len()
-            )));
-        }
-        out.push(c);
+}
+
+/// A non-negative whole number written as an integer (`3`) or as a float with no fractional
+/// part (`3.0`, as some JSON writers print every number).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WholeNumber(pub u64);
+
+impl<'de> Deserialize<'de> for WholeNumber {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let n = serde_json::Number::deserialize(d)?;
+        whole_number(&n)
+            .map(WholeNumber)
+            .ok_or_else(|| D::Error::custom(format!("{n} is not a non-negative whole number")))
     }
-    Ok((dim, out))
 }
 
-fn typed<P: Point>(pts: &[Vec<f64>]) -> Vec<P> {
-    pts.iter().filter_map(|c| P::from_coords(c)).collect()
+/// The value of a JSON number that is a non-negative whole number (`3` or `3.0`); `None` for
+/// anything else.
+#[must_use]
+pub fn whole_number(n: &serde_json::Number) -> Option<u64> {
+    if let Some(n) = n.as_u64() {
+        return Some(n);
+    }
+    let f = n.as_f64()?;
+    // 2⁵³: every whole float below is exactly an integer.
+    (f.is_finite() && f >= 0.0 && f.fract() == 0.0 && f <= 9_007_199_254_740_992.0)
+        .then_some(f as u64)
 }
 
-fn build<P: Point>(kind: &Kind, pts: &[Vec<f64>]) -> Result<Curve<P>, CurveError> {
-    let pts = typed::<P>(pts);
-    Ok(match kind {
-        Kind::Bezier => Curve::Bezier(Bezier::try_new(pts)?),
-        Kind::BSpline { degree, knots } => {
-            Curve::BSpline(BSpline::try_new(*degree, knots.clone(), pts)?)
-        }
-    })
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a curve {\"bezier\": [...]} or {\"bspline\": {...}}"
+)]
+struct CurveRepr {
+    #[serde(default)]
+    bezier: Option<Vec<JsonPoint>>,
+    #[serde(default)]
+    bspline: Option<BSplineRepr>,
+}
+
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a B-spline {\"degree\": p, \"knots\": [...], \"points\": [...]}"
+)]
+struct BSplineRepr {
+    degree: WholeNumber,
+    knots: Vec<f64>,
+    points: Vec<JsonPoint>,
 }
 
 enum Kind {
@@ -119,17 +156,85 @@ enum Kind {
     BSpline { degree: usize, knots: Vec<f64> },
 }
 
-/// A non-negative whole number written as an integer (`3`) or as a float with no fractional
-/// part (`3.0`, as some JSON writers print every number); `None` for anything else.
-#[must_use]
-pub fn whole_number(v: &Value) -> Option<u64> {
-    if let Some(n) = v.as_u64() {
-        return Some(n);
+fn typed<P: Point>(pts: &[JsonPoint]) -> Vec<P> {
+    pts.iter().filter_map(|c| P::from_coords(&c.0)).collect()
+}
+
+fn build<P: Point>(kind: Kind, pts: &[JsonPoint]) -> Result<Curve<P>, CurveError> {
+    let pts = typed::<P>(pts);
+    Ok(match kind {
+        Kind::Bezier => Curve::Bezier(Bezier::try_new(pts)?),
+        Kind::BSpline { degree, knots } => Curve::BSpline(BSpline::try_new(degree, knots, pts)?),
+    })
+}
+
+/// Why a curve's members (read well-formed) do not make a curve.
+#[derive(Debug, thiserror::Error)]
+enum Invalid {
+    #[error("a curve is either {{\"bezier\": ...}} or {{\"bspline\": ...}}, not both")]
+    Both,
+    #[error("a curve needs a \"bezier\" or a \"bspline\" member")]
+    Neither,
+    #[error("control point {index} has {got} coordinates but control point 0 has {dim}")]
+    MixedDimensions {
+        index: usize,
+        got: usize,
+        dim: usize,
+    },
+    #[error(transparent)]
+    Curve(#[from] CurveError),
+}
+
+impl CurveRepr {
+    fn into_curve(self) -> Result<DynCurve, Invalid> {
+        let (kind, pts) = match (self.bezier, self.bspline) {
+            (Some(_), Some(_)) => return Err(Invalid::Both),
+            (None, None) => return Err(Invalid::Neither),
+            (Some(b), None) => (Kind::Bezier, b),
+            (None, Some(s)) => (
+                Kind::BSpline {
+                    degree: usize::try_from(s.degree.0).unwrap_or(usize::MAX),
+                    knots: s.knots,
+                },
+                s.points,
+            ),
+        };
+        let dim = pts.first().map_or(0, JsonPoint::dim);
+        if let Some((index, p)) = pts.iter().enumerate().find(|(_, p)| p.dim() != dim) {
+            return Err(Invalid::MixedDimensions {
+                index,
+                got: p.dim(),
+                dim,
+            });
+        }
+        Ok(match dim {
+            2 => DynCurve::D2(build(kind, &pts)?),
+            _ => DynCurve::D3(build(kind, &pts)?),
+        })
     }
-    let f = v.as_f64()?;
-    // 2⁵³: every whole float below is exactly an integer.
-    (f.is_finite() && f >= 0.0 && f.fract() == 0.0 && f <= 9_007_199_254_740_992.0)
-        .then_some(f as u64)
+}
+
+impl<'de> Deserialize<'de> for DynCurve {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        CurveRepr::deserialize(d)?
+            .into_curve()
+            .map_err(D::Error::custom)
+    }
+}
+
+/// A planar (2D) curve, for documents that hold only those (figures, shape sections).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlanarCurve(pub Curve<DVec2>);
+
+impl<'de> Deserialize<'de> for PlanarCurve {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        match DynCurve::deserialize(d)? {
+            DynCurve::D2(c) => Ok(PlanarCurve(c)),
+            DynCurve::D3(_) => Err(D::Error::custom(
+                "the curve is 3D; a planar (2D) curve is needed here",
+            )),
+        }
+    }
 }
 
 /// Reads a curve from its JSON form.
@@ -142,57 +247,11 @@ pub fn whole_number(v: &Value) -> Option<u64> {
 /// assert!(curve_from_json(&bad).is_err());
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn curve_from_json(v: &Value) -> Result<DynCurve, CurveError> {
-    let obj = v.as_object().ok_or_else(|| {
-        CurveError::Format(
-            "a curve must be an object {\"bezier\": [...]} or {\"bspline\": {...}}".into(),
-        )
-    })?;
-    if obj.contains_key("bezier") && obj.contains_key("bspline") {
-        return Err(CurveError::Format(
-            "a curve is either {\"bezier\": ...} or {\"bspline\": ...}, not both".into(),
-        ));
-    }
-    let (kind, pts_v) = if let Some(b) = obj.get("bezier") {
-        (Kind::Bezier, b)
-    } else if let Some(s) = obj.get("bspline") {
-        let s = s
-            .as_object()
-            .ok_or_else(|| CurveError::Format("\"bspline\" must be an object".into()))?;
-        let degree = s.get("degree").and_then(whole_number).ok_or_else(|| {
-            CurveError::Format("\"bspline\" needs a non-negative integer \"degree\"".into())
-        })?;
-        let knots_v = s
-            .get("knots")
-            .and_then(Value::as_array)
-            .ok_or_else(|| CurveError::Format("\"bspline\" needs an array \"knots\"".into()))?;
-        let mut knots = Vec::with_capacity(knots_v.len());
-        for (i, k) in knots_v.iter().enumerate() {
-            let f = k
-                .as_f64()
-                .ok_or_else(|| CurveError::Format(format!("knot {i} is not a number")))?;
-            if !f.is_finite() {
-                return Err(CurveError::NotFinite {
-                    what: format!("knot {i}"),
-                });
-            }
-            knots.push(f);
-        }
-        let pts = s
-            .get("points")
-            .ok_or_else(|| CurveError::Format("\"bspline\" needs \"points\"".into()))?;
-        let degree = usize::try_from(degree).unwrap_or(usize::MAX);
-        (Kind::BSpline { degree, knots }, pts)
-    } else {
-        return Err(CurveError::Format(
-            "a curve needs a \"bezier\" or a \"bspline\" member".into(),
-        ));
-    };
-    let (dim, pts) = points_from_json(pts_v, "points")?;
-    match dim {
-        2 => Ok(DynCurve::D2(build::<DVec2>(&kind, &pts)?)),
-        _ => Ok(DynCurve::D3(build::<DVec3>(&kind, &pts)?)),
-    }
+///
+/// # Errors
+/// [`JsonError`] naming the bad member and what is wrong.
+pub fn curve_from_json(v: &Value) -> Result<DynCurve, JsonError> {
+    crate::json_doc::from_value(v)
 }
 
 /// A point as a JSON array.

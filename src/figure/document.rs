@@ -22,14 +22,18 @@
 //!   was fitted to), `polygons` (closed, each with a colour), `curves` (2D curves in the form of
 //!   [`crate::curve::json`]; in a morph, curve `k` of the source corresponds to curve `k` of
 //!   the destination).
-//! * Reading validates every number and says where a problem is; the text is produced and
-//!   consumed by the callers (the library reads and writes no files).
+//! * Reading refuses unknown and repeated members, validates every number and says where a
+//!   problem is (the member's path, line and column; see [`crate::json_doc`]); the text is
+//!   produced and consumed by the callers (the library reads and writes no files).
 
 use glam::DVec2;
+use serde::de::{DeserializeOwned, Error as _};
+use serde::{Deserialize, Deserializer};
 use serde_json::{Map, Value, json};
 
 use crate::curve::Curve;
-use crate::curve::json::{DynCurve, curve_from_json, curve_to_json};
+use crate::curve::json::{PlanarCurve, curve_to_json};
+use crate::json_doc::{self, JsonError};
 
 use super::contour::Contour;
 use super::error::FigureError;
@@ -99,33 +103,25 @@ impl FigureDocument {
         b
     }
 
-    /// Reads a document from JSON text.
+    /// Reads a document from JSON text (unknown or repeated members refused).
     ///
     /// # Errors
-    /// [`FigureError::Format`] (naming the member) for malformed JSON or members,
-    /// [`FigureError::Curve`] for a bad curve, and the validation errors of the parts.
+    /// [`FigureError::Json`] (naming the member's path, line and column) for malformed JSON
+    /// or members, [`FigureError::Format`] for another format or version, and the validation
+    /// errors of the parts.
     pub fn from_json(text: &str) -> Result<Self, FigureError> {
-        let v = header_checked(text, "figure", FORMAT, VERSION)?;
-        let obj = v
-            .as_object()
-            .ok_or_else(|| FigureError::Format("a figure file must be a JSON object".into()))?;
-        let threshold = match obj.get("threshold") {
-            None => DEFAULT_THRESHOLD,
-            Some(t) => number(t, "threshold")?,
-        };
-        let name = match obj.get("name") {
-            None | Some(Value::Null) => None,
-            Some(Value::String(s)) => Some(s.clone()),
-            Some(_) => return Err(FigureError::Format("\"name\" must be a string".into())),
-        };
-        let view = match obj.get("view") {
-            None | Some(Value::Null) => None,
+        let doc: FigureDoc = read_document(text, FORMAT, VERSION)?;
+        check_header(
+            Some(&doc.format.into()),
+            Some(&doc.version.into()),
+            FORMAT,
+            VERSION,
+        )?;
+        let threshold = doc.threshold.unwrap_or(DEFAULT_THRESHOLD);
+        let view = match doc.view {
+            None => None,
             Some(v) => {
-                let o = v.as_object().ok_or_else(|| {
-                    FigureError::Format("\"view\" must be an object {\"min\", \"max\"}".into())
-                })?;
-                let min = point(o.get("min").unwrap_or(&Value::Null), "view min")?;
-                let max = point(o.get("max").unwrap_or(&Value::Null), "view max")?;
+                let (min, max) = (DVec2::from_array(v.min), DVec2::from_array(v.max));
                 if !(max.x > min.x && max.y > min.y) {
                     return Err(FigureError::Format(
                         "\"view\": max must exceed min on both axes".into(),
@@ -134,30 +130,15 @@ impl FigureDocument {
                 Some((min, max))
             }
         };
-        let background = match obj.get("background") {
-            None | Some(Value::Null) => None,
-            Some(c) => Some(colour(c, "background")?),
-        };
         let mut metacircles = Vec::new();
-        for (i, m) in array(obj, "metacircles")?.iter().enumerate() {
-            let what = format!("metacircle {i}");
-            let o = m
-                .as_object()
-                .ok_or_else(|| FigureError::Format(format!("{what} must be an object")))?;
-            let get = |k: &str| {
-                o.get(k)
-                    .ok_or_else(|| FigureError::Format(format!("{what} needs \"{k}\"")))
-            };
+        for (i, m) in doc.metacircles.unwrap_or_default().into_iter().enumerate() {
             let mc = Metacircle {
-                centre: point(get("centre")?, &format!("{what} centre"))?,
-                radius: number(get("radius")?, &format!("{what} radius"))?,
-                density: number(get("density")?, &format!("{what} density"))?,
-                colour: match o.get("colour") {
-                    None => Rgb::CLAY,
-                    Some(c) => colour(c, &format!("{what} colour"))?,
-                },
+                centre: DVec2::from_array(m.centre),
+                radius: m.radius,
+                density: m.density,
+                colour: m.colour.map_or(Rgb::CLAY, |c| c.0),
             };
-            mc.validate(&what)?;
+            mc.validate(&format!("metacircle {i}"))?;
             metacircles.push(mc);
         }
         let figure = Figure {
@@ -165,33 +146,28 @@ impl FigureDocument {
             threshold,
         };
         figure.validate()?;
-        let contour = match obj.get("contour") {
-            None | Some(Value::Null) => None,
-            Some(c) => Some(contour_from_json(c, "contour")?),
+        let contour = match doc.contour {
+            None => None,
+            Some(c) => Some(contour_from_points(&c, "contour")?),
         };
         let mut polygons = Vec::new();
-        for (i, p) in array(obj, "polygons")?.iter().enumerate() {
-            let what = format!("polygon {i}");
-            let o = p
-                .as_object()
-                .ok_or_else(|| FigureError::Format(format!("{what} must be an object")))?;
-            let pts = o
-                .get("points")
-                .ok_or_else(|| FigureError::Format(format!("{what} needs \"points\"")))?;
+        for (i, p) in doc.polygons.unwrap_or_default().into_iter().enumerate() {
             polygons.push(FilledPolygon {
-                contour: contour_from_json(pts, &what)?,
-                colour: match o.get("colour") {
-                    None => Rgb::CLAY,
-                    Some(c) => colour(c, &format!("{what} colour"))?,
-                },
+                contour: contour_from_points(&p.points, &format!("polygon {i}"))?,
+                colour: p.colour.map_or(Rgb::CLAY, |c| c.0),
             });
         }
-        let curves = curves_from_json(obj.get("curves").unwrap_or(&Value::Null))?;
+        let curves = doc
+            .curves
+            .unwrap_or_default()
+            .into_iter()
+            .map(|c| c.0)
+            .collect();
         Ok(Self {
-            name,
+            name: doc.name,
             figure,
             view,
-            background,
+            background: doc.background.map(|c| c.0),
             contour,
             polygons,
             curves,
@@ -245,28 +221,125 @@ impl FigureDocument {
     }
 }
 
-/// Parses `text` as JSON and checks its `format` and `version` members (the header every
-/// nendo figure and shape file starts with); `kind` names the file in errors.
+/// A figure file as read: every member typed, unknown and repeated members refused.
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a nendo-figure document (a JSON object)"
+)]
+struct FigureDoc {
+    format: String,
+    version: u64,
+    #[serde(default)]
+    name: Option<String>,
+    #[serde(default)]
+    threshold: Option<f64>,
+    #[serde(default)]
+    view: Option<ViewDoc>,
+    #[serde(default)]
+    background: Option<Colour>,
+    #[serde(default)]
+    metacircles: Option<Vec<MetacircleDoc>>,
+    #[serde(default)]
+    contour: Option<Vec<[f64; 2]>>,
+    #[serde(default)]
+    polygons: Option<Vec<PolygonDoc>>,
+    #[serde(default)]
+    curves: Option<Vec<PlanarCurve>>,
+}
+
+/// `view`: the rectangle pictures show.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ViewDoc {
+    min: [f64; 2],
+    max: [f64; 2],
+}
+
+/// One of `metacircles`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MetacircleDoc {
+    centre: [f64; 2],
+    radius: f64,
+    density: f64,
+    #[serde(default)]
+    colour: Option<Colour>,
+}
+
+/// One of `polygons`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PolygonDoc {
+    points: Vec<[f64; 2]>,
+    #[serde(default)]
+    colour: Option<Colour>,
+}
+
+/// A colour `"#rrggbb"`.
+pub(crate) struct Colour(pub(crate) Rgb);
+
+impl<'de> Deserialize<'de> for Colour {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        Rgb::parse_hex(&s)
+            .map(Colour)
+            .ok_or_else(|| D::Error::custom(format!("{s:?} is not a colour \"#rrggbb\"")))
+    }
+}
+
+/// Only `format` and `version`, any other member ignored: what a document that failed to
+/// read says it is, so that another format or version is named as such.
+#[derive(Deserialize)]
+struct Header {
+    #[serde(default)]
+    format: Option<Value>,
+    #[serde(default)]
+    version: Option<Value>,
+}
+
+/// Reads the document `T` from `text`; when that fails and the text is of another `format`
+/// or `version`, says so rather than naming the first member that does not fit.
 ///
 /// # Errors
-/// [`FigureError::Format`] for text that is not JSON, not an object, of another format, or
-/// of another version.
-pub(crate) fn header_checked(
+/// [`FigureError::Format`] for another format or version, else [`FigureError::Json`].
+pub(crate) fn read_document<T: DeserializeOwned>(
     text: &str,
-    kind: &str,
     format: &str,
     version: u64,
-) -> Result<Value, FigureError> {
-    let v: Value = serde_json::from_str(text)
-        .map_err(|e| FigureError::Format(format!("not valid JSON: {e}")))?;
-    let obj = v
-        .as_object()
-        .ok_or_else(|| FigureError::Format(format!("a {kind} file must be a JSON object")))?;
-    match obj.get("format").and_then(Value::as_str) {
-        Some(f) if f == format => {}
+) -> Result<T, FigureError> {
+    // serde reads a struct from an array too: the document itself must be an object.
+    let object = text.trim_start().starts_with('{');
+    let doc = json_doc::from_str::<T>(text);
+    if !object && !matches!(doc, Err(JsonError::Bom)) {
+        return Err(FigureError::Json(JsonError::at(
+            "",
+            format!("a {format} document must be a JSON object"),
+        )));
+    }
+    doc.map_err(|e| match json_doc::from_str::<Header>(text) {
+        Ok(h) => check_header(h.format.as_ref(), h.version.as_ref(), format, version)
+            .err()
+            .unwrap_or(FigureError::Json(e)),
+        Err(_) => FigureError::Json(e),
+    })
+}
+
+/// Checks the `format` and `version` members every nendo figure and shape file starts with.
+///
+/// # Errors
+/// [`FigureError::Format`] for a missing or other format or version.
+pub(crate) fn check_header(
+    found_format: Option<&Value>,
+    found_version: Option<&Value>,
+    format: &str,
+    version: u64,
+) -> Result<(), FigureError> {
+    match found_format {
+        Some(Value::String(f)) if f == format => {}
         Some(other) => {
             return Err(FigureError::Format(format!(
-                "\"format\" is {other:?}; expected {format:?}"
+                "\"format\" is {other}; expected {format:?}"
             )));
         }
         None => {
@@ -275,29 +348,27 @@ pub(crate) fn header_checked(
             )));
         }
     }
-    match obj.get("version").and_then(Value::as_u64) {
-        Some(v) if v == version => {}
-        Some(v) => {
-            return Err(FigureError::Format(format!(
-                "version {v} is not supported (this build reads {version})"
-            )));
-        }
-        None => return Err(FigureError::Format("missing \"version\"".into())),
+    match found_version {
+        Some(v) if v.as_u64() == Some(version) => Ok(()),
+        Some(v) => Err(FigureError::Format(format!(
+            "version {v} is not supported (this build reads {version})"
+        ))),
+        None => Err(FigureError::Format("missing \"version\"".into())),
     }
-    Ok(v)
 }
 
 /// Reads a list of 2D curves: a JSON array of curves, or an object with a `"curves"` array
-/// (a figure file, or `{"curves": […]}`); `null` reads as none.
+/// (a figure file, or `{"curves": […]}`; its other members are not read); `null` reads as
+/// none.
 ///
 /// # Errors
-/// [`FigureError::Curve`] naming the curve, or [`FigureError::Format`].
+/// [`FigureError::Json`] naming the bad curve's path, or [`FigureError::Format`].
 pub fn curves_from_json(v: &Value) -> Result<Vec<Curve<DVec2>>, FigureError> {
-    let arr = match v {
+    let list: Vec<PlanarCurve> = match v {
         Value::Null => return Ok(Vec::new()),
-        Value::Array(a) => a,
+        Value::Array(_) => json_doc::from_value(v)?,
         Value::Object(o) => match o.get("curves") {
-            Some(Value::Array(a)) => a,
+            Some(a @ Value::Array(_)) => json_doc::from_value(a).map_err(|e| e.within("curves"))?,
             _ => {
                 return Err(FigureError::Format(
                     "expected an array of curves or an object with a \"curves\" array".into(),
@@ -306,16 +377,16 @@ pub fn curves_from_json(v: &Value) -> Result<Vec<Curve<DVec2>>, FigureError> {
         },
         _ => return Err(FigureError::Format("\"curves\" must be an array".into())),
     };
-    arr.iter()
-        .enumerate()
-        .map(|(index, c)| match curve_from_json(c) {
-            Ok(DynCurve::D2(c)) => Ok(c),
-            Ok(DynCurve::D3(_)) => Err(FigureError::Format(format!(
-                "curve {index} is 3D; figures need 2D curves"
-            ))),
-            Err(source) => Err(FigureError::Curve { index, source }),
-        })
-        .collect()
+    Ok(list.into_iter().map(|c| c.0).collect())
+}
+
+/// Reads a list of 2D curves from JSON text, as [`curves_from_json`] (a byte-order mark and
+/// JSON errors named with their line and column).
+///
+/// # Errors
+/// As [`curves_from_json`].
+pub fn curves_from_json_str(text: &str) -> Result<Vec<Curve<DVec2>>, FigureError> {
+    curves_from_json(&json_doc::from_str::<Value>(text)?)
 }
 
 /// The JSON array of 2D curves.
@@ -328,55 +399,9 @@ pub(crate) fn points_json(p: &[DVec2]) -> Value {
     Value::Array(p.iter().map(|p| json!([p.x, p.y])).collect())
 }
 
-pub(crate) fn array<'a>(
-    obj: &'a Map<String, Value>,
-    key: &str,
-) -> Result<&'a [Value], FigureError> {
-    match obj.get(key) {
-        None | Some(Value::Null) => Ok(&[]),
-        Some(Value::Array(a)) => Ok(a),
-        Some(_) => Err(FigureError::Format(format!("\"{key}\" must be an array"))),
-    }
-}
-
-pub(crate) fn number(v: &Value, what: &str) -> Result<f64, FigureError> {
-    let f = v
-        .as_f64()
-        .ok_or_else(|| FigureError::Format(format!("{what} must be a number")))?;
-    if f.is_finite() {
-        Ok(f)
-    } else {
-        Err(FigureError::NotFinite {
-            what: what.to_string(),
-        })
-    }
-}
-
-pub(crate) fn point(v: &Value, what: &str) -> Result<DVec2, FigureError> {
-    match v.as_array().map(Vec::as_slice) {
-        Some([x, y]) => Ok(DVec2::new(number(x, what)?, number(y, what)?)),
-        _ => Err(FigureError::Format(format!(
-            "{what} must be a point [x, y]"
-        ))),
-    }
-}
-
-pub(crate) fn contour_from_json(v: &Value, what: &str) -> Result<Contour, FigureError> {
-    let arr = v
-        .as_array()
-        .ok_or_else(|| FigureError::Format(format!("{what} must be an array of points [x, y]")))?;
-    let pts = arr
-        .iter()
-        .enumerate()
-        .map(|(i, p)| point(p, &format!("{what} vertex {i}")))
-        .collect::<Result<Vec<_>, _>>()?;
-    Contour::new(pts, what)
-}
-
-fn colour(v: &Value, what: &str) -> Result<Rgb, FigureError> {
-    v.as_str()
-        .and_then(Rgb::parse_hex)
-        .ok_or_else(|| FigureError::Format(format!("{what} must be a colour \"#rrggbb\"")))
+/// A closed polygon from its vertices; `what` names it in errors.
+pub(crate) fn contour_from_points(v: &[[f64; 2]], what: &str) -> Result<Contour, FigureError> {
+    Contour::new(v.iter().map(|&p| DVec2::from_array(p)).collect(), what)
 }
 
 #[cfg(test)]
@@ -425,7 +450,7 @@ mod tests {
             ),
             (
                 r#"{"format": "nendo-figure", "version": 1, "metacircles": [{"centre": [0], "radius": 1, "density": 1}]}"#,
-                "metacircle 0 centre",
+                "metacircles[0].centre",
             ),
             (
                 r#"{"format": "nendo-figure", "version": 1, "threshold": 0}"#,
@@ -437,13 +462,21 @@ mod tests {
             ),
             (
                 r#"{"format": "nendo-figure", "version": 1, "curves": [{"bezier": [[0, 0, 0]]}]}"#,
-                "curve 0",
+                "curves[0]",
+            ),
+            (
+                r#"{"format": "nendo-figure", "version": 1, "metacircle": []}"#,
+                "unknown field \"metacircle\"",
+            ),
+            (
+                r#"{"format": "nendo-figure", "version": 1, "name": "a", "name": "b"}"#,
+                "duplicate field \"name\"",
             ),
             (
                 r#"{"format": "nendo-figure", "version": 1, "background": "red"}"#,
                 "background",
             ),
-            ("{not json", "JSON"),
+            ("{not json", "line 1 column 2"),
         ] {
             let e = FigureDocument::from_json(text).unwrap_err().to_string();
             assert!(e.contains(needle), "{text}: {e}");

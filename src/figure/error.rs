@@ -35,6 +35,10 @@ pub enum FigureError {
     /// A document is malformed: a member missing, of the wrong type, or out of range.
     #[error("{0}")]
     Format(String),
+    /// A document's JSON is malformed or a member is missing, unknown, repeated or of the
+    /// wrong type (with the member's path, line and column).
+    #[error("{0}")]
+    Json(#[from] crate::json_doc::JsonError),
     /// A curve inside a document is malformed.
     #[error("curve {index}: {source}")]
     Curve {

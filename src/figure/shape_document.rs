@@ -36,18 +36,18 @@
 //!   place of the originals, the fitted metaballs, and no `moves`: the file of the deformed
 //!   shape, ready for further drags.
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
+use serde::Deserialize;
 use serde_json::{Map, Value, json};
 
 /// Most metaballs a shape file may hold.
 pub const MAX_METABALLS: usize = 2_000;
 
 use crate::curve::edit::{GrabMethod, GrabOptions};
-use crate::curve::json::{DynCurve, curve_from_json, curve_to_json};
+use crate::curve::json::{PlanarCurve, WholeNumber, curve_to_json};
 
 use super::document::{
-    array, contour_from_json, curves_from_json, curves_to_json, header_checked, number, point,
-    points_json,
+    check_header, contour_from_points, curves_to_json, points_json, read_document,
 };
 use super::error::FigureError;
 use super::falloff::DEFAULT_THRESHOLD;
@@ -75,93 +75,68 @@ pub struct ShapeDocument {
 }
 
 impl ShapeDocument {
-    /// Reads a document from JSON text.
+    /// Reads a document from JSON text (unknown or repeated members refused).
     ///
     /// # Errors
-    /// [`FigureError::Format`] naming the member for malformed JSON or members, and the
-    /// validation errors of the parts (contours, curves, metaballs).
+    /// [`FigureError::Json`] naming the member's path, line and column for malformed JSON or
+    /// members, [`FigureError::Format`] for another format or version or a move naming no
+    /// curve, and the validation errors of the parts (contours, curves, metaballs).
     pub fn from_json(text: &str) -> Result<Self, FigureError> {
-        let v = header_checked(text, "shape", FORMAT, VERSION)?;
-        let obj = v
-            .as_object()
-            .ok_or_else(|| FigureError::Format("a shape file must be a JSON object".into()))?;
-        let threshold = match obj.get("threshold") {
-            None | Some(Value::Null) => DEFAULT_THRESHOLD,
-            Some(t) => number(t, "threshold")?,
-        };
+        let doc: ShapeDoc = read_document(text, FORMAT, VERSION)?;
+        check_header(
+            Some(&doc.format.into()),
+            Some(&doc.version.into()),
+            FORMAT,
+            VERSION,
+        )?;
+        let threshold = doc.threshold.unwrap_or(DEFAULT_THRESHOLD);
         if threshold <= 0.0 {
             return Err(FigureError::Threshold(threshold));
         }
-        let name = match obj.get("name") {
-            None | Some(Value::Null) => None,
-            Some(Value::String(s)) => Some(s.clone()),
-            Some(_) => return Err(FigureError::Format("\"name\" must be a string".into())),
-        };
-        let list = array(obj, "sections")?;
-        if list.is_empty() {
+        if doc.sections.is_empty() {
             return Err(FigureError::Format(
                 "\"sections\" must list at least one section {\"z\", \"contour\"}".into(),
             ));
         }
-        let mut sections = Vec::with_capacity(list.len());
-        let mut moves = Vec::with_capacity(list.len());
-        for (i, s) in list.iter().enumerate() {
+        let mut sections = Vec::with_capacity(doc.sections.len());
+        let mut moves = Vec::with_capacity(doc.sections.len());
+        for (i, s) in doc.sections.into_iter().enumerate() {
             let what = format!("section {i}");
-            let o = s
-                .as_object()
-                .ok_or_else(|| FigureError::Format(format!("{what} must be an object")))?;
-            let get = |k: &str| {
-                o.get(k)
-                    .ok_or_else(|| FigureError::Format(format!("{what} needs \"{k}\"")))
-            };
-            let z = number(get("z")?, &format!("{what} z"))?;
-            let contour = contour_from_json(get("contour")?, &format!("{what} contour"))?;
-            let curves = curves_from_json(o.get("curves").unwrap_or(&Value::Null))
-                .map_err(|e| FigureError::Format(format!("{what}: {e}")))?;
-            let mut section_moves = Vec::new();
-            for (j, m) in array(o, "moves")
-                .map_err(|e| FigureError::Format(format!("{what}: {e}")))?
-                .iter()
+            let contour = contour_from_points(&s.contour, &format!("{what} contour"))?;
+            let curves: Vec<_> = s.curves.into_iter().map(|c| c.0).collect();
+            let section_moves = s
+                .moves
+                .into_iter()
                 .enumerate()
-            {
-                section_moves.push(curve_move(m, &format!("{what} move {j}"), curves.len())?);
-            }
-            sections.push(Section::new(z, contour, curves)?);
+                .map(|(j, m)| m.into_move(&format!("{what} move {j}"), curves.len()))
+                .collect::<Result<Vec<_>, _>>()?;
+            sections.push(Section::new(s.z, contour, curves)?);
             moves.push(section_moves);
         }
-        let shape = match obj.get("metaballs") {
-            None | Some(Value::Null) => None,
-            Some(_) => {
-                let mut balls = Vec::new();
-                let list = array(obj, "metaballs")?;
+        let shape = match doc.metaballs {
+            None => None,
+            Some(list) => {
                 if list.len() > MAX_METABALLS {
                     return Err(FigureError::Format(format!(
                         "{} metaballs: at most {MAX_METABALLS} (the fit's Jacobian grows with their number)",
                         list.len()
                     )));
                 }
-                for (i, b) in list.iter().enumerate() {
-                    let what = format!("metaball {i}");
-                    let o = b
-                        .as_object()
-                        .ok_or_else(|| FigureError::Format(format!("{what} must be an object")))?;
-                    let get = |k: &str| {
-                        o.get(k)
-                            .ok_or_else(|| FigureError::Format(format!("{what} needs \"{k}\"")))
-                    };
+                let mut balls = Vec::with_capacity(list.len());
+                for (i, b) in list.into_iter().enumerate() {
                     let ball = Metaball {
-                        centre: point3(get("centre")?, &format!("{what} centre"))?,
-                        radius: number(get("radius")?, &format!("{what} radius"))?,
-                        density: number(get("density")?, &format!("{what} density"))?,
+                        centre: DVec3::from_array(b.centre),
+                        radius: b.radius,
+                        density: b.density,
                     };
-                    ball.validate(&what)?;
+                    ball.validate(&format!("metaball {i}"))?;
                     balls.push(ball);
                 }
                 Some(Shape { balls, threshold })
             }
         };
         Ok(Self {
-            name,
+            name: doc.name,
             threshold,
             sections,
             moves,
@@ -231,89 +206,112 @@ impl ShapeDocument {
     }
 }
 
-fn point3(v: &Value, what: &str) -> Result<DVec3, FigureError> {
-    match v.as_array().map(Vec::as_slice) {
-        Some([x, y, z]) => Ok(DVec3::new(
-            number(x, what)?,
-            number(y, what)?,
-            number(z, what)?,
-        )),
-        _ => Err(FigureError::Format(format!(
-            "{what} must be a point [x, y, z]"
-        ))),
-    }
+/// A shape file as read: every member typed, unknown and repeated members refused.
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a nendo-shape document (a JSON object)"
+)]
+struct ShapeDoc {
+    format: String,
+    version: u64,
+    #[serde(default)]
+    name: Option<String>,
+    #[serde(default)]
+    threshold: Option<f64>,
+    #[serde(default)]
+    sections: Vec<SectionDoc>,
+    #[serde(default)]
+    metaballs: Option<Vec<MetaballDoc>>,
 }
 
-/// One entry of a section's `moves`.
-fn curve_move(v: &Value, what: &str, curves: usize) -> Result<CurveMove, FigureError> {
-    let o = v
-        .as_object()
-        .ok_or_else(|| FigureError::Format(format!("{what} must be an object")))?;
-    let curve = o
-        .get("curve")
-        .and_then(crate::curve::json::whole_number)
-        .and_then(|k| usize::try_from(k).ok())
-        .ok_or_else(|| FigureError::Format(format!("{what} needs \"curve\", a curve index")))?;
-    if curve >= curves {
-        return Err(FigureError::Format(format!(
-            "{what} names curve {curve}, but the section has {curves} curves"
-        )));
-    }
-    if let Some(d) = o.get("deformed") {
-        let deformed = match curve_from_json(d) {
-            Ok(DynCurve::D2(c)) => c,
-            Ok(DynCurve::D3(_)) => {
-                return Err(FigureError::Format(format!(
-                    "{what}: the deformed curve is 3D; sections hold 2D curves"
-                )));
-            }
-            Err(e) => return Err(FigureError::Format(format!("{what} deformed: {e}"))),
-        };
-        return Ok(CurveMove::Replace { curve, deformed });
-    }
-    let get = |k: &str| {
-        o.get(k)
-            .ok_or_else(|| {
-                FigureError::Format(format!(
-                    "{what} needs \"from\" and \"to\" (a grab) or \"deformed\" (a curve)"
-                ))
-            })
-            .and_then(|v| point(v, &format!("{what} {k}")))
-    };
-    let (from, to) = (get("from")?, get("to")?);
-    let method = match o.get("method") {
-        None | Some(Value::Null) => GrabMethod::LargestWeight,
-        Some(Value::String(s)) => match s.as_str() {
-            "largest" => GrabMethod::LargestWeight,
-            "nearest" => GrabMethod::NearestParameter,
-            "least_change" => GrabMethod::LeastChange,
-            other => {
-                return Err(FigureError::Format(format!(
-                    "{what}: unknown method {other:?}; expected largest, nearest or least_change"
-                )));
-            }
-        },
-        Some(_) => {
+/// One of `sections`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SectionDoc {
+    z: f64,
+    contour: Vec<[f64; 2]>,
+    #[serde(default)]
+    curves: Vec<PlanarCurve>,
+    #[serde(default)]
+    moves: Vec<MoveDoc>,
+}
+
+/// One of a section's `moves`: a grab (`from`, `to`, `method`, `keep_ends`) or a replacement
+/// (`deformed`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MoveDoc {
+    curve: WholeNumber,
+    #[serde(default)]
+    from: Option<[f64; 2]>,
+    #[serde(default)]
+    to: Option<[f64; 2]>,
+    #[serde(default)]
+    method: Option<MethodDoc>,
+    #[serde(default)]
+    keep_ends: Option<bool>,
+    #[serde(default)]
+    deformed: Option<PlanarCurve>,
+}
+
+/// A grab's `method`.
+#[derive(Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum MethodDoc {
+    Largest,
+    Nearest,
+    LeastChange,
+}
+
+/// One of `metaballs`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MetaballDoc {
+    centre: [f64; 3],
+    radius: f64,
+    density: f64,
+}
+
+impl MoveDoc {
+    /// The move, checked against the section's `curves` count; `what` names it in errors.
+    fn into_move(self, what: &str, curves: usize) -> Result<CurveMove, FigureError> {
+        let curve = usize::try_from(self.curve.0).unwrap_or(usize::MAX);
+        if curve >= curves {
             return Err(FigureError::Format(format!(
-                "{what}: \"method\" must be a string"
+                "{what} names curve {curve}, but the section has {curves} curves"
             )));
         }
-    };
-    let keep_ends = match o.get("keep_ends") {
-        None | Some(Value::Null) => false,
-        Some(Value::Bool(b)) => *b,
-        Some(_) => {
-            return Err(FigureError::Format(format!(
-                "{what}: \"keep_ends\" must be true or false"
-            )));
+        let grab = self.from.is_some()
+            || self.to.is_some()
+            || self.method.is_some()
+            || self.keep_ends.is_some();
+        match (self.deformed, self.from, self.to) {
+            (Some(_), _, _) if grab => Err(FigureError::Format(format!(
+                "{what} is either a grab (\"from\", \"to\") or a replacement (\"deformed\"), not both"
+            ))),
+            (Some(d), _, _) => Ok(CurveMove::Replace {
+                curve,
+                deformed: d.0,
+            }),
+            (None, Some(from), Some(to)) => Ok(CurveMove::Grab {
+                curve,
+                from: DVec2::from_array(from),
+                to: DVec2::from_array(to),
+                options: GrabOptions {
+                    method: match self.method {
+                        None | Some(MethodDoc::Largest) => GrabMethod::LargestWeight,
+                        Some(MethodDoc::Nearest) => GrabMethod::NearestParameter,
+                        Some(MethodDoc::LeastChange) => GrabMethod::LeastChange,
+                    },
+                    keep_ends: self.keep_ends.unwrap_or(false),
+                },
+            }),
+            (None, _, _) => Err(FigureError::Format(format!(
+                "{what} needs \"from\" and \"to\" (a grab) or \"deformed\" (a curve)"
+            ))),
         }
-    };
-    Ok(CurveMove::Grab {
-        curve,
-        from,
-        to,
-        options: GrabOptions { method, keep_ends },
-    })
+    }
 }
 
 fn move_json(m: &CurveMove) -> Value {
@@ -375,7 +373,7 @@ mod tests {
             (r#"{"format": "nendo-shape", "version": 1, "sections": []}"#.to_string(), "at least one"),
             (
                 format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{{"contour": {SQUARE}}}]}}"#),
-                "section 0 needs \"z\"",
+                "sections[0]: missing field \"z\"",
             ),
             (
                 r#"{"format": "nendo-shape", "version": 1, "sections": [{"z": 0, "contour": [[0, 0], [1, 1]]}]}"#.to_string(),
@@ -387,11 +385,11 @@ mod tests {
             ),
             (
                 format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{{"z": 0, "contour": {SQUARE}, "curves": [{{"bezier": [[0, 0], [1, 0]]}}], "moves": [{{"curve": 0, "from": [0, 0], "to": [1, 1], "method": 3}}]}}]}}"#),
-                "\"method\" must be a string",
+                "sections[0].moves[0].method: invalid type: integer \"3\"",
             ),
             (
                 format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{{"z": 0, "contour": {SQUARE}}}], "metaballs": [{{"centre": [0, 0], "radius": 1, "density": 1}}]}}"#),
-                "metaball 0 centre",
+                "metaballs[0].centre",
             ),
             (
                 format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{{"z": 0, "contour": {SQUARE}}}], "metaballs": [{{"centre": [0, 0, 0], "radius": -1, "density": 1}}]}}"#),

@@ -22,18 +22,26 @@
 //!   reading behaves exactly as before writing; without them they are measured from the net.
 //! - `curves` (optional, default empty) in the JSON form of [`crate::curve::json`].
 //!
-//! Reading validates everything and says where a problem is. Writing is atomic: the document
+//! Reading is strict and says where a problem is: the text is deserialized straight into typed
+//! structures (serde derive, no intermediate JSON tree, so a model of 65 536 patches costs its
+//! text and the patches), an unknown member (a misspelled `"curvs"`) or a repeated one (two
+//! `"surface"` members) is refused, and every error names the member's path and position
+//! (`surface.patches[3][7]: ... (line 40 column 9)`; see [`crate::json_doc`]). A document of
+//! another `format` or `version` is named as such. Then counts, shared points and ratios are
+//! validated. Writing is atomic: the document
 //! goes to a temporary file in the same directory, which is flushed and then renamed over the
 //! target, so a reader never sees half a file.
 
 pub mod ops;
 
-use serde_json::{Map, Value, json};
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer};
+use serde_json::{Value, json};
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use crate::curve::CurveError;
-use crate::curve::json::{DynCurve, curve_from_json, dyn_curve_to_json};
+use crate::curve::json::{DynCurve, dyn_curve_to_json};
+use crate::json_doc::{self, JsonError};
 use crate::surface::{Grid, Regulation, SurfaceError, Topology};
 
 /// The `format` member of every model file.
@@ -59,10 +67,12 @@ pub enum ModelError {
         /// printing the chain would repeat it).
         error: std::io::Error,
     },
-    /// The text is not JSON.
-    #[error("not valid JSON: {0}")]
-    Json(#[from] serde_json::Error),
-    /// The JSON does not have the shape of a model (a member missing or of the wrong type).
+    /// The text is not JSON, or a member is missing, unknown, repeated or of the wrong type
+    /// (with the member's path, line and column), or a curve is invalid.
+    #[error("{0}")]
+    Json(#[from] JsonError),
+    /// The document's parts do not fit together (a patch count against the grid) or the file
+    /// is too large.
     #[error("{0}")]
     Format(String),
     /// The file is another format or version.
@@ -71,14 +81,6 @@ pub enum ModelError {
     /// The surface's counts, numbers or shared points are invalid.
     #[error("surface: {0}")]
     Surface(#[from] SurfaceError),
-    /// A curve is invalid.
-    #[error("curves[{index}]: {source}")]
-    Curve {
-        /// Which curve.
-        index: usize,
-        /// Why.
-        source: CurveError,
-    },
 }
 
 impl ModelError {
@@ -93,28 +95,106 @@ impl ModelError {
     }
 }
 
-/// A JSON error made clearer where the text holds a number JSON cannot carry (`NaN`,
-/// `Infinity`, or a literal too large for a double): model coordinates must be finite.
-fn non_finite_hint(text: &str, e: serde_json::Error) -> ModelError {
-    let (line, column) = (e.line(), e.column());
-    let at = text
-        .lines()
-        .nth(line.saturating_sub(1))
-        .and_then(|l| l.get(column.saturating_sub(1)..))
-        .unwrap_or("");
-    let bad = ["NaN", "-NaN", "Infinity", "-Infinity", "inf", "-inf", "nan"]
-        .iter()
-        .find(|t| at.starts_with(**t));
-    if let Some(token) = bad {
-        ModelError::Format(format!(
-            "line {line} column {column}: {token} is not a finite number (every coordinate must be finite)"
-        ))
-    } else if e.to_string().contains("number out of range") {
-        ModelError::Format(format!(
-            "line {line} column {column}: a number is out of range (every coordinate must be a finite double)"
-        ))
-    } else {
-        ModelError::Json(e)
+/// The document as read: every member typed, unknown and repeated members refused.
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a nendo-model document (a JSON object)"
+)]
+struct ModelDoc {
+    format: String,
+    version: u64,
+    surface: SurfaceDoc,
+    #[serde(default)]
+    curves: Vec<DynCurve>,
+}
+
+/// The `surface` member as read.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a surface object")]
+struct SurfaceDoc {
+    #[serde(deserialize_with = "topology")]
+    topology: Topology,
+    patches_u: usize,
+    patches_v: usize,
+    #[serde(default, deserialize_with = "regulation")]
+    regulation: Option<Regulation>,
+    #[serde(default)]
+    ratios: Option<RatiosDoc>,
+    patches: Vec<[[f64; 3]; 16]>,
+}
+
+/// The `surface.ratios` member as read.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RatiosDoc {
+    u: Vec<f64>,
+    v: Vec<f64>,
+}
+
+/// Only `format` and `version`, any other member ignored: what a document that failed to read
+/// says it is, so that another format or version is named as such.
+#[derive(Deserialize)]
+struct Header {
+    #[serde(default)]
+    format: Option<Value>,
+    #[serde(default)]
+    version: Option<Value>,
+}
+
+fn topology<'de, D: Deserializer<'de>>(d: D) -> Result<Topology, D::Error> {
+    let name = String::deserialize(d)?;
+    name.parse()
+        .map_err(|e: crate::surface::topology::UnknownTopology| D::Error::custom(e))
+}
+
+fn regulation<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Regulation>, D::Error> {
+    let name = String::deserialize(d)?;
+    name.parse().map(Some).map_err(D::Error::custom)
+}
+
+/// Checks `format` and `version` (either may be missing).
+fn check_header(format: Option<&Value>, version: Option<&Value>) -> Result<(), ModelError> {
+    match format.map(|f| (f, f.as_str())) {
+        Some((_, Some(FORMAT))) => {}
+        Some((_, Some(other))) => {
+            return Err(ModelError::Version(format!(
+                "format is {other:?}, expected {FORMAT:?}"
+            )));
+        }
+        Some((f, None)) => {
+            return Err(ModelError::Version(format!(
+                "format is {f}, expected {FORMAT:?}"
+            )));
+        }
+        None => {
+            return Err(ModelError::Version(format!(
+                "no \"format\": {FORMAT:?} member; not a nendo model"
+            )));
+        }
+    }
+    match version.map(|x| (x, x.as_u64())) {
+        Some((_, Some(VERSION))) | None => Ok(()),
+        Some((x, _)) => Err(ModelError::Version(format!(
+            "version {x} is not supported (this build reads {VERSION})"
+        ))),
+    }
+}
+
+/// The error for a document that is not a JSON object.
+fn not_an_object() -> ModelError {
+    JsonError::at("", "a nendo-model document must be a JSON object").into()
+}
+
+/// A document that failed to read: named as another format or version if its header says
+/// so, else the error as found.
+fn explain(header: Result<Header, JsonError>, error: JsonError) -> ModelError {
+    match header {
+        Ok(h) => match check_header(h.format.as_ref(), h.version.as_ref()) {
+            Err(e) => e,
+            Ok(()) => error.into(),
+        },
+        Err(_) => error.into(),
     }
 }
 
@@ -184,147 +264,84 @@ impl Model {
         self.to_json().to_string()
     }
 
-    /// Reads a model from JSON text.
+    /// Reads a model from JSON text, without building a JSON tree (a big model costs its
+    /// text and the patches).
     ///
     /// # Errors
-    /// Any [`ModelError`] but `Io`, saying where the problem is.
+    /// Any [`ModelError`] but `Io`, saying where the problem is: [`ModelError::Json`] names
+    /// the member's path, line and column.
     pub fn from_json_str(text: &str) -> Result<Loaded, ModelError> {
-        let v: Value = serde_json::from_str(text).map_err(|e| non_finite_hint(text, e))?;
-        Self::from_json(&v)
+        // serde reads a struct from an array too: the document itself must be an object.
+        let object = text.trim_start().starts_with('{');
+        match json_doc::from_str::<ModelDoc>(text) {
+            Err(JsonError::Bom) => Err(JsonError::Bom.into()),
+            _ if !object => Err(not_an_object()),
+            Ok(doc) => Self::from_doc(doc),
+            Err(e) => Err(explain(json_doc::from_str::<Header>(text), e)),
+        }
     }
 
     /// Reads a model from a parsed JSON document.
     ///
     /// # Errors
-    /// Any [`ModelError`] but `Io` and `Json`.
+    /// Any [`ModelError`] but `Io`.
     pub fn from_json(v: &Value) -> Result<Loaded, ModelError> {
-        let top = object(v, "the document")?;
-        match top.get("format").and_then(Value::as_str) {
-            Some(FORMAT) => {}
-            Some(other) => {
-                return Err(ModelError::Version(format!(
-                    "format is {other:?}, expected {FORMAT:?}"
-                )));
-            }
-            None => {
-                return Err(ModelError::Version(format!(
-                    "no \"format\": {FORMAT:?} member; not a nendo model"
-                )));
-            }
+        if !v.is_object() {
+            return Err(not_an_object());
         }
-        match top.get("version").map(|x| (x, x.as_u64())) {
-            Some((_, Some(VERSION))) => {}
-            Some((x, _)) => {
-                return Err(ModelError::Version(format!(
-                    "version {x} is not supported (this build reads {VERSION})"
-                )));
-            }
-            None => return Err(ModelError::Format("missing \"version\"".into())),
+        match json_doc::from_value::<ModelDoc>(v) {
+            Ok(doc) => Self::from_doc(doc),
+            Err(e) => Err(explain(json_doc::from_value::<Header>(v), e)),
         }
-        let s = object(member(top, "surface", "the document")?, "surface")?;
-        let topology: Topology = member(s, "topology", "surface")?
-            .as_str()
-            .ok_or_else(|| ModelError::Format("surface.topology must be a string".into()))?
-            .parse()
-            .map_err(|e: crate::surface::topology::UnknownTopology| {
-                ModelError::Format(format!("surface.topology: {e}"))
-            })?;
-        let count = |name: &str| -> Result<usize, ModelError> {
-            member(s, name, "surface")?
-                .as_u64()
-                .and_then(|c| usize::try_from(c).ok())
-                .ok_or_else(|| {
-                    ModelError::Format(format!("surface.{name} must be a non-negative integer"))
-                })
-        };
-        let (m, n) = (count("patches_u")?, count("patches_v")?);
-        Grid::check_counts(topology, m, n)?;
-        let regulation = match s.get("regulation") {
-            None => Regulation::default(),
-            Some(r) => r
-                .as_str()
-                .ok_or_else(|| ModelError::Format("surface.regulation must be a string".into()))?
-                .parse()
-                .map_err(|e: String| ModelError::Format(format!("surface.regulation: {e}")))?,
-        };
-        let list = member(s, "patches", "surface")?.as_array().ok_or_else(|| {
-            ModelError::Format("surface.patches must be an array of patches".into())
-        })?;
-        if list.len() != m * n {
+    }
+
+    /// The model of a document read well-formed: header, counts, shared points and ratios
+    /// checked.
+    fn from_doc(doc: ModelDoc) -> Result<Loaded, ModelError> {
+        let version = Value::from(doc.version);
+        check_header(Some(&Value::from(doc.format)), Some(&version))?;
+        let s = doc.surface;
+        let (m, n) = (s.patches_u, s.patches_v);
+        Grid::check_counts(s.topology, m, n)?;
+        if s.patches.len() != m * n {
             return Err(ModelError::Format(format!(
                 "surface.patches has {} patches; a {m} x {n} grid needs {}",
-                list.len(),
+                s.patches.len(),
                 m * n
             )));
         }
-        let mut patches = Vec::with_capacity(list.len());
         let mut extent = 1.0f64;
-        for (pi, p) in list.iter().enumerate() {
-            let pts = p.as_array().filter(|a| a.len() == 16).ok_or_else(|| {
-                ModelError::Format(format!(
-                    "surface.patches[{pi}] must be an array of 16 points [x, y, z]"
-                ))
-            })?;
-            let mut out = [glam::DVec3::ZERO; 16];
-            for (k, x) in pts.iter().enumerate() {
-                let c = x.as_array().filter(|c| c.len() == 3).ok_or_else(|| {
-                    ModelError::Format(format!(
-                        "surface.patches[{pi}][{k}] must be a point [x, y, z]"
-                    ))
-                })?;
-                let mut xyz = [0.0; 3];
-                for (d, cv) in c.iter().enumerate() {
-                    let f = cv.as_f64().ok_or_else(|| {
-                        ModelError::Format(format!(
-                            "surface.patches[{pi}][{k}][{d}] is not a number"
-                        ))
-                    })?;
-                    if !f.is_finite() {
+        // Converted in place (same layout), so the patches are held once.
+        let patches = s
+            .patches
+            .into_iter()
+            .enumerate()
+            .map(|(pi, p)| {
+                let mut out = [glam::DVec3::ZERO; 16];
+                for (k, xyz) in p.iter().enumerate() {
+                    // serde_json reads only finite numbers; a value from elsewhere may not be.
+                    if xyz.iter().any(|f| !f.is_finite()) {
                         return Err(SurfaceError::NotFinite {
                             patch: pi,
                             point: k,
-                        }
-                        .into());
+                        });
                     }
-                    xyz[d] = f;
-                    extent = extent.max(f.abs());
+                    extent = xyz.iter().fold(extent, |e, f| e.max(f.abs()));
+                    out[k] = glam::DVec3::from_array(*xyz);
                 }
-                out[k] = glam::DVec3::from_array(xyz);
-            }
-            patches.push(out);
-        }
+                Ok(out)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let (mut surface, seam_gap) =
-            Grid::from_patches(topology, m, n, &patches, SHARED_POINT_TOLERANCE * extent)?;
-        if let Some(r) = s.get("ratios") {
-            let list = |name: &str| -> Result<Vec<f64>, ModelError> {
-                r.get(name)
-                    .and_then(Value::as_array)
-                    .and_then(|a| a.iter().map(Value::as_f64).collect::<Option<Vec<f64>>>())
-                    .ok_or_else(|| {
-                        ModelError::Format(format!(
-                            "surface.ratios.{name} must be an array of numbers"
-                        ))
-                    })
-            };
-            surface.set_ratios(&list("u")?, &list("v")?)?;
+            Grid::from_patches(s.topology, m, n, &patches, SHARED_POINT_TOLERANCE * extent)?;
+        if let Some(r) = s.ratios {
+            surface.set_ratios(&r.u, &r.v)?;
         }
-        let curves = match top.get("curves") {
-            None => Vec::new(),
-            Some(c) => c
-                .as_array()
-                .ok_or_else(|| ModelError::Format("curves must be an array".into()))?
-                .iter()
-                .enumerate()
-                .map(|(index, c)| {
-                    curve_from_json(c).map_err(|source| ModelError::Curve { index, source })
-                })
-                .collect::<Result<_, _>>()?,
-        };
         Ok(Loaded {
             model: Model {
                 surface,
-                regulation,
-                curves,
+                regulation: s.regulation.unwrap_or_default(),
+                curves: doc.curves,
             },
             seam_gap,
         })
@@ -398,14 +415,4 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ModelError> {
         path: path.to_path_buf(),
         error: e.into_io(),
     })
-}
-
-fn object<'a>(v: &'a Value, what: &str) -> Result<&'a Map<String, Value>, ModelError> {
-    v.as_object()
-        .ok_or_else(|| ModelError::Format(format!("{what} must be a JSON object")))
-}
-
-fn member<'a>(o: &'a Map<String, Value>, name: &str, what: &str) -> Result<&'a Value, ModelError> {
-    o.get(name)
-        .ok_or_else(|| ModelError::Format(format!("{what} has no \"{name}\"")))
 }

@@ -7,12 +7,17 @@
 //!
 //! A negative depth pulls (push) or raises a ridge (drag); see [`crate::surface::shape_fn`].
 //! Blank lines are skipped. Every line is validated completely (members, numbers, the
-//! operation's own constraints) before any is applied.
+//! operation's own constraints) before any is applied: a missing, unknown or repeated member
+//! is refused with its path and column (see [`crate::json_doc`]), and a `dir` whose length
+//! overflows a double is refused as not finite after normalising.
 
 use glam::DVec3;
-use serde_json::{Map, Value, json};
+use serde::Deserialize;
+use serde::de::IgnoredAny;
+use serde_json::{Value, json};
 
-use crate::surface::Op;
+use crate::json_doc::{self, JsonError};
+use crate::surface::{Op, SurfaceError};
 
 /// A bad line of an operations file.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -24,60 +29,93 @@ pub struct OpLineError {
     pub message: String,
 }
 
+/// Why one operation line cannot be read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OpError {
+    /// Not JSON, or a member missing, unknown, repeated or of the wrong type (with its path).
+    #[error("{0}")]
+    Json(#[from] JsonError),
+    /// An `op` other than `push` and `drag`.
+    #[error("unknown op {0:?}: expected \"push\" or \"drag\"")]
+    UnknownOp(String),
+    /// A non-zero direction whose length over- or underflows a double, so that normalising it
+    /// gives no finite unit vector (e.g. `[1e308, 1e308, -1e308]`).
+    #[error(
+        "dir is not finite after normalising: its length over- or underflows a double; rescale it"
+    )]
+    DirOverflow,
+    /// The operation's own constraints (a zero `dir`, a radius that is not positive, …).
+    #[error("{0}")]
+    Invalid(#[from] SurfaceError),
+}
+
+/// Only the `op` member (the others are read by the operation's own structure).
+#[derive(Deserialize)]
+#[serde(expecting = "an operation (a JSON object with \"op\": \"push\" or \"drag\")")]
+struct OpKind {
+    op: String,
+}
+
+/// `{"op": "push", "at", "dir", "depth", "radius"}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PushDoc {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    at: [f64; 3],
+    dir: [f64; 3],
+    depth: f64,
+    radius: f64,
+}
+
+/// `{"op": "drag", "path", "dir", "depth", "radius"}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DragDoc {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    path: Vec<[f64; 3]>,
+    dir: [f64; 3],
+    depth: f64,
+    radius: f64,
+}
+
 /// Parses one operation.
 ///
 /// # Errors
-/// A message saying what is wrong with the line.
-pub fn parse_op(text: &str) -> Result<Op, String> {
-    let v: Value = serde_json::from_str(text).map_err(|e| format!("not valid JSON: {e}"))?;
-    let o = v.as_object().ok_or("an operation must be a JSON object")?;
-    let kind = o
-        .get("op")
-        .and_then(Value::as_str)
-        .ok_or("missing \"op\": \"push\" or \"drag\"")?;
-    let allowed: &[&str] = match kind {
-        "push" => &["op", "at", "dir", "depth", "radius"],
-        "drag" => &["op", "path", "dir", "depth", "radius"],
-        other => {
-            return Err(format!(
-                "unknown op {other:?}: expected \"push\" or \"drag\""
-            ));
-        }
-    };
-    if let Some(extra) = o.keys().find(|k| !allowed.contains(&k.as_str())) {
-        return Err(format!("unknown member {extra:?} in a {kind} operation"));
+/// An [`OpError`] saying what is wrong with the line (and at which member).
+pub fn parse_op(text: &str) -> Result<Op, OpError> {
+    // serde reads a struct from an array too: an operation must be an object.
+    if !text.trim_start().starts_with(['{', '\u{feff}']) {
+        return Err(JsonError::at("", "an operation must be a JSON object").into());
     }
-    let dir = point(o, "dir")?;
-    let depth = number(o, "depth")?;
-    let radius = number(o, "radius")?;
-    let op = if kind == "push" {
-        Op::Push {
-            at: point(o, "at")?,
-            dir,
-            depth,
-            radius,
+    let kind = json_doc::from_str::<OpKind>(text)?.op;
+    let op = match kind.as_str() {
+        "push" => {
+            let d: PushDoc = json_doc::from_str(text)?;
+            Op::Push {
+                at: DVec3::from_array(d.at),
+                dir: DVec3::from_array(d.dir),
+                depth: d.depth,
+                radius: d.radius,
+            }
         }
-    } else {
-        let list = o
-            .get("path")
-            .and_then(Value::as_array)
-            .ok_or("\"path\" must be an array of points [x, y, z]")?;
-        let path = list
-            .iter()
-            .enumerate()
-            .map(|(i, p)| {
-                to_point(p)
-                    .ok_or_else(|| format!("path[{i}] must be a point [x, y, z] of finite numbers"))
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        Op::Drag {
-            path,
-            dir,
-            depth,
-            radius,
+        "drag" => {
+            let d: DragDoc = json_doc::from_str(text)?;
+            Op::Drag {
+                path: d.path.into_iter().map(DVec3::from_array).collect(),
+                dir: DVec3::from_array(d.dir),
+                depth: d.depth,
+                radius: d.radius,
+            }
         }
+        _ => return Err(OpError::UnknownOp(kind)),
     };
-    op.finger().map_err(|e| e.to_string())?;
+    let (Op::Push { dir, .. } | Op::Drag { dir, .. }) = &op;
+    if dir.is_finite() && *dir != DVec3::ZERO && dir.try_normalize().is_none() {
+        return Err(OpError::DirOverflow);
+    }
+    op.finger()?;
     Ok(op)
 }
 
@@ -91,9 +129,9 @@ pub fn parse_ops(text: &str) -> Result<Vec<Op>, OpLineError> {
         if line.trim().is_empty() {
             continue;
         }
-        ops.push(parse_op(line).map_err(|message| OpLineError {
+        ops.push(parse_op(line).map_err(|e| OpLineError {
             line: i + 1,
-            message,
+            message: e.to_string(),
         })?);
     }
     Ok(ops)
@@ -125,26 +163,6 @@ pub fn op_to_json(op: &Op) -> Value {
             "radius": radius,
         }),
     }
-}
-
-fn to_point(v: &Value) -> Option<DVec3> {
-    let a = v.as_array().filter(|a| a.len() == 3)?;
-    let c = [a[0].as_f64()?, a[1].as_f64()?, a[2].as_f64()?];
-    c.iter()
-        .all(|x| x.is_finite())
-        .then(|| DVec3::from_array(c))
-}
-
-fn point(o: &Map<String, Value>, name: &str) -> Result<DVec3, String> {
-    let v = o.get(name).ok_or_else(|| format!("missing \"{name}\""))?;
-    to_point(v).ok_or_else(|| format!("\"{name}\" must be a point [x, y, z] of finite numbers"))
-}
-
-fn number(o: &Map<String, Value>, name: &str) -> Result<f64, String> {
-    let v = o.get(name).ok_or_else(|| format!("missing \"{name}\""))?;
-    v.as_f64()
-        .filter(|x| x.is_finite())
-        .ok_or_else(|| format!("\"{name}\" must be a finite number"))
 }
 
 #[cfg(test)]
@@ -192,7 +210,7 @@ mod tests {
             ),
             (
                 "{\"op\":\"push\",\"at\":[0,0,0],\"dir\":[0,0,1],\"depth\":0.1,\"radius\":1,\"x\":2}",
-                "unknown member",
+                "unknown field \"x\"",
             ),
             (
                 "{\"op\":\"drag\",\"path\":[[0,0,0]],\"dir\":[0,0,1],\"depth\":0.1,\"radius\":1}",
@@ -202,9 +220,21 @@ mod tests {
                 "{\"op\":\"drag\",\"path\":[[0,0,0],[1,\"a\",0]],\"dir\":[0,0,1],\"depth\":0.1,\"radius\":1}",
                 "path[1]",
             ),
-            ("{\"op\":", "JSON"),
+            ("{\"op\":", "EOF"),
+            (
+                "{\"op\":\"push\",\"at\":[0,0,0],\"dir\":[1e308,1e308,-1e308],\"depth\":0.1,\"radius\":1}",
+                "not finite after normalising",
+            ),
+            (
+                "{\"op\":\"push\",\"op\":\"push\",\"at\":[0,0,0],\"dir\":[0,0,1],\"depth\":0.1,\"radius\":1}",
+                "duplicate field \"op\"",
+            ),
+            (
+                "{\"op\":\"push\",\"at\":[0,0,0],\"dir\":[0,0,1],\"depth\":0.1,\"depth\":0.2,\"radius\":1}",
+                "duplicate field \"depth\"",
+            ),
         ] {
-            let e = parse_op(line).unwrap_err();
+            let e = parse_op(line).unwrap_err().to_string();
             assert!(e.contains(what), "{line}: {e}");
         }
     }

@@ -255,7 +255,7 @@ fn whole_float_degrees_are_read_and_an_unconstrained_refine_reports_a_zero_resid
                "mode": "curvature", "constraints": []}),
         json!({"op": "refine", "curve": {"bezier": [[0, 0], [0.5, 1], [2, 1.2], [3, 0]]}, "mode": "variation"}),
         json!({"op": "grab", "curve": {"bezier": [[0, 0], [1, 1], [2, 1], [3, 0]]},
-               "from": [1.5, 0], "to": [1.5, 1], "method": null, "follow": null}),
+               "from": [1.5, 0], "to": [1.5, 1], "method": null, "keep_ends": null}),
     ];
     let input: String = lines.iter().map(|l| l.to_string() + "\n").collect();
     let mut child = Command::new(env!("CARGO_BIN_EXE_nendo"))

@@ -205,7 +205,7 @@ fn morph_cli_refuses_bad_input() {
     ]);
     assert!(!o.status.success());
     assert!(
-        String::from_utf8_lossy(&o.stderr).contains("metacircle 0 radius"),
+        String::from_utf8_lossy(&o.stderr).contains("metacircles[0].radius"),
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );

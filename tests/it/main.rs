@@ -10,6 +10,7 @@ mod curve_refine;
 mod curve_refine_svg;
 mod curve_warp;
 mod devices_cli;
+mod documents;
 mod export_roundtrip;
 mod figure_fit;
 mod figure_morph;

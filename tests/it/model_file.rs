@@ -203,7 +203,7 @@ fn bad_documents_are_rejected_with_clear_errors() {
         ),
         (
             with(&|v| v["curves"] = json!({"bezier": []})),
-            "curves must be an array",
+            "curves: invalid type",
         ),
     ];
     for (v, want) in cases {

@@ -111,9 +111,6 @@ pub enum CurveError {
         /// Number of control points.
         len: usize,
     },
-    /// A JSON description of a curve or point is malformed.
-    #[error("{0}")]
-    Format(String),
     /// A direction vector has zero length.
     #[error("{0} has zero length")]
     ZeroVector(&'static str),

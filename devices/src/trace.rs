@@ -315,7 +315,7 @@ impl Trace {
                 }
                 return Ok(Trace { header, frames });
             }
-            let frame = parse_frame(&header.joints, line).map_err(|m| err(n, m))?;
+            let frame = parse_frame(&header.joints, line).map_err(|e| err(n, e.to_string()))?;
             if frame.time.as_micros() < last {
                 return Err(err(n, "time goes backwards".into()));
             }
@@ -347,8 +347,68 @@ impl Trace {
     }
 }
 
-fn parse_number(word: Option<&str>) -> Result<f64, String> {
-    let w = word.ok_or("the line ends early")?;
+/// Why one frame line of a trace does not read. [`Trace::parse`] wraps it in
+/// [`DeviceError::TraceSyntax`] with the line number; the messages are the ones users see.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FrameError {
+    /// The line is empty.
+    #[error("empty line")]
+    Empty,
+    /// The line stops before all its fields.
+    #[error("the line ends early")]
+    EndsEarly,
+    /// The time field is not a whole number of microseconds.
+    #[error("the time is not a whole number of microseconds")]
+    BadTime,
+    /// A source state is not one of `none`, `ok`, `silent`, `lost` (with an optional `*`).
+    #[error("unknown source state `{0}`")]
+    UnknownState(String),
+    /// The button mask is not a decimal number.
+    #[error("malformed buttons")]
+    BadButtons,
+    /// A number is not written with exactly [`DECIMALS`] decimals.
+    #[error("`{0}` is not a number with {DECIMALS} decimals")]
+    NotSixDecimals(String),
+    /// A number has the right shape but does not parse.
+    #[error("`{0}` is not a number")]
+    NotANumber(String),
+    /// The `P` marker is missing.
+    #[error("expected `P` before the pose")]
+    MissingPoseMarker,
+    /// The `J` marker is missing.
+    #[error("expected `J` before the joint angles")]
+    MissingJointMarker,
+    /// The frame has a pose although its tracker is not `ok`.
+    #[error(
+        "the tracker is `{}` but the frame has a pose: only an `ok` source carries values",
+        .0.token()
+    )]
+    PoseWithoutTracker(SourceState),
+    /// The frame has joint angles although its glove is not `ok`.
+    #[error(
+        "the glove is `{}` but the frame has joint angles: only an `ok` source carries values",
+        .0.token()
+    )]
+    AnglesWithoutGlove(SourceState),
+    /// The number of joint columns differs from the header's joints.
+    #[error("{found} joint columns, the header names {expected}")]
+    JointCount {
+        /// Columns in the frame.
+        found: usize,
+        /// Joints named by the header.
+        expected: usize,
+    },
+    /// The pose does not validate (not finite, out of range, not a unit quaternion); the
+    /// message is the validation's.
+    #[error("{0}")]
+    BadPose(String),
+    /// A joint angle does not validate; the message is the validation's.
+    #[error("{0}")]
+    BadJoint(String),
+}
+
+fn parse_number(word: Option<&str>) -> Result<f64, FrameError> {
+    let w = word.ok_or(FrameError::EndsEarly)?;
     let body = w.strip_prefix('-').unwrap_or(w);
     let ok = match body.split_once('.') {
         Some((int, frac)) => {
@@ -360,49 +420,46 @@ fn parse_number(word: Option<&str>) -> Result<f64, String> {
         None => false,
     };
     if !ok {
-        return Err(format!("`{w}` is not a number with {DECIMALS} decimals"));
+        return Err(FrameError::NotSixDecimals(w.to_owned()));
     }
-    w.parse().map_err(|_| format!("`{w}` is not a number"))
+    w.parse().map_err(|_| FrameError::NotANumber(w.to_owned()))
 }
 
-fn parse_state(word: Option<&str>) -> Result<(SourceState, bool), String> {
-    let w = word.ok_or("the line ends early")?;
+fn parse_state(word: Option<&str>) -> Result<(SourceState, bool), FrameError> {
+    let w = word.ok_or(FrameError::EndsEarly)?;
     let (token, fresh) = match w.strip_suffix('*') {
         Some(t) => (t, true),
         None => (w, false),
     };
     let state =
-        SourceState::from_token(token).ok_or_else(|| format!("unknown source state `{w}`"))?;
+        SourceState::from_token(token).ok_or_else(|| FrameError::UnknownState(w.to_owned()))?;
     Ok((state, fresh))
 }
 
 /// Parses one frame line given the header's joint columns.
-pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
+pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, FrameError> {
     let mut w = line.split_whitespace();
     let time: u64 = w
         .next()
-        .ok_or("empty line")?
+        .ok_or(FrameError::Empty)?
         .parse()
-        .map_err(|_| "the time is not a whole number of microseconds".to_string())?;
+        .map_err(|_| FrameError::BadTime)?;
     let (tracker, tracker_fresh) = parse_state(w.next())?;
     let (glove, glove_fresh) = parse_state(w.next())?;
     let buttons: u32 = w
         .next()
-        .ok_or("the line ends early")?
+        .ok_or(FrameError::EndsEarly)?
         .parse()
-        .map_err(|_| "malformed buttons".to_string())?;
+        .map_err(|_| FrameError::BadButtons)?;
     if w.next() != Some("P") {
-        return Err("expected `P` before the pose".into());
+        return Err(FrameError::MissingPoseMarker);
     }
     let mut peek = w.clone();
     let pose = if peek.next() == Some("-") {
         w.next();
         None
     } else if tracker != SourceState::Ok {
-        return Err(format!(
-            "the tracker is `{}` but the frame has a pose: only an `ok` source carries values",
-            tracker.token()
-        ));
+        return Err(FrameError::PoseWithoutTracker(tracker));
     } else {
         let mut v = [0.0; 7];
         for x in &mut v {
@@ -411,35 +468,31 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, String> {
         let position = DVec3::new(v[0], v[1], v[2]);
         let orientation = DQuat::from_xyzw(v[4], v[5], v[6], v[3]);
         // Validate, but keep the quaternion exactly as written so the trace round-trips.
-        TrackerPose::new(position, orientation).map_err(|e| e.to_string())?;
+        TrackerPose::new(position, orientation).map_err(|e| FrameError::BadPose(e.to_string()))?;
         Some(TrackerPose {
             position,
             orientation,
         })
     };
     if w.next() != Some("J") {
-        return Err("expected `J` before the joint angles".into());
+        return Err(FrameError::MissingJointMarker);
     }
     let rest: Vec<&str> = w.collect();
     let angles = if rest == ["-"] {
         None
     } else if glove != SourceState::Ok {
-        return Err(format!(
-            "the glove is `{}` but the frame has joint angles: only an `ok` source carries values",
-            glove.token()
-        ));
+        return Err(FrameError::AnglesWithoutGlove(glove));
     } else if rest.len() != joints.len() {
-        return Err(format!(
-            "{} joint columns, the header names {}",
-            rest.len(),
-            joints.len()
-        ));
+        return Err(FrameError::JointCount {
+            found: rest.len(),
+            expected: joints.len(),
+        });
     } else {
         let mut a = JointAngles::new();
         for (&j, word) in joints.iter().zip(&rest) {
             if *word != "?" {
                 a.set(j, parse_number(Some(word))?)
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|e| FrameError::BadJoint(e.to_string()))?;
             }
         }
         Some(a)
@@ -532,5 +585,68 @@ impl TraceWriter {
             error: e.into_io(),
         })?;
         Ok(self.count)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_errors_are_typed_and_keep_their_messages() {
+        let joints = [Joint::IndexMcp];
+        let cases: [(&str, FrameError, &str); 8] = [
+            ("", FrameError::Empty, "empty line"),
+            ("0 ok", FrameError::EndsEarly, "the line ends early"),
+            (
+                "x ok ok 0 P - J -",
+                FrameError::BadTime,
+                "the time is not a whole number of microseconds",
+            ),
+            (
+                "0 up ok 0 P - J -",
+                FrameError::UnknownState("up".into()),
+                "unknown source state `up`",
+            ),
+            (
+                "0 ok ok 0 P 1.5 J -",
+                FrameError::NotSixDecimals("1.5".into()),
+                "`1.5` is not a number with 6 decimals",
+            ),
+            (
+                "0 lost ok 0 P 0.000000 J -",
+                FrameError::PoseWithoutTracker(SourceState::Disconnected),
+                "the tracker is `lost` but the frame has a pose: only an `ok` source carries values",
+            ),
+            (
+                "0 ok silent 0 P - J 0.100000",
+                FrameError::AnglesWithoutGlove(SourceState::Silent),
+                "the glove is `silent` but the frame has joint angles: only an `ok` source carries values",
+            ),
+            (
+                "0 ok ok 0 P - J 0.100000 0.200000",
+                FrameError::JointCount {
+                    found: 2,
+                    expected: 1,
+                },
+                "2 joint columns, the header names 1",
+            ),
+        ];
+        for (line, want, message) in cases {
+            let e = parse_frame(&joints, line).unwrap_err();
+            assert_eq!(e, want, "{line}");
+            assert_eq!(e.to_string(), message, "{line}");
+        }
+        assert!(matches!(
+            parse_frame(&joints, "0 ok ok 0 P - J 9.000000"),
+            Err(FrameError::BadJoint(_))
+        ));
+        assert!(matches!(
+            parse_frame(
+                &joints,
+                "0 ok ok 0 P 0.000000 0.000000 0.000000 0.000000 0.000000 0.000000 0.000000 J -"
+            ),
+            Err(FrameError::BadPose(_))
+        ));
     }
 }

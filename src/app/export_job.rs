@@ -11,7 +11,8 @@ use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::time::Instant;
 
 use crate::mesh::{
-    MeshFormat, PatchPoints, TessellateError, Tessellation, estimate, save_mesh, tessellate,
+    ExportError, MeshFormat, PatchPoints, TessellateError, Tessellation, estimate, save_mesh,
+    tessellate,
 };
 
 /// The tolerances the window offers, sides: from 1/10 down to 1/10 000 of a side (finer
@@ -63,12 +64,41 @@ impl Exported {
     }
 }
 
+/// Why an export was refused or failed. The messages are the window's status lines: complete
+/// on their own, so no variant also exposes its inner error as a `source()`.
+#[derive(Debug, thiserror::Error)]
+pub enum ExportJobError {
+    /// The file name names no mesh format.
+    #[error("{0}")]
+    Format(ExportError),
+    /// The tolerance is not a positive number.
+    #[error("the export tolerance must be a positive number, not {0}")]
+    BadTolerance(f64),
+    /// The mesh would exceed the triangle limit (counted before anything is allocated).
+    #[error("cannot export: {0}; choose a coarser tolerance")]
+    TooLarge(TessellateError),
+    /// The export thread could not be started.
+    #[error("cannot start the export: {0}")]
+    Spawn(std::io::Error),
+    /// Writing the file failed.
+    #[error("cannot export {}: {error}", path.display())]
+    Write {
+        /// The file being written.
+        path: PathBuf,
+        /// What went wrong.
+        error: ExportError,
+    },
+    /// The export thread ended without reporting (it panicked).
+    #[error("the export of {} stopped without finishing", .0.display())]
+    Stopped(PathBuf),
+}
+
 /// An export running on its own thread.
 #[derive(Debug)]
 pub struct ExportJob {
     path: PathBuf,
     started: Instant,
-    result: Receiver<Result<Exported, String>>,
+    result: Receiver<Result<Exported, ExportJobError>>,
 }
 
 impl ExportJob {
@@ -76,20 +106,17 @@ impl ExportJob {
     /// `tessellation`.
     ///
     /// # Errors
-    /// A message for an unknown extension, a tolerance that is not a positive number, a mesh
+    /// An [`ExportJobError`] for an unknown extension, a tolerance that is not a positive number, a mesh
     /// of more than [`Tessellation::DEFAULT_MAX_TRIANGLES`] triangles (counted before
     /// anything is allocated), or a thread that cannot be started.
     pub fn start(
         patches: Vec<PatchPoints>,
         path: PathBuf,
         tessellation: Tessellation,
-    ) -> Result<Self, String> {
-        let format = MeshFormat::from_path(&path).map_err(|e| e.to_string())?;
+    ) -> Result<Self, ExportJobError> {
+        let format = MeshFormat::from_path(&path).map_err(ExportJobError::Format)?;
         if !(tessellation.tolerance.is_finite() && tessellation.tolerance > 0.0) {
-            return Err(format!(
-                "the export tolerance must be a positive number, not {}",
-                tessellation.tolerance
-            ));
+            return Err(ExportJobError::BadTolerance(tessellation.tolerance));
         }
         let size = estimate(&patches, &tessellation);
         if size.triangles > Tessellation::DEFAULT_MAX_TRIANGLES {
@@ -97,9 +124,7 @@ impl ExportJob {
                 estimate: size,
                 limit: Tessellation::DEFAULT_MAX_TRIANGLES,
             };
-            return Err(format!(
-                "cannot export: {refused}; choose a coarser tolerance"
-            ));
+            return Err(ExportJobError::TooLarge(refused));
         }
         let (tx, result) = mpsc::channel();
         let target = path.clone();
@@ -118,11 +143,14 @@ impl ExportJob {
                         max_segments: tessellation.max_segments,
                         ms: started.elapsed().as_secs_f64() * 1e3,
                     })
-                    .map_err(|e| format!("cannot export {}: {e}", target.display()));
+                    .map_err(|error| ExportJobError::Write {
+                        path: target.clone(),
+                        error,
+                    });
                 // The window may have gone; nothing to tell then.
                 let _ = tx.send(outcome);
             })
-            .map_err(|e| format!("cannot start the export: {e}"))?;
+            .map_err(ExportJobError::Spawn)?;
         Ok(Self {
             path,
             started,
@@ -143,24 +171,20 @@ impl ExportJob {
     }
 
     /// Waits for the job to end (the window closing: the file is finished, not cut off).
-    pub fn wait(self) -> Result<Exported, String> {
-        self.result.recv().map_err(|_| {
-            format!(
-                "the export of {} stopped without finishing",
-                self.path.display()
-            )
-        })?
+    pub fn wait(self) -> Result<Exported, ExportJobError> {
+        self.result
+            .recv()
+            .map_err(|_| ExportJobError::Stopped(self.path.clone()))?
     }
 
     /// The outcome once the job is done (`None` while it runs).
-    pub fn poll(&self) -> Option<Result<Exported, String>> {
+    pub fn poll(&self) -> Option<Result<Exported, ExportJobError>> {
         match self.result.try_recv() {
             Ok(outcome) => Some(outcome),
             Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => Some(Err(format!(
-                "the export of {} stopped without finishing",
-                self.path.display()
-            ))),
+            Err(TryRecvError::Disconnected) => {
+                Some(Err(ExportJobError::Stopped(self.path.clone())))
+            }
         }
     }
 }
@@ -171,7 +195,7 @@ mod tests {
     use crate::surface::{Primitive, PrimitiveParams};
     use std::time::Duration;
 
-    fn wait(job: &ExportJob) -> Result<Exported, String> {
+    fn wait(job: &ExportJob) -> Result<Exported, ExportJobError> {
         let deadline = Instant::now() + Duration::from_secs(30);
         loop {
             if let Some(outcome) = job.poll() {
@@ -218,22 +242,46 @@ mod tests {
         );
         // Refused up front: an unknown format, a tolerance that is no positive number; a
         // write that fails is reported with the path.
+        let err = ExportJob::start(patches.clone(), dir.join("x.ply"), Tessellation::EXPORT)
+            .expect_err("unknown format");
         assert!(
-            ExportJob::start(patches.clone(), dir.join("x.ply"), Tessellation::EXPORT).is_err()
+            matches!(&err, ExportJobError::Format(ExportError::UnknownFormat(e)) if e == "ply"),
+            "{err:?}"
         );
+        assert_eq!(
+            err.to_string(),
+            "unknown mesh format \"ply\": use .obj, .stl or .glb"
+        );
+        let err = ExportJob::start(
+            patches.clone(),
+            dir.join("x.obj"),
+            Tessellation::with_tolerance(0.0),
+        )
+        .expect_err("no positive tolerance");
         assert!(
-            ExportJob::start(
-                patches.clone(),
-                dir.join("x.obj"),
-                Tessellation::with_tolerance(0.0)
-            )
-            .is_err()
+            matches!(err, ExportJobError::BadTolerance(t) if t == 0.0),
+            "{err:?}"
+        );
+        assert_eq!(
+            err.to_string(),
+            "the export tolerance must be a positive number, not 0"
         );
         let missing = dir.join("no-such-folder").join("x.glb");
         let job =
             ExportJob::start(patches, missing.clone(), Tessellation::EXPORT).expect("started");
         let err = wait(&job).expect_err("no folder");
-        assert!(err.contains(&missing.display().to_string()), "{err}");
+        assert!(
+            matches!(&err, ExportJobError::Write { path, .. } if *path == missing),
+            "{err:?}"
+        );
+        let text = err.to_string();
+        assert!(
+            text.starts_with(&format!(
+                "cannot export {}: cannot write the mesh: ",
+                missing.display()
+            )),
+            "{text}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 
@@ -250,7 +298,20 @@ mod tests {
         let path = std::env::temp_dir().join(format!("nendo-refused-{}.stl", std::process::id()));
         let err = ExportJob::start(patches, path.clone(), Tessellation::with_tolerance(1e-9))
             .expect_err("over the limit");
-        assert!(err.contains("67108864 triangles"), "{err}");
+        assert!(
+            matches!(
+                err,
+                ExportJobError::TooLarge(TessellateError::TooManyTriangles { .. })
+            ),
+            "{err:?}"
+        );
+        let text = err.to_string();
+        assert!(
+            text.starts_with("cannot export: ")
+                && text.contains("67108864 triangles")
+                && text.ends_with("; choose a coarser tolerance"),
+            "{text}"
+        );
         assert!(!path.exists());
     }
 }

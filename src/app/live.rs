@@ -21,7 +21,8 @@ use std::time::{Duration, Instant};
 use nendo_devices::discover::{Inventory, inventory};
 use nendo_devices::profile::{Input, MouseProfile};
 use nendo_devices::{
-    HandFrame, HandStream, Profile, SourceState, StreamOptions, Trace, TraceWriter, profile,
+    DeviceError, HandFrame, HandStream, Profile, SourceState, StreamOptions, Trace, TraceWriter,
+    profile,
 };
 
 use super::document::Document;
@@ -37,6 +38,19 @@ struct Shared {
     stop: AtomicBool,
     frames: AtomicU64,
     status: Mutex<LoopStatus>,
+    /// The recording's outcome (frames written), once the loop has ended.
+    recorded: Mutex<Option<Result<u64, DeviceError>>>,
+}
+
+/// Why a live session did not start.
+#[derive(Debug, thiserror::Error)]
+enum LiveError {
+    /// The trace file to record to could not be created (the message names it).
+    #[error("{0}")]
+    Record(DeviceError),
+    /// The loop thread could not be started.
+    #[error("cannot start the input thread: {0}")]
+    Spawn(std::io::Error),
 }
 
 #[derive(Debug, Clone, Default)]
@@ -45,7 +59,6 @@ struct LoopStatus {
     glove: SourceState,
     last_error: Option<String>,
     finished: bool,
-    recorded: Option<Result<u64, String>>,
 }
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -64,14 +77,17 @@ struct Session {
 impl Session {
     /// Starts the loop on `stream`; with `record`, every frame also goes to a trace file whose
     /// header names `profile` (or, for a replay, is the replayed trace's own header).
-    fn start(stream: HandStream, record: Option<(PathBuf, &Profile)>) -> Result<Session, String> {
+    fn start(
+        stream: HandStream,
+        record: Option<(PathBuf, &Profile)>,
+    ) -> Result<Session, LiveError> {
         let describe = stream.describe();
         let shared = Arc::new(Shared::default());
         let mut writer = match record {
             Some((path, profile)) => {
                 // A replayed trace is recorded with its own header, not the replay profile's.
                 let header = stream.recording_header(profile);
-                Some(TraceWriter::create(&path, header).map_err(|e| e.to_string())?)
+                Some(TraceWriter::create(&path, header).map_err(LiveError::Record)?)
             }
             None => None,
         };
@@ -111,11 +127,10 @@ impl Session {
                         break;
                     }
                 }
-                let recorded = writer.map(|w| w.finish().map_err(|e| e.to_string()));
-                lock(&worker.status).recorded = recorded;
+                *lock(&worker.recorded) = writer.map(TraceWriter::finish);
                 stream.close();
             })
-            .map_err(|e| format!("cannot start the input thread: {e}"))?;
+            .map_err(LiveError::Spawn)?;
         Ok(Session {
             describe,
             shared,
@@ -182,7 +197,7 @@ impl LiveInput {
         self.driver = None;
         if let Some(mut s) = self.session.take() {
             s.stop();
-            if let Some(Some(r)) = Some(lock(&s.shared.status).recorded.clone()) {
+            if let Some(r) = lock(&s.shared.recorded).take() {
                 self.message = Some(match r {
                     Ok(n) => format!("trace recorded: {n} frames"),
                     Err(e) => format!("trace recording failed: {e}"),
@@ -261,7 +276,7 @@ impl LiveInput {
                 self.driver = Some(driver);
                 self.message = warnings;
             }
-            Err(e) => self.message = Some(e),
+            Err(e) => self.message = Some(e.to_string()),
         }
         self.rate = (0, Some(Instant::now()), 0.0);
     }
@@ -287,7 +302,7 @@ impl LiveInput {
                         self.session = Some(s);
                         self.driver = Some(driver);
                     }
-                    Err(e) => self.message = Some(e),
+                    Err(e) => self.message = Some(e.to_string()),
                 }
             }
             Err(e) => self.message = Some(format!("{}: {e}", path.display())),
@@ -496,6 +511,53 @@ mod tests {
         let got = std::mem::take(&mut *lock(&session.shared.inbox));
         assert_eq!(got.len() as u64, n, "every sample arrives");
         assert!(got.windows(2).all(|w| w[0].time < w[1].time), "in order");
+    }
+
+    /// A recording that cannot start is refused with the trace writer's error, and a finished
+    /// recording reports how many frames it wrote.
+    #[test]
+    fn session_start_and_recording_report_typed_outcomes() {
+        let trace = || Trace {
+            header: TraceHeader::default(),
+            frames: (0..5u64)
+                .map(|i| HandFrame {
+                    time: Timestamp::from_micros(i * 1000),
+                    status: FrameStatus::default(),
+                    ..Default::default()
+                })
+                .collect(),
+        };
+        let profile = profile::builtin()
+            .into_iter()
+            .next()
+            .expect("a built-in profile");
+        let dir = std::env::temp_dir().join(format!("nendo-live-record-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let missing = dir.join("no-such-folder").join("t.trace");
+        let stream = HandStream::replay(trace(), 100.0, false, 64);
+        let err = Session::start(stream, Some((missing.clone(), &profile)))
+            .map(|_| ())
+            .expect_err("no folder to record into");
+        assert!(matches!(err, LiveError::Record(_)), "{err:?}");
+        assert!(
+            err.to_string().contains(&missing.display().to_string()),
+            "{err}"
+        );
+        let path = dir.join("t.trace");
+        let stream = HandStream::replay(trace(), 100.0, false, 64);
+        let mut session = Session::start(stream, Some((path.clone(), &profile))).expect("started");
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while !lock(&session.shared.status).finished && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        session.stop();
+        let recorded = lock(&session.shared.recorded).take();
+        assert!(matches!(recorded, Some(Ok(5))), "{recorded:?}");
+        assert_eq!(
+            Trace::read(&path).expect("the recorded trace").frames.len(),
+            5
+        );
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     fn plane_doc() -> Document {

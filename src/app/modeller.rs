@@ -491,7 +491,7 @@ impl Modeller {
                 self.set_status(format!("exporting {}…", path.display()), false);
                 self.export_job = Some(job);
             }
-            Err(e) => self.set_status(e, true),
+            Err(e) => self.set_status(e.to_string(), true),
         }
     }
 
@@ -746,7 +746,7 @@ impl Modeller {
                     let warn = done.missed_tolerance();
                     self.set_status(done.message(), warn);
                 }
-                Err(e) => self.set_status(e, true),
+                Err(e) => self.set_status(e.to_string(), true),
             }
         }
         self.session.tick_autosave(now);

@@ -43,9 +43,28 @@ pub fn run(args: Args) -> ExitCode {
     )
 }
 
+/// Why one `*.json` file of `--profiles` was skipped; each message names the file.
+#[derive(Debug, thiserror::Error)]
+enum LoadError {
+    /// The file reads but is no valid profile (or cannot be read).
+    #[error("{0}")]
+    Profile(nendo_devices::DeviceError),
+    /// A fifo, socket, device or directory named `*.json`: never read.
+    #[error("{}: not a regular file", .0.display())]
+    NotAFile(PathBuf),
+    /// The file's metadata cannot be read (a dangling link, no permission).
+    #[error("{}: {error}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        error: std::io::Error,
+    },
+}
+
 /// Every `*.json` file of `dir`, in name order, each loaded or with the reason it does not
 /// load (which names the file).
-fn load_dir(dir: &std::path::Path) -> anyhow::Result<Vec<Result<Profile, String>>> {
+fn load_dir(dir: &std::path::Path) -> anyhow::Result<Vec<Result<Profile, LoadError>>> {
     let entries = std::fs::read_dir(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
     let mut paths: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -57,9 +76,12 @@ fn load_dir(dir: &std::path::Path) -> anyhow::Result<Vec<Result<Profile, String>
     Ok(paths
         .iter()
         .map(|p| match std::fs::metadata(p) {
-            Ok(m) if m.is_file() => Profile::load(p).map_err(|e| e.to_string()),
-            Ok(_) => Err(format!("{}: not a regular file", p.display())),
-            Err(e) => Err(format!("{}: {e}", p.display())),
+            Ok(m) if m.is_file() => Profile::load(p).map_err(LoadError::Profile),
+            Ok(_) => Err(LoadError::NotAFile(p.clone())),
+            Err(error) => Err(LoadError::Io {
+                path: p.clone(),
+                error,
+            }),
         })
         .collect())
 }
@@ -126,4 +148,47 @@ fn render(inv: &discover::Inventory, profiles: &[Profile]) -> String {
         s.push_str(&format!("  {:<24} {wants}\n", p.name));
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each skipped file comes with its own reason, typed, and the message names the file.
+    #[cfg(unix)]
+    #[test]
+    fn load_dir_reports_typed_reasons_per_file() {
+        let dir = std::env::temp_dir().join(format!("nendo-devices-load-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("a-folder.json")).expect("temp dir");
+        std::os::unix::fs::symlink(dir.join("nowhere"), dir.join("b-dangling.json"))
+            .expect("symlink");
+        std::fs::write(dir.join("c-broken.json"), "{").expect("write");
+        let got = load_dir(&dir).expect("the directory reads");
+        assert_eq!(got.len(), 3);
+        match &got[0] {
+            Err(e @ LoadError::NotAFile(p)) => {
+                assert_eq!(*p, dir.join("a-folder.json"));
+                assert_eq!(
+                    e.to_string(),
+                    format!("{}: not a regular file", p.display())
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+        match &got[1] {
+            Err(e @ LoadError::Io { path, error }) => {
+                assert_eq!(error.kind(), std::io::ErrorKind::NotFound);
+                assert_eq!(e.to_string(), format!("{}: {error}", path.display()));
+            }
+            other => panic!("{other:?}"),
+        }
+        match &got[2] {
+            Err(e @ LoadError::Profile(_)) => {
+                assert!(e.to_string().contains("c-broken.json"), "{e}");
+            }
+            other => panic!("{other:?}"),
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

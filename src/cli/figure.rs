@@ -21,6 +21,7 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use super::arg_error::ArgError;
 use crate::curve::warp::WarpParams;
 use crate::figure::document::curves_from_json_str;
 use crate::figure::fit::{FitOptions, FitReport, fit_contour, measure};
@@ -344,18 +345,53 @@ fn measure_cmd(args: &MeasureArgs) -> anyhow::Result<()> {
 }
 
 /// Parses `WIDTHxHEIGHT`.
-pub(crate) fn parse_size(s: &str) -> Result<ImageSize, String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 512x512"))?;
-    let (w, h) = (
-        w.trim().parse::<u32>().map_err(|e| format!("{s:?}: {e}"))?,
-        h.trim().parse::<u32>().map_err(|e| format!("{s:?}: {e}"))?,
-    );
-    ImageSize::new(w, h).map_err(|e| e.to_string())
+pub(crate) fn parse_size(s: &str) -> Result<ImageSize, ArgError> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| ArgError::NotASize {
+        value: s.to_owned(),
+        example: "512x512",
+    })?;
+    let number = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|error| ArgError::NotAWholeNumber {
+                value: s.to_owned(),
+                error,
+            })
+    };
+    let (w, h) = (number(w)?, number(h)?);
+    ImageSize::new(w, h).map_err(ArgError::ImageSize)
 }
 
 /// Parses `#rrggbb`.
-fn parse_colour(s: &str) -> Result<Rgb, String> {
-    Rgb::parse_hex(s).ok_or_else(|| format!("{s:?}: expected a colour #rrggbb"))
+fn parse_colour(s: &str) -> Result<Rgb, ArgError> {
+    Rgb::parse_hex(s).ok_or_else(|| ArgError::NotAColour(s.to_owned()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn size_and_colour_values_fail_with_typed_errors_and_the_same_messages() {
+        let e = parse_size("512").unwrap_err();
+        assert!(matches!(e, ArgError::NotASize { .. }), "{e:?}");
+        assert_eq!(
+            e.to_string(),
+            "\"512\": expected WIDTHxHEIGHT, e.g. 512x512"
+        );
+        let e = parse_size("12xab").unwrap_err();
+        assert!(matches!(e, ArgError::NotAWholeNumber { .. }), "{e:?}");
+        assert_eq!(e.to_string(), "\"12xab\": invalid digit found in string");
+        let e = parse_size("0x10").unwrap_err();
+        assert!(matches!(e, ArgError::ImageSize(_)), "{e:?}");
+        assert_eq!(
+            e.to_string(),
+            ImageSize::new(0, 10).unwrap_err().to_string()
+        );
+        assert!(parse_size("64x32").is_ok());
+        let e = parse_colour("red").unwrap_err();
+        assert!(matches!(e, ArgError::NotAColour(_)), "{e:?}");
+        assert_eq!(e.to_string(), "\"red\": expected a colour #rrggbb");
+        assert_eq!(parse_colour("#ff8000").ok(), Some(Rgb([255, 128, 0])));
+    }
 }

@@ -2,6 +2,7 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod arg_error;
 pub mod bench;
 pub mod check;
 pub mod closest;

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+use super::arg_error::ArgError;
 use crate::app::ViewPreset;
 use crate::app::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
 use crate::mesh::Tessellation;
@@ -44,19 +45,20 @@ pub struct Args {
 }
 
 /// Parses a sample count: 1 or 4 (what every adapter supports).
-fn parse_samples(s: &str) -> Result<u32, String> {
+fn parse_samples(s: &str) -> Result<u32, ArgError> {
     match s.trim() {
         "1" => Ok(1),
         "4" => Ok(4),
-        _ => Err(format!("{s:?}: samples per pixel must be 1 or 4")),
+        _ => Err(ArgError::Samples(s.to_owned())),
     }
 }
 
 /// Parses `WIDTHxHEIGHT` (each 1..=8192).
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("{s:?}: expected WIDTHxHEIGHT, e.g. 1280x720"))?;
+fn parse_size(s: &str) -> Result<(u32, u32), ArgError> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| ArgError::NotASize {
+        value: s.to_owned(),
+        example: "1280x720",
+    })?;
     let parse = |v: &str| {
         v.trim()
             .parse::<u32>()
@@ -65,9 +67,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     };
     match (parse(w), parse(h)) {
         (Some(w), Some(h)) => Ok((w, h)),
-        _ => Err(format!(
-            "{s:?}: width and height must be whole numbers from 1 to 8192"
-        )),
+        _ => Err(ArgError::RenderSize(s.to_owned())),
     }
 }
 
@@ -132,4 +132,30 @@ fn render(args: &Args) -> anyhow::Result<()> {
         start.elapsed().as_secs_f64() * 1e3
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn size_and_samples_fail_with_typed_errors_and_the_same_messages() {
+        let e = parse_samples("2").unwrap_err();
+        assert!(matches!(e, ArgError::Samples(_)), "{e:?}");
+        assert_eq!(e.to_string(), "\"2\": samples per pixel must be 1 or 4");
+        assert_eq!(parse_samples("4").ok(), Some(4));
+        let e = parse_size("1280").unwrap_err();
+        assert!(matches!(e, ArgError::NotASize { .. }), "{e:?}");
+        assert_eq!(
+            e.to_string(),
+            "\"1280\": expected WIDTHxHEIGHT, e.g. 1280x720"
+        );
+        let e = parse_size("9000x10").unwrap_err();
+        assert!(matches!(e, ArgError::RenderSize(_)), "{e:?}");
+        assert_eq!(
+            e.to_string(),
+            "\"9000x10\": width and height must be whole numbers from 1 to 8192"
+        );
+        assert_eq!(parse_size("640x480").ok(), Some((640, 480)));
+    }
 }

@@ -81,13 +81,15 @@ impl fmt::Display for ViewPreset {
 }
 
 impl FromStr for ViewPreset {
-    type Err = String;
+    type Err = crate::surface::error::UnknownName;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         ViewPreset::ALL
             .into_iter()
             .find(|p| p.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| {
-                format!("unknown view {s:?}; one of front, back, left, right, top, bottom, iso")
+            .ok_or_else(|| crate::surface::error::UnknownName {
+                kind: "view",
+                given: s.to_owned(),
+                expected: "front, back, left, right, top, bottom or iso",
             })
     }
 }

@@ -40,4 +40,55 @@ pub enum ArgError {
     /// A colour that is not `#rrggbb`.
     #[error("{0:?}: expected a colour #rrggbb")]
     NotAColour(String),
+    /// Patch counts without the `x` between them.
+    #[error("{0:?}: expected MxN, e.g. 8x4")]
+    NotCounts(String),
+    /// A patch count that is not a whole number.
+    #[error("{value:?}: {which} is not a count")]
+    NotACount {
+        /// The value as given.
+        value: String,
+        /// `M` or `N`.
+        which: &'static str,
+    },
+    /// A name outside its set (primitive, regulation, finger).
+    #[error("{0}")]
+    Unknown(#[from] crate::surface::error::UnknownName),
+    /// A finger that is neither a digit's name nor `ray`.
+    #[error("{0}, or ray")]
+    Finger(crate::surface::error::UnknownName),
+}
+
+/// `MxN` → `(M, N)`, the patch counts of `sculpt` and `replay`.
+///
+/// # Errors
+/// [`ArgError::NotCounts`] without the `x`, [`ArgError::NotACount`] for a count that is not a
+/// whole number.
+pub fn parse_counts(s: &str) -> Result<(usize, usize), ArgError> {
+    let (m, n) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| ArgError::NotCounts(s.to_owned()))?;
+    let count = |v: &str, which| {
+        v.trim().parse().map_err(|_| ArgError::NotACount {
+            value: s.to_owned(),
+            which,
+        })
+    };
+    Ok((count(m, "M")?, count(n, "N")?))
+}
+
+/// A primitive's name (`plane`, `sphere`, …).
+///
+/// # Errors
+/// [`ArgError::Unknown`].
+pub fn parse_primitive(s: &str) -> Result<crate::surface::Primitive, ArgError> {
+    Ok(s.parse()?)
+}
+
+/// A regulation method's name (`none`, `c1`, `g1`, `exact`, `default`).
+///
+/// # Errors
+/// [`ArgError::Unknown`].
+pub fn parse_regulation(s: &str) -> Result<crate::surface::Regulation, ArgError> {
+    Ok(s.parse()?)
 }

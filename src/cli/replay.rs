@@ -12,6 +12,7 @@
 //! model and the options: replaying the same trace twice writes byte-identical files. A trace
 //! of 1 000 frames or more reports its progress on standard error every tenth of the way.
 
+use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
 use clap::Args as ClapArgs;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -67,37 +68,13 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-fn parse_primitive(s: &str) -> Result<Primitive, String> {
-    s.parse()
-}
-
-fn parse_regulation(s: &str) -> Result<Regulation, String> {
-    s.parse()
-}
-
-fn parse_finger(s: &str) -> Result<FingerModel, String> {
+fn parse_finger(s: &str) -> Result<FingerModel, super::arg_error::ArgError> {
     if s == "ray" {
         return Ok(FingerModel::Ray);
     }
     s.parse::<Digit>()
         .map(FingerModel::Hand)
-        .map_err(|e| format!("{e}, or ray"))
-}
-
-/// `MxN` → `(M, N)`.
-fn parse_counts(s: &str) -> Result<(usize, usize), String> {
-    let (m, n) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("{s:?}: expected MxN, e.g. 8x4"))?;
-    let m = m
-        .trim()
-        .parse()
-        .map_err(|_| format!("{s:?}: M is not a count"))?;
-    let n = n
-        .trim()
-        .parse()
-        .map_err(|_| format!("{s:?}: N is not a count"))?;
-    Ok((m, n))
+        .map_err(super::arg_error::ArgError::Finger)
 }
 
 /// An error about the file `path`, named once: prefixed with the path unless its message
@@ -258,10 +235,17 @@ mod tests {
 
     #[test]
     fn fingers_and_counts_parse() {
-        assert_eq!(parse_finger("ray"), Ok(FingerModel::Ray));
-        assert_eq!(parse_finger("middle"), Ok(FingerModel::Hand(Digit::Middle)));
-        assert!(parse_finger("toe").unwrap_err().contains("ray"));
-        assert_eq!(parse_counts("40x40"), Ok((40, 40)));
+        assert_eq!(parse_finger("ray").ok(), Some(FingerModel::Ray));
+        assert_eq!(
+            parse_finger("middle").ok(),
+            Some(FingerModel::Hand(Digit::Middle))
+        );
+        let toe = parse_finger("toe").map(|_| ()).unwrap_err().to_string();
+        assert_eq!(
+            toe,
+            "unknown finger \"toe\": expected thumb, index, middle, ring or pinky, or ray"
+        );
+        assert_eq!(parse_counts("40x40").ok(), Some((40, 40)));
         assert!(parse_counts("40").is_err());
     }
 }

@@ -278,7 +278,7 @@ fn picture_settings(args: &ShapeArgs) -> anyhow::Result<((u32, u32), crate::app:
     let view = args
         .view
         .parse()
-        .map_err(|e: String| anyhow::anyhow!("--view: {e}"))?;
+        .map_err(|e: crate::surface::UnknownName| anyhow::anyhow!("--view: {e}"))?;
     Ok((size, view))
 }
 

@@ -101,14 +101,16 @@ impl fmt::Display for Digit {
 }
 
 impl FromStr for Digit {
-    type Err = String;
+    type Err = crate::surface::error::UnknownName;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Digit::ALL
             .into_iter()
             .find(|d| d.name() == s)
-            .ok_or_else(|| {
-                format!("unknown finger {s:?}: expected thumb, index, middle, ring or pinky")
+            .ok_or_else(|| crate::surface::error::UnknownName {
+                kind: "finger",
+                given: s.to_owned(),
+                expected: "thumb, index, middle, ring or pinky",
             })
     }
 }

@@ -202,7 +202,7 @@ mod tests {
             ("{\"op\":\"poke\"}", "unknown op"),
             (
                 "{\"op\":\"push\",\"at\":[0,0],\"dir\":[0,0,1],\"depth\":0.1,\"radius\":1}",
-                "\"at\"",
+                "at: invalid length",
             ),
             (
                 "{\"op\":\"push\",\"at\":[0,0,0],\"dir\":[0,0,1],\"depth\":0.1,\"radius\":-1}",

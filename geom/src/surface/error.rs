@@ -127,3 +127,16 @@ pub enum SurfaceError {
     #[error("the grids differ in topology or patch counts")]
     Mismatch,
 }
+
+/// A name that is not one of a fixed set (a primitive, a regulation method, …), as read from
+/// a command line or a panel.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {kind} {given:?}: expected {expected}")]
+pub struct UnknownName {
+    /// What was named ("primitive", "regulation", …).
+    pub kind: &'static str,
+    /// The name as given.
+    pub given: String,
+    /// The names accepted, in words.
+    pub expected: &'static str,
+}

@@ -31,7 +31,7 @@ pub mod topology;
 pub use bounds::Aabb;
 pub use continuity::{ContinuityReport, PoleReport};
 pub use deform::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, Sculptor, Touched, deform, verify};
-pub use error::SurfaceError;
+pub use error::{SurfaceError, UnknownName};
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
 pub use patch::{Patch, PatchFrame, PatchPoints};

@@ -207,13 +207,17 @@ impl fmt::Display for Primitive {
 }
 
 impl FromStr for Primitive {
-    type Err = String;
+    type Err = super::error::UnknownName;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Primitive::ALL
             .into_iter()
             .find(|p| p.name() == s)
-            .ok_or_else(|| format!("unknown primitive {s:?}: expected plane, cylinder, hemisphere, sphere, torus or tube"))
+            .ok_or_else(|| super::error::UnknownName {
+                kind: "primitive",
+                given: s.to_owned(),
+                expected: "plane, cylinder, hemisphere, sphere, torus or tube",
+            })
     }
 }
 

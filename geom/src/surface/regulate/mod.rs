@@ -74,7 +74,7 @@ impl std::fmt::Display for Regulation {
 }
 
 impl std::str::FromStr for Regulation {
-    type Err = String;
+    type Err = crate::surface::error::UnknownName;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         if s == "default" {
@@ -84,8 +84,10 @@ impl std::str::FromStr for Regulation {
         Regulation::ALL
             .into_iter()
             .find(|r| r.name() == s)
-            .ok_or_else(|| {
-                format!("unknown regulation {s:?}: expected none, c1, g1, exact (= default)")
+            .ok_or_else(|| crate::surface::error::UnknownName {
+                kind: "regulation",
+                given: s.to_owned(),
+                expected: "none, c1, g1, exact (= default)",
             })
     }
 }

@@ -26,6 +26,10 @@
 //!   problem is (the member's path, line and column; see [`crate::json_doc`]); the text is
 //!   produced and consumed by the callers (the library reads and writes no files).
 
+/// The most metacircles a figure file may hold (the shipped figures have about 200; the
+/// benchmarks draw 300).
+pub const MAX_METACIRCLES: usize = 2_000;
+
 use glam::DVec2;
 use serde::de::{DeserializeOwned, Error as _};
 use serde::{Deserialize, Deserializer};
@@ -130,8 +134,15 @@ impl FigureDocument {
                 Some((min, max))
             }
         };
-        let mut metacircles = Vec::new();
-        for (i, m) in doc.metacircles.unwrap_or_default().into_iter().enumerate() {
+        let listed = doc.metacircles.unwrap_or_default();
+        if listed.len() > MAX_METACIRCLES {
+            return Err(FigureError::Format(format!(
+                "{} metacircles: at most {MAX_METACIRCLES} (every picture, fit and measure evaluates each at every sample)",
+                listed.len()
+            )));
+        }
+        let mut metacircles = Vec::with_capacity(listed.len());
+        for (i, m) in listed.into_iter().enumerate() {
             let mc = Metacircle {
                 centre: DVec2::from_array(m.centre),
                 radius: m.radius,

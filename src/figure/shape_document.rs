@@ -43,6 +43,9 @@ use serde_json::{Map, Value, json};
 /// Most metaballs a shape file may hold.
 pub const MAX_METABALLS: usize = 2_000;
 
+/// The most sections a shape file may hold (each is fitted, meshed and measured on its own).
+pub const MAX_SECTIONS: usize = 256;
+
 use crate::curve::edit::{GrabMethod, GrabOptions};
 use crate::curve::json::{PlanarCurve, WholeNumber, curve_to_json};
 
@@ -97,6 +100,12 @@ impl ShapeDocument {
             return Err(FigureError::Format(
                 "\"sections\" must list at least one section {\"z\", \"contour\"}".into(),
             ));
+        }
+        if doc.sections.len() > MAX_SECTIONS {
+            return Err(FigureError::Format(format!(
+                "{} sections: at most {MAX_SECTIONS}",
+                doc.sections.len()
+            )));
         }
         let mut sections = Vec::with_capacity(doc.sections.len());
         let mut moves = Vec::with_capacity(doc.sections.len());

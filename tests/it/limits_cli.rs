@@ -95,3 +95,43 @@ fn counts_and_durations_beyond_use_are_refused() {
     refused(&r, "--samples");
     assert!(!f.exists() && !mesh.exists());
 }
+
+#[test]
+fn figures_and_shapes_beyond_their_counts_are_refused() {
+    // The crash hunt's slow inputs: 10 000 metacircles took minutes to measure, 1 000 sections
+    // minutes to fit.
+    let dir = temp_dir("limits-figure-counts");
+    let circle = r#"{"centre": [0, 0], "radius": 1, "density": 1}"#;
+    let circles = vec![circle; 2_001].join(",");
+    let figure = dir.join("many.json");
+    std::fs::write(
+        &figure,
+        format!(
+            r#"{{"format": "nendo-figure", "version": 1, "metacircles": [{circles}], "contour": [[0, 0], [1, 0], [0, 1]]}}"#
+        ),
+    )
+    .expect("figure written");
+    let path = figure.to_str().expect("utf-8");
+    refused(&nendo(&["figure", "measure", path]), "at most 2000");
+
+    let section = r#"{"z": 0, "contour": [[0, 0], [1, 0], [0, 1]]}"#;
+    let sections = vec![section; 257].join(",");
+    let shape = dir.join("many-sections.json");
+    std::fs::write(
+        &shape,
+        format!(r#"{{"format": "nendo-shape", "version": 1, "sections": [{sections}]}}"#),
+    )
+    .expect("shape written");
+    let mesh = dir.join("m.obj");
+    refused(
+        &nendo(&[
+            "figure",
+            "shape",
+            shape.to_str().expect("utf-8"),
+            "--mesh",
+            mesh.to_str().expect("utf-8"),
+        ]),
+        "at most 256",
+    );
+    assert!(!mesh.exists());
+}

@@ -228,7 +228,8 @@ fn sigterm_during_an_export_leaves_no_temporary_and_sigkill_leaves_a_stale_one()
 #[test]
 fn a_model_with_a_non_finite_coordinate_is_refused_and_nothing_is_written() {
     let dir = temp_dir("nan-model");
-    // Two pushes by nearly f64::MAX overflow the pushed control points to infinity.
+    // Two pushes by nearly f64::MAX would overflow the pushed control points to infinity: the
+    // first is refused where it is applied (the writer's own guard is the last line behind it).
     let ops = dir.join("ops.jsonl");
     let push =
         "{\"op\":\"push\",\"at\":[0,0,0],\"dir\":[0,0,-1],\"depth\":1.7e308,\"radius\":1.5}\n";
@@ -251,16 +252,13 @@ fn a_model_with_a_non_finite_coordinate_is_refused_and_nothing_is_written() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
-        stderr.contains("patch")
+        stderr.contains("line 1")
+            && stderr.contains("patch")
             && stderr.contains("control point")
             && stderr.contains("not finite"),
-        "names the first bad patch and point: {stderr}"
+        "names the line, the first bad patch and point: {stderr}"
     );
-    assert_eq!(
-        stderr.matches(&model.display().to_string()).count(),
-        1,
-        "{stderr}"
-    );
+    assert!(stderr.contains("nothing written"), "{stderr}");
     assert!(!model.exists());
     assert!(temporaries(&dir).is_empty());
     fs::remove_dir_all(&dir).expect("clean up");

@@ -627,3 +627,33 @@ impl Shape {
         self.id_unchecked(a, b)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use crate::surface::{Aabb, Primitive, PrimitiveParams};
+
+    #[test]
+    fn patches_where_finds_exactly_the_patches_whose_boxes_pass() {
+        let grid = Primitive::Sphere
+            .build(&PrimitiveParams {
+                patches: Some((16, 8)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap();
+        let probe = Aabb {
+            min: DVec3::new(0.5, -1.0, 1.0),
+            max: DVec3::new(3.5, 1.0, 3.5),
+        };
+        let overlaps = |b: &Aabb| probe.min.cmple(b.max).all() && b.min.cmple(probe.max).all();
+        let mut got = Vec::new();
+        grid.patches_where(overlaps, &mut got);
+        got.sort_unstable();
+        let want: Vec<usize> = (0..grid.patch_count())
+            .filter(|&p| overlaps(&grid.patch_bounds(p)))
+            .collect();
+        assert!(!want.is_empty() && want.len() < grid.patch_count());
+        assert_eq!(got, want);
+    }
+}

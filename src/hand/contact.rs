@@ -113,8 +113,8 @@ impl Probe {
         // Pad the boxes by a hair so that a segment along a flat patch's plane still finds it.
         let pad = 1e-9 * grid.bounds().half_extents().max_element().max(1.0);
         self.candidates.clear();
-        grid.hierarchy().query(
-            &|b| b.inflated(pad).clip_line(origin, dir, 0.0, t_max).is_some(),
+        grid.patches_where(
+            |b| b.inflated(pad).clip_line(origin, dir, 0.0, t_max).is_some(),
             &mut self.candidates,
         );
         if self.candidates.is_empty() {

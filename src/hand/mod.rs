@@ -13,7 +13,7 @@
 //! | [`kinematics`] | [`Hand`]: bend angles → joint positions of each [`Digit`], lengths from the profile, placed in the world by the tracker pose |
 //! | [`contact`] | [`Probe`]: where a line along the finger meets the surface (patch boxes, then exact ray picking of [`crate::mesh`]); [`Fingertip`], the capsule of radius `r_f` around the finger's axis |
 //! | [`session`] | [`HandLoop`]: frames → contact → the surface deformed; [`Session`]: the loop with its own grid, for replay |
-//! | [`press`] | the operation of one contact: its finger [`Placement`]s applied together, as an envelope, to the surface before the contact |
+//! | [`press`] | the operation of one contact: its finger [`Placement`]s applied together, as an envelope, to the surface before the contact — re-exported from the geometry crate's engine, [`crate::surface::envelope`] (the hand only builds placements) |
 //! | [`mouse`] | [`MouseFinger`]: the mouse as a hand — the view ray is the finger; click depth and drag give push, pull and draw-a-line |
 //! | [`script`] | scripted hand motions written as real traces (inverse kinematics for a wanted fingertip), and the generators of the traces shipped in `devices/traces/` |
 //!

@@ -105,8 +105,7 @@ impl Aabb {
 
 /// The pyramid of patch boxes over an `M × N` patch grid.
 #[derive(Debug, Clone, PartialEq)]
-#[doc(hidden)]
-pub struct Hierarchy {
+pub(crate) struct Hierarchy {
     /// `dims[L] = (width, height)` of level `L`.
     dims: Vec<(usize, usize)>,
     /// `levels[L][y * width + x]`.

@@ -290,8 +290,7 @@ impl Grid {
         &self.nodes
     }
 
-    #[doc(hidden)]
-    pub fn nodes_mut(&mut self) -> &mut [DVec3] {
+    pub(crate) fn nodes_mut(&mut self) -> &mut [DVec3] {
         &mut self.nodes
     }
 
@@ -384,14 +383,20 @@ impl Grid {
         self.hierarchy.leaf(index)
     }
 
-    #[doc(hidden)]
-    pub fn hierarchy(&self) -> &Hierarchy {
+    pub(crate) fn hierarchy(&self) -> &Hierarchy {
         &self.hierarchy
     }
 
+    /// Appends to `out` the patches whose bounding boxes `accept` takes, in no particular
+    /// order (each once), descending the box pyramid: `accept` must be conservative — true
+    /// for a box whenever it is true for some box inside it (an overlap or a ray-clip test),
+    /// else leaves under a rejected parent are missed. `out` is not cleared.
+    pub fn patches_where(&self, accept: impl Fn(&Aabb) -> bool, out: &mut Vec<usize>) {
+        self.hierarchy.query(&accept, out);
+    }
+
     /// Recomputes the boxes of the given patches (after their control points changed).
-    #[doc(hidden)]
-    pub fn refit(&mut self, patches: &[usize], scratch: &mut Vec<usize>) {
+    pub(crate) fn refit(&mut self, patches: &[usize], scratch: &mut Vec<usize>) {
         let changed: Vec<(usize, Aabb)> = patches
             .iter()
             .map(|&p| (p, self.patch_struct(p).bounds()))
@@ -620,5 +625,35 @@ impl Shape {
             b -= self.lb;
         }
         self.id_unchecked(a, b)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use crate::surface::{Aabb, Primitive, PrimitiveParams};
+
+    #[test]
+    fn patches_where_finds_exactly_the_patches_whose_boxes_pass() {
+        let grid = Primitive::Sphere
+            .build(&PrimitiveParams {
+                patches: Some((16, 8)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap();
+        let probe = Aabb {
+            min: DVec3::new(0.5, -1.0, 1.0),
+            max: DVec3::new(3.5, 1.0, 3.5),
+        };
+        let overlaps = |b: &Aabb| probe.min.cmple(b.max).all() && b.min.cmple(probe.max).all();
+        let mut got = Vec::new();
+        grid.patches_where(overlaps, &mut got);
+        got.sort_unstable();
+        let want: Vec<usize> = (0..grid.patch_count())
+            .filter(|&p| overlaps(&grid.patch_bounds(p)))
+            .collect();
+        assert!(!want.is_empty() && want.len() < grid.patch_count());
+        assert_eq!(got, want);
     }
 }

@@ -9,6 +9,10 @@
 //! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]).
 //! - [`deform()`] / [`Sculptor`] ([`mod@deform`]): finger → reachable patches → Bernstein
 //!   inverse ([`inverse`]) → [`Regulation`] ([`regulate`]), returning what was [`Touched`].
+//! - [`Presser`] ([`envelope`]): the envelope of several finger [`Placement`]s (one contact
+//!   of the hand) applied incrementally as one displacement field, through the same inverse,
+//!   regulation and [`verify`] as [`deform()`]; the hand (`nendo::hand`) only builds placements.
+//! - [`Grid::patches_where`]: the patches whose boxes a geometric test accepts (contact queries).
 //! - [`deviation`]: distances between surfaces sample by sample, and to the ideal shape.
 //!
 //! Geometry only: this module uses nothing but glam, std and [`crate::curve`].
@@ -17,6 +21,7 @@ pub mod bounds;
 pub mod continuity;
 pub mod deform;
 pub mod deviation;
+pub mod envelope;
 pub mod error;
 pub mod grid;
 pub mod group;
@@ -31,6 +36,7 @@ pub mod topology;
 pub use bounds::Aabb;
 pub use continuity::{ContinuityReport, PoleReport};
 pub use deform::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, Sculptor, Touched, deform, verify};
+pub use envelope::{Placement, Presser};
 pub use error::{SurfaceError, UnknownName};
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};

@@ -137,8 +137,7 @@ fn write_pole(grid: &mut Grid, pole: &Pole, p: &PolePoints) {
 /// The [`exact::Projection`]s computed so far, by spacing ratios and slots (a group's
 /// projection depends on nothing else). Lookups only: iteration order never matters.
 #[derive(Debug, Clone, Default)]
-#[doc(hidden)] // TEMPORARY: public only until the hand goes through the deformation API
-pub struct Projections {
+pub(crate) struct Projections {
     map: HashMap<ProjectionKey, Option<exact::Projection>, BuildHasherDefault<KeyHasher>>,
 }
 
@@ -192,8 +191,7 @@ impl Projections {
 /// Regulates the groups around the grid vertices `(k, q)` and the poles listed; returns how
 /// many groups and poles were worked on. Groups where only one patch meets (grid corners)
 /// carry no continuity condition and are left alone.
-#[doc(hidden)] // TEMPORARY: public only until the hand goes through the deformation API
-pub fn regulate(
+pub(crate) fn regulate(
     grid: &mut Grid,
     method: Regulation,
     vertices: &[(usize, usize)],

@@ -1,0 +1,627 @@
+//! The envelope of several finger placements applied as one displacement field: the
+//! operation of one contact of the hand (`nendo::hand`) — the finger's placements while it
+//! touched the clay, applied together to the surface as it was before the contact.
+//!
+//! Public API: [`Presser::begin`] starts a contact on a reference grid, [`Presser::apply`]
+//! makes a grid the reference deformed by the envelope of a list of [`Placement`]s (refusing,
+//! and leaving the grid as it was, a result [`verify`] rejects), and [`describe`] lists the
+//! shape-function operations the placements stand for. Nothing outside this crate needs the
+//! control-point storage or the regulation internals to deform a grid.
+//!
+//! Limits: a contact's placements share one finger radius and capsule length; the engine keeps
+//! its own unregulated net, so a contact must be applied to the grid it was begun on (a grid
+//! of another size starts a new contact).
+//!
+//! A contact is a sequence of finger placements `T_0, T_1, …` (pressed fingertip, direction
+//! `d̂_j`, depth `D_j`). The first is a push (seed 002 §5.1: the finger half-line ending at
+//! `T_0`, `M = D_0·d̂_0`); every later one is a draw-a-line segment (§5.2) from the previous
+//! pressed tip to `T_j`, its finger centre-line `L_f = D_j·d̂_j` and stroke `M_f = T_j − T_{j−1}`
+//! — the paper's polyline, one segment at a time, each with its own `L_f`.
+//!
+//! The paper's shape functions are displacement fields: a sample within `r_f` of a finger
+//! moves by `(1 − r²/r_f²)·M` wherever it already is. Applied one after another, two
+//! overlapping placements press the clay between them twice — a stroke drawn frame by frame
+//! would cut a groove twice as deep as the finger went, since the clay behind the moving
+//! finger is pressed again by every later frame. Here every sample of the surface before the
+//! contact moves by the **strongest** of the placements' flows, `F = argmax_j |F_j|`: the
+//! envelope of the finger's passage. Within one draw-a-line of constant `d̂` and depth that is
+//! exactly the surface module's own rule for a polyline (the distance to the union of the swept
+//! strips, so the joints are not pressed twice), and a contact of one placement is exactly a
+//! push.
+//!
+//! The contact is applied like [`crate::surface::deform()`] applies one operation — reachable
+//! patches from the box pyramid, 16 samples and flows per patch, the Bernstein inverse
+//! `ΔP = B₄⁻¹ F B₄⁻ᵀ`, the pole moved by its own sample's flow, regulation of the groups around
+//! the moved patches — with the envelope of several fingers in place of one, and
+//! incrementally: a frame recomputes only what its changed placements reach.
+
+use glam::DVec3;
+
+use super::group::PoleEnd;
+use super::inverse::{control_update, samples};
+use super::regulate::{self, Projections, Regulation};
+use super::{Aabb, Finger, Grid, Op, SurfaceError, verify};
+
+/// One placement of the finger during a contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// The pressed fingertip `T_j`.
+    pub tip: DVec3,
+    /// The unit direction `d̂_j` the finger points in.
+    pub dir: DVec3,
+    /// How far the finger presses along `d̂_j` (negative: the clay is pulled back with it).
+    pub depth: f64,
+}
+
+/// The operations a contact's placements stand for: a push at the first, then one
+/// draw-a-line segment per later placement (see the module docs; applied one after another
+/// they would press overlaps twice — the contact applies them as an envelope).
+#[must_use]
+pub fn describe(placements: &[Placement], radius: f64) -> Vec<Op> {
+    let mut ops = Vec::with_capacity(placements.len());
+    for (j, p) in placements.iter().enumerate() {
+        let at = p.tip - p.depth * p.dir;
+        ops.push(match j {
+            0 => Op::Push {
+                at,
+                dir: p.dir,
+                depth: p.depth,
+                radius,
+            },
+            _ => Op::Drag {
+                path: vec![placements[j - 1].tip - p.depth * p.dir, at],
+                dir: p.dir,
+                depth: p.depth,
+                radius,
+            },
+        });
+    }
+    ops
+}
+
+/// A placement's finger and the segment of pressed tips it sweeps (one point for the push).
+#[derive(Debug, Clone)]
+struct Reach {
+    finger: Finger,
+    from: DVec3,
+    to: DVec3,
+    dir: DVec3,
+    /// Holds every point within the finger radius of the capsule (tips to `length` behind).
+    bounds: Aabb,
+}
+
+impl Reach {
+    /// Whether the finger, `length` long, may move something in the box.
+    fn may_touch(&self, b: &Aabb, length: f64) -> bool {
+        let overlap = self.bounds.min.cmple(b.max).all() && b.min.cmple(self.bounds.max).all();
+        overlap && self.finger.may_touch(b, length)
+    }
+
+    /// The flow of the finger at `x`, zero when `x` is more than `length` behind the tips
+    /// along the finger (out of the capsule's reach).
+    fn flow(&self, x: DVec3, length: f64) -> DVec3 {
+        let e = self.to - self.from;
+        let t = if e.length_squared() > 0.0 {
+            ((x - self.from).dot(e) / e.length_squared()).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let behind = -(x - (self.from + t * e)).dot(self.dir);
+        if behind > length {
+            DVec3::ZERO
+        } else {
+            self.finger.flow(x)
+        }
+    }
+}
+
+/// Applies contacts incrementally; keeps the contact's unregulated net and its buffers.
+///
+/// The surface during a contact is a pure function of the placements: every patch moved by
+/// `reference + ΔP` (the Bernstein inverse of its envelope flows) into an *unregulated* net,
+/// and every control-point group with a moved patch around it regulated from that net (groups
+/// are disjoint and each is regulated from its own points only); the other groups keep the
+/// reference. When placements change, only the patches the changed placements reach (before
+/// or after the change) are recomputed, and only the groups at their corners: the cost of a
+/// frame follows what the finger did in it, not the length of the stroke so far.
+#[derive(Debug, Clone, Default)]
+pub struct Presser {
+    /// The contact's net before regulation.
+    unregulated: Vec<DVec3>,
+    /// Per patch: whether the envelope moves it.
+    deformed: Vec<bool>,
+    /// The placements of the last application.
+    applied: Vec<Placement>,
+    fingers: Vec<Reach>,
+    old: Vec<Reach>,
+    area: Vec<usize>,
+    patch_mark: Vec<u32>,
+    vertex_mark: Vec<u32>,
+    stamp: u32,
+    near: Vec<usize>,
+    regulate: Vec<(usize, usize)>,
+    poles: Vec<PoleEnd>,
+    changed: Vec<usize>,
+    scratch: Vec<usize>,
+    /// The unregulated net and `deformed` flags of the area before this application.
+    saved_unregulated: Vec<(usize, DVec3)>,
+    saved_deformed: Vec<(usize, bool)>,
+    /// The grid's control points before this application overwrote them.
+    saved_grid: Vec<(usize, DVec3)>,
+    projections: Projections,
+}
+
+impl Presser {
+    /// Starts a contact on `reference` (the surface as it is).
+    pub fn begin(&mut self, reference: &Grid) {
+        self.unregulated.clear();
+        self.unregulated.extend_from_slice(reference.nodes());
+        self.deformed.clear();
+        self.deformed.resize(reference.patch_count(), false);
+        self.applied.clear();
+        self.fingers.clear();
+    }
+
+    /// Makes `grid` (which holds the previous application, or `reference` after
+    /// [`Presser::begin`]) the surface `reference` deformed by the envelope of `placements`.
+    /// The finger is a capsule `length` long: clay further than that behind the pressed tips
+    /// is out of reach (the shape functions' finger extends back without end, which from
+    /// inside a closed shape would press the opposite wall too). Returns the patches whose
+    /// control points changed, sorted.
+    ///
+    /// # Errors
+    /// [`SurfaceError::BadOp`] for a placement that makes no valid finger;
+    /// [`SurfaceError::OutOfRange`] or [`SurfaceError::NotG1`] for a result the surface
+    /// refuses ([`verify`]). `grid` and the contact's state are then left as
+    /// they were after the last accepted application.
+    pub fn apply(
+        &mut self,
+        reference: &Grid,
+        grid: &mut Grid,
+        placements: &[Placement],
+        radius: f64,
+        length: f64,
+        regulation: Regulation,
+    ) -> Result<&[usize], SurfaceError> {
+        self.changed.clear();
+        if self.unregulated.len() != reference.nodes().len() {
+            self.begin(reference);
+        }
+        // The first placement that differs from the last application: every segment from
+        // there on changed (a segment also depends on the placement before it).
+        let first = placements
+            .iter()
+            .zip(&self.applied)
+            .position(|(a, b)| a != b)
+            .unwrap_or(placements.len().min(self.applied.len()));
+        if first == placements.len() && first == self.applied.len() {
+            return Ok(&self.changed);
+        }
+        // The fingers before `first` are those of the last application.
+        self.old.clear();
+        self.old
+            .extend(self.fingers.drain(first.min(self.fingers.len())..));
+        if let Err(e) = reaches(placements, first, radius, length, &mut self.fingers) {
+            self.fingers.append(&mut self.old);
+            return Err(e);
+        }
+        self.next_stamp(grid);
+        let stamp = self.stamp;
+
+        // 1. The patches the changed placements reach, before and after the change.
+        self.area.clear();
+        for f in self.fingers[first..].iter().chain(&self.old) {
+            let start = self.area.len();
+            reference
+                .hierarchy()
+                .query(&|b| f.may_touch(b, length), &mut self.area);
+            let mut keep = start;
+            for k in start..self.area.len() {
+                let p = self.area[k];
+                if self.patch_mark[p] != stamp {
+                    self.patch_mark[p] = stamp;
+                    self.area[keep] = p;
+                    keep += 1;
+                }
+            }
+            self.area.truncate(keep);
+        }
+        self.area.sort_unstable();
+
+        // 2–3. Envelope flows on the reference samples, Bernstein inverse, unregulated net.
+        let (m, n) = (grid.patches_u(), grid.patches_v());
+        let topology = grid.topology();
+        self.saved_unregulated.clear();
+        self.saved_deformed.clear();
+        self.saved_grid.clear();
+        for &p in &self.area {
+            self.saved_deformed.push((p, self.deformed[p]));
+            for id in grid.patch_node_ids(p % m, p / m) {
+                self.saved_unregulated.push((id, self.unregulated[id]));
+            }
+        }
+        for &p in &self.area {
+            let bounds = reference.patch_bounds(p);
+            self.near.clear();
+            self.near.extend(
+                (0..self.fingers.len()).filter(|&k| self.fingers[k].may_touch(&bounds, length)),
+            );
+            let points = reference.patch_at(p);
+            let r = samples(&points);
+            let mut flows = [DVec3::ZERO; 16];
+            let mut any = false;
+            for (k, x) in r.iter().enumerate() {
+                let mut best = DVec3::ZERO;
+                let mut best_sq = 0.0;
+                for &f in &self.near {
+                    let flow = self.fingers[f].flow(*x, length);
+                    let sq = flow.length_squared();
+                    if sq > best_sq {
+                        best = flow;
+                        best_sq = sq;
+                    }
+                }
+                flows[k] = best;
+                any |= best_sq > 0.0;
+            }
+            let (iu, iv) = (p % m, p / m);
+            let ids = grid.patch_node_ids(iu, iv);
+            self.deformed[p] = any;
+            if !any {
+                for id in ids {
+                    self.unregulated[id] = reference.nodes()[id];
+                }
+                continue;
+            }
+            let mut delta = control_update(&flows);
+            // A pole moves by the flow of the pole sample (see `surface::deform`).
+            for (at_pole, j) in [
+                (iv == 0 && topology.pole_at_start(), 0),
+                (iv + 1 == n && topology.pole_at_end(), 3),
+            ] {
+                if at_pole {
+                    for i in 1..4 {
+                        delta[4 * i + j] = delta[j];
+                    }
+                }
+            }
+            // Shared control points get bit-identical updates from every patch holding them
+            // (see `surface::deform`), so writing `reference + ΔP` from each is consistent.
+            for (k, &id) in ids.iter().enumerate() {
+                self.unregulated[id] = reference.nodes()[id] + delta[k];
+            }
+        }
+
+        // 4. The groups at the corners of those patches: from the unregulated net, regulated
+        // when a patch around them moved.
+        let (vu, vv) = (grid.vertices_u(), grid.vertices_v());
+        self.regulate.clear();
+        self.poles.clear();
+        let mut pole_rows = [false; 2];
+        for i in 0..self.area.len() {
+            let p = self.area[i];
+            let (iu, iv) = (p % m, p / m);
+            self.changed.push(p);
+            for (du, dv) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let (k, q) = ((iu + du) % vu, (iv + dv) % vv);
+                if grid.is_pole_line(q) {
+                    pole_rows[usize::from(q != 0)] = true;
+                    continue;
+                }
+                let v = q * vu + k;
+                if self.vertex_mark[v] == stamp {
+                    continue;
+                }
+                self.vertex_mark[v] = stamp;
+                let Some(group) = grid.group(k, q) else {
+                    continue;
+                };
+                let nodes = grid.nodes_mut();
+                for id in group.nodes.iter().flatten().flatten() {
+                    self.saved_grid.push((*id, nodes[*id]));
+                    nodes[*id] = self.unregulated[*id];
+                }
+                let mut moved = false;
+                for (eu, ev) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let Some(pu) = wrap(k as isize - eu, m, topology.closed_u()) else {
+                        continue;
+                    };
+                    let Some(pv) = wrap(q as isize - ev, n, topology.closed_v()) else {
+                        continue;
+                    };
+                    let around = pv * m + pu;
+                    moved |= self.deformed[around];
+                    if self.patch_mark[around] != stamp {
+                        self.patch_mark[around] = stamp;
+                        self.changed.push(around);
+                    }
+                }
+                if moved {
+                    self.regulate.push((k, q));
+                }
+            }
+        }
+        for (row, end) in [(0, PoleEnd::Start), (1, PoleEnd::End)] {
+            if !pole_rows[row] {
+                continue;
+            }
+            let Some(pole) = grid.pole(end) else { continue };
+            let nodes = grid.nodes_mut();
+            for &id in std::iter::once(&pole.node).chain(&pole.ring) {
+                self.saved_grid.push((id, nodes[id]));
+                nodes[id] = self.unregulated[id];
+            }
+            let iv = if end == PoleEnd::Start { 0 } else { n - 1 };
+            let mut moved = false;
+            for iu in 0..m {
+                let around = iv * m + iu;
+                moved |= self.deformed[around];
+                if self.patch_mark[around] != stamp {
+                    self.patch_mark[around] = stamp;
+                    self.changed.push(around);
+                }
+            }
+            if moved {
+                self.poles.push(end);
+            }
+        }
+        if regulation != Regulation::None && (!self.regulate.is_empty() || !self.poles.is_empty()) {
+            regulate::regulate(
+                grid,
+                regulation,
+                &self.regulate,
+                &self.poles,
+                &mut self.projections,
+            );
+        }
+        self.changed.sort_unstable();
+        if let Err(e) = verify(grid, &self.changed, regulation, &self.saved_grid) {
+            // Back to the last application: the grid, the unregulated net, the fingers.
+            let nodes = grid.nodes_mut();
+            for &(id, x) in self.saved_grid.iter().rev() {
+                nodes[id] = x;
+            }
+            for &(id, x) in self.saved_unregulated.iter().rev() {
+                self.unregulated[id] = x;
+            }
+            for &(p, d) in &self.saved_deformed {
+                self.deformed[p] = d;
+            }
+            self.fingers.truncate(first);
+            self.fingers.append(&mut self.old);
+            self.changed.clear();
+            return Err(e);
+        }
+        grid.refit(&self.changed, &mut self.scratch);
+        self.applied.clear();
+        self.applied.extend_from_slice(placements);
+        Ok(&self.changed)
+    }
+
+    fn next_stamp(&mut self, grid: &Grid) {
+        let (count, vertices) = (grid.patch_count(), grid.vertices_u() * grid.vertices_v());
+        if self.patch_mark.len() != count {
+            self.patch_mark = vec![0; count];
+        }
+        if self.vertex_mark.len() != vertices {
+            self.vertex_mark = vec![0; vertices];
+        }
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.patch_mark.fill(0);
+            self.vertex_mark.fill(0);
+            self.stamp = 1;
+        }
+    }
+}
+
+/// Appends the fingers of `placements[first..]` (see [`describe`]) to `out`; on an error
+/// `out` keeps only the fingers before `first`.
+fn reaches(
+    placements: &[Placement],
+    first: usize,
+    radius: f64,
+    length: f64,
+    out: &mut Vec<Reach>,
+) -> Result<(), SurfaceError> {
+    for j in first..placements.len() {
+        let p = placements[j];
+        let from = if j == 0 { p.tip } else { placements[j - 1].tip };
+        let op = if j == 0 {
+            Op::Push {
+                at: p.tip - p.depth * p.dir,
+                dir: p.dir,
+                depth: p.depth,
+                radius,
+            }
+        } else {
+            Op::Drag {
+                path: vec![from - p.depth * p.dir, p.tip - p.depth * p.dir],
+                dir: p.dir,
+                depth: p.depth,
+                radius,
+            }
+        };
+        match op.finger() {
+            Ok(finger) => {
+                // The shape function's finger ends `|depth| − depth` past the fingertip (at it
+                // for a push; beyond it for a pull, whose finger mirrors the push).
+                let back = length * p.dir;
+                let ahead = (p.depth.abs() - p.depth) * p.dir;
+                let bounds =
+                    Aabb::of_points(&[from - back, p.tip - back, from + ahead, p.tip + ahead])
+                        .inflated(radius);
+                out.push(Reach {
+                    finger,
+                    from,
+                    to: p.tip,
+                    dir: p.dir,
+                    bounds,
+                });
+            }
+            Err(e) => {
+                out.truncate(first);
+                return Err(e);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `i` wrapped into `0..len` around a closed direction; `None` outside an open one.
+fn wrap(i: isize, len: usize, closed: bool) -> Option<usize> {
+    if closed {
+        Some(i.rem_euclid(len as isize) as usize)
+    } else if (0..len as isize).contains(&i) {
+        Some(i as usize)
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::surface::{Primitive, PrimitiveParams, Sculptor};
+
+    #[test]
+    fn one_placement_is_exactly_a_push_and_a_straight_stroke_exactly_a_drag() {
+        for reg in Regulation::ALL {
+            let base = Primitive::Sphere
+                .build(&PrimitiveParams::default())
+                .unwrap();
+            let at = DVec3::new(2.0, 1.0, 0.5).normalize() * 3.0;
+            let dir = -at.normalize();
+            let push = [Placement {
+                tip: at + 0.4 * dir,
+                dir,
+                depth: 0.4,
+            }];
+            let mut got = base.clone();
+            Presser::default()
+                .apply(&base, &mut got, &push, 1.0, 2.0, reg)
+                .unwrap();
+            let mut want = base.clone();
+            Sculptor::new()
+                .apply(&mut want, &describe(&push, 1.0)[0], reg)
+                .unwrap();
+            assert_eq!(got.nodes(), want.nodes(), "push, {reg}");
+
+            let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+            let d = -DVec3::Z;
+            let stroke: Vec<Placement> = (0..5)
+                .map(|k| Placement {
+                    tip: DVec3::new(-1.0 + 0.5 * k as f64, 0.2, -0.3),
+                    dir: d,
+                    depth: 0.3,
+                })
+                .collect();
+            let mut got = plane.clone();
+            Presser::default()
+                .apply(&plane, &mut got, &stroke, 1.0, 2.0, reg)
+                .unwrap();
+            let mut want = plane.clone();
+            let drag = Op::Drag {
+                path: stroke.iter().map(|p| p.tip - 0.3 * d).collect(),
+                dir: d,
+                depth: 0.3,
+                radius: 1.0,
+            };
+            Sculptor::new().apply(&mut want, &drag, reg).unwrap();
+            for (a, b) in got.nodes().iter().zip(want.nodes()) {
+                assert!((*a - *b).length() < 1e-12, "stroke, {reg}: {a} vs {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn growing_a_stroke_frame_by_frame_equals_applying_it_at_once() {
+        let sphere = Primitive::Sphere
+            .build(&PrimitiveParams {
+                patches: Some((16, 8)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap();
+        let on = |lon: f64, r: f64| DVec3::new(lon.cos() * 0.9, lon.sin() * 0.9, 0.436) * r;
+        let mut placements = Vec::new();
+        let mut grid = sphere.clone();
+        let mut presser = Presser::default();
+        presser.begin(&sphere);
+        for k in 0..40 {
+            let lon = 0.05 * k as f64;
+            let dir = -on(lon, 1.0).normalize();
+            // The live placement deepens, then a new one starts; every few, the depth changes.
+            let depth = 0.2 + 0.1 * ((k / 7) as f64);
+            placements.push(Placement {
+                tip: on(lon, 3.0) + depth * dir,
+                dir,
+                depth,
+            });
+            presser
+                .apply(
+                    &sphere,
+                    &mut grid,
+                    &placements,
+                    0.8,
+                    2.0,
+                    Regulation::default(),
+                )
+                .unwrap();
+            let last = placements.len() - 1;
+            placements[last].depth += 0.05;
+            placements[last].tip += 0.05 * dir;
+            presser
+                .apply(
+                    &sphere,
+                    &mut grid,
+                    &placements,
+                    0.8,
+                    2.0,
+                    Regulation::default(),
+                )
+                .unwrap();
+        }
+        let mut once = sphere.clone();
+        Presser::default()
+            .apply(
+                &sphere,
+                &mut once,
+                &placements,
+                0.8,
+                2.0,
+                Regulation::default(),
+            )
+            .unwrap();
+        assert_eq!(grid.nodes(), once.nodes());
+        assert_eq!(grid, once);
+    }
+
+    #[test]
+    fn reapplying_restores_what_the_last_application_moved() {
+        let base = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+        let mut grid = base.clone();
+        let mut presser = Presser::default();
+        presser.begin(&base);
+        let deep = [Placement {
+            tip: DVec3::new(2.0, 2.0, -0.5),
+            dir: -DVec3::Z,
+            depth: 0.5,
+        }];
+        let shallow = [Placement {
+            tip: DVec3::new(-2.0, -2.0, -0.2),
+            dir: -DVec3::Z,
+            depth: 0.2,
+        }];
+        presser
+            .apply(&base, &mut grid, &deep, 1.0, 2.0, Regulation::default())
+            .unwrap();
+        presser
+            .apply(&base, &mut grid, &shallow, 1.0, 2.0, Regulation::default())
+            .unwrap();
+        let mut once = base.clone();
+        Presser::default()
+            .apply(&base, &mut once, &shallow, 1.0, 2.0, Regulation::default())
+            .unwrap();
+        assert_eq!(grid, once);
+    }
+}

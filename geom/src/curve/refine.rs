@@ -41,7 +41,7 @@
 //! `N` an orthonormal basis of `ker A`, `y` the minimum-norm least-squares solution of
 //! `S N y = −S V_p`, and `V = V_p + N y`.
 //!
-//! Consequences (tested in `tests/curve_refine.rs`): when the constraints admit a similar copy of
+//! Consequences (tested in `tests/it/curve_refine.rs` of the `nendo` crate): when the constraints admit a similar copy of
 //! the curve — an end point moved by a rotation and a scale about the other end — the result is
 //! that copy; constraints the curve already meets leave it unchanged; in variation mode, pinning
 //! the middle of an arch onto its chord with the end tangents along the chord straightens it, and

@@ -43,7 +43,7 @@
 //!   with a single curve, a point at distance `reach` from it moves half as far as the curve.
 //!   With `reach = ∞` (the default) `w₀ = 0`, Beier and Neely's plain normalised average.
 //!
-//! Consequences (tested in `tests/curve_warp.rs`): unchanged curves warp nothing (the identity,
+//! Consequences (tested in `tests/it/curve_warp.rs` of the `nendo` crate): unchanged curves warp nothing (the identity,
 //! exactly: unchanged curves are skipped); with `a = 0` a point on an unmoved curve stays put
 //! and a point on a moved curve follows it exactly; moving all curves by one rigid motion in 2D
 //! moves every point by it.

@@ -10,20 +10,7 @@ use std::io::Write;
 use std::process::{Command, Stdio};
 
 fn run(input: &str) -> (Vec<Value>, i32) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_nendo"))
-        .args(["curve", "--batch"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("nendo runs");
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(input.as_bytes())
-        .expect("write");
-    let out = child.wait_with_output().expect("finishes");
+    let out = crate::support::run_with_input(&["curve", "--batch"], input);
     let text = String::from_utf8(out.stdout).expect("utf-8");
     let lines = text
         .lines()

@@ -7,9 +7,8 @@ use nendo::figure::document::FigureDocument;
 use nendo::figure::shape_document::ShapeDocument;
 use nendo::model::Model;
 use serde_json::{Value, json};
-use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Output, Stdio};
+use std::process::Output;
 
 /// A sculpted-free 4 x 4 plane model written by `nendo sculpt`, as JSON.
 fn plane_model(dir: &Path) -> Value {
@@ -49,20 +48,7 @@ fn check_fails(path: &Path) -> String {
 
 /// Answers of a batch command (`closest` or `curve`) to `input`.
 fn batch(command: &str, input: &str) -> Vec<Value> {
-    let mut child = nendo()
-        .args([command, "--batch"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("nendo runs");
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(input.as_bytes())
-        .expect("write requests");
-    let out = child.wait_with_output().expect("nendo exits");
+    let out = crate::support::run_with_input(&[command, "--batch"], input);
     String::from_utf8(out.stdout)
         .expect("UTF-8")
         .lines()

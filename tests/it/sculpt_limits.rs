@@ -3,29 +3,16 @@
 //! with the operation's line number, a non-zero exit and nothing written.
 
 use std::path::Path;
-use std::process::{Output, Stdio};
+use std::process::Output;
 
-use crate::support::{nendo, run, temp_dir};
+use crate::support::{run, temp_dir};
 
 /// Runs `nendo sculpt ARGS` with `ops` on standard input.
 fn sculpt_stdin(args: &[&str], ops: &str) -> Output {
-    use std::io::Write;
-    let mut child = nendo()
-        .arg("sculpt")
-        .args(args)
-        .args(["--ops", "-"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("nendo runs");
-    child
-        .stdin
-        .take()
-        .expect("stdin")
-        .write_all(ops.as_bytes())
-        .expect("ops written");
-    child.wait_with_output().expect("nendo ends")
+    let mut all = vec!["sculpt"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--ops", "-"]);
+    crate::support::run_with_input(&all, ops)
 }
 
 fn pole_push(depth: &str, radius: f64) -> String {

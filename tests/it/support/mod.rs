@@ -19,6 +19,26 @@ pub fn run(args: &[&str]) -> Output {
     nendo().args(args).output().expect("the nendo binary runs")
 }
 
+/// Runs `nendo ARGS` with `input` on standard input, to the end.
+pub fn run_with_input(args: &[&str], input: &str) -> Output {
+    use std::io::Write;
+    use std::process::Stdio;
+    let mut child = nendo()
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the nendo binary runs");
+    child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(input.as_bytes())
+        .expect("input written");
+    child.wait_with_output().expect("nendo ends")
+}
+
 /// A fresh, empty directory for one test: unique per process and per call, so tests running in
 /// parallel in this one binary never share one.
 pub fn temp_dir(name: &str) -> PathBuf {

@@ -13,6 +13,8 @@
 //!   of the hand) applied incrementally as one displacement field, through the same inverse,
 //!   regulation and [`verify`] as [`deform()`]; the hand (`nendo::hand`) only builds placements.
 //! - [`Grid::patches_where`]: the patches whose boxes a geometric test accepts (contact queries).
+//! - [`refine`]: more patches, the same surface (de Casteljau splits of whole patch columns /
+//!   rows, uniform ×K, and the refinement a finger needs), spacing ratios carried over.
 //! - [`deviation`]: distances between surfaces sample by sample, and to the ideal shape.
 //!
 //! Geometry only: this module uses nothing but glam, std and [`crate::curve`].
@@ -29,6 +31,7 @@ pub mod inverse;
 pub mod patch;
 pub mod plane_fit;
 pub mod primitive;
+pub mod refine;
 pub mod regulate;
 pub mod shape_fn;
 pub mod topology;
@@ -42,6 +45,7 @@ pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
 pub use patch::{Patch, PatchFrame, PatchPoints};
 pub use primitive::{Ideal, Primitive, PrimitiveParams};
+pub use refine::{FingerRefinement, RefineError, Refinement, for_finger};
 pub use regulate::{Regulation, regulate_all};
 pub use shape_fn::{Finger, Op};
 pub use topology::Topology;

@@ -13,6 +13,7 @@ pub mod figure;
 pub mod morph;
 pub mod output;
 pub mod record;
+pub mod refine;
 #[cfg(feature = "gui")]
 pub mod render;
 pub mod replay;
@@ -59,6 +60,9 @@ pub enum Command {
     /// Run the hand loop headless on a recorded trace (frames -> hand -> contact -> push / pull /
     /// draw-a-line) and write the model.
     Replay(replay::Args),
+    /// Split patches without changing the surface: insert patch columns / rows at global grid
+    /// parameters, or every patch into K x K; write the refined model.
+    Refine(refine::Args),
     /// Draw a model to a PNG with the window's renderer, offscreen.
     #[cfg(feature = "gui")]
     Render(render::Args),
@@ -82,6 +86,7 @@ pub fn run() -> ExitCode {
         Some(Command::Figure(args)) => figure::run(args),
         Some(Command::Morph(args)) => morph::run(args),
         Some(Command::Record(args)) => record::run(args),
+        Some(Command::Refine(args)) => refine::run(args),
         Some(Command::Replay(args)) => replay::run(args),
         #[cfg(feature = "gui")]
         Some(Command::Render(args)) => render::run(args),

@@ -11,6 +11,18 @@
 //! profile use the view-ray finger. The result is a pure function of the trace, the starting
 //! model and the options: replaying the same trace twice writes byte-identical files. A trace
 //! of 1 000 frames or more reports its progress on standard error every tenth of the way.
+//!
+//! `--auto-refine`: before a frame that starts a contact (rule 4 of [`crate::hand::session`]:
+//! no contact in progress, the finger acting, its axis crossing the surface with the tip past
+//! it by more than the minimum depth, or within the grip distance while gripping), the grid is
+//! refined where that contact's first push reaches
+//! ([`crate::surface::refine::for_finger`] for a push at the crossing along the finger by the
+//! penetration with radius `r_f`): patches within reach are split until they are at most
+//! `r_f / 2` across. The surface does not change; the frame then runs on the finer grid. A
+//! contact that becomes a draw-a-line stroke is not refined further while it lasts (its
+//! reference surface is fixed when it starts), nor is a contact that starts on the very frame
+//! the previous one ends. A refinement stopped by the grid limit is reported on standard
+//! error, and the contact goes on.
 
 use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
 use clap::Args as ClapArgs;
@@ -18,10 +30,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::hand::{Digit, FingerModel, Hand, HandOptions, Session};
+use crate::hand::{Digit, FingerModel, Hand, HandLoop, HandOptions, Probe, Touch};
 use crate::model::Model;
-use crate::surface::{Primitive, PrimitiveParams, Regulation};
-use nendo_devices::Trace;
+use crate::surface::grid::MAX_PATCHES;
+use crate::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, refine};
+use nendo_devices::{HandFrame, Trace};
 
 /// Frames from which a replay reports its progress.
 pub const PROGRESS_FROM: usize = 1_000;
@@ -63,6 +76,10 @@ pub struct Args {
     /// Finger radius r_f in sides (the fingertip capsule's and the shape function's).
     #[arg(long)]
     pub finger_radius: Option<f64>,
+    /// Before each contact, split the patches its finger reaches until they are at most half
+    /// the finger radius across (the surface does not change).
+    #[arg(long)]
+    pub auto_refine: bool,
     /// Where to write the model (atomically).
     #[arg(long)]
     pub out: PathBuf,
@@ -112,6 +129,78 @@ pub fn run(args: Args) -> ExitCode {
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
 struct Refused(String);
+
+/// The refinement of `--auto-refine` (see the module docs).
+#[derive(Debug, Default)]
+struct AutoRefine {
+    probe: Probe,
+    /// Contacts refined before.
+    refined: usize,
+}
+
+impl AutoRefine {
+    /// The first push of the contact `frame` would start on `grid` (rule 4), if it starts one.
+    fn starting_push(&mut self, hl: &HandLoop, frame: &HandFrame, grid: &Grid) -> Option<Op> {
+        if hl.touch() != Touch::Free {
+            return None;
+        }
+        let (_, tip) = hl.finger_of(frame)?;
+        let o = hl.options();
+        let act = o.finger.activation();
+        if act.press != 0 && frame.buttons & act.press == 0 {
+            return None;
+        }
+        let grip = frame.buttons & act.grip != 0;
+        let reach = hl.reach();
+        let ahead = if grip { reach } else { 0.0 };
+        let hit =
+            self.probe
+                .first_crossing(grid, tip.tip - reach * tip.axis, tip.axis, reach + ahead)?;
+        let p = reach - hit.t;
+        let starts = if grip {
+            p >= -o.grip_distance
+        } else {
+            p > o.min_depth
+        };
+        starts.then_some(Op::Push {
+            at: hit.point,
+            dir: tip.axis,
+            depth: p,
+            radius: o.finger_radius,
+        })
+    }
+
+    /// Refines `grid` for the contact frame `number` starts, if it starts one.
+    fn before(
+        &mut self,
+        hl: &HandLoop,
+        frame: &HandFrame,
+        grid: &mut Grid,
+        number: usize,
+    ) -> anyhow::Result<()> {
+        let Some(op) = self.starting_push(hl, frame, grid) else {
+            return Ok(());
+        };
+        let f = refine::for_finger(grid, &op)
+            .map_err(|e| anyhow::anyhow!("frame {number}: refining for the finger: {e}"))?;
+        if !f.refinement.is_empty() {
+            *grid = f
+                .refinement
+                .apply(grid)
+                .map_err(|e| anyhow::anyhow!("frame {number}: refining for the finger: {e}"))?;
+            self.refined += 1;
+        }
+        if f.limited {
+            eprintln!(
+                "nendo replay: frame {number}: refinement for the finger (patches of at most {:.4} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the contact goes on with these patches",
+                f.target,
+                grid.patches_u(),
+                grid.patches_v()
+            );
+        }
+        Ok(())
+    }
+}
 
 fn replay(args: &Args) -> anyhow::Result<String> {
     let trace = Trace::read(&args.trace).map_err(|e| naming(&args.trace, &e))?;
@@ -167,13 +256,20 @@ fn replay(args: &Args) -> anyhow::Result<String> {
         options.finger_radius = r;
     }
     let regulation = model.regulation;
-    let mut session = Session::new(model.surface.clone(), regulation, hand, options)?;
+    // The loop of a `Session`, with the grid at hand so that it can be refined between
+    // contacts.
+    let mut hand_loop = HandLoop::new(hand, options)?;
+    let mut grid = model.surface.clone();
+    let mut refiner = args.auto_refine.then(AutoRefine::default);
     let total = trace.frames.len();
     let start = Instant::now();
     let mut next_tenth = 1;
     let mut refused = 0usize;
     for (k, frame) in trace.frames.iter().enumerate() {
-        let out = session.feed(frame);
+        if let Some(r) = &mut refiner {
+            r.before(&hand_loop, frame, &mut grid, k + 1)?;
+        }
+        let out = hand_loop.frame(frame, &mut grid, regulation);
         // A refused frame leaves the surface as the contact's last accepted application; the
         // replay goes on, reports every refusal with its frame number (1-based), and ends
         // with exit status 2 after writing the result.
@@ -182,7 +278,7 @@ fn replay(args: &Args) -> anyhow::Result<String> {
             eprintln!("nendo replay: frame {}: {e}", k + 1);
         }
         if total >= PROGRESS_FROM && (k + 1) * 10 >= next_tenth * total {
-            let st = session.hand_loop().stats();
+            let st = hand_loop.stats();
             eprintln!(
                 "nendo replay: {:3}% ({}/{} frames, {} contacts, {:.1} s)",
                 next_tenth * 10,
@@ -194,10 +290,10 @@ fn replay(args: &Args) -> anyhow::Result<String> {
             next_tenth += 1;
         }
     }
-    session.finish();
+    hand_loop.end_contact();
     let elapsed = start.elapsed();
-    let st = *session.hand_loop().stats();
-    model.surface = session.into_grid();
+    let st = *hand_loop.stats();
+    model.surface = grid;
     model.write(&args.out).map_err(|e| naming(&args.out, &e))?;
     if refused > 0 {
         return Err(Refused(format!(
@@ -206,8 +302,16 @@ fn replay(args: &Args) -> anyhow::Result<String> {
         ))
         .into());
     }
+    let refinement = refiner.map_or(String::new(), |r| {
+        format!(
+            "; refined before {} contacts, {} x {} patches",
+            r.refined,
+            model.surface.patches_u(),
+            model.surface.patches_v()
+        )
+    });
     Ok(format!(
-        "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}; {:.3} s -> {}",
+        "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}{refinement}; {:.3} s -> {}",
         st.frames_with_finger,
         st.contacts,
         st.pushes,

@@ -9,6 +9,15 @@
 //! Operations are JSON lines (see [`crate::model::ops`]); every line is validated before any is
 //! applied, and a bad line is reported with its number while nothing is written. `--ops -`
 //! reads them from standard input.
+//!
+//! `--auto-refine`: before each operation the grid is refined where its finger reaches
+//! ([`crate::surface::refine::for_finger`]): every patch column (row) holding a patch whose box
+//! may come within `r_f` of the finger, and whose control polygon is longer than `r_f / 2`
+//! that way, is split uniformly into `⌈length / (r_f/2)⌉` pieces (the opposite column too
+//! around a closed direction), repeated until the reached patches are at most `r_f / 2`
+//! across. The surface does not change; the operation then acts on the finer patches. A
+//! refinement that would pass the grid limit stops there, says so on standard error, and the
+//! operation is still applied.
 
 use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
 use clap::Args as ClapArgs;
@@ -18,7 +27,8 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::model::{Model, ops};
-use crate::surface::{Primitive, PrimitiveParams, Regulation, Sculptor};
+use crate::surface::grid::MAX_PATCHES;
+use crate::surface::{Primitive, PrimitiveParams, Regulation, Sculptor, refine};
 
 /// Arguments of `nendo sculpt`.
 #[derive(Debug, ClapArgs)]
@@ -49,6 +59,10 @@ pub struct Args {
     /// the option: the model's, else exact.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_regulation))]
     pub regulation: Option<Regulation>,
+    /// Before each operation, split the patches its finger reaches until they are at most
+    /// half the finger radius across (the surface does not change).
+    #[arg(long)]
+    pub auto_refine: bool,
     /// Where to write the model (atomically).
     #[arg(long)]
     pub out: PathBuf,
@@ -127,7 +141,29 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
     let start = Instant::now();
     let mut sculptor = Sculptor::new();
     let mut updates = 0usize;
+    let mut refined = 0usize;
     for (i, (op, name, line)) in ops.iter().enumerate() {
+        if args.auto_refine {
+            let refuse = |e: &dyn std::fmt::Display| {
+                anyhow::anyhow!(
+                    "{name} line {line} (operation {}): {e}; nothing written",
+                    i + 1
+                )
+            };
+            let f = refine::for_finger(&model.surface, op).map_err(|e| refuse(&e))?;
+            if !f.refinement.is_empty() {
+                model.surface = f.refinement.apply(&model.surface).map_err(|e| refuse(&e))?;
+                refined += 1;
+            }
+            if f.limited {
+                eprintln!(
+                    "nendo sculpt: {name} line {line}: refinement for the finger (patches of at most {:.4} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the operation is applied on these patches",
+                    f.target,
+                    model.surface.patches_u(),
+                    model.surface.patches_v()
+                );
+            }
+        }
         // A refused operation (invalid, a result not finite or beyond the coordinate limit,
         // a seam the regulation could not keep G1) stops the run before anything is written.
         let t = sculptor
@@ -144,8 +180,17 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
     model
         .write(&args.out)
         .map_err(|e| anyhow::anyhow!("{}", e.in_file(&args.out)))?;
+    let refinement = if args.auto_refine {
+        format!(
+            ", {refined} refined for the finger, {} x {} patches",
+            model.surface.patches_u(),
+            model.surface.patches_v()
+        )
+    } else {
+        String::new()
+    };
     Ok(format!(
-        "{} operations ({} patch updates, regulation {}) in {:.3} ms -> {}",
+        "{} operations ({} patch updates, regulation {}{refinement}) in {:.3} ms -> {}",
         ops.len(),
         updates,
         model.regulation,

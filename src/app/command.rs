@@ -35,6 +35,10 @@ pub enum Command {
     SelectTool(Tool),
     /// Change the model's regulation method (undoable).
     SetRegulation(Regulation),
+    /// Split every patch into 2 × 2 without changing the surface (undoable).
+    Refine,
+    /// Turn the refinement before each push, pull or draw-a-line on or off.
+    SetAutoRefine(bool),
     /// Look from a named direction.
     View(ViewPreset),
     /// Frame the whole model.

@@ -30,7 +30,7 @@ use crate::mesh::Tessellation;
 use crate::model::Model;
 use crate::model::ops::{op_to_json, parse_ops};
 use crate::render::{LineBatch, SphereInstance, Style};
-use crate::surface::Op;
+use crate::surface::{Op, refine};
 
 /// Mouse buttons the viewport listens to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -99,6 +99,8 @@ struct PanelSettings {
     overlays: Overlays,
     /// The mesh export's tolerance.
     export_tolerance: f64,
+    /// Refine where the finger reaches before each push, pull or draw-a-line (on by default).
+    auto_refine: bool,
 }
 
 /// The mouse tools: which is active, their settings and their gesture.
@@ -162,6 +164,7 @@ impl Modeller {
                 form: PrimitiveForm::defaults_for(crate::surface::Primitive::Plane),
                 overlays: Overlays::default(),
                 export_tolerance: Tessellation::EXPORT.tolerance,
+                auto_refine: true,
             },
             dialog: None,
             status: None,
@@ -274,6 +277,7 @@ impl Modeller {
             .show(ui, |ui| {
                 let current = self.session.doc.model().regulation;
                 commands.extend(panels::regulation_ui(ui, current));
+                commands.extend(panels::refine_ui(ui, self.panel.auto_refine));
             });
         egui::CollapsingHeader::new("Display")
             .default_open(true)
@@ -352,6 +356,21 @@ impl Modeller {
                 self.end_hand_contacts();
                 self.session.doc.set_regulation(regulation);
             }
+            Command::Refine => {
+                self.end_hand_contacts();
+                let model = self.session.doc.model();
+                match refine::uniform(&model.surface, 2) {
+                    Ok(surface) => {
+                        let (m, n) = (surface.patches_u(), surface.patches_v());
+                        let mut refined = model.clone();
+                        refined.surface = surface;
+                        self.session.doc.replace("refine", refined);
+                        self.set_status(format!("refined: {m} x {n} patches"), false);
+                    }
+                    Err(e) => self.set_status(format!("cannot refine: {e}"), true),
+                }
+            }
+            Command::SetAutoRefine(on) => self.panel.auto_refine = on,
             Command::View(preset) => self.view_from(preset),
             Command::FrameAll => self.frame_all(),
             Command::StartRecording => self.session.doc.recording = Some(Vec::new()),
@@ -716,6 +735,23 @@ impl Modeller {
 
     /// Applies one sculpting operation, reporting failures on the status line.
     fn sculpt(&mut self, op: &Op) {
+        if self.panel.auto_refine {
+            // Refine where the finger reaches first (its own undo step); an invalid operation
+            // is reported by the operation itself.
+            let model = self.session.doc.model();
+            if let Ok(f) = refine::for_finger(&model.surface, op) {
+                if !f.refinement.is_empty()
+                    && let Ok(surface) = f.refinement.apply(&model.surface)
+                {
+                    let mut refined = model.clone();
+                    refined.surface = surface;
+                    self.session.doc.replace("refine for the finger", refined);
+                }
+                if f.limited {
+                    self.set_status("refinement for the finger stopped at the grid limit", true);
+                }
+            }
+        }
         if let Err(e) = self.session.doc.apply(op) {
             self.set_status(format!("operation refused: {e}"), true);
         }
@@ -1396,5 +1432,45 @@ mod tests {
         assert!(!m.document().is_dirty());
         assert!(m.dialog.is_none());
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// "Refine" splits every patch into 2 × 2 as one undoable edit; with auto-refine (on by
+    /// default) a push refines where its finger reaches first, and the stroke follows.
+    #[test]
+    fn refine_and_auto_refine_are_undoable_edits() {
+        let mut m = Modeller::new(plane_doc(), None, false);
+        assert!(m.panel.auto_refine);
+        m.apply(Command::Refine);
+        assert_eq!(m.document().model().surface.patch_count(), 400);
+        assert_eq!(m.document().history().undo_name(), Some("refine"));
+        m.apply(Command::Undo);
+        assert_eq!(m.document().model(), plane_doc().model());
+        m.sculpt(&Op::Push {
+            at: DVec3::new(0.5, 0.5, 0.0),
+            dir: -DVec3::Z,
+            depth: 0.2,
+            radius: 0.5,
+        });
+        let g = &m.document().model().surface;
+        assert!(
+            g.patch_count() > 100 && g.patches_u() < 20,
+            "{}",
+            g.patch_count()
+        );
+        assert_eq!(m.document().history().undo_name(), Some("push"));
+        m.apply(Command::Undo);
+        assert_eq!(
+            m.document().history().undo_name(),
+            Some("refine for the finger")
+        );
+        m.apply(Command::SetAutoRefine(false));
+        m.apply(Command::Undo);
+        m.sculpt(&Op::Push {
+            at: DVec3::new(0.5, 0.5, 0.0),
+            dir: -DVec3::Z,
+            depth: 0.2,
+            radius: 0.5,
+        });
+        assert_eq!(m.document().model().surface.patch_count(), 100);
     }
 }

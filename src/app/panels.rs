@@ -268,6 +268,28 @@ pub(super) fn regulation_ui(ui: &mut Ui, current: Regulation) -> Vec<Command> {
     }
 }
 
+/// Refinement: the "Refine" command (every patch into 2 × 2) and the auto-refine setting.
+pub(super) fn refine_ui(ui: &mut Ui, auto_refine: bool) -> Vec<Command> {
+    let mut commands = Vec::new();
+    if ui
+        .button("Refine ×2")
+        .on_hover_text("split every patch into 2 × 2; the surface does not change (undoable)")
+        .clicked()
+    {
+        commands.push(Command::Refine);
+    }
+    let mut on = auto_refine;
+    ui.checkbox(&mut on, "auto-refine under the finger")
+        .on_hover_text(
+            "before each push, pull or draw-a-line, split the patches the finger reaches until \
+             they are at most half the finger radius across",
+        );
+    if on != auto_refine {
+        commands.push(Command::SetAutoRefine(on));
+    }
+    commands
+}
+
 /// What to draw besides the clay.
 pub(super) fn display_ui(ui: &mut Ui, overlays: &mut Overlays) {
     let o = overlays;

@@ -10,11 +10,19 @@
 //! medians over batches of the mean time per operation, in **CPU time of the measuring
 //! thread** on Linux (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`), so that other processes on a
 //! shared machine do not inflate them; elsewhere in wall time ([`super::Stopwatch`]).
+//!
+//! **Refinement** ([`refinement_report`], issue 13): the time of uniform refinement ×2 of the
+//! 40 × 40 plane and a 40 × 40 sphere (radius 3) — every patch split into 2 × 2, ratios
+//! carried over, the grid rebuilt with its box pyramid — with the counts before and after,
+//! the cost of the same push (exact regulation) on the refined grids next to the unrefined
+//! ones, and the time of the finger's refinement rule ([`crate::surface::refine::for_finger`])
+//! and of applying it for the paper's push (r_f 1.25) on the 10 × 10 plane.
 
 use glam::DVec3;
 use std::hint::black_box;
 
-use super::{Stopwatch, Table, median};
+use super::{Stopwatch, Table, cpu_median_ns, format_ns, median};
+use crate::surface::refine;
 use crate::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor};
 
 /// One benchmark case: a grid and the push applied to it.
@@ -247,7 +255,105 @@ pub fn report(scale: f64) -> String {
         "One push (and its pull twin), finger r_f = 1.25 side, depth 0.5 side; median {clock} per \
          operation, by regulation method.\nexamined: patches sampled after the box test; moved: \
          patches the finger moved.\nTargets: plane 10x10 without regulation <= 10 µs, with \
-         regulation <= 20 µs; ratio 40x40 / 10x10 <= 1.5.\n{}",
+         regulation <= 20 µs; ratio 40x40 / 10x10 <= 1.5.\n{}\n{}",
+        t.render(),
+        refinement_report(scale)
+    )
+}
+
+/// The refinement table (see the module docs); `scale` scales the repetitions.
+#[must_use]
+pub fn refinement_report(scale: f64) -> String {
+    let reps = ((5.0 * scale).round() as usize).max(1);
+    let calls = ((400.0 * scale).round() as usize).max(2) & !1;
+    let mut t = Table::new(&[
+        "case",
+        "patches",
+        "refined x2",
+        "refine x2",
+        "push exact",
+        "push exact on x2",
+    ]);
+    let plane = cases().swap_remove(2);
+    let (lat, lon) = (30f64.to_radians(), 20f64.to_radians());
+    let at = DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()) * 3.0;
+    let sphere = Primitive::Sphere
+        .build(&PrimitiveParams {
+            patches: Some((40, 40)),
+            radius: Some(3.0),
+            ..PrimitiveParams::default()
+        })
+        .map(|grid| Case {
+            name: "sphere 40 x 40".into(),
+            grid,
+            push: Op::Push {
+                at,
+                dir: -at,
+                depth: 0.5,
+                radius: 1.25,
+            },
+        });
+    for case in std::iter::once(Ok(plane)).chain(std::iter::once(sphere)) {
+        let case = match case {
+            Ok(c) => c,
+            Err(e) => return format!("sphere 40 x 40: {e}"),
+        };
+        let refined = match refine::uniform(&case.grid, 2) {
+            Ok(g) => g,
+            Err(e) => return format!("{}: {e}", case.name),
+        };
+        let ns = cpu_median_ns(reps, 3, |_| {
+            let _ = black_box(refine::uniform(black_box(&case.grid), 2));
+        });
+        let (coarse, _, _) = time_push(&case, Regulation::Exact, calls);
+        let fine_case = Case {
+            name: case.name.clone(),
+            grid: refined.clone(),
+            push: case.push.clone(),
+        };
+        let (fine, _, _) = time_push(&fine_case, Regulation::Exact, calls);
+        t.row(vec![
+            case.name.clone(),
+            case.grid.patch_count().to_string(),
+            format!(
+                "{} x {} = {}",
+                refined.patches_u(),
+                refined.patches_v(),
+                refined.patch_count()
+            ),
+            format_ns(ns),
+            format_ns(coarse),
+            format_ns(fine),
+        ]);
+    }
+    // The finger's rule for the paper's push on the 10 × 10 plane.
+    let paper = cases().swap_remove(0);
+    let rule = refine::for_finger(&paper.grid, &paper.push);
+    let finger = match &rule {
+        Ok(f) => {
+            let (m, n) = f.refinement.counts();
+            let find = cpu_median_ns(reps, 5, |_| {
+                let _ = black_box(refine::for_finger(black_box(&paper.grid), &paper.push));
+            });
+            let apply = cpu_median_ns(reps, 5, |_| {
+                let _ = black_box(f.refinement.apply(black_box(&paper.grid)));
+            });
+            format!(
+                "finger rule, paper push (r_f 1.25, patches <= {:.3} side) on plane 10 x 10: -> {m} x {n}; finding it {}, applying it {}",
+                f.target,
+                format_ns(find),
+                format_ns(apply)
+            )
+        }
+        Err(e) => format!("finger rule: {e}"),
+    };
+    let clock = if thread_cpu_ns().is_some() {
+        "thread CPU time"
+    } else {
+        "wall time"
+    };
+    format!(
+        "Refinement (issue 13): uniform x2 (every patch into 2 x 2, the same surface), median {clock}; the push (r_f 1.25, depth 0.5, exact regulation) before and after.\n{}{finger}\n",
         t.render()
     )
 }

@@ -23,6 +23,7 @@ mod limits_cli;
 mod memory_limits;
 mod model_cli;
 mod model_file;
+mod refine;
 mod regulation_methods;
 mod regulation_strokes;
 mod render_cli;

@@ -569,7 +569,7 @@ fn per_segment(
             });
         }
         let s = t - t.floor();
-        if s < MIN_PIECE || s > 1.0 - MIN_PIECE {
+        if !(MIN_PIECE..=1.0 - MIN_PIECE).contains(&s) {
             return Err(RefineError::OnGridLine {
                 direction,
                 value: t,
@@ -604,7 +604,7 @@ fn insert_global(segments: &mut [Vec<f64>], t: f64) {
     }
     let c = (t.floor() as usize).min(count - 1);
     let s = t - c as f64;
-    if s < MIN_PIECE * 1e-3 || s > 1.0 - MIN_PIECE * 1e-3 {
+    if !(MIN_PIECE * 1e-3..=1.0 - MIN_PIECE * 1e-3).contains(&s) {
         return;
     }
     let list = &mut segments[c];

@@ -105,6 +105,29 @@ pub fn reversed(op: &Op) -> Op {
             depth: -depth,
             radius,
         },
+        Op::PushNormal { at, depth, radius } => Op::PushNormal {
+            at,
+            depth: -depth,
+            radius,
+        },
+        Op::Groove {
+            path,
+            dirs,
+            depth,
+            radius,
+        } => Op::Groove {
+            path,
+            dirs,
+            depth: -depth,
+            radius,
+        },
+        // The way back from a move is the opposite move; smoothing has no depth.
+        Op::Move { at, to, radius } => Op::Move {
+            at: to,
+            to: at,
+            radius,
+        },
+        other @ Op::Smooth { .. } => other,
     }
 }
 

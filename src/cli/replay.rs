@@ -11,6 +11,9 @@
 //! profile use the view-ray finger. The result is a pure function of the trace, the starting
 //! model and the options: replaying the same trace twice writes byte-identical files. A trace
 //! of 1 000 frames or more reports its progress on standard error every tenth of the way.
+//! `--mirror x|y|z` presses every contact together with its mirror image across the plane
+//! `x = 0` (`y = 0`, `z = 0`), keeping a symmetric model exactly symmetric; a model that is not
+//! symmetric about the plane is refused (exit status 1).
 
 use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
 use clap::Args as ClapArgs;
@@ -20,7 +23,7 @@ use std::time::Instant;
 
 use crate::hand::{Digit, FingerModel, Hand, HandOptions, Session};
 use crate::model::Model;
-use crate::surface::{Primitive, PrimitiveParams, Regulation};
+use crate::surface::{Plane, Primitive, PrimitiveParams, Regulation, Symmetry};
 use nendo_devices::Trace;
 
 /// Frames from which a replay reports its progress.
@@ -63,6 +66,10 @@ pub struct Args {
     /// Finger radius r_f in sides (the fingertip capsule's and the shape function's).
     #[arg(long)]
     pub finger_radius: Option<f64>,
+    /// Press every contact together with its mirror image across the plane x = 0, y = 0 or
+    /// z = 0. The model must be symmetric about the plane.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(super::sculpt::parse_plane))]
+    pub mirror: Option<Plane>,
     /// Where to write the model (atomically).
     #[arg(long)]
     pub out: PathBuf,
@@ -167,7 +174,18 @@ fn replay(args: &Args) -> anyhow::Result<String> {
         options.finger_radius = r;
     }
     let regulation = model.regulation;
+    let symmetry = match args.mirror {
+        None => None,
+        Some(plane) => {
+            let s = Symmetry::of(&model.surface, plane)
+                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}; nothing written", plane.name()))?;
+            s.enforce_all(&mut model.surface, regulation != Regulation::None)
+                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}", plane.name()))?;
+            Some(s)
+        }
+    };
     let mut session = Session::new(model.surface.clone(), regulation, hand, options)?;
+    session.set_mirror(symmetry);
     let total = trace.frames.len();
     let start = Instant::now();
     let mut next_tenth = 1;

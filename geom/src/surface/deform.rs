@@ -472,6 +472,8 @@ impl Sculptor {
         // The groups around the moved patches, and every patch their regulation (or a move's
         // landing) may change.
         let regulating = nodes_changed && regulation != Regulation::None;
+        self.vertices.clear();
+        self.poles.clear();
         if regulating || (nodes_changed && hold.is_some()) {
             self.collect_groups(grid);
             for &(k, q) in &self.vertices {
@@ -564,7 +566,11 @@ impl Sculptor {
                 self.scratch.push(id);
             }
             self.last_asymmetry = worst / scale;
-            let poles = regulation != Regulation::None && !self.poles.is_empty();
+            let poles: &[PoleEnd] = if regulation == Regulation::None {
+                &[]
+            } else {
+                &self.poles
+            };
             let ids = std::mem::take(&mut self.scratch);
             let enforced = s.enforce(grid, &ids, poles);
             self.scratch = ids;

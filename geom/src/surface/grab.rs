@@ -29,7 +29,11 @@
 //! partner move by `t` and `R t`. Per coordinate (`R` is diagonal) the weights of a group and
 //! its partner add (with a sign along the mirror axis), and a group that is its own partner
 //! cannot move along the mirror axis: a grabbed point on the mirror plane stays on it (the
-//! target's coordinate across the plane is then not reached).
+//! target's coordinate across the plane is then not reached). Likewise, when the grabbed
+//! patch's groups and their mirror images overlap (a grab within about a patch of the plane)
+//! and their weights across the plane nearly cancel (`Σ c² <` [`MIN_WEIGHT`]), the point is
+//! not pulled across the plane (the translation would grow without bound): it lands exactly
+//! along the plane's two other axes only.
 
 use glam::DVec3;
 
@@ -37,6 +41,10 @@ use super::grid::Grid;
 use super::group::PoleEnd;
 use super::mirror::Symmetry;
 use super::patch::cubic_basis;
+
+/// Smallest sum of squared group weights along one axis for which a landing moves along it
+/// (a single patch's weights give at least 1/4).
+pub const MIN_WEIGHT: f64 = 0.05;
 
 /// Where a move must land: the surface at `(u, v)` of `patch` goes to `to`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -165,7 +173,7 @@ pub(crate) fn land(grid: &mut Grid, hold: &Hold, symmetry: Option<&Symmetry>) ->
         for &(rep, partner, c) in &orbits {
             let mut t = [0.0f64; 3];
             for k in 0..3 {
-                if norm[k] > 1e-300 {
+                if norm[k] >= MIN_WEIGHT {
                     t[k] = c[k] * delta[k] / norm[k];
                 }
             }

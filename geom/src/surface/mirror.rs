@@ -405,11 +405,17 @@ impl Symmetry {
     }
 
     /// Makes the listed nodes and their partners exactly symmetric (see the module docs), and
-    /// the poles when `poles` (the regulation keeps a tangent plane there).
+    /// the listed poles and their partners' first rings (where the regulation keeps a tangent
+    /// plane).
     ///
     /// # Errors
     /// [`MirrorError::OtherGrid`] when the map does not fit the grid.
-    pub fn enforce(&self, grid: &mut Grid, ids: &[usize], poles: bool) -> Result<(), MirrorError> {
+    pub fn enforce(
+        &self,
+        grid: &mut Grid,
+        ids: &[usize],
+        poles: &[PoleEnd],
+    ) -> Result<(), MirrorError> {
         if !self.fits(grid) {
             return Err(MirrorError::OtherGrid);
         }
@@ -425,8 +431,8 @@ impl Symmetry {
                 nodes[partner] = plane.reflect(mean);
             }
         }
-        if poles {
-            self.enforce_poles(grid);
+        if !poles.is_empty() {
+            self.enforce_poles(grid, poles);
         }
         Ok(())
     }
@@ -437,16 +443,24 @@ impl Symmetry {
     /// [`MirrorError::OtherGrid`] when the map does not fit the grid.
     pub fn enforce_all(&self, grid: &mut Grid, poles: bool) -> Result<(), MirrorError> {
         let ids: Vec<usize> = (0..grid.nodes().len()).collect();
-        self.enforce(grid, &ids, poles)?;
+        let ends: Vec<PoleEnd> = if poles {
+            grid.poles().iter().map(|p| p.end).collect()
+        } else {
+            Vec::new()
+        };
+        self.enforce(grid, &ids, &ends)?;
         let all: Vec<usize> = (0..grid.patch_count()).collect();
         grid.refit(&all, &mut Vec::new());
         Ok(())
     }
 
-    fn enforce_poles(&self, grid: &mut Grid) {
+    fn enforce_poles(&self, grid: &mut Grid, listed: &[PoleEnd]) {
         let plane = self.plane;
         for pole in grid.poles() {
             let partner_end = self.pole_partner(pole.end);
+            if !listed.contains(&pole.end) && !listed.contains(&partner_end) {
+                continue;
+            }
             if partner_end != pole.end && pole.end == PoleEnd::End {
                 continue; // set from its partner
             }

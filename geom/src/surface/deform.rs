@@ -660,6 +660,8 @@ impl Sculptor {
     }
 
     /// The per-patch updates of one damped thin-plate step (see [`crate::surface::smooth`]).
+    // The slot loops index the patch's points, ids and the matrix rows together.
+    #[allow(clippy::needless_range_loop)]
     fn smoothing_updates(
         &mut self,
         grid: &Grid,

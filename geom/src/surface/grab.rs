@@ -35,6 +35,10 @@
 //! not pulled across the plane (the translation would grow without bound): it lands exactly
 //! along the plane's two other axes only.
 
+// Per-coordinate and per-slot loops index several small fixed arrays at once; the index
+// form follows the formulas.
+#![allow(clippy::needless_range_loop)]
+
 use glam::DVec3;
 
 use super::grid::Grid;

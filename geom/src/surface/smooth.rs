@@ -30,6 +30,10 @@
 //! The energy is parametric (it measures the control net's bending in `(u, v)`, not the
 //! surface's curvature): like every smoothing brush it also shrinks what it flattens.
 
+// Per-coordinate and per-slot loops index several small fixed arrays at once; the index
+// form follows the formulas.
+#![allow(clippy::needless_range_loop)]
+
 use glam::DVec3;
 
 use super::grid::Grid;

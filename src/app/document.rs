@@ -112,7 +112,7 @@ impl Document {
     /// # Errors
     /// [`SurfaceError::BadOp`] for an invalid operation; nothing changes then.
     pub fn apply(&mut self, op: &Op) -> Result<Touched, SurfaceError> {
-        op.finger()?;
+        op.validate()?;
         let before = self.model.clone();
         let start = Instant::now();
         let regulation = self.model.regulation;
@@ -124,9 +124,11 @@ impl Document {
             patches: touched.patches.len(),
         });
         let what = match op {
-            Op::Push { depth, .. } if *depth < 0.0 => "pull",
-            Op::Push { .. } => "push",
-            Op::Drag { .. } => "draw a line",
+            Op::Push { depth, .. } | Op::PushNormal { depth, .. } if *depth < 0.0 => "pull",
+            Op::Push { .. } | Op::PushNormal { .. } => "push",
+            Op::Drag { .. } | Op::Groove { .. } => "draw a line",
+            Op::Move { .. } => "move",
+            Op::Smooth { .. } => "smooth",
         };
         self.history.record(what, before);
         if let Some(rec) = &mut self.recording {

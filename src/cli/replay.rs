@@ -23,6 +23,9 @@
 //! reference surface is fixed when it starts), nor is a contact that starts on the very frame
 //! the previous one ends. A refinement stopped by the grid limit is reported on standard
 //! error, and the contact goes on.
+//! `--mirror x|y|z` presses every contact together with its mirror image across the plane
+//! `x = 0` (`y = 0`, `z = 0`), keeping a symmetric model exactly symmetric; a model that is not
+//! symmetric about the plane is refused (exit status 1).
 
 use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
 use clap::Args as ClapArgs;
@@ -33,7 +36,7 @@ use std::time::Instant;
 use crate::hand::{Digit, FingerModel, Hand, HandLoop, HandOptions, Probe, Touch};
 use crate::model::Model;
 use crate::surface::grid::MAX_PATCHES;
-use crate::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, refine};
+use crate::surface::{Grid, Op, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
 use nendo_devices::{HandFrame, Trace};
 
 /// Frames from which a replay reports its progress.
@@ -77,9 +80,13 @@ pub struct Args {
     #[arg(long)]
     pub finger_radius: Option<f64>,
     /// Before each contact, split the patches its finger reaches until they are at most half
-    /// the finger radius across (the surface does not change).
-    #[arg(long)]
+    /// the finger radius across (the surface does not change). Not with `--mirror`.
+    #[arg(long, conflicts_with = "mirror")]
     pub auto_refine: bool,
+    /// Press every contact together with its mirror image across the plane x = 0, y = 0 or
+    /// z = 0. The model must be symmetric about the plane.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(super::sculpt::parse_plane))]
+    pub mirror: Option<Plane>,
     /// Where to write the model (atomically).
     #[arg(long)]
     pub out: PathBuf,
@@ -258,7 +265,18 @@ fn replay(args: &Args) -> anyhow::Result<String> {
     let regulation = model.regulation;
     // The loop of a `Session`, with the grid at hand so that it can be refined between
     // contacts.
+    let symmetry = match args.mirror {
+        None => None,
+        Some(plane) => {
+            let s = Symmetry::of(&model.surface, plane)
+                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}; nothing written", plane.name()))?;
+            s.enforce_all(&mut model.surface, regulation != Regulation::None)
+                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}", plane.name()))?;
+            Some(s)
+        }
+    };
     let mut hand_loop = HandLoop::new(hand, options)?;
+    hand_loop.set_mirror(symmetry);
     let mut grid = model.surface.clone();
     let mut refiner = args.auto_refine.then(AutoRefine::default);
     let total = trace.frames.len();

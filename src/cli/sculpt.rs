@@ -18,6 +18,10 @@
 //! across. The surface does not change; the operation then acts on the finer patches. A
 //! refinement that would pass the grid limit stops there, says so on standard error, and the
 //! operation is still applied.
+//! reads them from standard input. `--mirror x|y|z` applies every operation together with its
+//! mirror image across the plane `x = 0` (`y = 0`, `z = 0`) as one operation, keeping a
+//! symmetric model exactly symmetric; a model that is not symmetric about the plane is
+//! refused.
 
 use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
 use clap::Args as ClapArgs;
@@ -28,7 +32,7 @@ use std::time::Instant;
 
 use crate::model::{Model, ops};
 use crate::surface::grid::MAX_PATCHES;
-use crate::surface::{Primitive, PrimitiveParams, Regulation, Sculptor, refine};
+use crate::surface::{Plane, Primitive, PrimitiveParams, Regulation, Sculptor, Symmetry, refine};
 
 /// Arguments of `nendo sculpt`.
 #[derive(Debug, ClapArgs)]
@@ -60,12 +64,24 @@ pub struct Args {
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_regulation))]
     pub regulation: Option<Regulation>,
     /// Before each operation, split the patches its finger reaches until they are at most
-    /// half the finger radius across (the surface does not change).
-    #[arg(long)]
+    /// half the finger radius across (the surface does not change). Not with `--mirror`.
+    #[arg(long, conflicts_with = "mirror")]
     pub auto_refine: bool,
+    /// Apply every operation together with its mirror image across the plane x = 0, y = 0 or
+    /// z = 0 (as one operation). The model must be symmetric about the plane.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_plane))]
+    pub mirror: Option<Plane>,
     /// Where to write the model (atomically).
     #[arg(long)]
     pub out: PathBuf,
+}
+
+/// Parses `--mirror`.
+///
+/// # Errors
+/// The name is not x, y or z.
+pub fn parse_plane(s: &str) -> Result<Plane, crate::surface::UnknownName> {
+    s.parse()
 }
 
 /// Runs `nendo sculpt`.
@@ -138,6 +154,16 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
                 .collect()
         }
     };
+    let symmetry = match args.mirror {
+        None => None,
+        Some(plane) => {
+            let s = Symmetry::of(&model.surface, plane)
+                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}; nothing written", plane.name()))?;
+            s.enforce_all(&mut model.surface, model.regulation != Regulation::None)
+                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}", plane.name()))?;
+            Some(s)
+        }
+    };
     let start = Instant::now();
     let mut sculptor = Sculptor::new();
     let mut updates = 0usize;
@@ -166,14 +192,16 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
         }
         // A refused operation (invalid, a result not finite or beyond the coordinate limit,
         // a seam the regulation could not keep G1) stops the run before anything is written.
-        let t = sculptor
-            .apply(&mut model.surface, op, model.regulation)
-            .map_err(|e| {
-                anyhow::anyhow!(
-                    "{name} line {line} (operation {}): {e}; nothing written",
-                    i + 1
-                )
-            })?;
+        let applied = match &symmetry {
+            Some(s) => sculptor.apply_mirrored(&mut model.surface, op, model.regulation, s),
+            None => sculptor.apply(&mut model.surface, op, model.regulation),
+        };
+        let t = applied.map_err(|e| {
+            anyhow::anyhow!(
+                "{name} line {line} (operation {}): {e}; nothing written",
+                i + 1
+            )
+        })?;
         updates += t.patches.len();
     }
     let elapsed = start.elapsed();

@@ -319,6 +319,12 @@ pub struct HandLoop {
 }
 
 impl HandLoop {
+    /// Presses every contact together with its mirror image (see
+    /// [`crate::surface::Presser::set_mirror`]); `None`: no mirror.
+    pub fn set_mirror(&mut self, symmetry: Option<crate::surface::Symmetry>) {
+        self.presser.set_mirror(symmetry);
+    }
+
     /// A loop for this hand.
     ///
     /// # Errors
@@ -699,6 +705,11 @@ impl Session {
     #[must_use]
     pub fn regulation(&self) -> Regulation {
         self.regulation
+    }
+
+    /// Presses every contact together with its mirror image ([`HandLoop::set_mirror`]).
+    pub fn set_mirror(&mut self, symmetry: Option<crate::surface::Symmetry>) {
+        self.hand_loop.set_mirror(symmetry);
     }
 
     /// The loop (pose, fingertip, touch, counters).

@@ -3,9 +3,19 @@
 //! ```json
 //! {"op": "push", "at": [x, y, z], "dir": [dx, dy, dz], "depth": d, "radius": r_f}
 //! {"op": "drag", "path": [[x, y, z], …], "dir": [dx, dy, dz], "depth": d, "radius": r_f}
+//! {"op": "push", "at": [x, y, z], "dir": "normal", "depth": d, "radius": r_f}
+//! {"op": "drag", "path": [[x, y, z], …], "dir": "normal", "depth": d, "radius": r_f}
+//! {"op": "drag", "path": [[x, y, z], …], "dirs": [[dx, dy, dz], …], "depth": d, "radius": r_f}
+//! {"op": "move", "at": [x, y, z], "to": [x, y, z], "radius": r_f}
+//! {"op": "smooth", "at": [x, y, z], "radius": r, "strength": s}
 //! ```
 //!
 //! A negative depth pulls (push) or raises a ridge (drag); see [`crate::surface::shape_fn`].
+//! `"dir": "normal"` presses each point along the surface's inward normal at the surface point
+//! nearest to it (outward for a negative depth); `"dirs"` gives one direction per path point
+//! (a drag has exactly one of `dir` and `dirs`). `move` takes the surface point nearest `at`
+//! exactly to `to` ([`crate::surface::grab`]); `smooth` (`0 < strength ≤ 1`) lowers the
+//! thin-plate energy within `radius` of `at` ([`crate::surface::smooth`]).
 //! Blank lines are skipped. Every line is validated completely (members, numbers, the
 //! operation's own constraints) before any is applied: a missing, unknown or repeated member
 //! is refused with its path and column (see [`crate::json_doc`]), and a `dir` whose length
@@ -17,7 +27,7 @@ use serde::de::IgnoredAny;
 use serde_json::{Value, json};
 
 use crate::json_doc::{self, JsonError};
-use crate::surface::{Op, SurfaceError};
+use crate::surface::{Dirs, Op, SurfaceError};
 
 /// A bad line of an operations file.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -35,8 +45,8 @@ pub enum OpError {
     /// Not JSON, or a member missing, unknown, repeated or of the wrong type (with its path).
     #[error("{0}")]
     Json(#[from] JsonError),
-    /// An `op` other than `push` and `drag`.
-    #[error("unknown op {0:?}: expected \"push\" or \"drag\"")]
+    /// An `op` other than `push`, `drag`, `move` and `smooth`.
+    #[error("unknown op {0:?}: expected \"push\", \"drag\", \"move\" or \"smooth\"")]
     UnknownOp(String),
     /// A non-zero direction whose length over- or underflows a double, so that normalising it
     /// gives no finite unit vector (e.g. `[1e308, 1e308, -1e308]`).
@@ -51,7 +61,9 @@ pub enum OpError {
 
 /// Only the `op` member (the others are read by the operation's own structure).
 #[derive(Deserialize)]
-#[serde(expecting = "an operation (a JSON object with \"op\": \"push\" or \"drag\")")]
+#[serde(
+    expecting = "an operation (a JSON object with \"op\": \"push\", \"drag\", \"move\" or \"smooth\")"
+)]
 struct OpKind {
     op: String,
 }
@@ -63,21 +75,96 @@ struct PushDoc {
     #[allow(dead_code)]
     op: IgnoredAny,
     at: [f64; 3],
-    dir: [f64; 3],
+    dir: DirDoc,
     depth: f64,
     radius: f64,
 }
 
-/// `{"op": "drag", "path", "dir", "depth", "radius"}`.
+/// `{"op": "drag", "path", "dir" | "dirs", "depth", "radius"}`.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct DragDoc {
     #[allow(dead_code)]
     op: IgnoredAny,
     path: Vec<[f64; 3]>,
-    dir: [f64; 3],
+    dir: Option<DirDoc>,
+    dirs: Option<Vec<[f64; 3]>>,
     depth: f64,
     radius: f64,
+}
+
+/// `{"op": "move", "at", "to", "radius"}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MoveDoc {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    at: [f64; 3],
+    to: [f64; 3],
+    radius: f64,
+}
+
+/// `{"op": "smooth", "at", "radius", "strength"}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SmoothDoc {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    at: [f64; 3],
+    radius: f64,
+    strength: f64,
+}
+
+/// A `dir` member: a vector `[dx, dy, dz]` or the word `"normal"`.
+enum DirDoc {
+    Vector([f64; 3]),
+    Normal,
+}
+
+impl<'de> Deserialize<'de> for DirDoc {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = DirDoc;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a direction [dx, dy, dz] or \"normal\"")
+            }
+
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<DirDoc, E> {
+                if v == "normal" {
+                    Ok(DirDoc::Normal)
+                } else {
+                    Err(E::invalid_value(serde::de::Unexpected::Str(v), &self))
+                }
+            }
+
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<DirDoc, A::Error> {
+                let mut x = [0.0; 3];
+                for (k, slot) in x.iter_mut().enumerate() {
+                    *slot = seq
+                        .next_element::<f64>()?
+                        .ok_or_else(|| serde::de::Error::invalid_length(k, &self))?;
+                }
+                if seq.next_element::<IgnoredAny>()?.is_some() {
+                    return Err(serde::de::Error::invalid_length(4, &self));
+                }
+                Ok(DirDoc::Vector(x))
+            }
+        }
+        d.deserialize_any(Visit)
+    }
+}
+
+/// Refuses a non-zero direction whose length over- or underflows a double.
+fn check_dir(dir: DVec3) -> Result<(), OpError> {
+    if dir.is_finite() && dir != DVec3::ZERO && dir.try_normalize().is_none() {
+        return Err(OpError::DirOverflow);
+    }
+    Ok(())
 }
 
 /// Parses one operation.
@@ -90,32 +177,88 @@ pub fn parse_op(text: &str) -> Result<Op, OpError> {
         return Err(JsonError::at("", "an operation must be a JSON object").into());
     }
     let kind = json_doc::from_str::<OpKind>(text)?.op;
+    let v = DVec3::from_array;
     let op = match kind.as_str() {
         "push" => {
             let d: PushDoc = json_doc::from_str(text)?;
-            Op::Push {
-                at: DVec3::from_array(d.at),
-                dir: DVec3::from_array(d.dir),
-                depth: d.depth,
-                radius: d.radius,
+            match d.dir {
+                DirDoc::Vector(dir) => Op::Push {
+                    at: v(d.at),
+                    dir: v(dir),
+                    depth: d.depth,
+                    radius: d.radius,
+                },
+                DirDoc::Normal => Op::PushNormal {
+                    at: v(d.at),
+                    depth: d.depth,
+                    radius: d.radius,
+                },
             }
         }
         "drag" => {
             let d: DragDoc = json_doc::from_str(text)?;
-            Op::Drag {
-                path: d.path.into_iter().map(DVec3::from_array).collect(),
-                dir: DVec3::from_array(d.dir),
-                depth: d.depth,
+            let path: Vec<DVec3> = d.path.into_iter().map(v).collect();
+            match (d.dir, d.dirs) {
+                (Some(DirDoc::Vector(dir)), None) => Op::Drag {
+                    path,
+                    dir: v(dir),
+                    depth: d.depth,
+                    radius: d.radius,
+                },
+                (Some(DirDoc::Normal), None) => Op::Groove {
+                    path,
+                    dirs: Dirs::Normal,
+                    depth: d.depth,
+                    radius: d.radius,
+                },
+                (None, Some(dirs)) => {
+                    let dirs: Vec<DVec3> = dirs.into_iter().map(v).collect();
+                    for &x in &dirs {
+                        check_dir(x)?;
+                    }
+                    Op::Groove {
+                        path,
+                        dirs: Dirs::Each(dirs),
+                        depth: d.depth,
+                        radius: d.radius,
+                    }
+                }
+                (Some(_), Some(_)) => {
+                    return Err(
+                        JsonError::at("dirs", "give either \"dir\" or \"dirs\", not both").into(),
+                    );
+                }
+                (None, None) => {
+                    return Err(JsonError::at(
+                        "dir",
+                        "missing field \"dir\" (a direction or \"normal\"; or \"dirs\", one per path point)",
+                    )
+                    .into());
+                }
+            }
+        }
+        "move" => {
+            let d: MoveDoc = json_doc::from_str(text)?;
+            Op::Move {
+                at: v(d.at),
+                to: v(d.to),
                 radius: d.radius,
+            }
+        }
+        "smooth" => {
+            let d: SmoothDoc = json_doc::from_str(text)?;
+            Op::Smooth {
+                at: v(d.at),
+                radius: d.radius,
+                strength: d.strength,
             }
         }
         _ => return Err(OpError::UnknownOp(kind)),
     };
-    let (Op::Push { dir, .. } | Op::Drag { dir, .. }) = &op;
-    if dir.is_finite() && *dir != DVec3::ZERO && dir.try_normalize().is_none() {
-        return Err(OpError::DirOverflow);
+    if let Op::Push { dir, .. } | Op::Drag { dir, .. } = &op {
+        check_dir(*dir)?;
     }
-    op.finger()?;
+    op.validate()?;
     Ok(op)
 }
 
@@ -162,6 +305,37 @@ pub fn op_to_json(op: &Op) -> Value {
             "depth": depth,
             "radius": radius,
         }),
+        Op::PushNormal { at, depth, radius } => {
+            json!({"op": "push", "at": p(at), "dir": "normal", "depth": depth, "radius": radius})
+        }
+        Op::Groove {
+            path,
+            dirs,
+            depth,
+            radius,
+        } => {
+            let path: Vec<Value> = path.iter().map(p).collect();
+            match dirs {
+                Dirs::Normal => json!({
+                    "op": "drag", "path": path, "dir": "normal", "depth": depth, "radius": radius,
+                }),
+                Dirs::Each(d) => json!({
+                    "op": "drag",
+                    "path": path,
+                    "dirs": d.iter().map(p).collect::<Vec<_>>(),
+                    "depth": depth,
+                    "radius": radius,
+                }),
+            }
+        }
+        Op::Move { at, to, radius } => {
+            json!({"op": "move", "at": p(at), "to": p(to), "radius": radius})
+        }
+        Op::Smooth {
+            at,
+            radius,
+            strength,
+        } => json!({"op": "smooth", "at": p(at), "radius": radius, "strength": strength}),
     }
 }
 
@@ -183,6 +357,33 @@ mod tests {
                 dir: DVec3::new(0.0, 0.1, -1.0),
                 depth: -0.2,
                 radius: 0.7,
+            },
+            Op::PushNormal {
+                at: DVec3::new(0.5, 0.5, 0.0),
+                depth: -0.3,
+                radius: 1.0,
+            },
+            Op::Groove {
+                path: vec![DVec3::ZERO, DVec3::X, DVec3::Y],
+                dirs: Dirs::Normal,
+                depth: 0.2,
+                radius: 0.7,
+            },
+            Op::Groove {
+                path: vec![DVec3::ZERO, DVec3::X],
+                dirs: Dirs::Each(vec![-DVec3::Z, DVec3::new(0.1, 0.0, -1.0)]),
+                depth: 0.2,
+                radius: 0.7,
+            },
+            Op::Move {
+                at: DVec3::new(1.0, 2.0, 3.0),
+                to: DVec3::new(1.5, 2.0, 3.25),
+                radius: 0.8,
+            },
+            Op::Smooth {
+                at: DVec3::new(1.0, 2.0, 3.0),
+                radius: 0.8,
+                strength: 0.5,
             },
         ];
         for op in ops {
@@ -232,6 +433,58 @@ mod tests {
             (
                 "{\"op\":\"push\",\"at\":[0,0,0],\"dir\":[0,0,1],\"depth\":0.1,\"depth\":0.2,\"radius\":1}",
                 "duplicate field \"depth\"",
+            ),
+            (
+                "{\"op\":\"push\",\"at\":[0,0,0],\"dir\":\"norm\",\"depth\":0.1,\"radius\":1}",
+                "dir: invalid value",
+            ),
+            (
+                "{\"op\":\"push\",\"at\":[0,0,0],\"dir\":[0,0],\"depth\":0.1,\"radius\":1}",
+                "dir: invalid length",
+            ),
+            (
+                "{\"op\":\"drag\",\"path\":[[0,0,0],[1,0,0]],\"dir\":[0,0,1],\"dirs\":[[0,0,1],[0,0,1]],\"depth\":0.1,\"radius\":1}",
+                "not both",
+            ),
+            (
+                "{\"op\":\"drag\",\"path\":[[0,0,0],[1,0,0]],\"depth\":0.1,\"radius\":1}",
+                "missing field \"dir\"",
+            ),
+            (
+                "{\"op\":\"drag\",\"path\":[[0,0,0],[1,0,0]],\"dirs\":[[0,0,1]],\"depth\":0.1,\"radius\":1}",
+                "one direction per path point",
+            ),
+            (
+                "{\"op\":\"drag\",\"path\":[[0,0,0],[1,0,0]],\"dirs\":[[0,0,1],[0,\"a\",1]],\"depth\":0.1,\"radius\":1}",
+                "dirs[1]",
+            ),
+            (
+                "{\"op\":\"drag\",\"path\":[[0,0,0],[1,0,0]],\"dirs\":[[0,0,1],[1e308,1e308,1e308]],\"depth\":0.1,\"radius\":1}",
+                "not finite after normalising",
+            ),
+            (
+                "{\"op\":\"move\",\"at\":[0,0,0],\"to\":[0,0,1e999],\"radius\":1}",
+                "to",
+            ),
+            (
+                "{\"op\":\"move\",\"at\":[0,0,0],\"to\":[0,0,1],\"radius\":0}",
+                "radius",
+            ),
+            (
+                "{\"op\":\"move\",\"at\":[0,0,0],\"to\":[0,0,1],\"radius\":1,\"depth\":1}",
+                "unknown field \"depth\"",
+            ),
+            (
+                "{\"op\":\"smooth\",\"at\":[0,0,0],\"radius\":1,\"strength\":1.5}",
+                "strength",
+            ),
+            (
+                "{\"op\":\"smooth\",\"at\":[0,0,0],\"radius\":1,\"strength\":0}",
+                "strength",
+            ),
+            (
+                "{\"op\":\"smooth\",\"at\":[0,0,0],\"radius\":1}",
+                "missing field \"strength\"",
             ),
         ] {
             let e = parse_op(line).unwrap_err().to_string();

@@ -36,4 +36,5 @@ mod shader_validation;
 mod support;
 mod surface_deform;
 mod surface_grid;
+mod surface_operations;
 mod svg_import;

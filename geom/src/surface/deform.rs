@@ -33,11 +33,16 @@ use glam::DVec3;
 
 use super::continuity::angle_deg;
 use super::error::SurfaceError;
+use super::grab::{self, Hold};
 use super::grid::Grid;
 use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
+use super::mirror::Symmetry;
+use super::nearest::nearest;
 use super::regulate::{self, Projections, Regulation};
 use super::shape_fn::{Finger, Op};
+use super::smooth::{EnergyDrop, HALVINGS, energy_of, patch_energy, thin_plate_matrix};
+use std::collections::HashMap;
 
 /// The largest absolute value a control-point coordinate may take (10⁵⁰).
 ///
@@ -223,6 +228,24 @@ pub struct Sculptor {
     scratch: Vec<usize>,
     backup: Vec<(usize, DVec3)>,
     projections: Projections,
+    /// Per node: thin-plate gradient and its bound (smoothing).
+    node_grad: Vec<(DVec3, f64)>,
+    last_asymmetry: f64,
+    last_energy: Option<EnergyDrop>,
+}
+
+/// The stronger of two flows (their mean when equally strong): the envelope rule of
+/// [`crate::surface::envelope`], symmetric in its arguments.
+#[inline]
+fn stronger(a: DVec3, b: DVec3) -> DVec3 {
+    let (la, lb) = (a.length_squared(), b.length_squared());
+    if la > lb {
+        a
+    } else if lb > la {
+        b
+    } else {
+        (a + b) * 0.5
+    }
 }
 
 /// Applies one operation to a grid with a fresh [`Sculptor`] (allocates buffers the size of
@@ -241,7 +264,8 @@ impl Sculptor {
         Self::default()
     }
 
-    /// Applies one operation.
+    /// Applies one operation: push, pull, draw a line (along a fixed direction, per-point
+    /// directions or the surface normals), move or smooth.
     ///
     /// # Errors
     /// [`SurfaceError::BadOp`] for an invalid operation; [`SurfaceError::OutOfRange`] or
@@ -253,8 +277,80 @@ impl Sculptor {
         op: &Op,
         regulation: Regulation,
     ) -> Result<Touched, SurfaceError> {
-        let finger = op.finger()?;
-        self.apply_finger(grid, &finger, regulation)
+        self.apply_with(grid, op, regulation, None)
+    }
+
+    /// Applies one operation together with its mirror image across the symmetry's plane, as
+    /// one operation: the two displacement fields combined as the hand loop combines several
+    /// placements (each sample moves by the stronger of the two flows; by their mean where
+    /// they are equally strong), regulated once, then made exactly symmetric
+    /// ([`Symmetry::enforce`]); a move lands both grabbed points, a smoothing stroke relaxes
+    /// both regions.
+    ///
+    /// # Errors
+    /// As [`Sculptor::apply`]; [`SurfaceError::BadOp`] when the symmetry was made for a grid
+    /// of other patch counts.
+    pub fn apply_mirrored(
+        &mut self,
+        grid: &mut Grid,
+        op: &Op,
+        regulation: Regulation,
+        symmetry: &Symmetry,
+    ) -> Result<Touched, SurfaceError> {
+        if !symmetry.fits(grid) {
+            return Err(SurfaceError::BadOp(
+                "the mirror map was made for a grid of other patch counts".to_string(),
+            ));
+        }
+        self.apply_with(grid, op, regulation, Some(symmetry))
+    }
+
+    /// How far the last mirrored operation's result was from symmetric before it was made
+    /// exactly symmetric (relative to the model's size; 0 after an unmirrored operation).
+    #[must_use]
+    pub fn last_asymmetry(&self) -> f64 {
+        self.last_asymmetry
+    }
+
+    /// The thin-plate energy of the patches the last smoothing stroke touched, before and
+    /// after it (`None` until a smoothing stroke ran).
+    #[must_use]
+    pub fn last_energy(&self) -> Option<EnergyDrop> {
+        self.last_energy
+    }
+
+    fn apply_with(
+        &mut self,
+        grid: &mut Grid,
+        op: &Op,
+        regulation: Regulation,
+        symmetry: Option<&Symmetry>,
+    ) -> Result<Touched, SurfaceError> {
+        op.validate()?;
+        self.last_asymmetry = 0.0;
+        match op {
+            Op::Move { at, to, radius } => {
+                let near = nearest(grid, *at)
+                    .ok_or_else(|| SurfaceError::BadOp("no surface point to grab".to_string()))?;
+                let finger = Finger::ball(near.point, *to - near.point, *radius);
+                let hold = Hold {
+                    patch: near.patch,
+                    u: near.u,
+                    v: near.v,
+                    to: *to,
+                };
+                self.apply_field(grid, &finger, regulation, symmetry, Some(hold))
+            }
+            Op::Smooth {
+                at,
+                radius,
+                strength,
+            } => self.apply_smooth(grid, *at, *radius, *strength, regulation, symmetry),
+            _ => {
+                let finger = op.finger_on(grid)?;
+                self.apply_field(grid, &finger, regulation, symmetry, None)
+            }
+        }
     }
 
     /// Applies a validated finger.
@@ -268,21 +364,39 @@ impl Sculptor {
         finger: &Finger,
         regulation: Regulation,
     ) -> Result<Touched, SurfaceError> {
-        self.next_generation(grid);
-        let stamp = self.generation;
-        let depth = finger.reach_depth(&grid.bounds());
+        self.apply_field(grid, finger, regulation, None, None)
+    }
 
-        // 1. Reach.
+    fn apply_field(
+        &mut self,
+        grid: &mut Grid,
+        finger: &Finger,
+        regulation: Regulation,
+        symmetry: Option<&Symmetry>,
+        hold: Option<Hold>,
+    ) -> Result<Touched, SurfaceError> {
+        self.next_generation(grid);
+        let depth = finger.reach_depth(&grid.bounds());
+        let plane = symmetry.map(Symmetry::plane);
+
+        // 1. Reach (and the mirror image's).
         self.candidates.clear();
-        grid.hierarchy()
-            .query(&|b| finger.may_touch(b, depth), &mut self.candidates);
+        grid.hierarchy().query(
+            &|b| {
+                finger.may_touch(b, depth)
+                    || plane.is_some_and(|pl| finger.may_touch(&pl.reflect_box(b), depth))
+            },
+            &mut self.candidates,
+        );
 
         // 2–3. Flows and control-point updates, from the unchanged net.
         self.updates.clear();
         let (m, n) = (grid.patches_u(), grid.patches_v());
         let topology = grid.topology();
         for &p in &self.candidates {
-            if !finger.restricted_to(&grid.patch_bounds(p), depth, &mut self.segments) {
+            if plane.is_none()
+                && !finger.restricted_to(&grid.patch_bounds(p), depth, &mut self.segments)
+            {
                 continue;
             }
             let points = grid.patch_at(p);
@@ -290,7 +404,12 @@ impl Sculptor {
             let mut flows = [DVec3::ZERO; 16];
             let mut any = false;
             for k in 0..16 {
-                flows[k] = finger.flow_over(r[k], &self.segments);
+                flows[k] = match plane {
+                    None => finger.flow_over(r[k], &self.segments),
+                    Some(pl) => {
+                        stronger(finger.flow(r[k]), pl.reflect(finger.flow(pl.reflect(r[k]))))
+                    }
+                };
                 any |= flows[k] != DVec3::ZERO;
             }
             if !any {
@@ -312,16 +431,50 @@ impl Sculptor {
             }
             self.updates.push((p, delta));
         }
+        // A move lands on its grabbed patch (and its mirror image's) even where the falloff
+        // moved none of its samples.
+        if let Some(h) = hold {
+            let mut held = vec![h.patch];
+            if let Some(s) = symmetry {
+                held.push(s.patch_partner(h.patch));
+            }
+            for p in held {
+                if !self.updates.iter().any(|(q, _)| *q == p) {
+                    self.updates.push((p, [DVec3::ZERO; 16]));
+                }
+            }
+        }
+        self.commit(grid, regulation, symmetry, hold)
+    }
+
+    /// Steps 4–5 for the updates in `self.updates`: regulation of the groups around the moved
+    /// patches, the mirror and the move's landing, verification (restoring the grid on a
+    /// refusal), boxes.
+    fn commit(
+        &mut self,
+        grid: &mut Grid,
+        regulation: Regulation,
+        symmetry: Option<&Symmetry>,
+        hold: Option<Hold>,
+    ) -> Result<Touched, SurfaceError> {
+        let stamp = self.generation;
+        let (m, n) = (grid.patches_u(), grid.patches_v());
+        let topology = grid.topology();
         let nodes_changed = !self.updates.is_empty();
         let deformed = self.updates.len();
         let mut changed: Vec<usize> = Vec::with_capacity(deformed * 2);
         for (p, _) in &self.updates {
-            self.patch_mark[*p] = stamp;
-            changed.push(*p);
+            if self.patch_mark[*p] != stamp {
+                self.patch_mark[*p] = stamp;
+                changed.push(*p);
+            }
         }
-        // The groups around the moved patches, and every patch their regulation may change.
+        // The groups around the moved patches, and every patch their regulation (or a move's
+        // landing) may change.
         let regulating = nodes_changed && regulation != Regulation::None;
-        if regulating {
+        self.vertices.clear();
+        self.poles.clear();
+        if regulating || (nodes_changed && hold.is_some()) {
             self.collect_groups(grid);
             for &(k, q) in &self.vertices {
                 for (du, dv) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
@@ -346,6 +499,15 @@ impl Sculptor {
                         self.patch_mark[p] = stamp;
                         changed.push(p);
                     }
+                }
+            }
+        }
+        if let Some(s) = symmetry {
+            for i in 0..changed.len() {
+                let q = s.patch_partner(changed[i]);
+                if self.patch_mark[q] != stamp {
+                    self.patch_mark[q] = stamp;
+                    changed.push(q);
                 }
             }
         }
@@ -385,12 +547,45 @@ impl Sculptor {
                 &mut self.projections,
             );
         }
+        // The mirror: exactly symmetric again.
+        if let Some(s) = symmetry {
+            let plane = s.plane();
+            let b = grid.bounds();
+            let scale = b
+                .min
+                .abs()
+                .max(b.max.abs())
+                .max_element()
+                .max(f64::MIN_POSITIVE);
+            let mut worst = 0.0f64;
+            self.scratch.clear();
+            for &(id, _) in &self.backup {
+                let e =
+                    (plane.reflect(grid.nodes()[id]) - grid.nodes()[s.node_partner(id)]).length();
+                worst = worst.max(e);
+                self.scratch.push(id);
+            }
+            self.last_asymmetry = worst / scale;
+            let poles: &[PoleEnd] = if regulation == Regulation::None {
+                &[]
+            } else {
+                &self.poles
+            };
+            let ids = std::mem::take(&mut self.scratch);
+            let enforced = s.enforce(grid, &ids, poles);
+            self.scratch = ids;
+            if let Err(e) = enforced {
+                self.restore(grid);
+                return Err(SurfaceError::BadOp(e.to_string()));
+            }
+        }
+        // The move's landing: the grabbed point exactly on its target.
+        if let Some(h) = &hold {
+            grab::land(grid, h, symmetry);
+        }
         // 5. Verification.
         if let Err(e) = verify(grid, &changed, regulation, &self.backup) {
-            let nodes = grid.nodes_mut();
-            for &(id, x) in &self.backup {
-                nodes[id] = x;
-            }
+            self.restore(grid);
             return Err(e);
         }
         grid.refit(&changed, &mut self.scratch);
@@ -400,6 +595,152 @@ impl Sculptor {
             examined: self.candidates.len(),
             groups,
         })
+    }
+
+    /// Puts back the control points kept in `self.backup`.
+    fn restore(&self, grid: &mut Grid) {
+        let nodes = grid.nodes_mut();
+        for &(id, x) in &self.backup {
+            nodes[id] = x;
+        }
+    }
+
+    /// A smoothing stroke (see [`crate::surface::smooth`]).
+    fn apply_smooth(
+        &mut self,
+        grid: &mut Grid,
+        at: DVec3,
+        radius: f64,
+        strength: f64,
+        regulation: Regulation,
+        symmetry: Option<&Symmetry>,
+    ) -> Result<Touched, SurfaceError> {
+        let h = thin_plate_matrix();
+        let mut step = strength;
+        let mut last = EnergyDrop::default();
+        for halvings in 0..=HALVINGS {
+            self.next_generation(grid);
+            self.smoothing_updates(grid, &h, at, radius, step, symmetry);
+            if self.updates.is_empty() {
+                break;
+            }
+            let touched = self.commit(grid, regulation, symmetry, None)?;
+            let after = energy_of(grid, &touched.patches);
+            let before = {
+                let old: HashMap<usize, DVec3> = self.backup.iter().copied().collect();
+                let m = grid.patches_u();
+                touched
+                    .patches
+                    .iter()
+                    .map(|&p| {
+                        let pts = grid
+                            .patch_node_ids(p % m, p / m)
+                            .map(|id| old.get(&id).copied().unwrap_or(grid.nodes()[id]));
+                        patch_energy(&h, &pts)
+                    })
+                    .sum::<f64>()
+            };
+            last = EnergyDrop {
+                before,
+                after: before,
+                halvings,
+            };
+            if after < before {
+                last.after = after;
+                self.last_energy = Some(last);
+                return Ok(touched);
+            }
+            self.restore(grid);
+            grid.refit(&touched.patches, &mut self.scratch);
+            step *= 0.5;
+        }
+        // Nothing in reach, or no step the regulation kept lowered the energy: no change.
+        self.last_energy = Some(last);
+        Ok(Touched::default())
+    }
+
+    /// The per-patch updates of one damped thin-plate step (see [`crate::surface::smooth`]).
+    // The slot loops index the patch's points, ids and the matrix rows together.
+    #[allow(clippy::needless_range_loop)]
+    fn smoothing_updates(
+        &mut self,
+        grid: &Grid,
+        h: &[[f64; 16]; 16],
+        at: DVec3,
+        radius: f64,
+        step: f64,
+        symmetry: Option<&Symmetry>,
+    ) {
+        let stamp = self.generation;
+        let plane = symmetry.map(Symmetry::plane);
+        let centres: Vec<DVec3> = std::iter::once(at)
+            .chain(plane.map(|pl| pl.reflect(at)))
+            .collect();
+        self.candidates.clear();
+        grid.hierarchy().query(
+            &|b| {
+                centres.iter().any(|c| {
+                    let d = (b.min - *c).max(*c - b.max).max(DVec3::ZERO);
+                    d.length() <= radius
+                })
+            },
+            &mut self.candidates,
+        );
+        self.candidates.sort_unstable();
+        let len = grid.nodes().len();
+        if self.node_grad.len() != len {
+            self.node_grad = vec![(DVec3::ZERO, 0.0); len];
+        }
+        let m = grid.patches_u();
+        let row_abs: [f64; 16] = std::array::from_fn(|a| h[a].iter().map(|x| x.abs()).sum());
+        // Gradient and bound per node over every patch holding it (all are candidates: a
+        // node within reach lies in the box of every patch holding it).
+        self.scratch.clear();
+        for &p in &self.candidates {
+            let ids = grid.patch_node_ids(p % m, p / m);
+            let x = grid.patch_at(p);
+            for a in 0..16 {
+                let mut y = DVec3::ZERO;
+                for b in 0..16 {
+                    y += x[b] * h[a][b];
+                }
+                let id = ids[a];
+                if self.node_mark[id] != stamp {
+                    self.node_mark[id] = stamp;
+                    self.node_grad[id] = (DVec3::ZERO, 0.0);
+                    self.scratch.push(id);
+                }
+                self.node_grad[id].0 += 2.0 * y;
+                self.node_grad[id].1 += row_abs[a];
+            }
+        }
+        let r2 = radius * radius;
+        let nodes = grid.nodes();
+        let delta_of = |id: usize, grad: &[(DVec3, f64)]| {
+            let f = centres
+                .iter()
+                .map(|c| 1.0 - (nodes[id] - *c).length_squared() / r2)
+                .fold(0.0f64, f64::max);
+            let (g, d) = grad[id];
+            if f > 0.0 && d > 0.0 {
+                g * (-0.5 * step * f / d)
+            } else {
+                DVec3::ZERO
+            }
+        };
+        self.updates.clear();
+        for &p in &self.candidates {
+            let ids = grid.patch_node_ids(p % m, p / m);
+            let delta: [DVec3; 16] = std::array::from_fn(|a| delta_of(ids[a], &self.node_grad));
+            if delta.iter().any(|d| *d != DVec3::ZERO) {
+                self.updates.push((p, delta));
+            }
+        }
+        // The node marks served the gradient: a new generation for the write.
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.next_generation(grid);
+        }
     }
 
     /// The grid vertices at the corners of the moved patches (deduplicated, in a fixed

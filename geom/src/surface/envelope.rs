@@ -39,6 +39,7 @@ use glam::DVec3;
 
 use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
+use super::mirror::Symmetry;
 use super::regulate::{self, Projections, Regulation};
 use super::{Aabb, Finger, Grid, Op, SurfaceError, verify};
 
@@ -149,9 +150,26 @@ pub struct Presser {
     /// The grid's control points before this application overwrote them.
     saved_grid: Vec<(usize, DVec3)>,
     projections: Projections,
+    /// Every placement pressed together with its mirror image (see [`Presser::set_mirror`]).
+    mirror: Option<Symmetry>,
 }
 
 impl Presser {
+    /// Presses every placement together with its mirror image across the symmetry's plane
+    /// (`None`: no mirror): the mirrored fingers join the envelope (each sample follows the
+    /// strongest flow of all), and after the regulation the touched control points and their
+    /// partners are made exactly symmetric ([`Symmetry::enforce`]). The grids applied must be
+    /// the ones the symmetry was made for.
+    pub fn set_mirror(&mut self, symmetry: Option<Symmetry>) {
+        self.mirror = symmetry;
+    }
+
+    /// The mirror set by [`Presser::set_mirror`].
+    #[must_use]
+    pub fn mirror(&self) -> Option<&Symmetry> {
+        self.mirror.as_ref()
+    }
+
     /// Starts a contact on `reference` (the surface as it is).
     pub fn begin(&mut self, reference: &Grid) {
         self.unregulated.clear();
@@ -210,11 +228,20 @@ impl Presser {
 
         // 1. The patches the changed placements reach, before and after the change.
         self.area.clear();
+        let plane = self
+            .mirror
+            .as_ref()
+            .filter(|s| s.fits(reference))
+            .map(Symmetry::plane);
         for f in self.fingers[first..].iter().chain(&self.old) {
             let start = self.area.len();
-            reference
-                .hierarchy()
-                .query(&|b| f.may_touch(b, length), &mut self.area);
+            reference.hierarchy().query(
+                &|b| {
+                    f.may_touch(b, length)
+                        || plane.is_some_and(|pl| f.may_touch(&pl.reflect_box(b), length))
+                },
+                &mut self.area,
+            );
             let mut keep = start;
             for k in start..self.area.len() {
                 let p = self.area[k];
@@ -243,9 +270,13 @@ impl Presser {
         for &p in &self.area {
             let bounds = reference.patch_bounds(p);
             self.near.clear();
-            self.near.extend(
-                (0..self.fingers.len()).filter(|&k| self.fingers[k].may_touch(&bounds, length)),
-            );
+            let mirrored = plane.map(|pl| pl.reflect_box(&bounds));
+            self.near.extend((0..self.fingers.len()).filter(|&k| {
+                self.fingers[k].may_touch(&bounds, length)
+                    || mirrored
+                        .as_ref()
+                        .is_some_and(|b| self.fingers[k].may_touch(b, length))
+            }));
             let points = reference.patch_at(p);
             let r = samples(&points);
             let mut flows = [DVec3::ZERO; 16];
@@ -259,6 +290,14 @@ impl Presser {
                     if sq > best_sq {
                         best = flow;
                         best_sq = sq;
+                    }
+                    if let Some(pl) = plane {
+                        let flow = pl.reflect(self.fingers[f].flow(pl.reflect(*x), length));
+                        let sq = flow.length_squared();
+                        if sq > best_sq {
+                            best = flow;
+                            best_sq = sq;
+                        }
                     }
                 }
                 flows[k] = best;
@@ -373,6 +412,32 @@ impl Presser {
                 &self.poles,
                 &mut self.projections,
             );
+        }
+        if let Some(sym) = self.mirror.as_ref().filter(|s| s.fits(grid)) {
+            // The partners of everything touched, kept aside, then exactly symmetric.
+            for i in 0..self.changed.len() {
+                let q = sym.patch_partner(self.changed[i]);
+                if self.patch_mark[q] != stamp {
+                    self.patch_mark[q] = stamp;
+                    self.changed.push(q);
+                }
+            }
+            self.scratch.clear();
+            for &p in &self.changed {
+                for id in grid.patch_node_ids(p % m, p / m) {
+                    self.saved_grid.push((id, grid.nodes()[id]));
+                    self.scratch.push(id);
+                }
+            }
+            let poles: &[PoleEnd] = if regulation == Regulation::None {
+                &[]
+            } else {
+                &self.poles
+            };
+            let ids = std::mem::take(&mut self.scratch);
+            // The map fits the grid (checked above): enforcing cannot fail.
+            let _ = sym.enforce(grid, &ids, poles);
+            self.scratch = ids;
         }
         self.changed.sort_unstable();
         if let Err(e) = verify(grid, &self.changed, regulation, &self.saved_grid) {

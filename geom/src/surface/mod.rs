@@ -5,7 +5,10 @@
 //!   (plane, cylinder, hemisphere, sphere, torus); [`Patch`] evaluates one patch.
 //! - [`Primitive`]: the starting shapes ([`primitive`]).
 //! - [`Group`] / [`Pole`]: the connected control-point groups regulation works on ([`group`]).
-//! - [`Op`] (push / pull / drag) and its [`Finger`]: the shape functions ([`shape_fn`]).
+//! - [`Op`] (push / pull / drag, along a direction or the normals; move; smooth) and its
+//!   [`Finger`]: the shape functions ([`shape_fn`]); [`nearest`]: the surface point nearest a
+//!   point; [`grab`]: the exact landing of a move; [`smooth`]: the thin-plate energy a
+//!   smoothing stroke lowers; [`mirror`]: symmetry about `x = 0`, `y = 0` or `z = 0`.
 //! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]).
 //! - [`deform()`] / [`Sculptor`] ([`mod@deform`]): finger → reachable patches → Bernstein
 //!   inverse ([`inverse`]) → [`Regulation`] ([`regulate`]), returning what was [`Touched`].
@@ -25,15 +28,19 @@ pub mod deform;
 pub mod deviation;
 pub mod envelope;
 pub mod error;
+pub mod grab;
 pub mod grid;
 pub mod group;
 pub mod inverse;
+pub mod mirror;
+pub mod nearest;
 pub mod patch;
 pub mod plane_fit;
 pub mod primitive;
 pub mod refine;
 pub mod regulate;
 pub mod shape_fn;
+pub mod smooth;
 pub mod topology;
 
 pub use bounds::Aabb;
@@ -41,11 +48,15 @@ pub use continuity::{ContinuityReport, PoleReport};
 pub use deform::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, Sculptor, Touched, deform, verify};
 pub use envelope::{Placement, Presser};
 pub use error::{SurfaceError, UnknownName};
+pub use grab::Hold;
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
+pub use mirror::{Asymmetry, MirrorError, Plane, Symmetry, is_symmetric, symmetry_error};
+pub use nearest::{SurfacePoint, nearest};
 pub use patch::{Patch, PatchFrame, PatchPoints};
 pub use primitive::{Ideal, Primitive, PrimitiveParams};
 pub use refine::{FingerRefinement, RefineError, Refinement, for_finger};
 pub use regulate::{Regulation, regulate_all};
-pub use shape_fn::{Finger, Op};
+pub use shape_fn::{Dirs, Finger, Op};
+pub use smooth::{EnergyDrop, thin_plate_energy};
 pub use topology::Topology;

@@ -54,14 +54,204 @@ pub enum Op {
         /// The finger radius `r_f`.
         radius: f64,
     },
+    /// Push (positive depth) or pull (negative depth) along the surface's inward normal at
+    /// the surface point nearest `at` (`"dir": "normal"`).
+    PushNormal {
+        /// Where the finger touches.
+        at: DVec3,
+        /// How far the finger presses along the inward normal (negative: pull, outward).
+        depth: f64,
+        /// The finger radius `r_f`.
+        radius: f64,
+    },
+    /// Draw a line whose direction varies along the path (`"dir": "normal"` or `"dirs"`).
+    Groove {
+        /// The stroke, at least two points.
+        path: Vec<DVec3>,
+        /// The direction at each path point.
+        dirs: Dirs,
+        /// How far the finger presses along each point's direction (negative: a ridge).
+        depth: f64,
+        /// The finger radius `r_f`.
+        radius: f64,
+    },
+    /// Grab and move: the surface point nearest `at` goes exactly to `to`, the clay within
+    /// `radius` of it follows with the falloff `1 − r²/r_f²` ([`crate::surface::grab`]).
+    Move {
+        /// Where the clay is grabbed (the surface point nearest it is taken).
+        at: DVec3,
+        /// Where the grabbed point goes.
+        to: DVec3,
+        /// The finger radius `r_f`.
+        radius: f64,
+    },
+    /// Smooth: one damped descent step on the thin-plate energy of the control points within
+    /// `radius` of `at` ([`crate::surface::smooth`]).
+    Smooth {
+        /// The centre of the brush.
+        at: DVec3,
+        /// The brush radius.
+        radius: f64,
+        /// How much of the step is taken, `0 < s ≤ 1`.
+        strength: f64,
+    },
 }
 
+/// The directions of a [`Op::Groove`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum Dirs {
+    /// Each path point presses along the surface's inward normal at the surface point nearest
+    /// to it (outward for a negative depth).
+    Normal,
+    /// One direction per path point (any length but zero).
+    Each(Vec<DVec3>),
+}
+
+/// Largest angle between the directions of the two ends of one swept strip of a groove; a
+/// longer turn is split into strips with interpolated directions.
+pub const GROOVE_TURN_DEG: f64 = 5.0;
+
 impl Op {
+    /// Checks every number and constraint of the operation without a surface: finite
+    /// coordinates, a non-zero direction, a positive radius, a path of two points or more with
+    /// one direction per point, `0 < strength ≤ 1`.
+    ///
+    /// # Errors
+    /// [`SurfaceError::BadOp`] saying what is wrong.
+    pub fn validate(&self) -> Result<(), SurfaceError> {
+        let bad = |s: &str| Err(SurfaceError::BadOp(s.to_string()));
+        let radius_ok = |r: f64| r.is_finite() && r > 0.0;
+        match self {
+            Op::Push { .. } | Op::Drag { .. } => self.finger().map(|_| ()),
+            Op::PushNormal { at, depth, radius } => {
+                if !at.is_finite() {
+                    return bad("at must be finite");
+                }
+                if !depth.is_finite() {
+                    return bad("depth must be finite");
+                }
+                if !radius_ok(*radius) {
+                    return bad("radius must be a positive finite number");
+                }
+                Ok(())
+            }
+            Op::Groove {
+                path,
+                dirs,
+                depth,
+                radius,
+            } => {
+                if path.len() < 2 {
+                    return bad("a drag path needs at least two points");
+                }
+                if path.iter().any(|p| !p.is_finite()) {
+                    return bad("every path point must be finite");
+                }
+                if !depth.is_finite() {
+                    return bad("depth must be finite");
+                }
+                if !radius_ok(*radius) {
+                    return bad("radius must be a positive finite number");
+                }
+                if let Dirs::Each(d) = dirs {
+                    if d.len() != path.len() {
+                        return bad("dirs needs one direction per path point");
+                    }
+                    if d.iter().any(|x| !x.is_finite()) {
+                        return bad("every direction in dirs must be finite");
+                    }
+                    if d.iter().any(|x| x.try_normalize().is_none()) {
+                        return bad("no direction in dirs may be zero");
+                    }
+                }
+                Ok(())
+            }
+            Op::Move { at, to, radius } => {
+                if !at.is_finite() {
+                    return bad("at must be finite");
+                }
+                if !to.is_finite() {
+                    return bad("to must be finite");
+                }
+                if !radius_ok(*radius) {
+                    return bad("radius must be a positive finite number");
+                }
+                Ok(())
+            }
+            Op::Smooth {
+                at,
+                radius,
+                strength,
+            } => {
+                if !at.is_finite() {
+                    return bad("at must be finite");
+                }
+                if !radius_ok(*radius) {
+                    return bad("radius must be a positive finite number");
+                }
+                if !(strength.is_finite() && *strength > 0.0 && *strength <= 1.0) {
+                    return bad("strength must be a number with 0 < strength <= 1");
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// The finger of an operation that presses (push, pull, draw a line), its directions
+    /// along the surface normals of `grid` where the operation asks for them.
+    ///
+    /// # Errors
+    /// [`SurfaceError::BadOp`] for an invalid operation, one that is not a finger (move,
+    /// smooth), or a surface point without a normal where one is needed.
+    pub fn finger_on(&self, grid: &super::Grid) -> Result<Finger, SurfaceError> {
+        self.validate()?;
+        match self {
+            Op::PushNormal { at, depth, radius } => {
+                let dir = inward_normal(grid, *at)?;
+                Op::Push {
+                    at: *at,
+                    dir,
+                    depth: *depth,
+                    radius: *radius,
+                }
+                .finger()
+            }
+            Op::Groove {
+                path,
+                dirs: Dirs::Normal,
+                depth,
+                radius,
+            } => {
+                let mut dirs = Vec::with_capacity(path.len());
+                for p in path {
+                    dirs.push(inward_normal(grid, *p)?);
+                }
+                // Where the normal turns fast, the points between are pressed along their
+                // own nearest normals.
+                let (mut pts, mut ds) = (vec![path[0]], vec![dirs[0]]);
+                for k in 1..path.len() {
+                    let pieces = turn_pieces(dirs[k - 1], dirs[k]);
+                    for i in 1..pieces {
+                        let x = path[k - 1].lerp(path[k], i as f64 / pieces as f64);
+                        pts.push(x);
+                        ds.push(inward_normal(grid, x)?);
+                    }
+                    pts.push(path[k]);
+                    ds.push(dirs[k]);
+                }
+                Finger::bent(&pts, &ds, *depth, *radius)
+            }
+            _ => self.finger(),
+        }
+    }
+
     /// The finger the operation describes, after validation.
     ///
     /// # Errors
     /// [`SurfaceError::BadOp`] when a number is not finite, `dir` is zero, the radius is not
-    /// positive, or a drag path has fewer than two points.
+    /// positive, or a drag path has fewer than two points; and for an operation whose finger
+    /// depends on the surface (along the normal: see [`Op::finger_on`]) or that is no finger
+    /// (move, smooth).
     pub fn finger(&self) -> Result<Finger, SurfaceError> {
         let bad = |s: &str| Err(SurfaceError::BadOp(s.to_string()));
         let (dir, depth, radius) = match self {
@@ -71,6 +261,22 @@ impl Op {
             | Op::Drag {
                 dir, depth, radius, ..
             } => (*dir, *depth, *radius),
+            Op::Groove {
+                path,
+                dirs: Dirs::Each(dirs),
+                depth,
+                radius,
+            } => {
+                self.validate()?;
+                let units: Vec<DVec3> = dirs.iter().map(|d| d.normalize()).collect();
+                return Finger::bent(path, &units, *depth, *radius);
+            }
+            Op::PushNormal { .. } | Op::Groove { .. } => {
+                return bad("a direction along the normal needs the surface (Op::finger_on)");
+            }
+            Op::Move { .. } | Op::Smooth { .. } => {
+                return bad("move and smooth are not pressing fingers");
+            }
         };
         if !dir.is_finite() {
             return bad("dir must be finite");
@@ -85,6 +291,7 @@ impl Op {
             return bad("radius must be a positive finite number");
         }
         let press = axis * depth.abs();
+        let movement = axis * depth;
         let shape = match self {
             Op::Push { at, .. } => {
                 if !at.is_finite() {
@@ -101,14 +308,15 @@ impl Op {
                 }
                 let strips = path
                     .windows(2)
-                    .map(|w| Strip::new(w[0] + press, w[1] + press, axis))
+                    .map(|w| Strip::new(w[0] + press, w[1] + press, axis, movement))
                     .collect();
                 Reach::Strips(strips)
             }
+            _ => return bad("not a pressing finger"),
         };
         Ok(Finger {
             axis,
-            movement: axis * depth,
+            movement,
             radius,
             radius_sq: radius * radius,
             shape,
@@ -128,8 +336,15 @@ pub struct Finger {
 
 #[derive(Debug, Clone, PartialEq)]
 enum Reach {
-    HalfLine { tip: DVec3 },
+    HalfLine {
+        tip: DVec3,
+    },
+    /// Half-strips, each with its own movement (one for a straight drag).
     Strips(Vec<Strip>),
+    /// A ball around a grabbed point (`r` = the distance to it).
+    Ball {
+        centre: DVec3,
+    },
 }
 
 /// The half-strip swept by the finger between two pressed tips.
@@ -147,10 +362,12 @@ struct Strip {
     rise: f64,
     /// `d̂`.
     axis: DVec3,
+    /// The movement `depth · d̂` of the clay this strip presses.
+    movement: DVec3,
 }
 
 impl Strip {
-    fn new(t0: DVec3, t1: DVec3, axis: DVec3) -> Self {
+    fn new(t0: DVec3, t1: DVec3, axis: DVec3, movement: DVec3) -> Self {
         let e = t1 - t0;
         let rise = e.dot(axis);
         let perp = e - rise * axis;
@@ -166,6 +383,7 @@ impl Strip {
                 len,
                 rise,
                 axis,
+                movement,
             }
         } else {
             // The stroke runs along the finger: the sweep is the half-line behind the deeper tip.
@@ -178,6 +396,7 @@ impl Strip {
                 len: 0.0,
                 rise: 0.0,
                 axis,
+                movement,
             }
         }
     }
@@ -259,13 +478,81 @@ fn half_line_distance_sq(w: DVec3, axis: DVec3) -> f64 {
 }
 
 impl Finger {
-    /// The unit finger direction `d̂`.
+    /// A draw-a-line finger whose direction varies along the path: `dirs[k]` (unit) at
+    /// `path[k]`. Each segment whose end directions turn by more than [`GROOVE_TURN_DEG`] is
+    /// split, the directions between interpolated (normalised linear blend); each piece is a
+    /// half-strip pressed along the unit mean of its end directions, and a sample moves by
+    /// the movement of the nearest strip (`(1 − r²/r_f²)·depth·d̂_k`): for one direction
+    /// everywhere this is exactly [`Op::Drag`].
+    ///
+    /// # Errors
+    /// [`SurfaceError::BadOp`] for a non-finite number, a radius that is not positive, fewer
+    /// than two points, a count of directions other than the path's, or two consecutive
+    /// directions that are opposite.
+    pub fn bent(
+        path: &[DVec3],
+        dirs: &[DVec3],
+        depth: f64,
+        radius: f64,
+    ) -> Result<Finger, SurfaceError> {
+        let bad = |s: &str| Err(SurfaceError::BadOp(s.to_string()));
+        if path.len() < 2 || dirs.len() != path.len() {
+            return bad("a groove needs two points or more and one direction per point");
+        }
+        if !(depth.is_finite() && radius.is_finite() && radius > 0.0)
+            || path.iter().chain(dirs).any(|x| !x.is_finite())
+        {
+            return bad("a groove's numbers must be finite and its radius positive");
+        }
+        let mut strips = Vec::with_capacity(path.len());
+        for k in 1..path.len() {
+            let (d0, d1) = (dirs[k - 1], dirs[k]);
+            let pieces = turn_pieces(d0, d1);
+            let at = |i: usize| {
+                let t = i as f64 / pieces as f64;
+                (path[k - 1].lerp(path[k], t), d0.lerp(d1, t).try_normalize())
+            };
+            for i in 0..pieces {
+                let ((p0, a0), (p1, a1)) = (at(i), at(i + 1));
+                let (Some(a0), Some(a1)) = (a0, a1) else {
+                    return bad("two consecutive groove directions are opposite");
+                };
+                let Some(axis) = (a0 + a1).try_normalize() else {
+                    return bad("two consecutive groove directions are opposite");
+                };
+                let press = axis * depth.abs();
+                strips.push(Strip::new(p0 + press, p1 + press, axis, axis * depth));
+            }
+        }
+        let first = strips[0];
+        Ok(Finger {
+            axis: first.axis,
+            movement: first.movement,
+            radius,
+            radius_sq: radius * radius,
+            shape: Reach::Strips(strips),
+        })
+    }
+
+    /// The grab finger of a move: every point within `radius` of `centre` moves by
+    /// `(1 − r²/r_f²)·movement`, `r` its distance to `centre`.
+    pub(crate) fn ball(centre: DVec3, movement: DVec3, radius: f64) -> Finger {
+        Finger {
+            axis: movement.try_normalize().unwrap_or(DVec3::Z),
+            movement,
+            radius,
+            radius_sq: radius * radius,
+            shape: Reach::Ball { centre },
+        }
+    }
+
+    /// The unit finger direction `d̂` (of the first strip for a groove).
     #[must_use]
     pub fn axis(&self) -> DVec3 {
         self.axis
     }
 
-    /// The movement vector `M = depth · d̂` (`L_f` for a drag).
+    /// The movement vector `M = depth · d̂` (`L_f` for a drag; the first strip's for a groove).
     #[must_use]
     pub fn movement(&self) -> DVec3 {
         self.movement
@@ -277,7 +564,8 @@ impl Finger {
         self.radius
     }
 
-    /// Squared distance `r²` from `x` to the finger (the half-line, or the swept half-strips).
+    /// Squared distance `r²` from `x` to the finger (the half-line, the swept half-strips, or
+    /// the grabbed point).
     #[must_use]
     pub fn distance_sq(&self, x: DVec3) -> f64 {
         match &self.shape {
@@ -286,19 +574,46 @@ impl Finger {
                 .iter()
                 .map(|s| s.distance_sq(x))
                 .fold(f64::INFINITY, f64::min),
+            Reach::Ball { centre } => (x - *centre).length_squared(),
         }
     }
 
-    /// The flow vector `F = (1 − r²/r_f²)·M` for `r < r_f`, zero beyond (see the module docs).
+    /// The flow vector `F = (1 − r²/r_f²)·M` for `r < r_f`, zero beyond (see the module docs;
+    /// `M` is the nearest strip's for a groove).
     #[inline]
     #[must_use]
     pub fn flow(&self, x: DVec3) -> DVec3 {
-        let r2 = self.distance_sq(x);
+        match &self.shape {
+            Reach::Strips(strips) => self.strip_flow(x, strips, 0..strips.len()),
+            _ => self.scaled(self.distance_sq(x), self.movement),
+        }
+    }
+
+    #[inline]
+    fn scaled(&self, r2: f64, movement: DVec3) -> DVec3 {
         if r2 < self.radius_sq {
-            self.movement * (1.0 - r2 / self.radius_sq)
+            movement * (1.0 - r2 / self.radius_sq)
         } else {
             DVec3::ZERO
         }
+    }
+
+    /// The flow of the nearest of the listed strips.
+    #[inline]
+    fn strip_flow(
+        &self,
+        x: DVec3,
+        strips: &[Strip],
+        listed: impl IntoIterator<Item = usize>,
+    ) -> DVec3 {
+        let mut best = (f64::INFINITY, self.movement);
+        for k in listed {
+            let d = strips[k].distance_sq(x);
+            if d < best.0 {
+                best = (d, strips[k].movement);
+            }
+        }
+        self.scaled(best.0, best.1)
     }
 
     /// The point the finger asks `x` to move to: `x + F(x)`.
@@ -318,6 +633,10 @@ impl Finger {
                 .clip_line(*tip, -self.axis, 0.0, depth)
                 .is_some(),
             Reach::Strips(strips) => strips.iter().any(|s| s.may_touch(b, self.radius, depth)),
+            Reach::Ball { centre } => {
+                let bb = b.inflated(self.radius);
+                bb.min.cmple(*centre).all() && centre.cmple(bb.max).all()
+            }
         }
     }
 
@@ -344,6 +663,7 @@ impl Finger {
                 .iter()
                 .map(|s| far(s.t0).max(far(s.t1)))
                 .fold(0.0, f64::max),
+            Reach::Ball { centre } => far(*centre),
         }
     }
 
@@ -352,7 +672,7 @@ impl Finger {
     pub(crate) fn restricted_to(&self, b: &Aabb, depth: f64, into: &mut Vec<usize>) -> bool {
         into.clear();
         match &self.shape {
-            Reach::HalfLine { .. } => true,
+            Reach::HalfLine { .. } | Reach::Ball { .. } => true,
             Reach::Strips(strips) => {
                 into.extend(
                     (0..strips.len()).filter(|&k| strips[k].may_touch(b, self.radius, depth)),
@@ -365,19 +685,38 @@ impl Finger {
     /// [`Finger::flow`] over the drag segments listed in `segments` only (all of a push).
     #[inline]
     pub(crate) fn flow_over(&self, x: DVec3, segments: &[usize]) -> DVec3 {
-        let r2 = match &self.shape {
-            Reach::HalfLine { tip } => half_line_distance_sq(x - *tip, self.axis),
-            Reach::Strips(strips) => segments
-                .iter()
-                .map(|&k| strips[k].distance_sq(x))
-                .fold(f64::INFINITY, f64::min),
-        };
-        if r2 < self.radius_sq {
-            self.movement * (1.0 - r2 / self.radius_sq)
-        } else {
-            DVec3::ZERO
+        match &self.shape {
+            Reach::Strips(strips) => self.strip_flow(x, strips, segments.iter().copied()),
+            _ => self.flow(x),
         }
     }
+}
+
+/// How many pieces a segment whose end directions are `a` and `b` is split into so that no
+/// piece turns by more than [`GROOVE_TURN_DEG`].
+fn turn_pieces(a: DVec3, b: DVec3) -> usize {
+    let angle = a.angle_between(b).to_degrees();
+    if angle.is_finite() && angle > GROOVE_TURN_DEG {
+        // At most 180° / 5° = 36 pieces.
+        (angle / GROOVE_TURN_DEG).ceil().min(64.0) as usize
+    } else {
+        1
+    }
+}
+
+/// The inward unit normal (`−unit(S_u × S_v)`) at the surface point nearest `x`.
+fn inward_normal(grid: &super::Grid, x: DVec3) -> Result<DVec3, SurfaceError> {
+    let near = super::nearest::nearest(grid, x)
+        .ok_or_else(|| SurfaceError::BadOp("no surface point near the path".to_string()))?;
+    let m = grid.patches_u();
+    grid.normal(near.patch % m, near.patch / m, near.u, near.v)
+        .map(|n| -n)
+        .ok_or_else(|| {
+            SurfaceError::BadOp(format!(
+                "the surface has no normal at the point nearest {x} (patch {})",
+                near.patch
+            ))
+        })
 }
 
 #[cfg(test)]
@@ -427,7 +766,12 @@ mod tests {
     #[test]
     fn strip_distance_matches_brute_force() {
         let axis = DVec3::new(0.2, -0.3, -1.0).normalize();
-        let s = Strip::new(DVec3::new(0.0, 0.0, 0.0), DVec3::new(1.0, 0.5, -0.4), axis);
+        let s = Strip::new(
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.5, -0.4),
+            axis,
+            axis,
+        );
         for k in 0..200 {
             let x = DVec3::new(
                 (k as f64 * 0.71).sin() * 2.0,

@@ -44,11 +44,14 @@ pub mod export_job;
 pub mod file_dialog;
 pub mod hand_input;
 pub mod history;
+pub mod keymap;
 pub mod lifecycle;
 pub mod live;
 pub mod modeller;
 mod panels;
+pub mod reach;
 pub mod scene;
+pub mod stroke;
 pub mod tools;
 pub mod window;
 

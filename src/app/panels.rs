@@ -6,7 +6,7 @@
 //! gave; it edits only plain settings in place (sliders, check boxes, the form) and never does
 //! file I/O or touches the document — [`Modeller::apply`](super::Modeller::apply) does.
 
-use egui::{Color32, Key, KeyboardShortcut, Modifiers, RichText, Ui};
+use egui::{Color32, RichText, Ui};
 
 use super::autosave::Autosave;
 use super::camera::ViewPreset;
@@ -15,9 +15,10 @@ use super::document::OpTiming;
 use super::export_job::{ExportJob, TOLERANCE_RANGE};
 use super::file_dialog::{DialogPurpose, DialogResult, FileDialog};
 use super::history::History;
+use super::keymap::{self, Action, OrbitButton};
 use super::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
 use super::scene::{Overlays, SurfaceDisplay};
-use super::tools::{Tool, ToolSettings};
+use super::tools::{DEPTH_RANGE, RADIUS_RANGE, Tool, ToolSettings};
 use crate::curve::edit::GrabMethod;
 use crate::surface::continuity::ContinuityReport;
 use crate::surface::{Primitive, Regulation, Topology};
@@ -45,44 +46,55 @@ pub(super) struct FrameRate {
     pub(super) fps: u32,
 }
 
-/// The keyboard shortcuts (none while egui takes the keyboard, a text field say).
-pub(super) fn shortcuts_ui(ui: &mut Ui) -> Vec<Command> {
+/// The keys pressed this frame, as [`keymap`](super::keymap) actions (none while egui takes
+/// the keyboard, a text field say).
+pub(super) fn shortcuts_ui(ui: &mut Ui) -> Vec<Action> {
     if ui.ctx().egui_wants_keyboard_input() {
         return Vec::new();
     }
-    let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
-    let redo_y = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
-    let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
-    let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
-    let open = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
-    // Consume the longer shortcut first: Ctrl+Shift+Z also matches Ctrl+Z.
-    let (r1, r2, u, s, o, f) = ui.input_mut(|i| {
-        (
-            i.consume_shortcut(&redo),
-            i.consume_shortcut(&redo_y),
-            i.consume_shortcut(&undo),
-            i.consume_shortcut(&save),
-            i.consume_shortcut(&open),
-            i.consume_key(Modifiers::NONE, Key::F),
-        )
-    });
-    let mut commands = Vec::new();
-    if r1 || r2 {
-        commands.push(Command::Redo);
-    }
-    if u {
-        commands.push(Command::Undo);
-    }
-    if s {
-        commands.push(Command::Save);
-    }
-    if o {
-        commands.push(Command::ShowDialog(DialogPurpose::OpenModel));
-    }
-    if f {
-        commands.push(Command::FrameAll);
-    }
-    commands
+    ui.input_mut(keymap::pressed)
+}
+
+/// The help overlay: every key and mouse binding, from the keymap. Returns false when the
+/// user closed it.
+pub(super) fn help_ui(ctx: &egui::Context, orbit: OrbitButton) -> bool {
+    let mut open = true;
+    egui::Window::new("Keys and mouse")
+        .id(egui::Id::unique("nendo help"))
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
+        .open(&mut open)
+        .show(ctx, |ui| {
+            egui::Grid::new("nendo help grid")
+                .num_columns(2)
+                .striped(true)
+                .show(ui, |ui| {
+                    for (input, does) in keymap::mouse(orbit) {
+                        ui.strong(input);
+                        ui.label(does);
+                        ui.end_row();
+                    }
+                    let keys = keymap::keys();
+                    let mut seen = Vec::new();
+                    for binding in &keys {
+                        if seen.contains(&binding.action) {
+                            continue;
+                        }
+                        seen.push(binding.action);
+                        let all: Vec<String> = keys
+                            .iter()
+                            .filter(|k| k.action == binding.action)
+                            .map(keymap::KeyBinding::keys)
+                            .collect();
+                        ui.strong(all.join(", "));
+                        ui.label(binding.action.describe());
+                        ui.end_row();
+                    }
+                });
+            ui.small("F1, ? or Esc closes this.");
+        });
+    open
 }
 
 /// The top bar: file, undo / redo, the named views.
@@ -135,8 +147,20 @@ pub(super) fn top_bar_ui(ui: &mut Ui, history: &History) -> Vec<Command> {
                 commands.push(Command::View(preset));
             }
         }
-        if ui.button("frame").on_hover_text("F").clicked() {
+        if ui
+            .button("frame")
+            .on_hover_text("Frame the whole model (Home)")
+            .clicked()
+        {
             commands.push(Command::FrameAll);
+        }
+        ui.separator();
+        if ui
+            .button("Keys (F1)")
+            .on_hover_text("Every key and mouse binding (F1 or ?)")
+            .clicked()
+        {
+            commands.push(Command::ToggleHelp);
         }
     });
     commands
@@ -205,12 +229,12 @@ pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> V
     }
     let s = settings;
     ui.add(
-        egui::Slider::new(&mut s.radius, 0.05..=6.0)
+        egui::Slider::new(&mut s.radius, RADIUS_RANGE)
             .logarithmic(true)
             .text("finger radius"),
     );
     ui.add(
-        egui::Slider::new(&mut s.depth, 0.01..=3.0)
+        egui::Slider::new(&mut s.depth, DEPTH_RANGE)
             .logarithmic(true)
             .text("depth (click)"),
     );

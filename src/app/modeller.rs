@@ -346,7 +346,14 @@ impl Modeller {
             });
         egui::CollapsingHeader::new("Display")
             .default_open(true)
-            .show(ui, |ui| panels::display_ui(ui, &mut self.panel.overlays));
+            .show(ui, |ui| {
+                panels::display_ui(
+                    ui,
+                    &mut self.panel.overlays,
+                    &mut self.panel.orbit,
+                    self.cache.display().max_seam_deg,
+                );
+            });
         egui::CollapsingHeader::new("Export")
             .default_open(false)
             .show(ui, |ui| {

@@ -64,6 +64,8 @@ pub(super) fn help_ui(ctx: &egui::Context, orbit: OrbitButton) -> bool {
         .collapsible(false)
         .resizable(false)
         .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
+        .default_width(620.0)
+        .max_width(620.0)
         .open(&mut open)
         .show(ctx, |ui| {
             egui::Grid::new("nendo help grid")
@@ -72,7 +74,7 @@ pub(super) fn help_ui(ctx: &egui::Context, orbit: OrbitButton) -> bool {
                 .show(ui, |ui| {
                     for (input, does) in keymap::mouse(orbit) {
                         ui.strong(input);
-                        ui.label(does);
+                        ui.add(egui::Label::new(does).wrap());
                         ui.end_row();
                     }
                     let keys = keymap::keys();
@@ -88,7 +90,7 @@ pub(super) fn help_ui(ctx: &egui::Context, orbit: OrbitButton) -> bool {
                             .map(keymap::KeyBinding::keys)
                             .collect();
                         ui.strong(all.join(", "));
-                        ui.label(binding.action.describe());
+                        ui.add(egui::Label::new(binding.action.describe()).wrap());
                         ui.end_row();
                     }
                 });
@@ -221,8 +223,9 @@ pub(super) fn primitive_ui(ui: &mut Ui, form: &mut PrimitiveForm) -> Vec<Command
 pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> Vec<Command> {
     let mut commands = Vec::new();
     let mut chosen = tool;
-    for t in Tool::ALL {
-        ui.radio_value(&mut chosen, t, t.label());
+    for (k, t) in Tool::ALL.into_iter().enumerate() {
+        ui.radio_value(&mut chosen, t, t.label())
+            .on_hover_text(format!("{} (key {})", tool_help(t), k + 1));
     }
     if chosen != tool {
         commands.push(Command::SelectTool(chosen));
@@ -232,22 +235,39 @@ pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> V
         egui::Slider::new(&mut s.radius, RADIUS_RANGE)
             .logarithmic(true)
             .text("finger radius"),
-    );
+    )
+    .on_hover_text("How far the finger reaches around the point pressed, in model units (F, then move the mouse)");
     ui.add(
         egui::Slider::new(&mut s.depth, DEPTH_RANGE)
             .logarithmic(true)
             .text("depth (click)"),
-    );
-    ui.checkbox(&mut s.ridge, "draw ridges (not grooves)");
+    )
+    .on_hover_text("How deep a plain click pushes or pulls, and how deep a drawn line presses (Shift+F, then move the mouse)");
+    ui.checkbox(&mut s.ridge, "draw ridges (not grooves)")
+        .on_hover_text(
+            "Draw a line raises a ridge instead of cutting a groove (Ctrl while drawing swaps it)",
+        );
     ui.add(
         egui::Slider::new(&mut s.probe_radius, 0.02..=3.0)
             .logarithmic(true)
             .text("probe sphere"),
-    );
+    )
+    .on_hover_text("The sphere drawn around the point under the cursor on a curve: the part of the curve inside it is highlighted, to see where a grab takes hold");
     let method_name = |m: GrabMethod| match m {
         GrabMethod::LargestWeight => "largest weight (seed 004)",
         GrabMethod::NearestParameter => "nearest parameter (seed 000)",
         GrabMethod::LeastChange => "least change",
+    };
+    let method_help = |m: GrabMethod| match m {
+        GrabMethod::LargestWeight => {
+            "moves the control point whose basis function weighs most at the grabbed point (Satoh–Miwa, seed 004): simple and local"
+        }
+        GrabMethod::NearestParameter => {
+            "moves the control point nearest in parameter to the grabbed point (seed 000)"
+        }
+        GrabMethod::LeastChange => {
+            "moves every control point, by the least total change (the sum of their squared moves) that puts the grabbed point under the cursor"
+        }
     };
     egui::ComboBox::from_label("curve grab")
         .selected_text(method_name(s.grab.method))
@@ -257,11 +277,13 @@ pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> V
                 GrabMethod::NearestParameter,
                 GrabMethod::LeastChange,
             ] {
-                ui.selectable_value(&mut s.grab.method, m, method_name(m));
+                ui.selectable_value(&mut s.grab.method, m, method_name(m))
+                    .on_hover_text(method_help(m));
             }
         });
-    ui.checkbox(&mut s.grab.keep_ends, "keep curve end points");
-    ui.small("Left: tool · Right drag: orbit · Middle or Shift+Right: pan · Wheel: zoom (while pressing: depth)");
+    ui.checkbox(&mut s.grab.keep_ends, "keep curve end points")
+        .on_hover_text("A curve grab never moves the curve's two end points");
+    ui.small("Left: tool · Esc or right click: cancel a stroke · F1: every key");
     if tool == Tool::Hand {
         ui.small("Hand: the view ray is the finger. Press pushes, drag draws a groove; with Shift (or \"draw ridges\") the finger grips and pulls; the wheel while pressing goes deeper.");
     }
@@ -282,9 +304,16 @@ pub(super) fn regulation_ui(ui: &mut Ui, current: Regulation) -> Vec<Command> {
         .selected_text(regulation.name())
         .show_ui(ui, |ui| {
             for r in Regulation::ALL {
-                ui.selectable_value(&mut regulation, r, r.name());
+                ui.selectable_value(&mut regulation, r, r.name())
+                    .on_hover_text(regulation_help(r));
             }
-        });
+        })
+        .response
+        .on_hover_text("How the control points around a stroke are adjusted afterwards so the patches still meet smoothly (tangent-continuous, G1)");
+    ui.small(format!(
+        "{}. A change applies to the next strokes; the surface as it is stays.",
+        regulation_help(current)
+    ));
     if regulation == current {
         Vec::new()
     } else {
@@ -293,18 +322,127 @@ pub(super) fn regulation_ui(ui: &mut Ui, current: Regulation) -> Vec<Command> {
 }
 
 /// What to draw besides the clay.
-pub(super) fn display_ui(ui: &mut Ui, overlays: &mut Overlays) {
+pub(super) fn display_ui(
+    ui: &mut Ui,
+    overlays: &mut Overlays,
+    orbit: &mut OrbitButton,
+    max_seam_deg: f32,
+) {
     let o = overlays;
-    ui.checkbox(&mut o.patch_edges, "patch boundaries");
-    ui.checkbox(&mut o.control_net, "control net");
-    ui.checkbox(&mut o.control_polygons, "curve control polygons");
-    ui.checkbox(&mut o.heat_map, "G1 heat map along seams");
-    ui.add_enabled(
-        o.heat_map,
-        egui::Slider::new(&mut o.heat_max_deg, 0.01..=30.0)
-            .logarithmic(true)
-            .text("° = red"),
-    );
+    ui.checkbox(&mut o.patch_edges, "patch boundaries")
+        .on_hover_text("Draw the edges between the Bezier patches the surface is made of");
+    ui.checkbox(&mut o.control_net, "control net")
+        .on_hover_text("Draw the patches' control points, joined row by row: the numbers the surface is made from");
+    ui.checkbox(&mut o.control_polygons, "curve control polygons")
+        .on_hover_text("Draw each curve's control points, joined");
+    ui.checkbox(&mut o.heat_map, "G1 heat map along seams")
+        .on_hover_text("Colour the surface along each seam between patches by the angle between the two sides' normals there: 0° is perfectly smooth");
+    if o.heat_map {
+        ui.add(
+            egui::Slider::new(&mut o.heat_max_deg, 0.0001..=30.0)
+                .logarithmic(true)
+                .text("° = red"),
+        )
+        .on_hover_text("The seam angle drawn red; smaller angles go yellow, cyan, blue; seams below 1 % of it are not coloured");
+        heat_legend_ui(ui, o.heat_max_deg);
+        if max_seam_deg < o.heat_max_deg {
+            ui.label(format!("all seams ≤ {max_seam_deg:.2e}°: nothing is red"));
+            if max_seam_deg > 0.0
+                && ui
+                    .button("scale to the worst seam")
+                    .on_hover_text("Make the worst seam red, to see where the small angles are (under exact regulation they are rounding)")
+                    .clicked()
+            {
+                o.heat_max_deg = max_seam_deg.max(0.0001);
+            }
+        } else {
+            ui.label(format!("worst seam {max_seam_deg:.3}°"));
+        }
+    }
+    ui.horizontal(|ui| {
+        ui.label("orbit with");
+        egui::ComboBox::from_id_salt("orbit button")
+            .selected_text(orbit.label())
+            .show_ui(ui, |ui| {
+                for b in [OrbitButton::Right, OrbitButton::Middle] {
+                    ui.selectable_value(orbit, b, b.label());
+                }
+            });
+    })
+    .response
+    .on_hover_text("Which mouse button orbits the view; the other one pans");
+}
+
+/// The heat map's colours from 0° to `max_deg` (the shader's ramp, `shaders/clay.wgsl`).
+fn heat_legend_ui(ui: &mut Ui, max_deg: f32) {
+    let ramp = |t: f32| {
+        let c = [
+            [0.05, 0.15, 0.85],
+            [0.0, 0.75, 0.8],
+            [0.95, 0.85, 0.1],
+            [0.9, 0.05, 0.02],
+        ];
+        let (a, b, u) = if t < 1.0 / 3.0 {
+            (c[0], c[1], t * 3.0)
+        } else if t < 2.0 / 3.0 {
+            (c[1], c[2], (t - 1.0 / 3.0) * 3.0)
+        } else {
+            (c[2], c[3], (t - 2.0 / 3.0) * 3.0)
+        };
+        let mix = |k: usize| ((a[k] + (b[k] - a[k]) * u) * 255.0) as u8;
+        Color32::from_rgb(mix(0), mix(1), mix(2))
+    };
+    let (rect, _) =
+        ui.allocate_exact_size(egui::vec2(ui.available_width(), 12.0), egui::Sense::hover());
+    let steps = 32;
+    for k in 0..steps {
+        let t = k as f32 / steps as f32;
+        let x0 = rect.left() + rect.width() * t;
+        let x1 = rect.left() + rect.width() * (k + 1) as f32 / steps as f32;
+        ui.painter().rect_filled(
+            egui::Rect::from_x_y_ranges(x0..=x1, rect.y_range()),
+            0.0,
+            ramp(t + 0.5 / steps as f32),
+        );
+    }
+    ui.horizontal(|ui| {
+        ui.small("0°");
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            ui.small(format!("{max_deg:.3}°"));
+            ui.small(format!("{:.3}° ·", max_deg / 2.0));
+        });
+    });
+}
+
+/// What a regulation method does, in plain words.
+fn regulation_help(r: Regulation) -> &'static str {
+    match r {
+        Regulation::None => {
+            "none: the finger's deformation alone; the patches may meet at a crease"
+        }
+        Regulation::C1 => {
+            "c1: the older method — neighbouring control points kept in equal steps; smooth only where the grid is even"
+        }
+        Regulation::G1 => {
+            "g1: the paper's method — smooth at the grid's corners, along an edge only where it can be"
+        }
+        Regulation::Exact => {
+            "exact: the nearest surface that meets smoothly everywhere (to rounding), poles included"
+        }
+    }
+}
+
+/// What a tool does, in plain words.
+fn tool_help(t: Tool) -> &'static str {
+    match t {
+        Tool::Push => "Press a dent: drag to set the depth, live; Ctrl pulls instead",
+        Tool::Pull => "Pull a bump: drag to set the height, live; Ctrl pushes instead",
+        Tool::DrawLine => "Drag along the surface to cut a groove (Ctrl: a ridge)",
+        Tool::GrabCurve => "Grab a curve anywhere and move it",
+        Tool::SplitCurve => "Click a curve to split it in two there",
+        Tool::Tangent => "Drag a handle at a joint of two curves; the other side stays in line",
+        Tool::Hand => "The mouse drives the virtual hand: the view ray is the finger",
+    }
 }
 
 /// The export tolerance, and the export in progress or its button.

@@ -871,6 +871,52 @@ mod tests {
         );
     }
 
+    /// A drawn line's path is evenly spaced along the surface (a fifth of the radius), however
+    /// the cursor moved (a few long jumps, many short steps), and the live operation is a drag
+    /// along it; Ctrl turns the groove into a ridge.
+    #[test]
+    fn a_drawn_line_is_evenly_spaced() {
+        let scene = PlaneScene::new();
+        let ctx = scene.context();
+        let settings = ToolSettings::default();
+        let spacing = 0.2 * settings.radius;
+        let mut state = ToolState::default();
+        let start = Vec2::new(300.0, 300.0);
+        state.press(Tool::DrawLine, &ctx, &settings, start);
+        assert_eq!(
+            state.stroke_op(Tool::DrawLine, &ctx, &settings),
+            None,
+            "one point: no op yet"
+        );
+        for (k, step) in [(3, 60.0f32), (40, 2.5)] {
+            for _ in 0..k {
+                let Gesture::Stroke { last, .. } = &state.gesture else {
+                    panic!("a stroke")
+                };
+                let to = last.0 + Vec2::new(step, 0.3 * step);
+                state.drag(&ctx, &settings, to);
+            }
+        }
+        let Some(Op::Drag { path, depth, .. }) = state.stroke_op(Tool::DrawLine, &ctx, &settings)
+        else {
+            panic!("a drag")
+        };
+        assert!(path.len() > 10, "{}", path.len());
+        assert!(depth > 0.0, "a groove");
+        for w in path.windows(2) {
+            let d = (w[1] - w[0]).length();
+            assert!(
+                (d - spacing).abs() < 1e-9 * spacing.max(1.0),
+                "spacing {d} vs {spacing}"
+            );
+        }
+        state.set_invert(true);
+        let Some(Op::Drag { depth, .. }) = state.stroke_op(Tool::DrawLine, &ctx, &settings) else {
+            panic!("a drag")
+        };
+        assert!(depth < 0.0, "Ctrl: a ridge");
+    }
+
     #[test]
     fn the_wheel_never_turns_a_dragged_push_into_a_pull() {
         let scene = PlaneScene::new();

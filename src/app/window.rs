@@ -18,7 +18,7 @@
 //! reach the field. Only the last pass of a frame is drawn.
 //!
 //! Test aid: `NENDO_FRAME_DELAY_MS=250` makes every frame sleep that long after presenting
-//! (`.ci/checks/window-input.sh` uses it to check the above at 4 frames per second).
+//! (`.ci/checks/window-live.sh` uses it to check the above at 4 frames per second).
 
 use anyhow::{Context as _, anyhow};
 use glam::Vec2;

@@ -109,7 +109,11 @@ pub(super) fn top_bar_ui(ui: &mut Ui, history: &History) -> Vec<Command> {
         if ui.button("Save").on_hover_text("Ctrl+S").clicked() {
             commands.push(Command::Save);
         }
-        if ui.button("Save as…").clicked() {
+        if ui
+            .button("Save as…")
+            .on_hover_text("Save the model to a new file")
+            .clicked()
+        {
             commands.push(Command::ShowDialog(DialogPurpose::SaveModel));
         }
         if ui
@@ -145,7 +149,11 @@ pub(super) fn top_bar_ui(ui: &mut Ui, history: &History) -> Vec<Command> {
             ViewPreset::Right,
             ViewPreset::Iso,
         ] {
-            if ui.button(preset.name()).clicked() {
+            if ui
+                .button(preset.name())
+                .on_hover_text("Look from this side at the whole model")
+                .clicked()
+            {
                 commands.push(Command::View(preset));
             }
         }
@@ -212,7 +220,11 @@ pub(super) fn primitive_ui(ui: &mut Ui, form: &mut PrimitiveForm) -> Vec<Command
         }
     }
     ui.label(format!("{} patches", form.patches.0 * form.patches.1));
-    if ui.button("Create").clicked() {
+    if ui
+        .button("Create")
+        .on_hover_text("Start a new model of this shape (asks first about unsaved changes)")
+        .clicked()
+    {
         vec![Command::Create(*form)]
     } else {
         Vec::new()
@@ -481,13 +493,16 @@ pub(super) fn continuity_ui(
         return;
     };
     egui::Grid::new("continuity").num_columns(2).show(ui, |ui| {
-        ui.label("G1 max");
+        ui.label("G1 max").on_hover_text(
+            "The largest angle between the two sides' normals along any seam between patches: 0° is perfectly smooth",
+        );
         ui.label(format!("{:.4}°", r.g1_max_deg));
         ui.end_row();
         ui.label("G1 mean");
         ui.label(format!("{:.4}°", r.g1_mean_deg));
         ui.end_row();
-        ui.label("G0 gap");
+        ui.label("G0 gap")
+            .on_hover_text("The largest distance between two patches along a seam they share: 0 when they meet");
         ui.label(format!("{:.2e}", r.g0_gap));
         ui.end_row();
         for pole in &r.poles {
@@ -545,7 +560,11 @@ pub(super) fn record_ui(
     let mut commands = Vec::new();
     match recorded {
         None => {
-            if ui.button("Record operations").clicked() {
+            if ui
+                .button("Record operations")
+                .on_hover_text("Keep every operation from now on, to save as a file `nendo sculpt --ops` or Replay can run again")
+                .clicked()
+            {
                 commands.push(Command::StartRecording);
             }
         }
@@ -561,7 +580,13 @@ pub(super) fn record_ui(
     }
     match replaying {
         None => {
-            if ui.button("Replay operations…").clicked() {
+            if ui
+                .button("Replay operations…")
+                .on_hover_text(
+                    "Apply the operations of a recorded file to this model, one per frame",
+                )
+                .clicked()
+            {
                 commands.push(Command::ShowDialog(DialogPurpose::ReplayOps));
             }
         }

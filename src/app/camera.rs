@@ -253,11 +253,55 @@ impl OrbitCamera {
     pub fn zoom(&mut self, steps: f32) {
         self.distance = (self.distance * (-0.12 * steps).exp()).clamp(1e-3, 1e6);
     }
+
+    /// Zooms by `steps` notches toward the point under `pixel` (in a viewport of `size`
+    /// pixels): the point `p` where the ray through `pixel` meets the plane through the
+    /// target facing the camera stays under the cursor. With the factor
+    /// `f = distance′ / distance`, the target moves to `p + f (target − p)`, so the eye moves
+    /// to `p + f (eye − p)` along the same view direction: a homothety about `p`, which
+    /// keeps `p`'s pixel.
+    pub fn zoom_toward(&mut self, steps: f32, pixel: Vec2, size: Vec2) {
+        let ray = self.ray(pixel, size);
+        let normal = self.to_eye().as_dvec3();
+        let denom = ray.direction.dot(normal);
+        let t = (self.target.as_dvec3() - ray.origin).dot(normal) / denom;
+        let before = self.distance;
+        self.zoom(steps);
+        if denom.abs() < 1e-9 || !(t.is_finite() && t > 0.0) {
+            return;
+        }
+        let f = self.distance / before;
+        let p = ray.at(t).as_vec3();
+        self.target = p + (self.target - p) * f;
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Zooming toward the cursor keeps the point under it where it was on screen, and moves
+    /// the eye closer.
+    #[test]
+    fn zoom_toward_keeps_the_point_under_the_cursor() {
+        let size = Vec2::new(800.0, 600.0);
+        let mut cam = OrbitCamera::default();
+        let pixel = Vec2::new(620.0, 150.0);
+        let normal = cam.to_eye();
+        let ray = cam.ray(pixel, size);
+        let t = (cam.target.as_dvec3() - ray.origin).dot(normal.as_dvec3())
+            / ray.direction.dot(normal.as_dvec3());
+        let p = ray.at(t).as_vec3();
+        let project = |c: &OrbitCamera| {
+            let clip = c.view(size.x / size.y).clip_from_world * p.extend(1.0);
+            Vec2::new(clip.x / clip.w, clip.y / clip.w)
+        };
+        let before = project(&cam);
+        cam.zoom_toward(3.0, pixel, size);
+        assert!(cam.distance < 10.0);
+        let after = project(&cam);
+        assert!((after - before).length() < 1e-4, "{before} → {after}");
+    }
 
     #[test]
     fn presets_look_along_the_axes() {

@@ -43,6 +43,8 @@ pub enum Command {
     View(ViewPreset),
     /// Frame the whole model.
     FrameAll,
+    /// Open or close the help overlay (every key and mouse binding).
+    ToggleHelp,
     /// Start recording operations.
     StartRecording,
     /// Drop the recording.

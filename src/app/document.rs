@@ -123,13 +123,7 @@ impl Document {
             ms: start.elapsed().as_secs_f64() * 1e3,
             patches: touched.patches.len(),
         });
-        let what = match op {
-            Op::Push { depth, .. } | Op::PushNormal { depth, .. } if *depth < 0.0 => "pull",
-            Op::Push { .. } | Op::PushNormal { .. } => "push",
-            Op::Drag { .. } | Op::Groove { .. } => "draw a line",
-            Op::Move { .. } => "move",
-            Op::Smooth { .. } => "smooth",
-        };
+        let what = super::stroke::edit_name(op);
         self.history.record(what, before);
         if let Some(rec) = &mut self.recording {
             rec.push(op.clone());

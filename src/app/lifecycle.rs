@@ -308,7 +308,8 @@ impl Session {
     #[must_use]
     pub fn new(doc: Document, autosave: Option<PathBuf>, offer_recovery: bool) -> Self {
         let autosave = autosave.map(|path| {
-            let mut a = Autosave::new(path);
+            // This window's own slot: no other running window's file is ever offered.
+            let mut a = Autosave::claim(&path);
             // The model as opened (or the starting plane) is not worth writing.
             a.mark_saved(doc.revision());
             a
@@ -399,7 +400,8 @@ impl Session {
     pub fn recover(&mut self, path: &Path) -> Result<Document, ModelError> {
         self.lifecycle.recovery_answered();
         let mut doc = Document::open(path)?;
-        doc.path = None;
+        // The model keeps the name of the file it was of (unsaved work until saved).
+        doc.path = Autosave::source_of(path);
         doc.mark_unsaved();
         self.owns_autosave = true;
         Ok(doc)
@@ -439,6 +441,9 @@ impl Session {
     /// question is about the file this would overwrite).
     pub fn tick_autosave(&mut self, now: Instant) {
         let revision = self.doc.revision();
+        if let Some(a) = &mut self.autosave {
+            a.set_source(self.doc.path.as_deref());
+        }
         if let Some(a) = &mut self.autosave
             && self.lifecycle.prompt().is_none()
             && a.tick(self.doc.model(), revision, now)
@@ -471,6 +476,9 @@ impl Session {
             && let Some(a) = &mut self.autosave
         {
             a.discard();
+        }
+        if let Some(a) = &mut self.autosave {
+            a.release();
         }
     }
 

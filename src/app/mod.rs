@@ -3,15 +3,9 @@
 //!
 //! ## Controls
 //!
-//! | input | does |
-//! |---|---|
-//! | left button | the active tool (see [`tools`]): push / pull (drag sets the depth, click uses the panel's), draw a line, grab / split / tangent-edit curves, the mouse as the hand (Shift: grip and pull) |
-//! | right drag | orbit |
-//! | middle drag, Shift + right drag | pan |
-//! | wheel | zoom; while a tool is pressed: the depth (push, line) or the grab depth (curves) |
-//! | Ctrl+Z / Ctrl+Shift+Z (Ctrl+Y) | undo / redo |
-//! | Ctrl+S / Ctrl+O | save / open |
-//! | F | frame the model |
+//! Every key and mouse binding is in one table, [`keymap`] (the help overlay, F1 or `?`, and
+//! the README list it from there). Push, Pull and Draw a line deform live while the button is
+//! held ([`stroke`]); Esc or a right click cancels the stroke exactly.
 //!
 //! Input egui takes (a panel, a text field, a dialog) never reaches the tools.
 //!
@@ -25,6 +19,9 @@
 //! | [`lifecycle`] | the document's lifecycle: unsaved changes, the questions, the action waiting on them (a state machine without I/O), autosave and recovery |
 //! | [`autosave`] | the autosave file |
 //! | [`tools`], [`curve_edit`] | the mouse tools and the curve edits they make |
+//! | [`stroke`] | a live stroke: re-applied from its start each frame, one undo step, cancelled exactly |
+//! | [`reach`] | the patches an operation changes, outlined around the cursor |
+//! | [`keymap`] | every key and mouse binding, the one table the shortcuts, the help and the README use |
 //! | [`display_cache`] | what the window derives from the document (tessellation, continuity) |
 //! | [`modeller`] | the modeller's state, split by concern, its input handling, and [`Modeller::apply`] |
 //! | [`command`], `panels` | the egui panels (`*_ui` functions) and the [`Command`]s they return |
@@ -44,11 +41,14 @@ pub mod export_job;
 pub mod file_dialog;
 pub mod hand_input;
 pub mod history;
+pub mod keymap;
 pub mod lifecycle;
 pub mod live;
 pub mod modeller;
 mod panels;
+pub mod reach;
 pub mod scene;
+pub mod stroke;
 pub mod tools;
 pub mod window;
 

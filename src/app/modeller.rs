@@ -19,11 +19,14 @@ use super::document::Document;
 use super::export_job::{ExportJob, TOLERANCE_RANGE};
 use super::file_dialog::{DialogPurpose, FileDialog};
 use super::hand_input::MouseHand;
+use super::keymap::{Action, OrbitButton};
 use super::lifecycle::{Next, Pending, PrimitiveForm, Session};
 use super::live::LiveInput;
 use super::panels::{self, FrameRate, PANEL_WIDTH, Status};
+use super::reach::Reach;
 use super::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
-use super::tools::{Edit, Tool, ToolContext, ToolSettings, ToolState};
+use super::stroke::LiveStroke;
+use super::tools::{DEPTH_RANGE, Edit, RADIUS_RANGE, Tool, ToolContext, ToolSettings, ToolState};
 use crate::curve::Curve;
 use crate::curve::json::DynCurve;
 use crate::mesh::Tessellation;
@@ -68,6 +71,8 @@ struct Pointer {
     /// Left, right, middle held (pressed in the view).
     buttons: [bool; 3],
     shift: bool,
+    /// Ctrl held (inverts a stroke).
+    ctrl: bool,
 }
 
 /// Frame timing, smoothed.
@@ -101,6 +106,30 @@ struct PanelSettings {
     export_tolerance: f64,
     /// Refine where the finger reaches before each push, pull or draw-a-line (on by default).
     auto_refine: bool,
+    /// Which button orbits.
+    orbit: OrbitButton,
+}
+
+/// What F (radius) or Shift+F (depth) is adjusting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Adjusted {
+    Radius,
+    Depth,
+}
+
+/// A radius or depth being set by moving the mouse (F, Shift+F): the value doubles every
+/// [`Adjust::PIXELS_PER_DOUBLING`] to the right of where the cursor was when it began.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Adjust {
+    what: Adjusted,
+    /// The value before: Esc or a right click restores it.
+    start: f64,
+    /// The cursor when it began (`None` until the cursor is seen in the view).
+    anchor: Option<Vec2>,
+}
+
+impl Adjust {
+    const PIXELS_PER_DOUBLING: f32 = 150.0;
 }
 
 /// The mouse tools: which is active, their settings and their gesture.
@@ -135,6 +164,19 @@ pub struct Modeller {
     replay: Option<Replay>,
     /// A mesh export running in the background.
     export_job: Option<ExportJob>,
+    /// The push, pull or line being drawn, deforming the surface live.
+    stroke: Option<LiveStroke>,
+    /// The stroke's gesture changed since its surface was last shown.
+    stroke_dirty: bool,
+    /// F or Shift+F in progress.
+    adjust: Option<Adjust>,
+    /// The help overlay is open.
+    help: bool,
+    /// The camera and surface generation the hover was last picked with (the brush ring is
+    /// picked again when either changes, not only when the mouse moves).
+    hover_view: Option<(OrbitCamera, u64)>,
+    /// The patches the finger would reach (hover) or reaches (stroke).
+    reach: Reach,
 }
 
 impl Modeller {
@@ -150,6 +192,7 @@ impl Modeller {
                 cursor: None,
                 buttons: [false; 3],
                 shift: false,
+                ctrl: false,
             },
             tools: Tools {
                 active: Tool::Push,
@@ -165,12 +208,19 @@ impl Modeller {
                 overlays: Overlays::default(),
                 export_tolerance: Tessellation::EXPORT.tolerance,
                 auto_refine: true,
+                orbit: OrbitButton::default(),
             },
             dialog: None,
             status: None,
             timing: Timing::default(),
             replay: None,
             export_job: None,
+            stroke: None,
+            stroke_dirty: false,
+            adjust: None,
+            help: false,
+            hover_view: None,
+            reach: Reach::default(),
         }
     }
 
@@ -204,9 +254,19 @@ impl Modeller {
         self.request(Pending::Open(path.to_path_buf()));
     }
 
-    /// Whether Shift is held (from the window's modifier events).
-    pub fn set_shift(&mut self, held: bool) {
-        self.pointer.shift = held;
+    /// Whether Shift and Ctrl are held (from the window's modifier events).
+    pub fn set_modifiers(&mut self, shift: bool, ctrl: bool) {
+        self.pointer.shift = shift;
+        if ctrl != self.pointer.ctrl {
+            self.pointer.ctrl = ctrl;
+            self.tools.state.set_invert(ctrl);
+            self.stroke_dirty |= self.stroke.is_some();
+        }
+    }
+
+    /// Which mouse button orbits.
+    pub fn set_orbit_button(&mut self, orbit: OrbitButton) {
+        self.panel.orbit = orbit;
     }
 
     /// The exit: finishes a running export; the autosave is removed only when it is this
@@ -227,9 +287,14 @@ impl Modeller {
     /// Draws the panels and dialogs and carries out what the user asked for; returns the
     /// rectangle left for the 3D view, in points.
     pub fn ui(&mut self, ui: &mut egui::Ui) -> egui::Rect {
-        let mut commands = panels::shortcuts_ui(ui);
+        let actions = panels::shortcuts_ui(ui);
         if !ui.ctx().egui_wants_keyboard_input() {
-            self.pointer.shift = ui.input(|i| i.modifiers.shift);
+            let m = ui.input(|i| i.modifiers);
+            self.set_modifiers(m.shift, m.command || m.ctrl);
+        }
+        let mut commands = Vec::new();
+        for action in actions {
+            commands.extend(self.key_action(action));
         }
         egui::Panel::top("nendo top").show(ui, |ui| {
             commands.extend(panels::top_bar_ui(ui, self.session.doc.history()));
@@ -249,7 +314,11 @@ impl Modeller {
         if let Some(dialog) = &mut self.dialog {
             commands.extend(panels::dialog_ui(&ctx, dialog));
         }
+        if self.help && !panels::help_ui(&ctx, self.panel.orbit) {
+            self.help = false;
+        }
         let view = ui.available_rect_before_wrap();
+        self.cursor_label_ui(&ctx, view);
         for command in commands {
             self.apply(command);
         }
@@ -281,7 +350,14 @@ impl Modeller {
             });
         egui::CollapsingHeader::new("Display")
             .default_open(true)
-            .show(ui, |ui| panels::display_ui(ui, &mut self.panel.overlays));
+            .show(ui, |ui| {
+                panels::display_ui(
+                    ui,
+                    &mut self.panel.overlays,
+                    &mut self.panel.orbit,
+                    self.cache.display().max_seam_deg,
+                );
+            });
         egui::CollapsingHeader::new("Export")
             .default_open(false)
             .show(ui, |ui| {
@@ -373,6 +449,7 @@ impl Modeller {
             Command::SetAutoRefine(on) => self.panel.auto_refine = on,
             Command::View(preset) => self.view_from(preset),
             Command::FrameAll => self.frame_all(),
+            Command::ToggleHelp => self.help = !self.help,
             Command::StartRecording => self.session.doc.recording = Some(Vec::new()),
             Command::DiscardRecording => self.session.doc.recording = None,
             Command::StopReplay => self.replay = None,
@@ -515,7 +592,7 @@ impl Modeller {
     }
 
     fn undo(&mut self) {
-        self.tools.state.cancel();
+        self.cancel_stroke();
         self.end_hand_contacts();
         if !self.session.doc.undo() {
             self.set_status("nothing to undo", false);
@@ -523,7 +600,7 @@ impl Modeller {
     }
 
     fn redo(&mut self) {
-        self.tools.state.cancel();
+        self.cancel_stroke();
         self.end_hand_contacts();
         if !self.session.doc.redo() {
             self.set_status("nothing to redo", false);
@@ -593,12 +670,226 @@ impl Modeller {
 
     /// Brings the cached tessellation, patches and continuity up to the document's revision.
     pub fn refresh(&mut self) {
+        self.update_stroke();
         let busy = self.gesture_busy() || self.replay.is_some();
         self.cache.refresh(&self.session.doc, busy);
         if self.frame_pending {
             self.frame_all();
             self.frame_pending = false;
         }
+        self.update_hover();
+        self.update_reach();
+    }
+
+    /// Shows the stroke in progress as its gesture now describes it (once per frame, however
+    /// many input events came since).
+    fn update_stroke(&mut self) {
+        if !std::mem::take(&mut self.stroke_dirty) {
+            return;
+        }
+        let Some(stroke) = &mut self.stroke else {
+            return;
+        };
+        let op = {
+            let ctx = ToolContext {
+                camera: &self.camera,
+                viewport: self.pointer.viewport,
+                patches: stroke.base_patches(),
+                mesh: stroke.base_mesh(),
+                curves: &[],
+            };
+            self.tools
+                .state
+                .stroke_op(self.tools.active, &ctx, &self.tools.settings)
+        };
+        stroke.show(&mut self.session.doc, op.as_ref());
+        let refused = stroke.take_refused();
+        if let Some(e) = refused {
+            self.set_status(format!("stroke refused: {e}"), true);
+        }
+    }
+
+    /// Picks the surface under the cursor again when the camera or the surface changed since
+    /// the last pick (an orbit, a zoom, an undo): the brush ring stays on what is under the
+    /// cursor.
+    fn update_hover(&mut self) {
+        let tool = self.tools.active;
+        let Some(cursor) = self.pointer.cursor else {
+            return;
+        };
+        if !tool.sculpts() || self.gesture_busy() || self.adjust.is_some() {
+            return;
+        }
+        let key = (self.camera, self.cache.generation());
+        if self.hover_view == Some(key) {
+            return;
+        }
+        self.hover_view = Some(key);
+        let ctx = ToolContext {
+            camera: &self.camera,
+            viewport: self.pointer.viewport,
+            patches: self.cache.patches(),
+            mesh: &self.cache.display().mesh,
+            curves: &[],
+        };
+        self.tools.state.hover(tool, &ctx, cursor);
+    }
+
+    /// The patches the finger reaches: the live stroke's, or those a click at the hover would
+    /// change.
+    fn update_reach(&mut self) {
+        if let Some(stroke) = &self.stroke {
+            self.reach.set(stroke.touched());
+            return;
+        }
+        let op = if self.gesture_busy() {
+            None
+        } else {
+            let ctx = ToolContext {
+                camera: &self.camera,
+                viewport: self.pointer.viewport,
+                patches: self.cache.patches(),
+                mesh: &self.cache.display().mesh,
+                curves: &[],
+            };
+            self.tools
+                .state
+                .hover_op(self.tools.active, &ctx, &self.tools.settings)
+        };
+        self.reach.update(op, &self.session.doc);
+    }
+
+    /// Cancels the stroke in progress (if any): the surface is exactly as before it.
+    fn cancel_stroke(&mut self) {
+        self.tools.state.cancel();
+        if let Some(stroke) = self.stroke.take() {
+            stroke.cancel(&mut self.session.doc);
+        }
+        self.stroke_dirty = false;
+        self.hover_view = None;
+    }
+
+    /// Carries out a key's action (some need the modeller's state: what Esc cancels).
+    fn key_action(&mut self, action: Action) -> Vec<Command> {
+        match action {
+            Action::Undo => vec![Command::Undo],
+            Action::Redo => vec![Command::Redo],
+            Action::Save => vec![Command::Save],
+            Action::Open => vec![Command::ShowDialog(DialogPurpose::OpenModel)],
+            Action::FrameAll => vec![Command::FrameAll],
+            Action::Help => vec![Command::ToggleHelp],
+            Action::Tool(tool) => vec![Command::SelectTool(tool)],
+            Action::AdjustRadius | Action::AdjustDepth => {
+                if !self.gesture_busy() && self.session.prompt().is_none() {
+                    let (what, start) = if action == Action::AdjustRadius {
+                        (Adjusted::Radius, self.tools.settings.radius)
+                    } else {
+                        (Adjusted::Depth, self.tools.settings.depth)
+                    };
+                    self.adjust = Some(Adjust {
+                        what,
+                        start,
+                        anchor: self.pointer.cursor,
+                    });
+                }
+                Vec::new()
+            }
+            Action::Cancel => {
+                if self.stroke.is_some() || self.tools.state.busy() {
+                    self.cancel_stroke();
+                    self.set_status("stroke cancelled", false);
+                } else if let Some(adjust) = self.adjust.take() {
+                    self.set_adjusted(adjust.what, adjust.start);
+                } else if self.help {
+                    self.help = false;
+                } else if self.dialog.is_some() {
+                    return vec![Command::DialogCancelled];
+                }
+                Vec::new()
+            }
+        }
+    }
+
+    fn set_adjusted(&mut self, what: Adjusted, value: f64) {
+        let s = &mut self.tools.settings;
+        match what {
+            Adjusted::Radius => s.radius = value.clamp(*RADIUS_RANGE.start(), *RADIUS_RANGE.end()),
+            Adjusted::Depth => s.depth = value.clamp(*DEPTH_RANGE.start(), *DEPTH_RANGE.end()),
+        }
+    }
+
+    /// Pointer input while F or Shift+F is in progress: moves set the value, a left click
+    /// keeps it, a right or middle click restores it.
+    fn adjust_pointer(&mut self, input: PointerInput) {
+        let Some(adjust) = &mut self.adjust else {
+            return;
+        };
+        match input {
+            PointerInput::Moved(p) => {
+                self.pointer.cursor = Some(p);
+                let anchor = *adjust.anchor.get_or_insert(p);
+                let (what, start) = (adjust.what, adjust.start);
+                let factor = 2f64.powf(f64::from((p.x - anchor.x) / Adjust::PIXELS_PER_DOUBLING));
+                self.set_adjusted(what, start * factor);
+            }
+            PointerInput::Pressed(Button::Left, _) => self.adjust = None,
+            PointerInput::Pressed(_, _) => {
+                let (what, start) = (adjust.what, adjust.start);
+                self.adjust = None;
+                self.set_adjusted(what, start);
+            }
+            _ => {}
+        }
+    }
+
+    /// The number by the cursor: a stroke's depth (and the patches it reaches), or the radius
+    /// or depth F / Shift+F is setting.
+    fn cursor_label_ui(&self, ctx: &egui::Context, view: egui::Rect) {
+        let Some(cursor) = self.pointer.cursor else {
+            return;
+        };
+        let text = if let Some(adjust) = &self.adjust {
+            match adjust.what {
+                Adjusted::Radius => format!("radius {:.3}", self.tools.settings.radius),
+                Adjusted::Depth => format!("depth {:.3}", self.tools.settings.depth),
+            }
+        } else if let Some(stroke) = &self.stroke {
+            let ctx = ToolContext {
+                camera: &self.camera,
+                viewport: self.pointer.viewport,
+                patches: stroke.base_patches(),
+                mesh: stroke.base_mesh(),
+                curves: &[],
+            };
+            let Some(depth) = self.tools.state.stroke_depth(&ctx, &self.tools.settings) else {
+                return;
+            };
+            let signed = stroke.shown().map_or(0.0, |op| match op {
+                Op::Push { depth, .. }
+                | Op::PushNormal { depth, .. }
+                | Op::Drag { depth, .. }
+                | Op::Groove { depth, .. } => *depth,
+                Op::Move { .. } | Op::Smooth { .. } => 0.0,
+            });
+            let way = if signed < 0.0 { "out" } else { "in" };
+            format!(
+                "depth {depth:.3} {way} · {} patches",
+                stroke.touched().len()
+            )
+        } else {
+            return;
+        };
+        let ppp = ctx.pixels_per_point();
+        let at = view.min + egui::vec2(cursor.x, cursor.y) / ppp + egui::vec2(18.0, 14.0);
+        let painter = ctx.layer_painter(egui::LayerId::new(
+            egui::Order::Foreground,
+            egui::Id::unique("nendo cursor label"),
+        ));
+        let font = egui::FontId::proportional(15.0);
+        let galley = painter.layout_no_wrap(text, font, egui::Color32::WHITE);
+        let rect = egui::Rect::from_min_size(at, galley.size()).expand(4.0);
+        painter.rect_filled(rect, 3.0, egui::Color32::from_black_alpha(170));
+        painter.galley(at, galley, egui::Color32::WHITE);
     }
 
     /// Frames the whole model.
@@ -624,9 +915,9 @@ impl Modeller {
     /// Replaces the document (opened file, new primitive, recovery): clears the tool state
     /// and reframes.
     fn replace_document(&mut self, doc: Document) {
+        self.cancel_stroke();
         self.end_hand_contacts();
         self.session.replace(doc);
-        self.tools.state.cancel();
         self.frame_pending = true;
         self.cache.invalidate();
     }
@@ -702,7 +993,7 @@ impl Modeller {
     /// Selects a tool, ending whatever the previous one was doing.
     fn select_tool(&mut self, tool: Tool) {
         if tool != self.tools.active {
-            self.tools.state.cancel();
+            self.cancel_stroke();
             self.end_hand_contacts();
             self.tools.active = tool;
         }
@@ -824,15 +1115,24 @@ impl Modeller {
         if self.session.prompt().is_some() {
             return;
         }
+        if self.adjust.is_some() {
+            self.adjust_pointer(input);
+            return;
+        }
         let curves_owned = self.curves_3d();
         let curves: Vec<(usize, &Curve<DVec3>)> =
             curves_owned.iter().map(|(i, c)| (*i, c)).collect();
         let camera = self.camera;
+        // During a stroke the tools pick on the surface as it was when it began.
+        let (patches, mesh) = match &self.stroke {
+            Some(s) => (s.base_patches(), s.base_mesh()),
+            None => (self.cache.patches(), &self.cache.display().mesh),
+        };
         let ctx = ToolContext {
             camera: &camera,
             viewport: self.pointer.viewport,
-            patches: self.cache.patches(),
-            mesh: &self.cache.display().mesh,
+            patches,
+            mesh,
             curves: &curves,
         };
         let tool = self.tools.active;
@@ -842,18 +1142,24 @@ impl Modeller {
                 let delta = previous.map_or(Vec2::ZERO, |q| p - q);
                 let [left, right, middle] = self.pointer.buttons;
                 let shift = self.pointer.shift;
-                if right && !shift {
+                let (orbit, pan) = match self.panel.orbit {
+                    OrbitButton::Right => (right && !shift, middle || (right && shift)),
+                    OrbitButton::Middle => (middle && !shift, right || (middle && shift)),
+                };
+                if orbit {
                     self.camera.orbit(delta);
-                } else if middle || (right && shift) {
+                } else if pan {
                     self.camera.pan(delta, self.pointer.viewport.y);
                 } else if tool == Tool::Hand {
                     self.tools.state.hover(Tool::Hand, &ctx, p);
                     self.drive_hand(p);
                 } else if left {
                     let edits = self.tools.state.drag(&ctx, &self.tools.settings, p);
+                    self.stroke_dirty |= self.stroke.is_some();
                     self.apply_edits(edits);
                 } else {
                     self.tools.state.hover(tool, &ctx, p);
+                    self.hover_view = Some((camera, self.cache.generation()));
                 }
             }
             PointerInput::Pressed(button, p) => {
@@ -870,7 +1176,22 @@ impl Modeller {
                     Button::Left => {
                         self.pointer.buttons[0] = true;
                         let edits = self.tools.state.press(tool, &ctx, &self.tools.settings, p);
+                        if self.tools.state.stroking() {
+                            self.end_hand_contacts();
+                            self.stroke = Some(LiveStroke::begin(
+                                &self.session.doc,
+                                self.cache.patches(),
+                                &self.cache.display().mesh,
+                                self.panel.auto_refine,
+                            ));
+                            self.stroke_dirty = true;
+                        }
                         self.apply_edits(edits);
+                    }
+                    // A right click during a stroke cancels it (and orbits nothing).
+                    Button::Right if self.stroke.is_some() || self.tools.state.stroking() => {
+                        self.cancel_stroke();
+                        self.set_status("stroke cancelled", false);
                     }
                     Button::Right => self.pointer.buttons[1] = true,
                     Button::Middle => self.pointer.buttons[2] = true,
@@ -888,7 +1209,19 @@ impl Modeller {
                         .tools
                         .state
                         .release(tool, &ctx, &self.tools.settings, p);
-                    self.apply_edits(edits);
+                    match self.stroke.take() {
+                        Some(stroke) => {
+                            let op = edits.into_iter().find_map(|e| match e {
+                                Edit::Sculpt(op) => Some(op),
+                                _ => None,
+                            });
+                            self.stroke_dirty = false;
+                            if let Some(e) = stroke.commit(&mut self.session.doc, op.as_ref()) {
+                                self.set_status(format!("operation refused: {e}"), true);
+                            }
+                        }
+                        None => self.apply_edits(edits),
+                    }
                 }
                 Button::Right => self.pointer.buttons[1] = false,
                 Button::Middle => self.pointer.buttons[2] = false,
@@ -900,10 +1233,14 @@ impl Modeller {
                         self.feed_hand(ray);
                     }
                 } else if self.tools.state.wheel(&ctx, &self.tools.settings, steps) {
+                    self.stroke_dirty |= self.stroke.is_some();
                     let edits = self.tools.state.regrab(&ctx);
                     self.apply_edits(edits);
                 } else {
-                    self.camera.zoom(steps);
+                    match self.pointer.cursor {
+                        Some(c) => self.camera.zoom_toward(steps, c, self.pointer.viewport),
+                        None => self.camera.zoom(steps),
+                    }
                 }
             }
             PointerInput::Left => {
@@ -949,6 +1286,9 @@ impl Modeller {
         self.tools
             .state
             .preview(tool, &ctx, settings, lines, spheres);
+        if tool.sculpts() && tool != Tool::Hand {
+            self.reach.draw(&self.cache.display().mesh, lines);
+        }
         if tool == Tool::Hand {
             self.hand.draw(lines, spheres);
         }
@@ -1042,6 +1382,83 @@ mod tests {
         // Two edits: the auto-refinement under the finger (on by default), then the push.
         assert_eq!(m.document().revision(), 2);
         assert_eq!(m.document().history().undo_name(), Some("push"));
+    }
+
+    /// Push deforms live while the button is held; Esc (or a right click) during the stroke
+    /// restores the surface bit for bit; a released stroke is one undo step.
+    #[test]
+    fn strokes_are_live_and_cancel_exactly() {
+        let mut m = Modeller::new(plane_doc(), None, false);
+        m.set_viewport(Vec2::new(800.0, 600.0));
+        m.refresh();
+        let start = m.document().model().clone();
+        let centre = Vec2::new(400.0, 300.0);
+        m.pointer(PointerInput::Moved(centre));
+        m.refresh();
+        assert!(
+            !m.reach.patches().is_empty(),
+            "the reach is outlined on hover"
+        );
+        for cancel in [true, false] {
+            m.pointer(PointerInput::Pressed(Button::Left, centre));
+            m.pointer(PointerInput::Moved(centre + Vec2::new(0.0, 30.0)));
+            m.refresh();
+            assert!(
+                lowest(&m) < -0.05,
+                "pushed before the release: {}",
+                lowest(&m)
+            );
+            let shallow = lowest(&m);
+            m.pointer(PointerInput::Wheel(4.0));
+            m.refresh();
+            assert!(lowest(&m) < shallow, "the wheel goes deeper live");
+            if cancel {
+                let _ = m.key_action(Action::Cancel);
+                assert_eq!(m.document().model(), &start, "Esc restores exactly");
+                m.pointer(PointerInput::Released(Button::Left, centre));
+                assert_eq!(m.document().model(), &start);
+                assert!(m.document().history().undo_name().is_none());
+            } else {
+                m.pointer(PointerInput::Pressed(Button::Right, centre));
+                m.pointer(PointerInput::Released(Button::Right, centre));
+                assert_eq!(
+                    m.document().model(),
+                    &start,
+                    "a right click restores exactly"
+                );
+                m.pointer(PointerInput::Released(Button::Left, centre));
+            }
+            m.refresh();
+        }
+        // Ctrl inverts: a Push drag pulls; release keeps it as one undo step.
+        m.set_modifiers(false, true);
+        m.pointer(PointerInput::Pressed(Button::Left, centre));
+        m.pointer(PointerInput::Moved(centre + Vec2::new(0.0, 30.0)));
+        m.pointer(PointerInput::Released(
+            Button::Left,
+            centre + Vec2::new(0.0, 30.0),
+        ));
+        m.set_modifiers(false, false);
+        let highest = m
+            .document()
+            .model()
+            .surface
+            .patches()
+            .iter()
+            .flatten()
+            .map(|p| p.z)
+            .fold(0.0, f64::max);
+        assert!(highest > 0.05, "Ctrl+Push pulls: {highest}");
+        assert_eq!(m.document().history().undo_name(), Some("pull"));
+        m.apply(Command::Undo);
+        assert_eq!(m.document().model(), &start);
+        // F then a move to the right grows the radius; Esc restores it.
+        let radius = m.tools.settings.radius;
+        let _ = m.key_action(Action::AdjustRadius);
+        m.pointer(PointerInput::Moved(centre + Vec2::new(150.0, 0.0)));
+        assert!((m.tools.settings.radius - 2.0 * radius).abs() < 1e-9);
+        let _ = m.key_action(Action::Cancel);
+        assert_eq!(m.tools.settings.radius, radius);
     }
 
     fn pushed_model() -> Model {

@@ -6,7 +6,7 @@
 //! gave; it edits only plain settings in place (sliders, check boxes, the form) and never does
 //! file I/O or touches the document — [`Modeller::apply`](super::Modeller::apply) does.
 
-use egui::{Color32, Key, KeyboardShortcut, Modifiers, RichText, Ui};
+use egui::{Color32, RichText, Ui};
 
 use super::autosave::Autosave;
 use super::camera::ViewPreset;
@@ -15,9 +15,10 @@ use super::document::OpTiming;
 use super::export_job::{ExportJob, TOLERANCE_RANGE};
 use super::file_dialog::{DialogPurpose, DialogResult, FileDialog};
 use super::history::History;
+use super::keymap::{self, Action, OrbitButton};
 use super::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
 use super::scene::{Overlays, SurfaceDisplay};
-use super::tools::{Tool, ToolSettings};
+use super::tools::{DEPTH_RANGE, RADIUS_RANGE, Tool, ToolSettings};
 use crate::curve::edit::GrabMethod;
 use crate::surface::continuity::ContinuityReport;
 use crate::surface::{Primitive, Regulation, Topology};
@@ -45,44 +46,57 @@ pub(super) struct FrameRate {
     pub(super) fps: u32,
 }
 
-/// The keyboard shortcuts (none while egui takes the keyboard, a text field say).
-pub(super) fn shortcuts_ui(ui: &mut Ui) -> Vec<Command> {
+/// The keys pressed this frame, as [`keymap`](super::keymap) actions (none while egui takes
+/// the keyboard, a text field say).
+pub(super) fn shortcuts_ui(ui: &mut Ui) -> Vec<Action> {
     if ui.ctx().egui_wants_keyboard_input() {
         return Vec::new();
     }
-    let redo = KeyboardShortcut::new(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
-    let redo_y = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
-    let undo = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
-    let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
-    let open = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
-    // Consume the longer shortcut first: Ctrl+Shift+Z also matches Ctrl+Z.
-    let (r1, r2, u, s, o, f) = ui.input_mut(|i| {
-        (
-            i.consume_shortcut(&redo),
-            i.consume_shortcut(&redo_y),
-            i.consume_shortcut(&undo),
-            i.consume_shortcut(&save),
-            i.consume_shortcut(&open),
-            i.consume_key(Modifiers::NONE, Key::F),
-        )
-    });
-    let mut commands = Vec::new();
-    if r1 || r2 {
-        commands.push(Command::Redo);
-    }
-    if u {
-        commands.push(Command::Undo);
-    }
-    if s {
-        commands.push(Command::Save);
-    }
-    if o {
-        commands.push(Command::ShowDialog(DialogPurpose::OpenModel));
-    }
-    if f {
-        commands.push(Command::FrameAll);
-    }
-    commands
+    ui.input_mut(keymap::pressed)
+}
+
+/// The help overlay: every key and mouse binding, from the keymap. Returns false when the
+/// user closed it.
+pub(super) fn help_ui(ctx: &egui::Context, orbit: OrbitButton) -> bool {
+    let mut open = true;
+    egui::Window::new("Keys and mouse")
+        .id(egui::Id::unique("nendo help"))
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
+        .default_width(620.0)
+        .max_width(620.0)
+        .open(&mut open)
+        .show(ctx, |ui| {
+            egui::Grid::new("nendo help grid")
+                .num_columns(2)
+                .striped(true)
+                .show(ui, |ui| {
+                    for (input, does) in keymap::mouse(orbit) {
+                        ui.strong(input);
+                        ui.add(egui::Label::new(does).wrap());
+                        ui.end_row();
+                    }
+                    let keys = keymap::keys();
+                    let mut seen = Vec::new();
+                    for binding in &keys {
+                        if seen.contains(&binding.action) {
+                            continue;
+                        }
+                        seen.push(binding.action);
+                        let all: Vec<String> = keys
+                            .iter()
+                            .filter(|k| k.action == binding.action)
+                            .map(keymap::KeyBinding::keys)
+                            .collect();
+                        ui.strong(all.join(", "));
+                        ui.add(egui::Label::new(binding.action.describe()).wrap());
+                        ui.end_row();
+                    }
+                });
+            ui.small("F1, ? or Esc closes this.");
+        });
+    open
 }
 
 /// The top bar: file, undo / redo, the named views.
@@ -95,7 +109,11 @@ pub(super) fn top_bar_ui(ui: &mut Ui, history: &History) -> Vec<Command> {
         if ui.button("Save").on_hover_text("Ctrl+S").clicked() {
             commands.push(Command::Save);
         }
-        if ui.button("Save as…").clicked() {
+        if ui
+            .button("Save as…")
+            .on_hover_text("Save the model to a new file")
+            .clicked()
+        {
             commands.push(Command::ShowDialog(DialogPurpose::SaveModel));
         }
         if ui
@@ -131,12 +149,28 @@ pub(super) fn top_bar_ui(ui: &mut Ui, history: &History) -> Vec<Command> {
             ViewPreset::Right,
             ViewPreset::Iso,
         ] {
-            if ui.button(preset.name()).clicked() {
+            if ui
+                .button(preset.name())
+                .on_hover_text("Look from this side at the whole model")
+                .clicked()
+            {
                 commands.push(Command::View(preset));
             }
         }
-        if ui.button("frame").on_hover_text("F").clicked() {
+        if ui
+            .button("frame")
+            .on_hover_text("Frame the whole model (Home)")
+            .clicked()
+        {
             commands.push(Command::FrameAll);
+        }
+        ui.separator();
+        if ui
+            .button("Keys (F1)")
+            .on_hover_text("Every key and mouse binding (F1 or ?)")
+            .clicked()
+        {
+            commands.push(Command::ToggleHelp);
         }
     });
     commands
@@ -186,7 +220,11 @@ pub(super) fn primitive_ui(ui: &mut Ui, form: &mut PrimitiveForm) -> Vec<Command
         }
     }
     ui.label(format!("{} patches", form.patches.0 * form.patches.1));
-    if ui.button("Create").clicked() {
+    if ui
+        .button("Create")
+        .on_hover_text("Start a new model of this shape (asks first about unsaved changes)")
+        .clicked()
+    {
         vec![Command::Create(*form)]
     } else {
         Vec::new()
@@ -197,33 +235,51 @@ pub(super) fn primitive_ui(ui: &mut Ui, form: &mut PrimitiveForm) -> Vec<Command
 pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> Vec<Command> {
     let mut commands = Vec::new();
     let mut chosen = tool;
-    for t in Tool::ALL {
-        ui.radio_value(&mut chosen, t, t.label());
+    for (k, t) in Tool::ALL.into_iter().enumerate() {
+        ui.radio_value(&mut chosen, t, t.label())
+            .on_hover_text(format!("{} (key {})", tool_help(t), k + 1));
     }
     if chosen != tool {
         commands.push(Command::SelectTool(chosen));
     }
     let s = settings;
     ui.add(
-        egui::Slider::new(&mut s.radius, 0.05..=6.0)
+        egui::Slider::new(&mut s.radius, RADIUS_RANGE)
             .logarithmic(true)
             .text("finger radius"),
-    );
+    )
+    .on_hover_text("How far the finger reaches around the point pressed, in model units (F, then move the mouse)");
     ui.add(
-        egui::Slider::new(&mut s.depth, 0.01..=3.0)
+        egui::Slider::new(&mut s.depth, DEPTH_RANGE)
             .logarithmic(true)
             .text("depth (click)"),
-    );
-    ui.checkbox(&mut s.ridge, "draw ridges (not grooves)");
+    )
+    .on_hover_text("How deep a plain click pushes or pulls, and how deep a drawn line presses (Shift+F, then move the mouse)");
+    ui.checkbox(&mut s.ridge, "draw ridges (not grooves)")
+        .on_hover_text(
+            "Draw a line raises a ridge instead of cutting a groove (Ctrl while drawing swaps it)",
+        );
     ui.add(
         egui::Slider::new(&mut s.probe_radius, 0.02..=3.0)
             .logarithmic(true)
             .text("probe sphere"),
-    );
+    )
+    .on_hover_text("The sphere drawn around the point under the cursor on a curve: the part of the curve inside it is highlighted, to see where a grab takes hold");
     let method_name = |m: GrabMethod| match m {
         GrabMethod::LargestWeight => "largest weight (seed 004)",
         GrabMethod::NearestParameter => "nearest parameter (seed 000)",
         GrabMethod::LeastChange => "least change",
+    };
+    let method_help = |m: GrabMethod| match m {
+        GrabMethod::LargestWeight => {
+            "moves the control point whose basis function weighs most at the grabbed point (Satoh–Miwa, seed 004): simple and local"
+        }
+        GrabMethod::NearestParameter => {
+            "moves the control point nearest in parameter to the grabbed point (seed 000)"
+        }
+        GrabMethod::LeastChange => {
+            "moves every control point, by the least total change (the sum of their squared moves) that puts the grabbed point under the cursor"
+        }
     };
     egui::ComboBox::from_label("curve grab")
         .selected_text(method_name(s.grab.method))
@@ -233,11 +289,13 @@ pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> V
                 GrabMethod::NearestParameter,
                 GrabMethod::LeastChange,
             ] {
-                ui.selectable_value(&mut s.grab.method, m, method_name(m));
+                ui.selectable_value(&mut s.grab.method, m, method_name(m))
+                    .on_hover_text(method_help(m));
             }
         });
-    ui.checkbox(&mut s.grab.keep_ends, "keep curve end points");
-    ui.small("Left: tool · Right drag: orbit · Middle or Shift+Right: pan · Wheel: zoom (while pressing: depth)");
+    ui.checkbox(&mut s.grab.keep_ends, "keep curve end points")
+        .on_hover_text("A curve grab never moves the curve's two end points");
+    ui.small("Left: tool · Esc or right click: cancel a stroke · F1: every key");
     if tool == Tool::Hand {
         ui.small("Hand: the view ray is the finger. Press pushes, drag draws a groove; with Shift (or \"draw ridges\") the finger grips and pulls; the wheel while pressing goes deeper.");
     }
@@ -258,9 +316,16 @@ pub(super) fn regulation_ui(ui: &mut Ui, current: Regulation) -> Vec<Command> {
         .selected_text(regulation.name())
         .show_ui(ui, |ui| {
             for r in Regulation::ALL {
-                ui.selectable_value(&mut regulation, r, r.name());
+                ui.selectable_value(&mut regulation, r, r.name())
+                    .on_hover_text(regulation_help(r));
             }
-        });
+        })
+        .response
+        .on_hover_text("How the control points around a stroke are adjusted afterwards so the patches still meet smoothly (tangent-continuous, G1)");
+    ui.small(format!(
+        "{}. A change applies to the next strokes; the surface as it is stays.",
+        regulation_help(current)
+    ));
     if regulation == current {
         Vec::new()
     } else {
@@ -291,18 +356,127 @@ pub(super) fn refine_ui(ui: &mut Ui, auto_refine: bool) -> Vec<Command> {
 }
 
 /// What to draw besides the clay.
-pub(super) fn display_ui(ui: &mut Ui, overlays: &mut Overlays) {
+pub(super) fn display_ui(
+    ui: &mut Ui,
+    overlays: &mut Overlays,
+    orbit: &mut OrbitButton,
+    max_seam_deg: f32,
+) {
     let o = overlays;
-    ui.checkbox(&mut o.patch_edges, "patch boundaries");
-    ui.checkbox(&mut o.control_net, "control net");
-    ui.checkbox(&mut o.control_polygons, "curve control polygons");
-    ui.checkbox(&mut o.heat_map, "G1 heat map along seams");
-    ui.add_enabled(
-        o.heat_map,
-        egui::Slider::new(&mut o.heat_max_deg, 0.01..=30.0)
-            .logarithmic(true)
-            .text("° = red"),
-    );
+    ui.checkbox(&mut o.patch_edges, "patch boundaries")
+        .on_hover_text("Draw the edges between the Bezier patches the surface is made of");
+    ui.checkbox(&mut o.control_net, "control net")
+        .on_hover_text("Draw the patches' control points, joined row by row: the numbers the surface is made from");
+    ui.checkbox(&mut o.control_polygons, "curve control polygons")
+        .on_hover_text("Draw each curve's control points, joined");
+    ui.checkbox(&mut o.heat_map, "G1 heat map along seams")
+        .on_hover_text("Colour the surface along each seam between patches by the angle between the two sides' normals there: 0° is perfectly smooth");
+    if o.heat_map {
+        ui.add(
+            egui::Slider::new(&mut o.heat_max_deg, 0.0001..=30.0)
+                .logarithmic(true)
+                .text("° = red"),
+        )
+        .on_hover_text("The seam angle drawn red; smaller angles go yellow, cyan, blue; seams below 1 % of it are not coloured");
+        heat_legend_ui(ui, o.heat_max_deg);
+        if max_seam_deg < o.heat_max_deg {
+            ui.label(format!("all seams ≤ {max_seam_deg:.2e}°: nothing is red"));
+            if max_seam_deg > 0.0
+                && ui
+                    .button("scale to the worst seam")
+                    .on_hover_text("Make the worst seam red, to see where the small angles are (under exact regulation they are rounding)")
+                    .clicked()
+            {
+                o.heat_max_deg = max_seam_deg.max(0.0001);
+            }
+        } else {
+            ui.label(format!("worst seam {max_seam_deg:.3}°"));
+        }
+    }
+    ui.horizontal(|ui| {
+        ui.label("orbit with");
+        egui::ComboBox::from_id_salt("orbit button")
+            .selected_text(orbit.label())
+            .show_ui(ui, |ui| {
+                for b in [OrbitButton::Right, OrbitButton::Middle] {
+                    ui.selectable_value(orbit, b, b.label());
+                }
+            });
+    })
+    .response
+    .on_hover_text("Which mouse button orbits the view; the other one pans");
+}
+
+/// The heat map's colours from 0° to `max_deg` (the shader's ramp, `shaders/clay.wgsl`).
+fn heat_legend_ui(ui: &mut Ui, max_deg: f32) {
+    let ramp = |t: f32| {
+        let c = [
+            [0.05, 0.15, 0.85],
+            [0.0, 0.75, 0.8],
+            [0.95, 0.85, 0.1],
+            [0.9, 0.05, 0.02],
+        ];
+        let (a, b, u) = if t < 1.0 / 3.0 {
+            (c[0], c[1], t * 3.0)
+        } else if t < 2.0 / 3.0 {
+            (c[1], c[2], (t - 1.0 / 3.0) * 3.0)
+        } else {
+            (c[2], c[3], (t - 2.0 / 3.0) * 3.0)
+        };
+        let mix = |k: usize| ((a[k] + (b[k] - a[k]) * u) * 255.0) as u8;
+        Color32::from_rgb(mix(0), mix(1), mix(2))
+    };
+    let (rect, _) =
+        ui.allocate_exact_size(egui::vec2(ui.available_width(), 12.0), egui::Sense::hover());
+    let steps = 32;
+    for k in 0..steps {
+        let t = k as f32 / steps as f32;
+        let x0 = rect.left() + rect.width() * t;
+        let x1 = rect.left() + rect.width() * (k + 1) as f32 / steps as f32;
+        ui.painter().rect_filled(
+            egui::Rect::from_x_y_ranges(x0..=x1, rect.y_range()),
+            0.0,
+            ramp(t + 0.5 / steps as f32),
+        );
+    }
+    ui.horizontal(|ui| {
+        ui.small("0°");
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            ui.small(format!("{max_deg:.3}°"));
+            ui.small(format!("{:.3}° ·", max_deg / 2.0));
+        });
+    });
+}
+
+/// What a regulation method does, in plain words.
+fn regulation_help(r: Regulation) -> &'static str {
+    match r {
+        Regulation::None => {
+            "none: the finger's deformation alone; the patches may meet at a crease"
+        }
+        Regulation::C1 => {
+            "c1: the older method — neighbouring control points kept in equal steps; smooth only where the grid is even"
+        }
+        Regulation::G1 => {
+            "g1: the paper's method — smooth at the grid's corners, along an edge only where it can be"
+        }
+        Regulation::Exact => {
+            "exact: the nearest surface that meets smoothly everywhere (to rounding), poles included"
+        }
+    }
+}
+
+/// What a tool does, in plain words.
+fn tool_help(t: Tool) -> &'static str {
+    match t {
+        Tool::Push => "Press a dent: drag to set the depth, live; Ctrl pulls instead",
+        Tool::Pull => "Pull a bump: drag to set the height, live; Ctrl pushes instead",
+        Tool::DrawLine => "Drag along the surface to cut a groove (Ctrl: a ridge)",
+        Tool::GrabCurve => "Grab a curve anywhere and move it",
+        Tool::SplitCurve => "Click a curve to split it in two there",
+        Tool::Tangent => "Drag a handle at a joint of two curves; the other side stays in line",
+        Tool::Hand => "The mouse drives the virtual hand: the view ray is the finger",
+    }
 }
 
 /// The export tolerance, and the export in progress or its button.
@@ -341,13 +515,16 @@ pub(super) fn continuity_ui(
         return;
     };
     egui::Grid::new("continuity").num_columns(2).show(ui, |ui| {
-        ui.label("G1 max");
+        ui.label("G1 max").on_hover_text(
+            "The largest angle between the two sides' normals along any seam between patches: 0° is perfectly smooth",
+        );
         ui.label(format!("{:.4}°", r.g1_max_deg));
         ui.end_row();
         ui.label("G1 mean");
         ui.label(format!("{:.4}°", r.g1_mean_deg));
         ui.end_row();
-        ui.label("G0 gap");
+        ui.label("G0 gap")
+            .on_hover_text("The largest distance between two patches along a seam they share: 0 when they meet");
         ui.label(format!("{:.2e}", r.g0_gap));
         ui.end_row();
         for pole in &r.poles {
@@ -405,7 +582,11 @@ pub(super) fn record_ui(
     let mut commands = Vec::new();
     match recorded {
         None => {
-            if ui.button("Record operations").clicked() {
+            if ui
+                .button("Record operations")
+                .on_hover_text("Keep every operation from now on, to save as a file `nendo sculpt --ops` or Replay can run again")
+                .clicked()
+            {
                 commands.push(Command::StartRecording);
             }
         }
@@ -421,7 +602,13 @@ pub(super) fn record_ui(
     }
     match replaying {
         None => {
-            if ui.button("Replay operations…").clicked() {
+            if ui
+                .button("Replay operations…")
+                .on_hover_text(
+                    "Apply the operations of a recorded file to this model, one per frame",
+                )
+                .clicked()
+            {
                 commands.push(Command::ShowDialog(DialogPurpose::ReplayOps));
             }
         }

@@ -2,8 +2,8 @@
 //!
 //! | tool | gesture |
 //! |---|---|
-//! | push / pull | press on the surface; drag to set the depth (the drag length at the surface's distance), or click for the panel's depth; the wheel adds depth while pressed; release applies |
-//! | draw a line | press on the surface and drag along it; release presses the finger along the stroke |
+//! | push / pull | press on the surface; drag to set the depth (the drag length at the surface's distance), or click for the panel's depth; the wheel adds depth while pressed; the surface follows live (see [`super::stroke`]); release keeps it (one undo step), Esc or a right click cancels; Ctrl inverts |
+//! | draw a line | press on the surface and drag along it: the groove grows behind the cursor, its path resampled at even spacing (a fifth of the finger radius, measured along the surface); release keeps it, Esc or a right click cancels; Ctrl draws a ridge (or a groove with "ridges" on) |
 //! | grab curve | press near a curve (ray closest point) and drag: the grabbed point follows the cursor at its depth; the wheel moves it nearer / farther; the probe sphere shows the reach |
 //! | split curve | click on a curve: it splits there |
 //! | tangent | drag a control point next to a joint of two curves: the other side follows, collinear |
@@ -20,7 +20,7 @@ use crate::curve::Curve;
 use crate::curve::edit::{Grab, GrabOptions, split};
 use crate::mesh::{PatchPoints, Ray, SurfaceHit, TriMesh, pick};
 use crate::render::{LineBatch, Rgba, SphereInstance, ToolFootprint};
-use crate::surface::Op;
+use crate::surface::{Dirs, Op};
 
 /// The tools.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -74,6 +74,11 @@ impl Tool {
         matches!(self, Tool::Push | Tool::Pull | Tool::DrawLine | Tool::Hand)
     }
 }
+
+/// The finger radius the panel and F allow (side).
+pub const RADIUS_RANGE: std::ops::RangeInclusive<f64> = 0.05..=6.0;
+/// The depth the panel and Shift+F allow (side).
+pub const DEPTH_RANGE: std::ops::RangeInclusive<f64> = 0.01..=3.0;
 
 /// The finger and probe sizes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -219,11 +224,16 @@ enum Gesture {
         cursor: Vec2,
         wheel_depth: f64,
     },
-    /// Draw a line: the stroke so far.
+    /// Draw a line: the stroke so far, evenly spaced, and how far the surface runs on past
+    /// its last point to the last surface point under the cursor.
     Stroke {
         path: Vec<DVec3>,
         facing: DVec3,
         wheel_depth: f64,
+        /// The cursor's last pixel and the surface point under it.
+        last: (Vec2, DVec3),
+        /// Length along the surface from the path's last point to `last.1`.
+        carry: f64,
     },
     /// A curve grabbed: its index in the model, the grab, the depth along the view ray.
     Grab {
@@ -255,6 +265,8 @@ struct Hover {
 pub struct ToolState {
     gesture: Gesture,
     hover: Hover,
+    /// Ctrl held: push pulls, pull pushes, a groove becomes a ridge and back.
+    invert: bool,
 }
 
 impl ToolState {
@@ -262,6 +274,99 @@ impl ToolState {
     #[must_use]
     pub fn busy(&self) -> bool {
         self.gesture != Gesture::Idle
+    }
+
+    /// True while a sculpting stroke (push, pull, draw a line) is in progress.
+    #[must_use]
+    pub fn stroking(&self) -> bool {
+        matches!(self.gesture, Gesture::Press { .. } | Gesture::Stroke { .. })
+    }
+
+    /// Ctrl held or not: inverts push / pull and groove / ridge (read live, every frame).
+    pub fn set_invert(&mut self, invert: bool) {
+        self.invert = invert;
+    }
+
+    /// The sign of the depth for `tool`: +1 into the surface (push, groove), −1 out of it.
+    fn sign(&self, tool: Tool, settings: &ToolSettings) -> f64 {
+        let out = match tool {
+            Tool::Pull => true,
+            Tool::DrawLine => settings.ridge,
+            _ => false,
+        };
+        if out != self.invert { -1.0 } else { 1.0 }
+    }
+
+    /// The depth the stroke in progress presses now (not signed), if a stroke is in progress.
+    #[must_use]
+    pub fn stroke_depth(&self, ctx: &ToolContext<'_>, settings: &ToolSettings) -> Option<f64> {
+        match &self.gesture {
+            Gesture::Press {
+                hit,
+                start,
+                cursor,
+                wheel_depth,
+                ..
+            } => Some((press_depth(ctx, settings, hit, *start, *cursor) + wheel_depth).max(0.0)),
+            Gesture::Stroke { wheel_depth, .. } => Some((settings.depth + wheel_depth).max(0.0)),
+            _ => None,
+        }
+    }
+
+    /// The operation the stroke in progress describes now (`None`: none yet, or pressed back
+    /// to nothing). The window shows it live; release applies the same.
+    #[must_use]
+    pub fn stroke_op(
+        &self,
+        tool: Tool,
+        ctx: &ToolContext<'_>,
+        settings: &ToolSettings,
+    ) -> Option<Op> {
+        let depth = self.stroke_depth(ctx, settings)?;
+        // The wheel can take a stroke back to nothing, never past it (a push never turns
+        // into a pull).
+        if depth <= 0.0 {
+            return None;
+        }
+        let sign = self.sign(tool, settings);
+        match &self.gesture {
+            Gesture::Press { hit, facing, .. } => Some(Op::Push {
+                at: hit.point,
+                dir: -*facing,
+                depth: sign * depth,
+                radius: settings.radius,
+            }),
+            // Each path point presses along the surface's inward normal at the point nearest
+            // to it (outward for a ridge): the groove follows the clay (issue 12).
+            Gesture::Stroke { path, .. } if path.len() >= 2 => Some(Op::Groove {
+                path: path.clone(),
+                dirs: Dirs::Normal,
+                depth: sign * depth,
+                radius: settings.radius,
+            }),
+            _ => None,
+        }
+    }
+
+    /// The operation a click at the hover would make (push, pull, or for Draw a line the
+    /// push of its depth): what the window outlines as the finger's reach.
+    #[must_use]
+    pub fn hover_op(
+        &self,
+        tool: Tool,
+        ctx: &ToolContext<'_>,
+        settings: &ToolSettings,
+    ) -> Option<Op> {
+        if !matches!(tool, Tool::Push | Tool::Pull | Tool::DrawLine) || self.busy() {
+            return None;
+        }
+        let hit = self.hover.surface?;
+        Some(Op::Push {
+            at: hit.point,
+            dir: -facing_normal(&hit, ctx),
+            depth: self.sign(tool, settings) * settings.depth,
+            radius: settings.radius,
+        })
     }
 
     /// Forgets the gesture and the hover (tool change, model change).
@@ -302,6 +407,8 @@ impl ToolState {
                         path: vec![hit.point],
                         facing,
                         wheel_depth: 0.0,
+                        last: (pixel, hit.point),
+                        carry: 0.0,
                     }
                 } else {
                     Gesture::Press {
@@ -385,13 +492,10 @@ impl ToolState {
                 *cursor = pixel;
                 Vec::new()
             }
-            Gesture::Stroke { path, .. } => {
-                if let Some(hit) = ctx.pick_surface(pixel) {
-                    let last = path.last().copied().unwrap_or(hit.point);
-                    if (hit.point - last).length() >= 0.2 * settings.radius {
-                        path.push(hit.point);
-                    }
-                }
+            Gesture::Stroke {
+                path, last, carry, ..
+            } => {
+                extend_evenly(ctx, stroke_spacing(settings), path, last, carry, pixel);
                 Vec::new()
             }
             Gesture::Grab {
@@ -446,49 +550,16 @@ impl ToolState {
         settings: &ToolSettings,
         pixel: Vec2,
     ) -> Vec<Edit> {
-        let edits = match std::mem::take(&mut self.gesture) {
-            Gesture::Press {
-                hit,
-                facing,
-                start,
-                wheel_depth,
-                ..
-            } => {
-                let depth = press_depth(ctx, settings, &hit, start, pixel) + wheel_depth;
-                let sign = if tool == Tool::Pull { -1.0 } else { 1.0 };
-                // The wheel can take a press back to nothing, never past it (a push never
-                // turns into a pull).
-                if depth > 0.0 {
-                    vec![Edit::Sculpt(Op::Push {
-                        at: hit.point,
-                        dir: -facing,
-                        depth: sign * depth,
-                        radius: settings.radius,
-                    })]
-                } else {
-                    Vec::new()
-                }
-            }
-            Gesture::Stroke {
-                path,
-                facing,
-                wheel_depth,
-            } if path.len() >= 2 => {
-                let depth = settings.depth + wheel_depth;
-                let sign = if settings.ridge { -1.0 } else { 1.0 };
-                if depth > 0.0 {
-                    vec![Edit::Sculpt(Op::Drag {
-                        path,
-                        dir: -facing,
-                        depth: sign * depth,
-                        radius: settings.radius,
-                    })]
-                } else {
-                    Vec::new()
-                }
-            }
-            _ => Vec::new(),
-        };
+        if self.stroking() {
+            // The release point counts as the last move.
+            let _ = self.drag(ctx, settings, pixel);
+        }
+        let edits = self
+            .stroke_op(tool, ctx, settings)
+            .map(Edit::Sculpt)
+            .into_iter()
+            .collect();
+        self.gesture = Gesture::Idle;
         self.hover(tool, ctx, pixel);
         edits
     }
@@ -588,7 +659,7 @@ impl ToolState {
             } => {
                 let depth =
                     (press_depth(ctx, settings, hit, *start, *cursor) + wheel_depth).max(0.0);
-                let sign = if tool == Tool::Pull { -1.0 } else { 1.0 };
+                let sign = self.sign(tool, settings);
                 let tip = hit.point - *facing * (sign * depth);
                 // A push goes into the surface, where the clay would hide it: the finger's
                 // travel is drawn on top.
@@ -646,6 +717,51 @@ fn facing_normal(hit: &SurfaceHit, ctx: &ToolContext<'_>) -> DVec3 {
         hit.normal
     } else {
         -hit.normal
+    }
+}
+
+/// Spacing of a drawn line's path points: a fifth of the finger radius.
+fn stroke_spacing(settings: &ToolSettings) -> f64 {
+    0.2 * settings.radius
+}
+
+/// Pixels between the surface samples taken along a cursor move.
+const SAMPLE_PIXELS: f32 = 2.0;
+
+/// Extends a drawn `path` towards the surface under `pixel`, at even `spacing` measured along
+/// the surface: the move from `last` is sampled every [`SAMPLE_PIXELS`] on the surface
+/// (at most 256 samples a move), and a path point is put wherever the length walked since the
+/// path's last point (`carry` before this move) reaches `spacing` (on the chord between two
+/// samples, which lies on the surface to within the chord's sag).
+fn extend_evenly(
+    ctx: &ToolContext<'_>,
+    spacing: f64,
+    path: &mut Vec<DVec3>,
+    last: &mut (Vec2, DVec3),
+    carry: &mut f64,
+    pixel: Vec2,
+) {
+    let (from_pixel, mut a) = *last;
+    let steps = ((from_pixel.distance(pixel) / SAMPLE_PIXELS).ceil() as usize).clamp(1, 256);
+    for k in 1..=steps {
+        let at = from_pixel.lerp(pixel, k as f32 / steps as f32);
+        let Some(hit) = ctx.pick_surface(at) else {
+            continue;
+        };
+        let b = hit.point;
+        let mut length = (b - a).length();
+        let mut from = a;
+        while *carry + length >= spacing && length > 0.0 {
+            let need = spacing - *carry;
+            let point = from + (b - from) * (need / length);
+            path.push(point);
+            length -= need;
+            from = point;
+            *carry = 0.0;
+        }
+        *carry += length;
+        a = b;
+        *last = (at, b);
     }
 }
 
@@ -753,6 +869,56 @@ mod tests {
                 .release(Tool::Push, &ctx, &settings, Vec2::new(2.0, 2.0))
                 .is_empty()
         );
+    }
+
+    /// A drawn line's path is evenly spaced along the surface (a fifth of the radius), however
+    /// the cursor moved (a few long jumps, many short steps), and the live operation is a drag
+    /// along it; Ctrl turns the groove into a ridge.
+    #[test]
+    fn a_drawn_line_is_evenly_spaced() {
+        let scene = PlaneScene::new();
+        let ctx = scene.context();
+        let settings = ToolSettings::default();
+        let spacing = 0.2 * settings.radius;
+        let mut state = ToolState::default();
+        let start = Vec2::new(300.0, 300.0);
+        state.press(Tool::DrawLine, &ctx, &settings, start);
+        assert_eq!(
+            state.stroke_op(Tool::DrawLine, &ctx, &settings),
+            None,
+            "one point: no op yet"
+        );
+        for (k, step) in [(3, 60.0f32), (40, 2.5)] {
+            for _ in 0..k {
+                let Gesture::Stroke { last, .. } = &state.gesture else {
+                    panic!("a stroke")
+                };
+                let to = last.0 + Vec2::new(step, 0.3 * step);
+                state.drag(&ctx, &settings, to);
+            }
+        }
+        let Some(Op::Groove {
+            path, depth, dirs, ..
+        }) = state.stroke_op(Tool::DrawLine, &ctx, &settings)
+        else {
+            panic!("a groove")
+        };
+        assert_eq!(dirs, Dirs::Normal, "the line follows the clay");
+        assert!(path.len() > 10, "{}", path.len());
+        assert!(depth > 0.0, "a groove");
+        for w in path.windows(2) {
+            let d = (w[1] - w[0]).length();
+            assert!(
+                (d - spacing).abs() < 1e-9 * spacing.max(1.0),
+                "spacing {d} vs {spacing}"
+            );
+        }
+        state.set_invert(true);
+        let Some(Op::Groove { depth, .. }) = state.stroke_op(Tool::DrawLine, &ctx, &settings)
+        else {
+            panic!("a groove")
+        };
+        assert!(depth < 0.0, "Ctrl: a ridge");
     }
 
     #[test]

@@ -6,6 +6,19 @@
 //! into that rectangle (multisampled, through an sRGB view of the swapchain texture), and egui
 //! draws on top. Pointer input reaches the modeller only when egui did not consume it — except
 //! the moves and the release of a gesture the viewport started, so a drag never sticks.
+//!
+//! ## Slow frames
+//!
+//! Input is never read once per frame only. The modeller gets every winit pointer event as it
+//! arrives. egui gets the events queued since the last frame, split into passes
+//! ([`input_passes`]): one pointer press or release a pass, each pass timed when its last
+//! event arrived, and the text typed after a click in a pass of its own. So at 4 frames per
+//! second (software rendering) two clicks 80 ms apart are still a double click (egui times
+//! clicks by the pass), and letters typed right after the click that focuses a text field
+//! reach the field. Only the last pass of a frame is drawn.
+//!
+//! Test aid: `NENDO_FRAME_DELAY_MS=250` makes every frame sleep that long after presenting
+//! (`.ci/checks/window-live.sh` uses it to check the above at 4 frames per second).
 
 use anyhow::{Context as _, anyhow};
 use glam::Vec2;
@@ -57,6 +70,8 @@ struct Gfx {
     cursor: Vec2,
     /// The window title last set.
     title: String,
+    /// When each event queued in egui's input arrived, seconds on [`WindowApp::clock`].
+    event_times: Vec<f64>,
 }
 
 /// The window application.
@@ -66,6 +81,46 @@ pub struct WindowApp {
     egui_ctx: egui::Context,
     error: Option<anyhow::Error>,
     next_redraw: Option<Instant>,
+    /// The clock egui's input is timed on.
+    clock: Instant,
+    /// `NENDO_FRAME_DELAY_MS`: a sleep after each frame (a test aid).
+    frame_delay: Option<Duration>,
+}
+
+/// The environment variable that slows every frame down (a test aid, see the module docs).
+pub const FRAME_DELAY_ENV: &str = "NENDO_FRAME_DELAY_MS";
+
+/// Splits the events queued since the last frame (`events`, each with the time it arrived)
+/// into egui passes: a pass ends before a second pointer press or release, and before a key or
+/// text event that follows a press or release (the click may move the keyboard focus, which
+/// takes a pass). Each pass is timed by its last event.
+#[must_use]
+pub fn input_passes(
+    events: Vec<egui::Event>,
+    times: &[f64],
+    now: f64,
+) -> Vec<(Vec<egui::Event>, f64)> {
+    let mut passes: Vec<(Vec<egui::Event>, f64)> = Vec::new();
+    let mut current: Vec<egui::Event> = Vec::new();
+    let mut time = now;
+    let mut has_button = false;
+    for (k, event) in events.into_iter().enumerate() {
+        let at = times.get(k).copied().unwrap_or(now);
+        let is_button = matches!(event, egui::Event::PointerButton { .. });
+        let is_typing = matches!(
+            event,
+            egui::Event::Key { .. } | egui::Event::Text(_) | egui::Event::Paste(_)
+        );
+        if has_button && (is_button || is_typing) {
+            passes.push((std::mem::take(&mut current), time));
+            has_button = false;
+        }
+        has_button |= is_button;
+        time = at;
+        current.push(event);
+    }
+    passes.push((current, now));
+    passes
 }
 
 impl WindowApp {
@@ -78,6 +133,12 @@ impl WindowApp {
             egui_ctx: egui::Context::default(),
             error: None,
             next_redraw: None,
+            clock: Instant::now(),
+            frame_delay: std::env::var(FRAME_DELAY_ENV)
+                .ok()
+                .and_then(|v| v.trim().parse::<u64>().ok())
+                .filter(|ms| *ms > 0)
+                .map(Duration::from_millis),
         }
     }
 
@@ -170,6 +231,7 @@ impl WindowApp {
             viewport: (Vec2::ZERO, Vec2::ONE),
             cursor: Vec2::ZERO,
             title: String::new(),
+            event_times: Vec::new(),
         })
     }
 
@@ -194,9 +256,36 @@ impl WindowApp {
         let start = Instant::now();
         self.modeller.tick(start);
 
-        let raw = gfx.egui_state.take_egui_input(&gfx.window);
+        let mut raw = gfx.egui_state.take_egui_input(&gfx.window);
+        let now_s = self.clock.elapsed().as_secs_f64();
+        let times = std::mem::take(&mut gfx.event_times);
+        let mut passes = input_passes(std::mem::take(&mut raw.events), &times, now_s);
         let mut view_rect = egui::Rect::NOTHING;
         let modeller = &mut self.modeller;
+        let last = passes.pop().unwrap_or((Vec::new(), now_s));
+        for (events, time) in passes {
+            // An earlier pass: its effects count, its drawing does not.
+            let pass = egui::RawInput {
+                events,
+                time: Some(time),
+                hovered_files: Vec::new(),
+                dropped_files: Vec::new(),
+                ..raw.clone()
+            };
+            let out = self.egui_ctx.run_ui(pass, |ui| {
+                let _ = modeller.ui(ui);
+            });
+            gfx.egui_state
+                .handle_platform_output(&gfx.window, out.platform_output);
+            apply_textures(
+                &mut gfx.egui_renderer,
+                &gfx.gpu.device,
+                &gfx.gpu.queue,
+                &out.textures_delta,
+            );
+        }
+        raw.events = last.0;
+        raw.time = Some(now_s);
         let full = self.egui_ctx.run_ui(raw, |ui| view_rect = modeller.ui(ui));
         gfx.egui_state
             .handle_platform_output(&gfx.window, full.platform_output);
@@ -301,6 +390,9 @@ impl WindowApp {
 
         self.modeller
             .record_frame_time(start.elapsed().as_secs_f64() * 1e3);
+        if let Some(delay) = self.frame_delay {
+            std::thread::sleep(delay);
+        }
 
         let delay = full
             .viewport_output
@@ -363,7 +455,13 @@ impl ApplicationHandler for WindowApp {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(gfx) = self.gfx.as_mut() else { return };
+        let queued = gfx.egui_state.egui_input().events.len();
         let response = gfx.egui_state.on_window_event(&gfx.window, &event);
+        let arrived = self.clock.elapsed().as_secs_f64();
+        let now_queued = gfx.egui_state.egui_input().events.len();
+        gfx.event_times.truncate(queued);
+        gfx.event_times.resize(queued, arrived);
+        gfx.event_times.resize(now_queued, arrived);
         // egui-winit asks for a repaint on every RedrawRequested; following it would redraw
         // forever. Redraws are scheduled from egui's repaint delay instead (see `redraw`).
         if response.repaint && !matches!(event, WindowEvent::RedrawRequested) {
@@ -384,7 +482,12 @@ impl ApplicationHandler for WindowApp {
                 let delay = self.redraw();
                 self.next_redraw = delay.and_then(|d| Instant::now().checked_add(d));
             }
-            WindowEvent::ModifiersChanged(m) => self.modeller.set_shift(m.state().shift_key()),
+            WindowEvent::ModifiersChanged(m) => {
+                let state = m.state();
+                self.modeller
+                    .set_modifiers(state.shift_key(), state.control_key());
+                gfx.window.request_redraw();
+            }
             WindowEvent::CursorMoved { position, .. } => {
                 gfx.cursor = Vec2::new(position.x as f32, position.y as f32);
                 if !response.consumed || owns {
@@ -437,5 +540,64 @@ impl ApplicationHandler for WindowApp {
             Some(t) => event_loop.set_control_flow(ControlFlow::WaitUntil(t)),
             None => event_loop.set_control_flow(ControlFlow::Wait),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn button(pressed: bool) -> egui::Event {
+        egui::Event::PointerButton {
+            pos: egui::pos2(10.0, 10.0),
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        }
+    }
+
+    /// Two clicks 80 ms apart queued during one slow frame are two passes timed 80 ms apart,
+    /// and egui counts the second as a double click; text typed after a click gets its own pass.
+    #[test]
+    fn queued_clicks_and_typing_keep_their_passes() {
+        let events = vec![
+            button(true),
+            button(false),
+            button(true),
+            button(false),
+            egui::Event::Text("ab".into()),
+        ];
+        let times = [1.00, 1.01, 1.09, 1.10, 1.15];
+        let passes = input_passes(events, &times, 1.3);
+        let shape: Vec<usize> = passes.iter().map(|(e, _)| e.len()).collect();
+        assert_eq!(shape, vec![1, 1, 1, 1, 1]);
+        assert_eq!(passes[1].1, 1.01);
+        assert_eq!(passes[3].1, 1.10);
+
+        let ctx = egui::Context::default();
+        let mut double = false;
+        for (events, time) in passes {
+            let raw = egui::RawInput {
+                events,
+                time: Some(time),
+                ..egui::RawInput::default()
+            };
+            let _ = ctx.run_ui(raw, |ui| {
+                double |= ui.input(|i| {
+                    i.pointer
+                        .button_double_clicked(egui::PointerButton::Primary)
+                });
+            });
+        }
+        assert!(double, "the second click is a double click");
+
+        // Moves and a single click stay in one pass.
+        let moved = egui::Event::PointerMoved(egui::pos2(1.0, 1.0));
+        let passes = input_passes(
+            vec![moved.clone(), button(true), moved, button(false)],
+            &[0.0; 4],
+            1.0,
+        );
+        assert_eq!(passes.len(), 2);
     }
 }

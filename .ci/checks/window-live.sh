@@ -1,0 +1,170 @@
+#!/usr/bin/env bash
+# The live-stroke, help and slow-input checks: the modeller in a real window under Xvfb with
+# software rendering, driven by xdotool (real XTest pointer and key events), judged by
+# screenshots of the 3D view.
+#
+# 1. A push changes the image while the button is still held (the stroke is live).
+# 2. Esc during the stroke, the button still held, restores the image (the surface exactly).
+# 3. F1 opens the help overlay; Esc closes it.
+# 4. With every frame slowed to 250 ms (NENDO_FRAME_DELAY_MS, a test aid): a double click with
+#    its clicks 80 ms apart on a file in the Open dialog opens it, and a file name typed fast
+#    into the dialog's field (right after the click that focuses it) is not missing letters.
+#
+# Needs: xvfb, xdotool, imagemagick, mesa-vulkan-drivers (or Mesa GL). Takes ~40 s.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+
+BIN="${NENDO_BIN:-${CARGO_TARGET_DIR:-target}/release/nendo}"
+if [ ! -x "$BIN" ]; then
+  cargo build --release --bin nendo
+fi
+BIN="$(cd "$(dirname "$BIN")" && pwd)/$(basename "$BIN")"
+for tool in Xvfb xdotool import compare convert; do
+  command -v "$tool" >/dev/null || { echo "window-live check: $tool is missing (apt-get install xvfb xdotool imagemagick)"; exit 1; }
+done
+CONVERT=/usr/bin/convert
+[ -x "$CONVERT" ] || CONVERT=convert
+
+WORK="$(mktemp -d /tmp/nendo-window-live.XXXXXX)"
+XVFB_PID=""
+APP_PID=""
+cleanup() {
+  [ -n "$APP_PID" ] && kill "$APP_PID" 2>/dev/null || true
+  [ -n "$XVFB_PID" ] && kill "$XVFB_PID" 2>/dev/null || true
+  wait 2>/dev/null || true
+  [ -n "${KEEP_SHOTS:-}" ] && cp "$WORK"/*.png "$KEEP_SHOTS"/ 2>/dev/null || true
+  rm -rf "$WORK"
+}
+trap cleanup EXIT
+fail() {
+  echo "window-live check FAILED: $*"
+  echo "--- app log"; cat "$WORK/app.log" 2>/dev/null || true
+  exit 1
+}
+
+export XDG_RUNTIME_DIR="$WORK/xdg"
+mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
+export XDG_STATE_HOME="$WORK/state"
+
+Xvfb -displayfd 3 -screen 0 1600x1000x24 -nolisten tcp 3>"$WORK/display" 2>"$WORK/xvfb.log" &
+XVFB_PID=$!
+for _ in $(seq 100); do [ -s "$WORK/display" ] && break; sleep 0.1; done
+[ -s "$WORK/display" ] || fail "Xvfb did not start"
+export DISPLAY=":$(head -n1 "$WORK/display")"
+
+# Starts the app (extra arguments pass through) and waits for its first drawn frame.
+start_app() {
+  "$BIN" "$@" >"$WORK/app.log" 2>&1 &
+  APP_PID=$!
+  WID="$(timeout 60 xdotool search --sync --name '^nendo' | head -n1)" || fail "no window appeared within 60 s"
+  eval "$(xdotool getwindowgeometry --shell "$WID")"   # WIDTH, HEIGHT
+  local ready=""
+  for _ in $(seq 60); do
+    import -window "$WID" "$WORK/first.png" 2>/dev/null || true
+    sd="$("$CONVERT" "$WORK/first.png" -colorspace gray -format '%[fx:standard_deviation]' info: 2>/dev/null || echo 0)"
+    if awk -v s="$sd" 'BEGIN { exit !(s > 0.05) }'; then ready=1; break; fi
+    sleep 0.5
+  done
+  [ -n "$ready" ] || fail "the window never showed a drawn frame"
+  # No window manager under Xvfb: give the window the keyboard focus (XSetInputFocus).
+  xdotool windowfocus "$WID" 2>/dev/null || true
+  sleep 1
+}
+stop_app() {
+  kill "$APP_PID" 2>/dev/null || true
+  wait "$APP_PID" 2>/dev/null || true
+  APP_PID=""
+}
+# The 3D view: right of the 290-point tool panel, between the top bar and the status line.
+view_shot() { # name
+  import -window "$WID" "$WORK/$1-full.png"
+  "$CONVERT" "$WORK/$1-full.png" -crop "$(( WIDTH - 320 ))x$(( HEIGHT - 100 ))+300+40" +repage "$WORK/$1.png"
+}
+differ() { # a b → pixels that differ by more than 5 %
+  local d
+  d="$(compare -metric AE -fuzz 5% "$WORK/$1.png" "$WORK/$2.png" null: 2>&1 || true)"
+  echo "${d%% *}"
+}
+
+# --- 1–3: live push, Esc, help.
+start_app --autosave "$WORK/autosave.nendo.json" --no-recover
+X=$(( (290 + WIDTH) / 2 ))
+Y=$(( HEIGHT / 2 ))
+xdotool mousemove --window "$WID" "$X" "$Y"
+sleep 1
+view_shot before
+xdotool mousedown 1
+for dy in 10 20 30 40 50 60; do xdotool mousemove --window "$WID" "$X" $(( Y + dy )); sleep 0.05; done
+sleep 1.5
+view_shot held
+live="$(differ before held)"
+awk -v d="$live" 'BEGIN { exit !(d + 0 > 500) }' || fail "the push did not change the image while the button was held ($live pixels)"
+echo "live push: $live pixels changed before the release"
+
+# Back over the start point (so the hover ring is where it was), then Esc with the button held.
+xdotool mousemove --window "$WID" "$X" "$Y"
+sleep 0.5
+xdotool key Escape
+sleep 1
+xdotool mouseup 1
+sleep 1.5
+view_shot cancelled
+left="$(differ before cancelled)"
+awk -v d="$left" 'BEGIN { exit !(d + 0 < 50) }' || fail "Esc during the stroke did not restore the image ($left pixels differ)"
+echo "Esc during the stroke: the image is back ($left pixels differ)"
+
+xdotool key F1
+sleep 1.5
+view_shot help
+helpd="$(differ before help)"
+awk -v d="$helpd" 'BEGIN { exit !(d + 0 > 5000) }' || fail "F1 did not open the help overlay ($helpd pixels)"
+xdotool key Escape
+sleep 1.5
+view_shot closed
+closed="$(differ before closed)"
+awk -v d="$closed" 'BEGIN { exit !(d + 0 < 50) }' || fail "Esc did not close the help overlay ($closed pixels differ)"
+echo "help overlay: F1 opened it ($helpd pixels), Esc closed it"
+kill -0 "$APP_PID" 2>/dev/null || fail "the app died"
+stop_app
+
+# --- 4: slow frames; the Open dialog lists the models beside the one opened.
+mkdir -p "$WORK/models"
+"$BIN" sculpt --primitive plane --out "$WORK/models/aaa-start.nendo.json" >/dev/null
+"$BIN" sculpt --primitive torus --out "$WORK/models/bbb-torus.nendo.json" >/dev/null
+"$BIN" sculpt --primitive sphere --out "$WORK/models/ccc-typed.nendo.json" >/dev/null
+NENDO_FRAME_DELAY_MS=250 start_app "$WORK/models/aaa-start.nendo.json" --no-autosave
+title() { xdotool getwindowname "$WID"; }
+wait_title() { # pattern
+  for _ in $(seq 40); do title | grep -q "$1" && return 0; sleep 0.25; done
+  return 1
+}
+xdotool mousemove --window "$WID" "$X" "$Y"
+xdotool key ctrl+o
+sleep 2
+import -window "$WID" "$WORK/dialog.png"
+# Positions in the Open dialog listing the three models: egui opens it at the same place each
+# time (top left of the window). The second entry (bbb-torus); its list
+# starts below the "Up" row. DIALOG_ENTRY_X/Y override the position.
+EX="${DIALOG_ENTRY_X:-80}"
+EY="${DIALOG_ENTRY_Y:-120}"
+xdotool mousemove --window "$WID" "$EX" "$EY"
+sleep 0.6
+xdotool click --repeat 2 --delay 80 1
+wait_title 'bbb-torus' || fail "a double click (80 ms apart) at 4 frames per second did not open the file (title: $(title))"
+echo "slow frames: a double click 80 ms apart opened bbb-torus"
+
+# Typing: focus the file name field with a click and type at once.
+xdotool key ctrl+o
+sleep 2
+FX="${DIALOG_FIELD_X:-200}"
+FY="${DIALOG_FIELD_Y:-176}"
+xdotool mousemove --window "$WID" "$FX" "$FY"
+sleep 0.6
+xdotool click 1 key --delay 20 ctrl+a type --delay 25 "ccc-typed.nendo.json"
+sleep 1.5
+import -window "$WID" "$WORK/typed.png"
+xdotool key Return
+wait_title 'ccc-typed' || fail "typing at 4 frames per second lost letters (title: $(title))"
+echo "slow frames: a file name typed right after the click opened ccc-typed"
+kill -0 "$APP_PID" 2>/dev/null || fail "the app died"
+echo "window-live check passed"

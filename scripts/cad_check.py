@@ -23,7 +23,10 @@ same-sense with its loop running counter-clockwise in (u, v) from the surface's 
 each shared EDGE_CURVE is used once in each direction.
 
 IGES checks: one face per patch, each a B-spline surface of degree 3x3 with the patch's control
-points and points that agree to 1e-9, BRepCheck_Analyzer valid.
+points and points that agree to 1e-9, BRepCheck_Analyzer valid (IGES gets no topology: no shell).
+
+Both: each model curve is one free edge whose B-spline has the curve's degree, knots and control
+points exactly (a Bezier curve on its (d+1)-fold knots 0 and 1, a planar curve at z = 0).
 
 Exits 1 with a message naming what failed.
 """
@@ -119,6 +122,56 @@ def load_model(path):
     s = doc["surface"]
     patches = [np.array(p, dtype=float).reshape(4, 4, 3) for p in s["patches"]]
     return s["topology"], s["patches_u"], s["patches_v"], patches
+
+
+def load_curves(path):
+    """The model's curves as (degree, knot vector, 3D control points): a Bezier curve of degree
+    d on d+1 zeros and d+1 ones, a planar curve at z = 0."""
+    with open(path) as f:
+        doc = json.load(f)
+    out = []
+    for c in doc.get("curves", []):
+        if "bezier" in c:
+            pts = c["bezier"]
+            d = len(pts) - 1
+            knots = [0.0] * (d + 1) + [1.0] * (d + 1)
+        else:
+            pts, d, knots = c["bspline"]["points"], c["bspline"]["degree"], c["bspline"]["knots"]
+        pts = np.array([list(p) + [0.0] * (3 - len(p)) for p in pts], dtype=float)
+        out.append((d, [float(k) for k in knots], pts))
+    return out
+
+
+def check_curves(shape, model_path, path):
+    """Every model curve is one free edge (in no face) whose curve is a B-spline of the same
+    degree, knots and control points."""
+    want = load_curves(model_path)
+    got = []
+    for e in explore_free_edges(shape):
+        c = BRep_Tool.Curve_s(TopoDS.Edge(e), 0.0, 1.0)
+        if type(c).__name__ != "Geom_BSplineCurve":
+            fail(f"{path}: a curve came out as {type(c).__name__}, not a B-spline")
+        knots = []
+        for i in range(1, c.NbKnots() + 1):
+            knots += [c.Knot(i)] * c.Multiplicity(i)
+        pts = np.array([[c.Pole(i).X(), c.Pole(i).Y(), c.Pole(i).Z()]
+                        for i in range(1, c.NbPoles() + 1)])
+        got.append((c.Degree(), knots, pts))
+    if len(got) != len(want):
+        fail(f"{path}: {len(got)} free curves for the model's {len(want)} curves")
+    for k, (d, knots, pts) in enumerate(want):
+        if not any(g[0] == d and g[1] == knots and g[2].shape == pts.shape
+                   and np.array_equal(g[2], pts) for g in got):
+            fail(f"{path}: curve {k} (degree {d}, {len(pts)} points) is not among the "
+                 f"B-spline curves read back with its degree, knots and control points")
+    return len(want)
+
+
+def explore_free_edges(shape):
+    e = TopExp_Explorer(shape, TopAbs_EDGE, TopAbs_FACE)
+    while e.More():
+        yield e.Current()
+        e.Next()
 
 
 def border_edges(topology, m, n):
@@ -319,6 +372,8 @@ def check_step(model_path, path, report):
         edge = TopoDS.Edge(edge_faces.FindKey(i))
         users = edge_faces.FindFromIndex(i)
         count = users.Size()
+        if count == 0:
+            continue  # a model curve (checked by check_curves)
         if BRep_Tool.Degenerated_s(edge):
             degenerate += 1
         elif count == 2:
@@ -372,12 +427,13 @@ def check_step(model_path, path, report):
             worst = max(worst, angle)
     if worst > G1_DEG:
         fail(f"{path}: normals across a shared edge differ by {worst:.4g} degrees (> 0.01)")
+    curves = check_curves(shape, model_path, path)
     report.append(
         f"{path}: valid {'closed solid' if closed else 'open shell'}, {len(faces)} faces "
         f"(B-spline 3x3, poles = control points, points within 1e-9), {len(shared)} shared "
         f"edges, {border} border edges in {loops} loop(s), {degenerate} degenerate (pole) edges"
         f"{volume_text}, G1 worst {worst:.2e} deg, all faces forward and outward as written"
-        f" ({file_faces} same-sense faces in the file)")
+        f" ({file_faces} same-sense faces in the file), {curves} curves exact")
 
 
 def check_iges(model_path, path, report):
@@ -386,8 +442,9 @@ def check_iges(model_path, path, report):
     if not BRepCheck_Analyzer(shape).IsValid():
         fail(f"{path}: BRepCheck_Analyzer: the shape is not valid")
     faces = match_faces(shape, patches, path)
+    curves = check_curves(shape, model_path, path)
     report.append(f"{path}: valid, {len(faces)} faces (B-spline 3x3, poles = control points, "
-                  f"points within 1e-9)")
+                  f"points within 1e-9), {curves} curves exact")
 
 
 def main():

@@ -56,6 +56,20 @@ sculpt plane '{"op":"push","at":[0.5,0.5,0],"dir":[0,0,-1],"depth":0.6,"radius":
 sculpt tube '{"op":"push","at":[0,0,0],"dir":[0,0,1],"depth":0.3,"radius":1.0}
 {"op":"push","at":[1,0,3],"dir":[-1,0,0],"depth":0.2,"radius":1.0}' --primitive tube
 
+# Curves go out too: a space Bezier curve and a planar B-spline on the sphere and the plane.
+for name in sphere plane; do
+  "$VENV/bin/python" - "$WORK/$name.json" <<'PY' || fail "cannot add curves to $name"
+import json, sys
+doc = json.load(open(sys.argv[1]))
+doc["curves"] = [
+    {"bezier": [[0, 0, 4], [1, 2, 5], [2, 0, 4.5], [3, 1, 4]]},
+    {"bspline": {"degree": 3, "knots": [0, 0, 0, 0, 0.5, 1, 1, 1, 1],
+                 "points": [[0, 0], [1, 1], [2, 0], [3, 1], [4, 0]]}},
+]
+json.dump(doc, open(sys.argv[1], "w"))
+PY
+done
+
 for name in sphere torus cylinder hemisphere plane tube; do
   "$BIN" export "$WORK/$name.json" "$WORK/$name.step" >/dev/null || fail "nendo export $name.step"
   "$BIN" export "$WORK/$name.json" "$WORK/$name.igs" >/dev/null || fail "nendo export $name.igs"

@@ -441,12 +441,8 @@ fn check_step(text: &str, model: &Model, scale: f64) {
             (pts[0], pts[12]),
             "#{id}: the loop starts along v = 0"
         );
-        for w in 0..4 {
-            assert_eq!(
-                ends[w].1,
-                ends[(w + 1) % 4].0,
-                "#{id}: the loop is connected"
-            );
+        for (this, next) in ends.iter().zip(ends.iter().cycle().skip(1)) {
+            assert_eq!(this.1, next.0, "#{id}: the loop is connected");
         }
     }
     assert!(seen.iter().all(|&s| s));
@@ -742,8 +738,7 @@ fn sculpted(primitive: Primitive, seed: u64) -> Model {
 }
 
 /// A plane whose control points have random magnitudes from 1e-300 to 1e49 (the coordinate
-/// limit is 1e50) and signs: every
-/// real's text must read back to the same bits.
+/// limit is 1e50) and signs: every real's text must read back to the same bits.
 fn wild_plane(seed: u64) -> Model {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (m, n) = (3, 2);

@@ -17,6 +17,7 @@
 //! |---|---|---|
 //! | [`curve`], [`surface`], [`mesh`] | the geometry of `nendo-geom` re-exported, plus the curve file formats ([`curve::json`], [`curve::svg`]) and the OBJ / STL / GLB writers ([`mesh`]) | `nendo-geom`, serde, the file writer |
 //! | [`model`] | the `nendo-model` JSON document (surface + curves) and the sculpt operations, validated reading, safe writing | geometry, serde |
+//! | [`cad`] | the exact surface and curves for CAD: STEP (AP214) and IGES 5.3 writers, no approximation | geometry, [`model`], the file writer |
 //! | [`figure`] | 2D metacircle figures (fit, iso-curves, pictures, warping, morphing) and 3D metaball shapes fitted to sections (seed 000 §4), with their documents and pictures; it lives here, not in `nendo-geom`, because it reads and writes its own files and PNG/SVG pictures | geometry, serde, png |
 //! | [`hand`] | the kinematic hand (bend angles → joint positions), the contact of the fingertip capsule with the surface, the loop that turns device frames into displacement fields applied through `nendo-geom`'s deformation pipeline, the mouse as a hand, scripted traces; here because it joins devices and geometry | geometry, `nendo_devices` |
 //! | `render`, `app` | the wgpu renderer (CPU tessellation from `mesh`, drawn as clay) and the egui window; feature `gui` | everything above; nothing depends on them |
@@ -29,6 +30,7 @@
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod bench;
+pub mod cad;
 pub mod cli;
 pub mod curve;
 pub mod figure;

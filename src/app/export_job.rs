@@ -1,5 +1,6 @@
-//! Mesh export from the window, off the UI thread: tessellating a big grid finely takes
-//! seconds (millions of triangles), and the window keeps drawing meanwhile.
+//! Export from the window, off the UI thread: tessellating a big grid finely takes
+//! seconds (millions of triangles), and the window keeps drawing meanwhile. STEP and IGES
+//! (the exact patches and curves, [`crate::cad`]) go the same way, without tessellation.
 //!
 //! The job owns a copy of the patches, tessellates them with the library's mesher, welds and
 //! writes the file atomically ([`save_mesh`]), and reports back once through a channel; the
@@ -10,6 +11,7 @@ use std::path::PathBuf;
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::time::Instant;
 
+use crate::cad::{CadError, CadFormat, save_cad};
 use crate::mesh::{
     ExportError, MeshFormat, PatchPoints, TessellateError, Tessellation, estimate, save_mesh,
     tessellate,
@@ -34,6 +36,9 @@ pub struct Exported {
     pub max_segments: u32,
     /// Wall time, milliseconds.
     pub ms: f64,
+    /// For a STEP or IGES export: the format and the patches and curves written (then
+    /// `triangles` is 0 and the tolerance does not apply).
+    pub cad: Option<(CadFormat, usize, usize)>,
 }
 
 impl Exported {
@@ -46,6 +51,14 @@ impl Exported {
     /// The status line for it.
     #[must_use]
     pub fn message(&self) -> String {
+        if let Some((format, patches, curves)) = self.cad {
+            return format!(
+                "exported {} ({}, exact: {patches} patches, {curves} curves, millimetres) in {:.0} ms",
+                self.path.display(),
+                format.name(),
+                self.ms
+            );
+        }
         let mut text = format!(
             "exported {} ({} triangles, tolerance {}, error bound {:.2e}) in {:.0} ms",
             self.path.display(),
@@ -80,6 +93,14 @@ pub enum ExportJobError {
     /// The export thread could not be started.
     #[error("cannot start the export: {0}")]
     Spawn(std::io::Error),
+    /// Writing a STEP or IGES file failed.
+    #[error("cannot export {}: {error}", path.display())]
+    Cad {
+        /// The file being written.
+        path: PathBuf,
+        /// What went wrong.
+        error: CadError,
+    },
     /// Writing the file failed.
     #[error("cannot export {}: {error}", path.display())]
     Write {
@@ -142,12 +163,53 @@ impl ExportJob {
                         tolerance: tessellation.tolerance,
                         max_segments: tessellation.max_segments,
                         ms: started.elapsed().as_secs_f64() * 1e3,
+                        cad: None,
                     })
                     .map_err(|error| ExportJobError::Write {
                         path: target.clone(),
                         error,
                     });
                 // The window may have gone; nothing to tell then.
+                let _ = tx.send(outcome);
+            })
+            .map_err(ExportJobError::Spawn)?;
+        Ok(Self {
+            path,
+            started,
+            result,
+        })
+    }
+
+    /// Starts writing `model` to `path` as STEP or IGES (`format`), the exact patches and
+    /// curves, one model unit to the millimetre.
+    ///
+    /// # Errors
+    /// [`ExportJobError::Spawn`] when the thread cannot be started.
+    pub fn start_cad(
+        model: crate::model::Model,
+        path: PathBuf,
+        format: CadFormat,
+    ) -> Result<Self, ExportJobError> {
+        let (tx, result) = mpsc::channel();
+        let target = path.clone();
+        let started = Instant::now();
+        std::thread::Builder::new()
+            .name("nendo export".into())
+            .spawn(move || {
+                let outcome = save_cad(&target, format, &model, 1.0)
+                    .map(|_| Exported {
+                        path: target.clone(),
+                        triangles: 0,
+                        error_bound: 0.0,
+                        tolerance: 0.0,
+                        max_segments: 0,
+                        ms: started.elapsed().as_secs_f64() * 1e3,
+                        cad: Some((format, model.surface.patch_count(), model.curves.len())),
+                    })
+                    .map_err(|error| ExportJobError::Cad {
+                        path: target.clone(),
+                        error,
+                    });
                 let _ = tx.send(outcome);
             })
             .map_err(ExportJobError::Spawn)?;
@@ -281,6 +343,41 @@ mod tests {
                 missing.display()
             )),
             "{text}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn exports_step_and_iges_off_the_calling_thread() {
+        let dir = std::env::temp_dir().join(format!("nendo-export-cad-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let model = crate::model::Model::new(
+            Primitive::Torus
+                .build(&PrimitiveParams::default())
+                .expect("torus"),
+        );
+        for (name, format) in [("t.step", CadFormat::Step), ("t.igs", CadFormat::Iges)] {
+            let path = dir.join(name);
+            let job = ExportJob::start_cad(model.clone(), path.clone(), format).expect("started");
+            let done = wait(&job).expect("exported");
+            let text = std::fs::read_to_string(&path).expect("written");
+            assert!(text.starts_with(match format {
+                CadFormat::Step => "ISO-10303-21;",
+                CadFormat::Iges => "nendo exact surface",
+            }));
+            assert!(
+                done.message()
+                    .contains(&format!("{}, exact: 32 patches, 0 curves", format.name())),
+                "{}",
+                done.message()
+            );
+        }
+        let missing = dir.join("no-such-folder").join("t.step");
+        let job = ExportJob::start_cad(model, missing.clone(), CadFormat::Step).expect("started");
+        let err = wait(&job).expect_err("no folder");
+        assert!(
+            matches!(&err, ExportJobError::Cad { path, .. } if *path == missing),
+            "{err:?}"
         );
         let _ = std::fs::remove_dir_all(&dir);
     }

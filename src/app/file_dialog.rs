@@ -14,7 +14,7 @@ pub enum DialogPurpose {
     OpenModel,
     /// Save the model.
     SaveModel,
-    /// Export a mesh (the extension picks the format).
+    /// Export a mesh or, exactly, STEP / IGES (the extension picks the format).
     ExportMesh,
     /// Save the recorded operations.
     SaveOps,
@@ -27,7 +27,7 @@ impl DialogPurpose {
         match self {
             DialogPurpose::OpenModel => "Open model",
             DialogPurpose::SaveModel => "Save model as",
-            DialogPurpose::ExportMesh => "Export mesh (.obj, .stl, .glb)",
+            DialogPurpose::ExportMesh => "Export (.obj, .stl, .glb; exact: .step, .igs)",
             DialogPurpose::SaveOps => "Save recorded operations",
             DialogPurpose::ReplayOps => "Replay operations",
         }
@@ -45,7 +45,9 @@ impl DialogPurpose {
     fn endings(self) -> &'static [&'static str] {
         match self {
             DialogPurpose::OpenModel | DialogPurpose::SaveModel => &[".json"],
-            DialogPurpose::ExportMesh => &[".obj", ".stl", ".glb"],
+            DialogPurpose::ExportMesh => {
+                &[".obj", ".stl", ".glb", ".step", ".stp", ".igs", ".iges"]
+            }
             DialogPurpose::SaveOps | DialogPurpose::ReplayOps => &[".jsonl", ".ops", ".txt"],
         }
     }

@@ -574,6 +574,17 @@ impl Modeller {
             let busy = format!("still exporting {}", job.path().display());
             return self.set_status(busy, true);
         }
+        if let Some(format) = crate::cad::CadFormat::from_path(path) {
+            let model = self.session.doc.model().clone();
+            match ExportJob::start_cad(model, path.to_path_buf(), format) {
+                Ok(job) => {
+                    self.set_status(format!("exporting {}…", path.display()), false);
+                    self.export_job = Some(job);
+                }
+                Err(e) => self.set_status(e.to_string(), true),
+            }
+            return;
+        }
         let tolerance = self
             .panel
             .export_tolerance

@@ -118,7 +118,9 @@ pub(super) fn top_bar_ui(ui: &mut Ui, history: &History) -> Vec<Command> {
         }
         if ui
             .button("Export…")
-            .on_hover_text("OBJ, STL or GLB, by the file's extension")
+            .on_hover_text(
+                "OBJ, STL or GLB (meshes), STEP or IGES (exact), by the file's extension",
+            )
             .clicked()
         {
             commands.push(Command::ShowDialog(DialogPurpose::ExportMesh));
@@ -486,7 +488,7 @@ pub(super) fn export_ui(ui: &mut Ui, tolerance: &mut f64, job: Option<&ExportJob
             .logarithmic(true)
             .text("tolerance (side)"),
     );
-    ui.small("Largest distance from the mesh to the surface. OBJ (with normals), binary STL or GLB, by the file's extension. Written in the background.");
+    ui.small("Largest distance from the mesh to the surface. OBJ (with normals), binary STL or GLB, by the file's extension; STEP (.step) or IGES (.igs) write the exact patches and curves instead (millimetres). Written in the background.");
     match job {
         Some(job) => {
             ui.label(format!(

@@ -48,7 +48,8 @@ pub enum Command {
     Curve(curve::Args),
     /// List serial ports and HID devices, and which device profile fits each.
     Devices(devices::Args),
-    /// Write a model's surface as a mesh (OBJ with normals, binary STL, GLB) within a tolerance.
+    /// Write a model as a mesh (OBJ with normals, binary STL, GLB) within a tolerance, or exactly
+    /// as CAD (STEP AP214, IGES 5.3: the patches as B-spline surfaces, the curves).
     Export(export::Args),
     /// Figures of metacircles: fit to a contour, render to PNG / SVG, warp by curves, measure;
     /// metaball shapes fitted to sections.

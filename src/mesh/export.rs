@@ -6,6 +6,7 @@ use std::path::Path;
 use super::glb::write_glb;
 use super::obj::write_obj;
 use super::stl::write_stl;
+use super::up::UpAxis;
 use nendo_geom::mesh::TriMesh;
 
 /// What can go wrong when exporting a mesh.
@@ -33,6 +34,14 @@ pub enum ExportError {
     /// The file name's extension names no known format.
     #[error("unknown mesh format {0:?}: use .obj, .stl or .glb")]
     UnknownFormat(String),
+    /// The format fixes its up axis and another was asked for.
+    #[error("{format} is always +{} up", fixed.name().to_ascii_uppercase())]
+    FixedUp {
+        /// The format's name.
+        format: &'static str,
+        /// Its only up axis.
+        fixed: UpAxis,
+    },
 }
 
 /// A mesh file format.
@@ -76,13 +85,58 @@ impl MeshFormat {
             .ok_or(ExportError::UnknownFormat(ext))
     }
 
-    /// Writes `mesh` in this format.
+    /// The up axis a file of this format gets unless asked otherwise: +Y for OBJ (Blender's
+    /// and most tools' assumption) and GLB (glTF requires it), +Z for STL (the 3D-printing
+    /// convention). See [`super::up`].
+    #[must_use]
+    pub fn default_up(self) -> UpAxis {
+        match self {
+            MeshFormat::Obj | MeshFormat::Glb => UpAxis::Y,
+            MeshFormat::Stl => UpAxis::Z,
+        }
+    }
+
+    /// Checks that this format can be written with `up`: any for OBJ, only +Y for GLB, only
+    /// +Z for STL.
+    ///
+    /// # Errors
+    /// [`ExportError::FixedUp`].
+    pub fn check_up(self, up: UpAxis) -> Result<(), ExportError> {
+        match self {
+            MeshFormat::Obj => Ok(()),
+            _ if up == self.default_up() => Ok(()),
+            MeshFormat::Glb => Err(ExportError::FixedUp {
+                format: "glTF",
+                fixed: UpAxis::Y,
+            }),
+            MeshFormat::Stl => Err(ExportError::FixedUp {
+                format: "STL",
+                fixed: UpAxis::Z,
+            }),
+        }
+    }
+
+    /// Writes `mesh` in this format with its default up axis ([`MeshFormat::default_up`]).
     ///
     /// # Errors
     /// As the format's writer.
     pub fn write<W: Write>(self, mesh: &TriMesh, out: &mut W) -> Result<(), ExportError> {
+        self.write_up(mesh, out, self.default_up())
+    }
+
+    /// Writes `mesh` in this format with `up` as the file's up axis.
+    ///
+    /// # Errors
+    /// [`ExportError::FixedUp`] when the format fixes another axis; as the format's writer.
+    pub fn write_up<W: Write>(
+        self,
+        mesh: &TriMesh,
+        out: &mut W,
+        up: UpAxis,
+    ) -> Result<(), ExportError> {
+        self.check_up(up)?;
         match self {
-            MeshFormat::Obj => write_obj(mesh, out),
+            MeshFormat::Obj => write_obj(mesh, out, up),
             MeshFormat::Stl => write_stl(mesh, out),
             MeshFormat::Glb => write_glb(mesh, out),
         }
@@ -94,16 +148,31 @@ impl MeshFormat {
 /// untouched and no temporary file is left.
 ///
 /// A mesh with a NaN or infinite position or normal is refused before anything is written.
+/// The file gets the format's default up axis ([`MeshFormat::default_up`]).
 ///
 /// # Errors
 /// [`ExportError::NonFinite`], as [`MeshFormat::write`], or [`ExportError::Write`] from the file
 /// system.
 pub fn save_mesh(path: &Path, format: MeshFormat, mesh: &TriMesh) -> Result<(), ExportError> {
+    save_mesh_up(path, format, mesh, format.default_up())
+}
+
+/// As [`save_mesh`], with `up` as the file's up axis.
+///
+/// # Errors
+/// [`ExportError::FixedUp`] (before anything is written) and as [`save_mesh`].
+pub fn save_mesh_up(
+    path: &Path,
+    format: MeshFormat,
+    mesh: &TriMesh,
+    up: UpAxis,
+) -> Result<(), ExportError> {
+    format.check_up(up)?;
     if let Some(vertex) = first_non_finite(mesh) {
         return Err(ExportError::NonFinite { vertex });
     }
     nendo_file::write_atomic(path, |file| {
-        format.write(mesh, file)?;
+        format.write_up(mesh, file, up)?;
         Ok(())
     })
 }

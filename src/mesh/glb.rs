@@ -1,5 +1,6 @@
 //! Binary glTF 2.0 (GLB): one mesh with one triangle primitive (`POSITION`, `NORMAL`, `u32`
-//! indices) in one buffer. Units are the model's (sides), written as they are.
+//! indices) in one buffer. Units are the model's (sides). glTF is +Y up: model `(x, y, z)` is
+//! written as `(x, z, −y)`, positions and normals (see [`super::up`]).
 //!
 //! Layout (glTF 2.0 §4.4): a 12-byte header (`glTF`, version 2, total length), a JSON chunk
 //! padded with spaces to 4 bytes, and a BIN chunk padded with zeros.
@@ -8,6 +9,7 @@ use serde_json::json;
 use std::io::Write;
 
 use super::export::ExportError;
+use super::up::UpAxis;
 use nendo_geom::mesh::TriMesh;
 
 const MAGIC: u32 = 0x4654_6C67; // "glTF"
@@ -18,23 +20,28 @@ const UNSIGNED_INT: u32 = 5125;
 const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 
-/// Writes a mesh as GLB.
+/// Writes a mesh as GLB, +Y up.
 ///
 /// # Errors
 /// [`ExportError::Empty`] for a mesh without triangles (glTF requires bounds of the positions);
 /// [`ExportError::TooLarge`] beyond the 4 GiB a GLB can hold; [`ExportError::Io`] when the
 /// writer fails.
 pub fn write_glb<W: Write>(mesh: &TriMesh, out: &mut W) -> Result<(), ExportError> {
+    let up = UpAxis::Y;
     let Some((lo, hi)) = mesh.bounds().filter(|_| !mesh.indices.is_empty()) else {
         return Err(ExportError::Empty);
     };
+    // The box turned: each of its corners maps to a corner, so the bounds are the min and max
+    // of the two images (exact: only a sign changes).
+    let (a, b) = (up.apply(lo), up.apply(hi));
+    let (lo, hi) = (a.min(b), a.max(b));
     let mut bin: Vec<u8> = Vec::with_capacity(24 * mesh.positions.len() + 4 * mesh.indices.len());
     for p in &mesh.positions {
-        bin.extend(p.to_array().iter().flat_map(|x| x.to_le_bytes()));
+        bin.extend(up.apply(*p).to_array().iter().flat_map(|x| x.to_le_bytes()));
     }
     let normals_at = bin.len();
     for n in &mesh.normals {
-        bin.extend(n.to_array().iter().flat_map(|x| x.to_le_bytes()));
+        bin.extend(up.apply(*n).to_array().iter().flat_map(|x| x.to_le_bytes()));
     }
     let indices_at = bin.len();
     bin.extend(mesh.indices.iter().flat_map(|i| i.to_le_bytes()));

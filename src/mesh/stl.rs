@@ -1,5 +1,6 @@
 //! Binary STL: an 80-byte header, a little-endian `u32` triangle count, then per triangle its
-//! unit face normal, three vertices (`f32` each) and a zero `u16` attribute.
+//! unit face normal, three vertices (`f32` each) and a zero `u16` attribute. Z-up, the model's
+//! coordinates as they are (the 3D-printing convention; see [`super::up`]).
 
 use glam::Vec3;
 use std::io::Write;

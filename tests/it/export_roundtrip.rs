@@ -1,13 +1,15 @@
 //! Meshes written by the library's own mesher read back with independent readers (`tobj`,
 //! `stl_io`, `gltf`) and checked: same vertices and triangles, unit normals, a closed sphere
-//! with the right volume, and `nendo export` on the command line.
+//! with the right volume, the up axes (GLB and OBJ +Y by default: model `(x, y, z)` as
+//! `(x, z, −y)`; OBJ `--up z` and STL as they are), OBJ's `s 1`, and `nendo export` on the
+//! command line.
 
 use std::collections::HashMap;
 use std::process::Command;
 
 use crate::support::temp_dir;
 use glam::{DVec3, Vec3};
-use nendo::mesh::{MeshFormat, Tessellation, TriMesh, save_mesh, tessellate};
+use nendo::mesh::{MeshFormat, Tessellation, TriMesh, UpAxis, save_mesh, save_mesh_up, tessellate};
 use nendo::model::Model;
 use nendo::surface::{Op, Primitive, PrimitiveParams, deform};
 
@@ -104,6 +106,15 @@ fn obj_stl_glb_read_back_the_same_mesh() {
             triangulate: true,
             ..Default::default()
         };
+        let text = std::fs::read_to_string(&obj).expect("read OBJ");
+        assert!(
+            text.contains("\ns 1\n"),
+            "{name}: OBJ asks for smooth shading"
+        );
+        assert!(
+            !text.contains("0.00000"),
+            "{name}: OBJ numbers are short (exponents, not runs of zeros)"
+        );
         let (models, _) = tobj::load_obj(&obj, &options).expect("tobj reads it");
         assert_eq!(models.len(), 1);
         let m = &models[0].mesh;
@@ -127,11 +138,32 @@ fn obj_stl_glb_read_back_the_same_mesh() {
             );
             let n = Vec3::new(m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2]);
             let j = mesh.indices[k] as usize;
+            // Y-up: model (x, y, z) is (x, z, -y) in the file.
+            let want = mesh.positions[j];
             assert_eq!(
-                p, mesh.positions[j],
-                "{name}: OBJ position (shortest round-trip text is exact)"
+                p,
+                Vec3::new(want.x, want.z, -want.y),
+                "{name}: OBJ position, Y-up (shortest round-trip text is exact)"
             );
-            assert_eq!(n, mesh.normals[j], "{name}: OBJ normal");
+            let want = mesh.normals[j];
+            assert_eq!(n, Vec3::new(want.x, want.z, -want.y), "{name}: OBJ normal");
+        }
+        // `--up z`: the model's coordinates as they are.
+        let obj_z = dir.join(format!("{name}-z.obj"));
+        save_mesh_up(&obj_z, MeshFormat::Obj, &mesh, UpAxis::Z).expect("write OBJ");
+        let (models, _) = tobj::load_obj(&obj_z, &options).expect("tobj reads it");
+        let m = &models[0].mesh;
+        for (k, &i) in m.indices.iter().enumerate() {
+            let i = i as usize;
+            let p = Vec3::new(
+                m.positions[3 * i],
+                m.positions[3 * i + 1],
+                m.positions[3 * i + 2],
+            );
+            assert_eq!(
+                p, mesh.positions[mesh.indices[k] as usize],
+                "{name}: Z-up OBJ"
+            );
         }
 
         // Binary STL
@@ -185,15 +217,32 @@ fn obj_stl_glb_read_back_the_same_mesh() {
             .map(Vec3::from_array)
             .collect();
         let indices: Vec<u32> = reader.read_indices().expect("indices").into_u32().collect();
-        assert_eq!(positions, mesh.positions, "{name}: GLB positions");
-        assert_eq!(normals, mesh.normals, "{name}: GLB normals");
+        let y_up = |v: &Vec3| Vec3::new(v.x, v.z, -v.y);
+        let want: Vec<Vec3> = mesh.positions.iter().map(y_up).collect();
+        assert_eq!(positions, want, "{name}: GLB positions, Y-up");
+        let want: Vec<Vec3> = mesh.normals.iter().map(y_up).collect();
+        assert_eq!(normals, want, "{name}: GLB normals, Y-up");
         assert_eq!(indices, mesh.indices, "{name}: GLB indices");
         let bounds = primitive.bounding_box();
         let (lo, hi) = mesh.bounds().expect("bounds");
+        // +Y up: the model's highest point (largest z) is glTF's largest y, and the model's
+        // +y side is glTF's -z side.
         assert_eq!(
             (Vec3::from_array(bounds.min), Vec3::from_array(bounds.max)),
-            (lo, hi)
+            (Vec3::new(lo.x, lo.z, -hi.y), Vec3::new(hi.x, hi.z, -lo.y))
         );
+        let top = mesh
+            .positions
+            .iter()
+            .copied()
+            .max_by(|a, b| a.z.total_cmp(&b.z))
+            .expect("vertices");
+        let highest = positions
+            .iter()
+            .copied()
+            .max_by(|a, b| a.y.total_cmp(&b.y))
+            .expect("vertices");
+        assert_eq!(highest.y, top.z, "{name}: GLB's up (+Y) is the model's +Z");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -239,6 +288,41 @@ fn export_command_writes_the_mesh_and_rejects_bad_input() {
     // A torus is closed: watertight across its two closed seams.
     assert_closed_and_oriented(&positions, &indices);
 
+    // OBJ: Y-up by default, `--up z` as the model; the same vertices otherwise.
+    let first_vertex = |up: Option<&str>| -> Vec3 {
+        let out = dir.join(format!("torus-{}.obj", up.unwrap_or("default")));
+        let mut args = vec![
+            "export",
+            model_path.to_str().expect("utf-8"),
+            out.to_str().expect("utf-8"),
+        ];
+        if let Some(up) = up {
+            args.extend(["--up", up]);
+        }
+        let o = Command::new(env!("CARGO_BIN_EXE_nendo"))
+            .args(&args)
+            .output()
+            .expect("nendo runs");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(&out).expect("the OBJ exists");
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("v "))
+            .expect("a vertex");
+        let xyz: Vec<f32> = line[2..]
+            .split(' ')
+            .map(|x| x.parse().expect("a number"))
+            .collect();
+        Vec3::new(xyz[0], xyz[1], xyz[2])
+    };
+    let (default, y, z) = (
+        first_vertex(None),
+        first_vertex(Some("y")),
+        first_vertex(Some("z")),
+    );
+    assert_eq!(default, y);
+    assert_eq!(y, Vec3::new(z.x, z.z, -z.y));
+
     for (args, code) in [
         (
             vec![
@@ -255,6 +339,37 @@ fn export_command_writes_the_mesh_and_rejects_bad_input() {
             2,
         ),
         (vec!["export", "/nonexistent/model.json", "x.obj"], 1),
+        // glTF is always Y-up, STL always Z-up.
+        (
+            vec![
+                "export",
+                model_path.to_str().unwrap_or(""),
+                "x.glb",
+                "--up",
+                "z",
+            ],
+            2,
+        ),
+        (
+            vec![
+                "export",
+                model_path.to_str().unwrap_or(""),
+                "x.stl",
+                "--up",
+                "y",
+            ],
+            2,
+        ),
+        (
+            vec![
+                "export",
+                model_path.to_str().unwrap_or(""),
+                "x.obj",
+                "--up",
+                "x",
+            ],
+            2,
+        ),
     ] {
         let o = Command::new(env!("CARGO_BIN_EXE_nendo"))
             .args(&args)

@@ -11,6 +11,7 @@ mod curve_refine_svg;
 mod curve_warp;
 mod devices_cli;
 mod documents;
+mod export_cad;
 mod export_roundtrip;
 mod figure_fit;
 mod figure_morph;

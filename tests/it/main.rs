@@ -36,3 +36,4 @@ mod support;
 mod surface_deform;
 mod surface_grid;
 mod svg_import;
+mod undo_history;

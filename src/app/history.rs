@@ -249,7 +249,7 @@ impl Step {
 #[must_use]
 pub fn model_bytes(model: &Model) -> usize {
     let g = &model.surface;
-    g.nodes().len() * std::mem::size_of::<DVec3>()
+    std::mem::size_of_val(g.nodes())
         + g.patch_count() * 2 * std::mem::size_of::<DVec3>() * 4 / 3
         + (g.ratios_u().len() + g.ratios_v().len()) * 8
         + curves_bytes(&model.curves)

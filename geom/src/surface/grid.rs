@@ -594,7 +594,7 @@ impl Grid {
         let along = |x: usize, count: usize, closed: bool| -> [Option<usize>; 2] {
             let k = x / 3;
             let here = (k < count).then_some(k);
-            let before = if x % 3 != 0 {
+            let before = if !x.is_multiple_of(3) {
                 None
             } else if k >= 1 {
                 Some(k - 1)

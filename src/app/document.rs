@@ -1,11 +1,23 @@
 //! The document being edited: the model, where it lives on disk, its undo history, and a
 //! revision number that changes with every edit (what the display and the autosave watch).
+//!
+//! ## Strokes
+//!
+//! A live stroke (many operations while the button is held) is one undo step:
+//! [`Document::begin_stroke`], then [`Document::apply`] for each operation (each costs what it
+//! touches: the history only notes the touched patches), then [`Document::end_stroke`] — or
+//! [`Document::cancel_stroke`], which puts back exactly the surface the stroke started from,
+//! or [`Document::rewind_stroke`], which does the same but keeps the stroke open (a push
+//! whose depth is redone from the start every frame). [`Document::surface_changes_since`]
+//! tells the display which patches changed, so it re-tessellates only those.
 
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::history::History;
+use std::collections::VecDeque;
+
+use super::history::{History, Restored};
 use crate::curve::Curve;
 use crate::curve::json::DynCurve;
 use crate::model::{Model, ModelError};
@@ -36,22 +48,84 @@ pub struct Document {
     pub last_op: Option<OpTiming>,
     /// Operations applied since recording started, when recording.
     pub recording: Option<Vec<Op>>,
+    /// The stroke in progress: the recording's length when it began.
+    stroke: Option<usize>,
+    /// What the last revisions changed on the surface, oldest first.
+    surface_log: VecDeque<(u64, SurfaceChange)>,
 }
+
+/// What one revision changed on the surface.
+#[derive(Debug, Clone, PartialEq)]
+enum SurfaceChange {
+    /// The control points of these patches (sorted); empty: nothing on the surface.
+    Patches(Vec<usize>),
+    /// Anything (a new model, an edit that did not say what it touched).
+    Everything,
+}
+
+/// Revisions [`Document::surface_changes_since`] can look back over.
+const SURFACE_LOG_LEN: usize = 256;
 
 impl Document {
     /// A document holding `model`, not yet saved anywhere.
     #[must_use]
     pub fn new(model: Model) -> Self {
         Self {
+            history: History::new(&model),
             model,
             path: None,
-            history: History::default(),
             revision: 0,
             saved_revision: Some(0),
             sculptor: Sculptor::new(),
             last_op: None,
             recording: None,
+            stroke: None,
+            surface_log: VecDeque::new(),
         }
+    }
+
+    /// Bumps the revision, noting what it changed on the surface.
+    fn bump(&mut self, change: SurfaceChange) {
+        self.revision += 1;
+        if self.surface_log.len() == SURFACE_LOG_LEN {
+            self.surface_log.pop_front();
+        }
+        self.surface_log.push_back((self.revision, change));
+    }
+
+    /// The patches whose control points changed after `revision` up to now (sorted; empty
+    /// when only curves, the regulation or nothing changed), or `None` when that is not known
+    /// (a new model, an edit that did not say, a revision too far back): then anything may
+    /// have changed.
+    #[must_use]
+    pub fn surface_changes_since(&self, revision: u64) -> Option<Vec<usize>> {
+        if revision == self.revision {
+            return Some(Vec::new());
+        }
+        if revision > self.revision {
+            return None;
+        }
+        let first = self
+            .surface_log
+            .iter()
+            .position(|(r, _)| *r == revision + 1)?;
+        let mut patches = Vec::new();
+        for (_, change) in self.surface_log.iter().skip(first) {
+            match change {
+                SurfaceChange::Patches(p) => patches.extend_from_slice(p),
+                SurfaceChange::Everything => return None,
+            }
+        }
+        patches.sort_unstable();
+        patches.dedup();
+        Some(patches)
+    }
+
+    fn note_restored(&mut self, restored: Restored) {
+        self.bump(match restored {
+            Restored::Patches(p) => SurfaceChange::Patches(p),
+            Restored::Everything => SurfaceChange::Everything,
+        });
     }
 
     /// Opens a model file.
@@ -106,14 +180,17 @@ impl Document {
         &self.history
     }
 
-    /// Applies a sculpting operation (with the model's regulation), recording it for undo and,
-    /// when recording, in the recording.
+    /// Applies a sculpting operation (with the model's regulation), recording it for undo (as
+    /// one step, or as part of the stroke in progress) and, when recording, in the recording.
+    /// Costs what the operation touches (the history notes the touched patches only).
     ///
     /// # Errors
     /// [`SurfaceError::BadOp`] for an invalid operation; nothing changes then.
     pub fn apply(&mut self, op: &Op) -> Result<Touched, SurfaceError> {
         op.validate()?;
-        let before = self.model.clone();
+        if self.stroke.is_none() {
+            self.history.commit(&self.model);
+        }
         let start = Instant::now();
         let regulation = self.model.regulation;
         let touched = self
@@ -124,23 +201,84 @@ impl Document {
             patches: touched.patches.len(),
         });
         let what = super::stroke::edit_name(op);
-        self.history.record(what, before);
+        if self.stroke.is_none() {
+            self.history.begin(what, &self.model);
+            self.history.touch_patches(&touched.patches);
+            self.history.commit(&self.model);
+        } else {
+            self.history.touch_patches(&touched.patches);
+        }
         if let Some(rec) = &mut self.recording {
             rec.push(op.clone());
         }
-        self.revision += 1;
+        self.bump(SurfaceChange::Patches(touched.patches.clone()));
         Ok(touched)
+    }
+
+    /// Begins a stroke named `what` (`"push"`, `"draw a line"`…): the operations applied until
+    /// [`Document::end_stroke`] make one undo step. Ends a stroke in progress first.
+    pub fn begin_stroke(&mut self, what: &str) {
+        self.end_stroke();
+        self.history.begin(what, &self.model);
+        self.stroke = Some(self.recording.as_ref().map_or(0, Vec::len));
+    }
+
+    /// True while a stroke is in progress.
+    #[must_use]
+    pub fn in_stroke(&self) -> bool {
+        self.stroke.is_some()
+    }
+
+    /// Ends the stroke in progress, recording it as one undo step (costs what it touched).
+    pub fn end_stroke(&mut self) {
+        if self.stroke.take().is_some() {
+            self.history.commit(&self.model);
+        }
+    }
+
+    /// Cancels the stroke in progress: the surface (and the recording) go back exactly to
+    /// what they were when it began, and nothing is recorded for undo. False when no stroke
+    /// was in progress.
+    pub fn cancel_stroke(&mut self) -> bool {
+        let Some(recorded) = self.stroke.take() else {
+            return false;
+        };
+        let restored = self.history.revert(&mut self.model);
+        if let Some(rec) = &mut self.recording {
+            rec.truncate(recorded);
+        }
+        self.note_restored(restored);
+        true
+    }
+
+    /// Puts the surface back to where the stroke in progress began, keeping the stroke open
+    /// (a live push redoes its dent from the start with the new depth each frame). False
+    /// when no stroke was in progress.
+    pub fn rewind_stroke(&mut self) -> bool {
+        let Some(recorded) = self.stroke else {
+            return false;
+        };
+        let what = self
+            .history
+            .undo_name()
+            .map_or_else(|| "stroke".to_string(), str::to_string);
+        self.cancel_stroke();
+        self.history.begin(what, &self.model);
+        self.stroke = Some(recorded);
+        true
     }
 
     /// Runs `f` on the surface with the model's regulation (a hand loop deforming it); `f`
     /// returns how many patches it changed, and any change bumps the revision. Undo is the
-    /// caller's ([`Document::record_undo`]).
+    /// caller's ([`Document::record_undo`]). Not knowing which patches changed, the display
+    /// and the history compare everything; [`Document::sculpt_patches`] avoids that.
     pub fn sculpt_surface<R>(&mut self, f: impl FnOnce(&mut Grid, Regulation) -> (R, usize)) -> R {
         let start = Instant::now();
         let regulation = self.model.regulation;
         let (out, patches) = f(&mut self.model.surface, regulation);
         if patches > 0 {
-            self.revision += 1;
+            self.history.touch_everything();
+            self.bump(SurfaceChange::Everything);
             self.last_op = Some(OpTiming {
                 ms: start.elapsed().as_secs_f64() * 1e3,
                 patches,
@@ -149,10 +287,34 @@ impl Document {
         out
     }
 
-    /// Records `before` for undo as the edit `what` (an edit made through
-    /// [`Document::sculpt_surface`]).
+    /// [`Document::sculpt_surface`] for an `f` that returns the patches it changed (sorted or
+    /// not): the history and the display then cost what those patches hold.
+    pub fn sculpt_patches<R>(
+        &mut self,
+        f: impl FnOnce(&mut Grid, Regulation) -> (R, Vec<usize>),
+    ) -> R {
+        let start = Instant::now();
+        let regulation = self.model.regulation;
+        let (out, mut patches) = f(&mut self.model.surface, regulation);
+        if !patches.is_empty() {
+            patches.sort_unstable();
+            patches.dedup();
+            self.history.touch_patches(&patches);
+            self.last_op = Some(OpTiming {
+                ms: start.elapsed().as_secs_f64() * 1e3,
+                patches: patches.len(),
+            });
+            self.bump(SurfaceChange::Patches(patches));
+        }
+        out
+    }
+
+    /// Records the edit `what` as starting from `before` (an edit made through
+    /// [`Document::sculpt_surface`], noticed once it changed something): the undo step it
+    /// makes leads from `before` to the model as it is when the next edit begins (or undo is
+    /// asked for), so later frames of the same contact belong to it.
     pub fn record_undo(&mut self, what: &str, before: Model) {
-        self.history.record(what, before);
+        self.history.begin_from(what, before);
     }
 
     /// Adds operations made by other means than [`Document::apply`] (a hand contact) to the
@@ -165,21 +327,27 @@ impl Document {
 
     /// Replaces the whole model (a new primitive, a recovered autosave, a replayed trace) as
     /// one undoable edit.
+    /// A model of another shape (other patch counts, a refinement) is kept whole in the
+    /// history; one of the same shape as the differences of its control points.
     pub fn replace(&mut self, what: &str, model: Model) {
-        let before = std::mem::replace(&mut self.model, model);
-        self.history.record(what, before);
-        self.revision += 1;
+        self.end_stroke();
+        self.history.begin(what, &self.model);
+        self.model = model;
+        self.history.touch_everything();
+        self.history.commit(&self.model);
+        self.bump(SurfaceChange::Everything);
     }
 
-    /// Starts an edit made of many small changes (a curve drag): records the model once for
-    /// undo. Follow with [`Document::curves_mut`] changes.
+    /// Starts an edit made of many small changes (a curve drag): one undo step from here to
+    /// the next edit. Follow with [`Document::curves_mut`] changes.
     pub fn begin_edit(&mut self, what: &str) {
-        self.history.record(what, self.model.clone());
+        self.end_stroke();
+        self.history.begin(what, &self.model);
     }
 
     /// The curves, for an edit begun with [`Document::begin_edit`] (bumps the revision).
     pub fn curves_mut(&mut self) -> &mut Vec<DynCurve> {
-        self.revision += 1;
+        self.bump(SurfaceChange::Patches(Vec::new()));
         &mut self.model.curves
     }
 
@@ -188,16 +356,18 @@ impl Document {
         if self.model.regulation != regulation {
             self.begin_edit("regulation");
             self.model.regulation = regulation;
-            self.revision += 1;
+            self.history.commit(&self.model);
+            self.bump(SurfaceChange::Patches(Vec::new()));
         }
     }
 
-    /// Undoes the last edit; false when there was none.
+    /// Undoes the last edit (ending a stroke in progress first); false when there was none.
+    /// Costs what the edit changed.
     pub fn undo(&mut self) -> bool {
-        match self.history.undo(self.model.clone()) {
-            Some(m) => {
-                self.model = m;
-                self.revision += 1;
+        self.end_stroke();
+        match self.history.undo(&mut self.model) {
+            Some(restored) => {
+                self.note_restored(restored);
                 true
             }
             None => false,
@@ -206,10 +376,10 @@ impl Document {
 
     /// Redoes the last undone edit; false when there was none.
     pub fn redo(&mut self) -> bool {
-        match self.history.redo(self.model.clone()) {
-            Some(m) => {
-                self.model = m;
-                self.revision += 1;
+        self.end_stroke();
+        match self.history.redo(&mut self.model) {
+            Some(restored) => {
+                self.note_restored(restored);
                 true
             }
             None => false,

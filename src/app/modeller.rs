@@ -1324,6 +1324,14 @@ impl Modeller {
         self.cache.generation()
     }
 
+    /// The surface's vertex ranges that changed since display generation `generation`, for a
+    /// partial upload; `None`: upload it whole (see
+    /// [`DisplayCache::vertex_ranges_since`]).
+    #[must_use]
+    pub fn surface_ranges_since(&self, generation: u64) -> Option<Vec<std::ops::Range<u32>>> {
+        self.cache.vertex_ranges_since(generation)
+    }
+
     /// The camera.
     #[must_use]
     pub fn camera(&self) -> &OrbitCamera {

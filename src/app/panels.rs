@@ -144,6 +144,17 @@ pub(super) fn top_bar_ui(ui: &mut Ui, history: &History) -> Vec<Command> {
         {
             commands.push(Command::Redo);
         }
+        ui.label(format!(
+            "{} steps, {:.1} MB",
+            history.undo_len() + history.redo_len(),
+            history.bytes() as f64 / 1e6
+        ))
+        .on_hover_text(format!(
+            "Memory the undo history holds: what each edit changed, plus one copy of the model \
+             ({:.1} MB). Past {:.0} MB the oldest steps are dropped.",
+            history.base_bytes() as f64 / 1e6,
+            history.limit_bytes() as f64 / 1e6
+        ));
         ui.separator();
         for preset in [
             ViewPreset::Front,

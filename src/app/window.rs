@@ -309,8 +309,22 @@ impl WindowApp {
         let queue = &gfx.gpu.queue;
         if gfx.uploaded_surface != Some(self.modeller.surface_generation()) {
             let display = self.modeller.surface();
-            gfx.renderer
-                .set_surface(device, queue, &display.mesh, &display.seam_heat);
+            // A live stroke re-uploads only the vertices of the patches it changed.
+            match gfx
+                .uploaded_surface
+                .and_then(|g| self.modeller.surface_ranges_since(g))
+            {
+                Some(ranges) => gfx.renderer.update_surface_vertices(
+                    device,
+                    queue,
+                    &display.mesh,
+                    &display.seam_heat,
+                    &ranges,
+                ),
+                None => gfx
+                    .renderer
+                    .set_surface(device, queue, &display.mesh, &display.seam_heat),
+            }
             gfx.uploaded_surface = Some(self.modeller.surface_generation());
         }
         let style = self.modeller.scene(&mut gfx.lines, &mut gfx.spheres);

@@ -11,6 +11,8 @@ pub mod closest;
 pub mod curves;
 pub mod figures;
 pub mod input;
+#[cfg(feature = "gui")]
+pub mod live;
 pub mod reference;
 pub mod regulation;
 pub mod render;

@@ -29,6 +29,8 @@ pub enum Suite {
     Regulation,
     /// Tessellation of 100 / 1 600 sculpted patches and headless 1280x720 frames.
     Render,
+    /// One live-stroke frame (deform, regulate, re-tessellate the touched patches, build their upload) on 10x10 and 40x40 against the full rebuild; undo memory per stroke on 10x10, 40x40, 256x256.
+    Live,
     /// Figures: 512x512 frame time of a 300-metacircle figure (render, picture, morph frame), fit time and residuals of the shipped figures, the metaball torso's fit, re-fit and mesh.
     Figures,
 }
@@ -52,6 +54,13 @@ pub fn run(args: Args) -> ExitCode {
         Suite::Input => (crate::bench::input::report(args.scale), true),
         Suite::Regulation => (crate::bench::regulation::report_text(args.scale), true),
         Suite::Render => (crate::bench::render::report(args.scale), true),
+        #[cfg(feature = "gui")]
+        Suite::Live => (crate::bench::live::report(args.scale), true),
+        #[cfg(not(feature = "gui"))]
+        Suite::Live => (
+            "nendo bench live: needs the `gui` feature\n".to_string(),
+            false,
+        ),
         Suite::Figures => {
             let text = crate::bench::figures::report(args.scale);
             let ok = !text.starts_with("nendo bench figures:");

@@ -21,6 +21,11 @@ impl GrowBuffer {
         }
     }
 
+    /// Bytes of valid content.
+    pub(crate) fn len(&self) -> u64 {
+        self.len
+    }
+
     /// Replaces the content with `bytes`.
     pub(crate) fn write(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bytes: &[u8]) {
         self.len = bytes.len() as u64;
@@ -47,6 +52,22 @@ impl GrowBuffer {
                 queue.write_buffer(buffer, 0, &padded);
             }
         }
+    }
+
+    /// Rewrites `bytes` at `offset` (bytes, a multiple of 4) within the content, leaving the
+    /// rest as it is; false (nothing written) when that is not within the content.
+    pub(crate) fn write_at(&self, queue: &wgpu::Queue, offset: u64, bytes: &[u8]) -> bool {
+        let end = offset + bytes.len() as u64;
+        let Some(buffer) = &self.buffer else {
+            return false;
+        };
+        if end > self.len || !offset.is_multiple_of(4) || !bytes.len().is_multiple_of(4) {
+            return false;
+        }
+        if !bytes.is_empty() {
+            queue.write_buffer(buffer, offset, bytes);
+        }
+        true
     }
 
     /// The buffer's content as a slice, if there is any.

@@ -32,7 +32,7 @@ mod targets;
 pub use context::GpuContext;
 pub use gpu_data::SphereInstance;
 pub use offscreen::{OFFSCREEN_FORMAT, Offscreen, RgbaImage};
-pub use renderer::{GLOBALS_WGSL, Renderer, SHADERS, look_at_view};
+pub use renderer::{GLOBALS_WGSL, Renderer, SHADERS, look_at_view, surface_vertices};
 pub use scene::{LineBatch, Rgba, Style, ToolFootprint, View};
 pub use targets::{DEPTH_FORMAT, FrameTargets};
 

@@ -37,6 +37,27 @@ pub const SHADERS: [(&str, &str); 4] = [
     ("spheres.wgsl", SPHERES_WGSL),
 ];
 
+/// The GPU vertices of `mesh` in `range` (with the seam heat of [`Renderer::set_surface`]):
+/// what an upload copies, built on the CPU.
+#[must_use]
+pub fn surface_vertices(
+    mesh: &TriMesh,
+    seam: &[[f32; 2]],
+    range: std::ops::Range<u32>,
+) -> Vec<SurfaceVertex> {
+    let range = range.start as usize..(range.end as usize).min(mesh.positions.len());
+    range
+        .map(|i| SurfaceVertex {
+            position: mesh.positions[i].to_array(),
+            normal: mesh
+                .normals
+                .get(i)
+                .map_or([0.0, 0.0, 1.0], |n| n.to_array()),
+            seam: seam.get(i).copied().unwrap_or([0.0, 0.0]),
+        })
+        .collect()
+}
+
 /// Draws a scene: a tessellated surface (clay, seam heat map, tool footprint), coloured line
 /// segments and spheres. Knows nothing of the application: it is given meshes, lines, spheres
 /// and a view, and draws them into a render pass the caller opens (see
@@ -237,22 +258,47 @@ impl Renderer {
         mesh: &TriMesh,
         seam: &[[f32; 2]],
     ) {
-        let vertices: Vec<SurfaceVertex> = mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .enumerate()
-            .map(|(i, (p, n))| SurfaceVertex {
-                position: p.to_array(),
-                normal: n.to_array(),
-                seam: seam.get(i).copied().unwrap_or([0.0, 0.0]),
-            })
-            .collect();
+        let vertices = surface_vertices(mesh, seam, 0..mesh.positions.len() as u32);
         self.surface_vertices
             .write(device, queue, bytemuck::cast_slice(&vertices));
         self.surface_indices
             .write(device, queue, bytemuck::cast_slice(&mesh.indices));
         self.surface_index_count = mesh.indices.len() as u32;
+    }
+
+    /// Uploads again only the given vertex ranges of the surface (a live stroke: the
+    /// ranges of [`crate::app::display_cache::DisplayCache::vertex_ranges_since`]), for a mesh
+    /// whose indices and vertex count are those last given to [`Renderer::set_surface`].
+    /// Falls back to [`Renderer::set_surface`] when the vertex count differs or a range lies
+    /// outside the mesh.
+    pub fn update_surface_vertices(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mesh: &TriMesh,
+        seam: &[[f32; 2]],
+        ranges: &[std::ops::Range<u32>],
+    ) {
+        let count = mesh.positions.len() as u32;
+        let stride = std::mem::size_of::<SurfaceVertex>() as u64;
+        let fits = self.surface_index_count == mesh.indices.len() as u32
+            && self.surface_vertices.len() == u64::from(count) * stride
+            && ranges.iter().all(|r| r.start <= r.end && r.end <= count);
+        if !fits {
+            self.set_surface(device, queue, mesh, seam);
+            return;
+        }
+        for r in ranges {
+            let vertices = surface_vertices(mesh, seam, r.clone());
+            let offset = u64::from(r.start) * stride;
+            if !self
+                .surface_vertices
+                .write_at(queue, offset, bytemuck::cast_slice(&vertices))
+            {
+                self.set_surface(device, queue, mesh, seam);
+                return;
+            }
+        }
     }
 
     /// Uploads the line segments (those on top are drawn last, over everything).

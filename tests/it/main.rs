@@ -39,3 +39,4 @@ mod surface_deform;
 mod surface_grid;
 mod surface_operations;
 mod svg_import;
+mod undo_history;

@@ -10,8 +10,10 @@ mod seams;
 mod tessellate;
 
 pub use pick::{Ray, SurfaceHit, pick};
-pub use seams::{max_seam_angle_deg, seam_angles_deg, seam_bands};
+pub use seams::{
+    max_seam_angle_deg, seam_angles_deg, seam_bands, update_seam_angles_deg, update_seam_bands,
+};
 pub use tessellate::{
-    MeshSize, PatchBlock, PatchPoints, TessellateError, Tessellation, TriMesh, estimate,
-    eval_patch, patch_normal, tessellate, try_tessellate,
+    LiveTessellation, MeshSize, MeshUpdate, PatchBlock, PatchPoints, TessellateError, Tessellation,
+    TriMesh, estimate, eval_patch, patch_normal, tessellate, try_tessellate,
 };

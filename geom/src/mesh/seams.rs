@@ -31,10 +31,58 @@ pub fn seam_angles_deg(patches: &[PatchPoints], mesh: &TriMesh) -> Vec<f32> {
         return Vec::new();
     }
     let mut angles = vec![0.0f32; mesh.positions.len()];
-    // Position → every boundary vertex there: (patch, vertex), exact normal.
-    type Coincident = Vec<((u32, u32), DVec3)>;
+    let all: Vec<usize> = (0..mesh.blocks.len()).collect();
+    angles_among(patches, mesh, &all, &all, &mut angles);
+    angles
+}
+
+/// [`seam_angles_deg`] again at the vertices of some blocks only, after their patches (or
+/// their neighbours') changed: `targets` (block indices) get their angles recomputed in
+/// `angles`, from the boundary vertices of `context` (block indices, a superset of `targets`
+/// holding every block that shares a boundary point with a target). Gives the values
+/// [`seam_angles_deg`] gives, bit for bit, when no vertex of a target coincides with one
+/// outside `context`; costs what the context's boundary costs. Does nothing when the mesh
+/// and `angles` do not match (see [`seam_angles_deg`]).
+pub fn update_seam_angles_deg(
+    patches: &[PatchPoints],
+    mesh: &TriMesh,
+    context: &[usize],
+    targets: &[usize],
+    angles: &mut [f32],
+) {
+    if angles.len() != mesh.positions.len()
+        || context.iter().chain(targets).any(|&b| {
+            mesh.blocks
+                .get(b)
+                .is_none_or(|b| b.patch as usize >= patches.len())
+        })
+    {
+        return;
+    }
+    angles_among(patches, mesh, context, targets, angles);
+}
+
+/// Sets the angles of the vertices of the `targets` blocks from the coincidences among the
+/// boundary vertices of the `context` blocks.
+fn angles_among(
+    patches: &[PatchPoints],
+    mesh: &TriMesh,
+    context: &[usize],
+    targets: &[usize],
+    angles: &mut [f32],
+) {
+    let mut is_target = vec![false; mesh.blocks.len()];
+    for &t in targets {
+        is_target[t] = true;
+        let b = mesh.blocks[t];
+        angles[b.first_vertex as usize..(b.first_vertex + b.vertex_count()) as usize].fill(0.0);
+    }
+    // Position → every boundary vertex there: (patch, vertex, target?), exact normal.
+    type Coincident = Vec<((u32, u32, bool), DVec3)>;
     let mut at: HashMap<[u32; 3], Coincident> = HashMap::new();
-    for block in &mesh.blocks {
+    for &index in context {
+        let block = &mesh.blocks[index];
+        let target = is_target[index];
         let patch = &patches[block.patch as usize];
         for k in 0..=block.m_u {
             for l in 0..=block.m_v {
@@ -49,24 +97,27 @@ pub fn seam_angles_deg(patches: &[PatchPoints], mesh: &TriMesh) -> Vec<f32> {
                     );
                     at.entry(position_key(*position))
                         .or_default()
-                        .push(((block.patch, v), patch_normal(patch, u, w)));
+                        .push(((block.patch, v, target), patch_normal(patch, u, w)));
                 }
             }
         }
     }
     for group in at.values() {
-        for (i, &((patch_a, a), na)) in group.iter().enumerate() {
-            for &((patch_b, b), nb) in &group[i + 1..] {
-                if patch_a == patch_b {
+        for (i, &((patch_a, a, target_a), na)) in group.iter().enumerate() {
+            for &((patch_b, b, target_b), nb) in &group[i + 1..] {
+                if patch_a == patch_b || !(target_a || target_b) {
                     continue;
                 }
                 let deg = line_angle_deg(na, nb) as f32;
-                angles[a as usize] = angles[a as usize].max(deg);
-                angles[b as usize] = angles[b as usize].max(deg);
+                if target_a {
+                    angles[a as usize] = angles[a as usize].max(deg);
+                }
+                if target_b {
+                    angles[b as usize] = angles[b as usize].max(deg);
+                }
             }
         }
     }
-    angles
 }
 
 /// The angle between the lines along two unit vectors, degrees: `atan2(|a × b|, |a·b|)`.
@@ -82,12 +133,27 @@ fn line_angle_deg(a: DVec3, b: DVec3) -> f64 {
 #[must_use]
 pub fn seam_bands(mesh: &TriMesh, angles_deg: &[f32], width: f32) -> Vec<[f32; 2]> {
     let mut bands = vec![[0.0f32; 2]; mesh.positions.len()];
-    if angles_deg.len() != mesh.positions.len() {
-        return bands;
+    let all: Vec<usize> = (0..mesh.blocks.len()).collect();
+    update_seam_bands(mesh, angles_deg, width, &all, &mut bands);
+    bands
+}
+
+/// [`seam_bands`] again for the vertices of some blocks only (block indices), in `bands`
+/// (after [`update_seam_angles_deg`] changed their angles): a block's bands depend only on
+/// the angles along its own boundary. Does nothing when the lengths do not match the mesh.
+pub fn update_seam_bands(
+    mesh: &TriMesh,
+    angles_deg: &[f32],
+    width: f32,
+    blocks: &[usize],
+    bands: &mut [[f32; 2]],
+) {
+    if angles_deg.len() != mesh.positions.len() || bands.len() != mesh.positions.len() {
+        return;
     }
     let width = width.max(1e-6);
     let fall = |d: f32| (1.0 - d / width).max(0.0);
-    for b in &mesh.blocks {
+    for b in blocks.iter().filter_map(|&i| mesh.blocks.get(i)) {
         let (mu, mv) = (b.m_u as f32, b.m_v as f32);
         for k in 0..=b.m_u {
             for l in 0..=b.m_v {
@@ -102,13 +168,10 @@ pub fn seam_bands(mesh: &TriMesh, angles_deg: &[f32], width: f32) -> Vec<[f32; 2
                     .into_iter()
                     .filter(|(a, w)| *a > 0.0 && *w > 0.0)
                     .max_by(|x, y| (x.0 * x.1).total_cmp(&(y.0 * y.1)));
-                if let Some((a, w)) = best {
-                    bands[b.vertex(k, l) as usize] = [a, w];
-                }
+                bands[b.vertex(k, l) as usize] = best.map_or([0.0, 0.0], |(a, w)| [a, w]);
             }
         }
     }
-    bands
 }
 
 /// Largest seam angle in degrees (0 for a single patch or a welded mesh).

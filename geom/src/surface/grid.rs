@@ -533,6 +533,85 @@ impl Grid {
         mean_ratio(cols)
     }
 
+    /// Sets control-net nodes to new positions (`changes`: node id and position, each id at
+    /// most once) and refits the boxes of every patch holding one of them; returns those
+    /// patches (sorted). What undo and redo use to put back exactly what an edit changed, at a
+    /// cost proportional to the nodes changed.
+    ///
+    /// # Errors
+    /// [`SurfaceError::WrongCount`] for a node id past the net (nothing changes then),
+    /// [`SurfaceError::NotFinite`] / [`SurfaceError::OutOfRange`] for a bad position (node id
+    /// in `patch`; nothing changes then).
+    pub fn set_nodes(&mut self, changes: &[(usize, DVec3)]) -> Result<Vec<usize>, SurfaceError> {
+        for &(id, x) in changes {
+            if id >= self.nodes.len() {
+                return Err(SurfaceError::WrongCount {
+                    what: "control points",
+                    expected: self.nodes.len(),
+                    got: id + 1,
+                });
+            }
+            if !x.is_finite() {
+                return Err(SurfaceError::NotFinite {
+                    patch: id,
+                    point: 0,
+                });
+            }
+            if x.abs().max_element() > super::deform::COORDINATE_LIMIT {
+                return Err(SurfaceError::OutOfRange {
+                    patch: id,
+                    point: 0,
+                    limit: super::deform::COORDINATE_LIMIT,
+                });
+            }
+        }
+        let mut patches = Vec::with_capacity(changes.len());
+        for &(id, x) in changes {
+            self.nodes[id] = x;
+            self.patches_of_node(id, &mut patches);
+        }
+        patches.sort_unstable();
+        patches.dedup();
+        let mut scratch = Vec::new();
+        self.refit(&patches, &mut scratch);
+        Ok(patches)
+    }
+
+    /// Appends the patches holding node `id` (a pole: its whole patch row).
+    fn patches_of_node(&self, id: usize, out: &mut Vec<usize>) {
+        let (m, n) = (self.m, self.n);
+        let start = usize::from(self.topology.pole_at_start());
+        if start == 1 && id == 0 {
+            out.extend(0..m);
+            return;
+        }
+        if self.topology.pole_at_end() && id + 1 == self.nodes.len() {
+            out.extend((n - 1) * m..n * m);
+            return;
+        }
+        let (a, b) = ((id - start) % self.la, start + (id - start) / self.la);
+        // Patches along one direction holding lattice index `x` (`count` patches, closed or not).
+        let along = |x: usize, count: usize, closed: bool| -> [Option<usize>; 2] {
+            let k = x / 3;
+            let here = (k < count).then_some(k);
+            let before = if !x.is_multiple_of(3) {
+                None
+            } else if k >= 1 {
+                Some(k - 1)
+            } else if closed {
+                Some(count - 1)
+            } else {
+                None
+            };
+            [here, before]
+        };
+        for iu in along(a, m, self.topology.closed_u()).into_iter().flatten() {
+            for iv in along(b, n, self.topology.closed_v()).into_iter().flatten() {
+                out.push(iv * m + iu);
+            }
+        }
+    }
+
     pub(crate) fn shape(&self) -> Shape {
         Shape {
             topology: self.topology,
@@ -633,6 +712,41 @@ mod tests {
     use glam::DVec3;
 
     use crate::surface::{Aabb, Primitive, PrimitiveParams};
+
+    #[test]
+    fn set_nodes_refits_exactly_the_patches_holding_the_nodes() {
+        for primitive in Primitive::ALL {
+            let grid = primitive.build(&PrimitiveParams::default()).unwrap();
+            for id in 0..grid.nodes().len() {
+                let holding: Vec<usize> = (0..grid.patch_count())
+                    .filter(|&p| {
+                        let (m, _) = (grid.patches_u(), grid.patches_v());
+                        grid.patch_node_ids(p % m, p / m).contains(&id)
+                    })
+                    .collect();
+                let mut moved = grid.clone();
+                let x = grid.nodes()[id] + DVec3::new(0.25, -0.5, 1.0);
+                let got = moved.set_nodes(&[(id, x)]).unwrap();
+                assert_eq!(got, holding, "{primitive:?} node {id}");
+                let rebuilt = crate::surface::Grid::from_net(
+                    grid.topology(),
+                    grid.patches_u(),
+                    grid.patches_v(),
+                    moved.nodes().to_vec(),
+                )
+                .unwrap();
+                for p in 0..grid.patch_count() {
+                    assert_eq!(moved.patch_bounds(p), rebuilt.patch_bounds(p));
+                }
+                assert_eq!(moved.bounds(), rebuilt.bounds());
+            }
+        }
+        let mut grid = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+        let before = grid.clone();
+        assert!(grid.set_nodes(&[(0, DVec3::NAN)]).is_err());
+        assert!(grid.set_nodes(&[(usize::MAX, DVec3::ZERO)]).is_err());
+        assert_eq!(grid, before, "a refused change changes nothing");
+    }
 
     #[test]
     fn patches_where_finds_exactly_the_patches_whose_boxes_pass() {

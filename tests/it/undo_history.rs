@@ -1,0 +1,206 @@
+//! Deep undo (issue 12): every edit the document supports undoes to the bit-identical model
+//! and redoes to the bit-identical model, through 1 000 random strokes; the history stores
+//! what each edit changed, so 1 000 typical strokes on a 256 × 256 grid fit in 100 MB.
+
+use glam::DVec3;
+use nendo::app::Document;
+use nendo::app::curve_edit::straight_cubic;
+use nendo::app::history::History;
+use nendo::curve::json::DynCurve;
+use nendo::curve::{Bezier, Curve};
+use nendo::model::Model;
+use nendo::surface::{Op, Primitive, PrimitiveParams, Regulation};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn plane(n: usize) -> Model {
+    Model::new(
+        Primitive::Plane
+            .build(&PrimitiveParams {
+                patches: Some((n, n)),
+                ..PrimitiveParams::default()
+            })
+            .expect("plane"),
+    )
+}
+
+/// The model's every number, as bits (`==` on floats would take -0.0 for 0.0).
+fn bits(model: &Model) -> Vec<u64> {
+    model
+        .surface
+        .nodes()
+        .iter()
+        .flat_map(|p| p.to_array())
+        .chain(model.surface.ratios_u().iter().copied())
+        .chain(model.surface.ratios_v().iter().copied())
+        .map(f64::to_bits)
+        .collect()
+}
+
+fn assert_identical(got: &Model, want: &Model, what: &str) {
+    assert_eq!(got, want, "{what}: models differ");
+    assert!(bits(got) == bits(want), "{what}: some bit differs");
+}
+
+/// A random point on the plane of `n × n` unit patches.
+fn point(rng: &mut ChaCha8Rng, n: usize) -> DVec3 {
+    let h = n as f64 / 2.0;
+    DVec3::new(rng.gen_range(-h..h), rng.gen_range(-h..h), 0.0)
+}
+
+/// A typical stroke as the window makes it: a push, pull or drawn line of the default finger
+/// (radius 1.25, depth 0.3), live over a few frames.
+fn stroke(doc: &mut Document, rng: &mut ChaCha8Rng, n: usize) {
+    let at = point(rng, n);
+    let depth = rng.gen_range(-0.3..0.3);
+    if rng.gen_bool(0.5) {
+        doc.begin_stroke(if depth < 0.0 { "pull" } else { "push" });
+        // A live push: redone from the start with a growing depth.
+        for k in 1..=3 {
+            doc.rewind_stroke();
+            let op = Op::Push {
+                at,
+                dir: -DVec3::Z,
+                depth: depth * f64::from(k) / 3.0,
+                radius: 1.25,
+            };
+            let _ = doc.apply(&op);
+        }
+    } else {
+        doc.begin_stroke("draw a line");
+        let mut last = at;
+        for _ in 0..3 {
+            let next = last + DVec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), 0.0);
+            let op = Op::Drag {
+                path: vec![last, next],
+                dir: -DVec3::Z,
+                depth,
+                radius: 1.25,
+            };
+            let _ = doc.apply(&op);
+            last = next;
+        }
+    }
+    doc.end_stroke();
+}
+
+#[test]
+fn a_thousand_random_edits_undo_to_the_start_and_redo_to_the_end_bit_for_bit() {
+    let mut rng = ChaCha8Rng::seed_from_u64(1000);
+    let n = 12;
+    let start = plane(n);
+    let mut doc = Document::new(start.clone());
+    let mut steps = 0usize;
+    for k in 0..1000 {
+        match k % 100 {
+            // Every edit the document supports, among the strokes.
+            10 => doc.set_regulation(Regulation::G1),
+            11 => doc.set_regulation(Regulation::Exact),
+            20 => {
+                doc.begin_edit("add curve");
+                let a = point(&mut rng, n) + DVec3::Z;
+                doc.curves_mut()
+                    .push(DynCurve::D3(straight_cubic(a, a + DVec3::X)));
+            }
+            21 if !doc.model().curves.is_empty() => {
+                doc.begin_edit("grab curve");
+                for _ in 0..3 {
+                    if let Some(DynCurve::D3(c)) = doc.curves_mut().last_mut() {
+                        let moved: Vec<DVec3> =
+                            c.points().iter().map(|p| *p + 0.1 * DVec3::Z).collect();
+                        *c = Curve::Bezier(Bezier::new(moved));
+                    }
+                }
+            }
+            // A change of shape (a refinement, a new primitive): kept whole.
+            50 => doc.replace(
+                "new plane",
+                plane(if doc.model().surface.patches_u() == n {
+                    n + 2
+                } else {
+                    n
+                }),
+            ),
+            // A cancelled stroke records nothing.
+            60 => {
+                let before = doc.model().clone();
+                doc.begin_stroke("push");
+                let _ = doc.apply(&Op::Push {
+                    at: point(&mut rng, n),
+                    dir: -DVec3::Z,
+                    depth: 0.3,
+                    radius: 1.25,
+                });
+                assert!(doc.cancel_stroke());
+                assert_identical(doc.model(), &before, "cancelled stroke");
+                continue;
+            }
+            _ => stroke(&mut doc, &mut rng, n),
+        }
+        steps += 1;
+    }
+    let end = doc.model().clone();
+    assert_ne!(end, start);
+    assert_eq!(doc.history().undo_len(), steps, "every edit is one step");
+    for _ in 0..steps {
+        assert!(doc.undo());
+    }
+    assert!(!doc.undo(), "nothing left to undo");
+    assert_identical(doc.model(), &start, "after undoing everything");
+    for _ in 0..steps {
+        assert!(doc.redo());
+    }
+    assert!(!doc.redo());
+    assert_identical(doc.model(), &end, "after redoing everything");
+    // Half way back and forth again, from the middle.
+    for _ in 0..steps / 2 {
+        assert!(doc.undo());
+    }
+    let middle = doc.model().clone();
+    for _ in 0..steps / 2 {
+        assert!(doc.redo());
+    }
+    assert_identical(doc.model(), &end, "redo from the middle");
+    for _ in 0..steps / 2 {
+        assert!(doc.undo());
+    }
+    assert_identical(doc.model(), &middle, "undo to the middle again");
+}
+
+#[test]
+fn a_stroke_undo_changes_only_the_patches_it_touched() {
+    let mut doc = Document::new(plane(64));
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    stroke(&mut doc, &mut rng, 8);
+    let revision = doc.revision();
+    assert!(doc.undo());
+    let changed = doc
+        .surface_changes_since(revision)
+        .expect("undo says which patches it put back");
+    assert!(
+        !changed.is_empty() && changed.len() < 100,
+        "{} of 4 096 patches",
+        changed.len()
+    );
+    assert_eq!(doc.history().undo_len(), 0);
+}
+
+#[test]
+fn a_thousand_typical_strokes_on_256_by_256_fit_in_100_mb() {
+    let n = 256;
+    let mut doc = Document::new(plane(n));
+    let mut rng = ChaCha8Rng::seed_from_u64(256);
+    for _ in 0..1000 {
+        stroke(&mut doc, &mut rng, n);
+    }
+    let history = doc.history();
+    assert_eq!(history.undo_len(), 1000, "no step was dropped");
+    let per_step = history.bytes() / 1000;
+    eprintln!(
+        "256 x 256: {} bytes per stroke, {:.1} MB for 1 000 (base model {:.1} MB)",
+        per_step,
+        history.bytes() as f64 / 1e6,
+        history.base_bytes() as f64 / 1e6
+    );
+    assert!(history.bytes() < History::DEFAULT_LIMIT_BYTES);
+}

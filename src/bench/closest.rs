@@ -200,17 +200,28 @@ pub fn clipping_batch<P: Point>(cases: &[Case<P>]) -> Box<dyn Batch> {
 }
 
 /// Rounds of interleaved timing: in every round each batch runs once (the order rotating from
-/// round to round), so that load on a shared machine falls on all of them alike. Returns, per
-/// batch, the ns per query of every round (one warm-up round is discarded).
+/// round to round), so that load on a shared machine falls on all of them alike. Times are the
+/// measuring thread's CPU time where Linux reports it (time spent descheduled by other
+/// processes is not counted), else wall time. Returns, per batch, the ns per query of every
+/// round (one warm-up round is discarded).
 pub fn interleaved(batches: &[&dyn Batch], rounds: usize) -> Vec<Vec<f64>> {
     let k = batches.len();
     let mut out = vec![Vec::with_capacity(rounds); k];
+    let cpu = super::sculpt::thread_cpu_ns().is_some();
     for round in 0..=rounds {
         for j in 0..k {
             let i = (j + round) % k;
             let start = Instant::now();
+            let cpu0 = super::sculpt::thread_cpu_ns().unwrap_or(0);
             let n = batches[i].run();
-            let ns = start.elapsed().as_nanos() as f64 / n.max(1) as f64;
+            let elapsed = if cpu {
+                super::sculpt::thread_cpu_ns()
+                    .unwrap_or(0)
+                    .saturating_sub(cpu0) as f64
+            } else {
+                start.elapsed().as_nanos() as f64
+            };
+            let ns = elapsed / n.max(1) as f64;
             if round > 0 {
                 out[i].push(ns);
             }
@@ -432,9 +443,10 @@ fn fmt_row(t: &mut Table, r: &Row) {
 }
 
 /// Runs the suite and returns the report. `scale` multiplies the case counts (1.0: 2 000 cases
-/// per set). Every set's methods are timed interleaved, `ROUNDS` rounds, medians reported.
+/// per set). Every set's methods are timed interleaved, `ROUNDS` rounds of thread CPU time,
+/// medians reported.
 pub fn report(scale: f64, baselines: &[&dyn Baseline]) -> String {
-    const ROUNDS: usize = 15;
+    const ROUNDS: usize = 21;
     let count = case_count(scale);
     let spread2: Vec<Case<DVec2>> = cases(count, 3, Spread::Around, SEEDS[0]);
     let close2: Vec<Case<DVec2>> = cases(count, 3, Spread::Close, SEEDS[1]);
@@ -646,7 +658,7 @@ pub fn report(scale: f64, baselines: &[&dyn Baseline]) -> String {
     ]);
     let mut out = format!(
         "nendo bench closest — {count} random cases per set; every set's methods timed \
-         interleaved, medians of {ROUNDS} rounds\n\
+         interleaved (thread CPU time), medians of {ROUNDS} rounds\n\
          (distance error: (d − d_ref)/max(d_ref, 1) against dense sampling + golden section; \
          probe sphere: worst |dist(C(u_end)) − r|; u error where the reference minimum is unique)\n\n"
     );

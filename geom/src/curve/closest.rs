@@ -27,9 +27,9 @@
 //!    smallest coefficient sits) is cut out (two de Casteljau passes), `f(u_s)` becomes a
 //!    candidate, and that piece is examined first: it usually holds the global minimum, found
 //!    by step 4's Newton finish, whose value then prunes the two outer pieces by step 3 alone.
-//!    Measured on the cases of `nendo bench closest` (callgrind): about 7–9 % fewer
-//!    instructions per query than the previous version, which only evaluated `f` at the seed
-//!    (spread, close and 3D cubics), though more intervals are counted (spread 1.69 → 2.08
+//!    Measured on the cases of `nendo bench closest` (callgrind): 5–7 % fewer instructions
+//!    per query than the previous version, which only evaluated `f` at the seed (spread,
+//!    close and 3D cubics), though more intervals are counted (spread 1.69 → 2.08
 //!    per query, close 3.51 → 3.84, the cut's pieces included); the seed `k_min/(2n)` needed fewer clips than the control polygon's point
 //!    nearest `Q` or the best of nine samples of `f`, and half-width 0.25 fewer than 0.05–0.4.
 //! 6. Otherwise clip: keep the part of the interval where `f`'s hull dips below `d_min²`
@@ -197,9 +197,11 @@ impl<const F: usize> IntervalStack<F> {
 
 /// Global minimum of the Bernstein function `f` (coefficients on `[0,1]`, `F = 2n + 1` of them)
 /// over `[a0, b0]`, among values below `bound` (strictly): returns `(u, f(u))`, or `None` when
-/// `f ≥ bound` on the whole interval. Steps 3–6 of the module documentation; `f`'s values at
-/// the ends of every interval examined are candidates.
-fn minimize_fixed<const F: usize>(
+/// `f ≥ bound` on the whole interval. Steps 3–7 of the module documentation; `f`'s values at
+/// the ends of every interval examined are candidates. With `SEEDED`, the first interval
+/// that needs clipping first has `seed`'s neighbourhood cut out (step 5); without, that code
+/// is compiled out (the ray query).
+fn minimize_fixed<const F: usize, const SEEDED: bool>(
     f: &[f64; F],
     a0: f64,
     b0: f64,
@@ -264,7 +266,7 @@ fn minimize_fixed<const F: usize>(
                     break 'interval;
                 }
             }
-            if let Some(u_seed) = seed.take() {
+            if let Some(u_seed) = if SEEDED { seed.take() } else { None } {
                 // Several critical points may lie here: first cut out the seed's neighbourhood
                 // (two de Casteljau passes give the three pieces), evaluate f at the seed, and
                 // examine that piece first; its minimum, usually the global one, becomes the
@@ -456,7 +458,7 @@ pub(crate) fn minimize_below(
 ) -> Option<(f64, f64)> {
     with_product_len!(f.len(), F => {
         let arr: &[f64; F] = f.try_into().ok()?;
-        minimize_fixed::<F>(arr, a0, b0, bound, None, stats)
+        minimize_fixed::<F, false>(arr, a0, b0, bound, None, stats)
     }, None)
 }
 
@@ -566,7 +568,7 @@ fn closest_u_translated<P: Point, const F: usize>(
     }
     let u_seed = k_min as f64 / (F - 1) as f64;
     let u_seed = u_seed.clamp(lo, hi);
-    match minimize_fixed::<F>(&f, lo, hi, bound, Some(u_seed), stats) {
+    match minimize_fixed::<F, true>(&f, lo, hi, bound, Some(u_seed), stats) {
         Some((u, _)) => Some(u),
         None => best,
     }
@@ -640,7 +642,7 @@ pub fn closest_bezier_with_stats<P: Point>(
         (&scaled[..], q * s)
     };
     let (u, at) = with_product_len!(2 * pts.len() - 1, F => {
-        const N: usize = (F + 1) / 2;
+        const N: usize = F.div_ceil(2);
         closest_u::<P, F, N>(search, qs, (r_max + slack) * s, stats)
     }, None)?;
     // `at = C(u) − Q` (on the scaled copy when rescaled: de Casteljau's differences of huge

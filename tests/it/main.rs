@@ -2,6 +2,7 @@
 //! Shared helpers (the binary, temporary directories, near-equality) live in [`support`].
 
 mod closest_cli;
+mod closest_fast_paths;
 mod curve_edit;
 mod curve_edit_cli;
 mod curve_properties;

@@ -295,6 +295,20 @@ impl<P: Point> CurveSet<P> {
                 continue;
             }
             if node.count > 0 {
+                // The segments' end points are points of the curves: the nearest of them bounds
+                // the answer before any clipping, so that the boxes and the clipping of the
+                // segments below prune more. A hair above that distance, so that rounding in
+                // the box test never skips the segment the end point belongs to.
+                for k in node.first..node.first + node.count {
+                    let pts = self.segments[k].0.bezier.points();
+                    let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
+                        continue;
+                    };
+                    let d = (first - q).length().min((last - q).length()) * (1.0 + 1e-12);
+                    if d < r {
+                        r = d;
+                    }
+                }
                 for k in node.first..node.first + node.count {
                     let (lo, hi) = self.seg_boxes[k];
                     if q.box_distance_squared(lo, hi) > r * r {

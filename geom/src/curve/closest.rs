@@ -22,16 +22,27 @@
 //! 4. By Descartes' rule of signs, one sign change means exactly one root of `g`: a minimum if
 //!    `g` goes from negative to positive (found by bracketed Newton), a maximum otherwise
 //!    (discarded).
-//! 5. Otherwise clip: keep the part of the interval where `f`'s hull dips below `d_min²`
+//! 5. The first time an interval needs more than steps 3–4 (several critical points may lie
+//!    in it), the neighbourhood `|u − u_s| ≤ 0.25` of the seed `u_s = k_min/(2n)` (where `f`'s
+//!    smallest coefficient sits) is cut out (two de Casteljau passes), `f(u_s)` becomes a
+//!    candidate, and that piece is examined first: it usually holds the global minimum, found
+//!    by step 4's Newton finish, whose value then prunes the two outer pieces by step 3 alone.
+//!    Measured on the cases of `nendo bench closest` (callgrind): 5–7 % fewer instructions
+//!    per query than the previous version, which only evaluated `f` at the seed (spread,
+//!    close and 3D cubics), though more intervals are counted (spread 1.69 → 2.08
+//!    per query, close 3.51 → 3.84, the cut's pieces included); the seed `k_min/(2n)` needed fewer clips than the control polygon's point
+//!    nearest `Q` or the best of nine samples of `f`, and half-width 0.25 fewer than 0.05–0.4.
+//! 6. Otherwise clip: keep the part of the interval where `f`'s hull dips below `d_min²`
 //!    (end-line bounds of the hull, [`clip::end_lines_below`]); if that removes less than
 //!    20 %, split it in two (one de Casteljau pass; the right half waits on a stack).
 //!    Clipping `g`'s own hull against zero as well was measured and not kept: it made the
 //!    queries of `nendo bench closest` 20–30 % more expensive (close queries 30 %), since
 //!    Descartes' rule on `g` (step 4) already isolates the roots after a split or two.
-//! 6. Every better value found shrinks `d_min` for the intervals still to come.
+//! 7. Every better value found shrinks `d_min` for the intervals still to come.
 //!
-//! The result's point and distance are evaluated on the curve itself (de Casteljau), so the
-//! distance is accurate to rounding even where `f` suffers cancellation (a query on the curve).
+//! The result's distance is `|C(u) − Q|` evaluated by de Casteljau on the translated control
+//! points `p_i`, so it is accurate to rounding even where `f` suffers cancellation (a query on
+//! the curve); the point is `Q + (C(u) − Q)`.
 
 use super::bernstein;
 use super::bezier::{Bezier, MAX_DEGREE};
@@ -41,6 +52,10 @@ use super::point::Point;
 /// Width (in the curve's parameter) below which an interval that still holds several sign
 /// changes of `g` is taken as converged: reached only at multiple roots of `g`.
 const U_WIDTH: f64 = 1e-12;
+
+/// Half the width (in the curve's parameter) of the neighbourhood of the seed that is cut out
+/// and examined first when the whole interval holds several critical points.
+const SEED_HALF_WIDTH: f64 = 0.25;
 
 /// Safety cap on intervals processed per query (never reached on finite input).
 const MAX_STEPS: u32 = 10_000;
@@ -182,13 +197,16 @@ impl<const F: usize> IntervalStack<F> {
 
 /// Global minimum of the Bernstein function `f` (coefficients on `[0,1]`, `F = 2n + 1` of them)
 /// over `[a0, b0]`, among values below `bound` (strictly): returns `(u, f(u))`, or `None` when
-/// `f ≥ bound` on the whole interval. Steps 3–6 of the module documentation; `f`'s values at
-/// the ends of every interval examined are candidates.
-fn minimize_fixed<const F: usize>(
+/// `f ≥ bound` on the whole interval. Steps 3–7 of the module documentation; `f`'s values at
+/// the ends of every interval examined are candidates. With `SEEDED`, the first interval
+/// that needs clipping first has `seed`'s neighbourhood cut out (step 5); without, that code
+/// is compiled out (the ray query).
+fn minimize_fixed<const F: usize, const SEEDED: bool>(
     f: &[f64; F],
     a0: f64,
     b0: f64,
     bound: f64,
+    mut seed: Option<f64>,
     stats: &mut ClipStats,
 ) -> Option<(f64, f64)> {
     let m = F - 1;
@@ -246,6 +264,50 @@ fn minimize_fixed<const F: usize>(
                         best_u = a + s * (b - a);
                     }
                     break 'interval;
+                }
+            }
+            if let Some(u_seed) = if SEEDED { seed.take() } else { None } {
+                // Several critical points may lie here: first cut out the seed's neighbourhood
+                // (two de Casteljau passes give the three pieces), evaluate f at the seed, and
+                // examine that piece first; its minimum, usually the global one, becomes the
+                // bound that prunes the two outer pieces, which wait on the stack.
+                let span = b - a;
+                let s = ((u_seed - a) / span).clamp(0.0, 1.0);
+                let h = SEED_HALF_WIDTH / span;
+                let (sl, sr) = ((s - h).max(0.0), (s + h).min(1.0));
+                if sl > 0.0 || sr < 1.0 {
+                    stats.splits += 1;
+                    let mut rest = w;
+                    if sl > 0.0 {
+                        let mut left = Pending {
+                            w: [0.0; F],
+                            a,
+                            b: a + sl * span,
+                        };
+                        bernstein::subdivide_into(&w, sl, &mut left.w, &mut rest);
+                        stack.push(left);
+                    }
+                    if sr < 1.0 {
+                        let mut right = Pending {
+                            w: [0.0; F],
+                            a: a + sr * span,
+                            b,
+                        };
+                        let t = (sr - sl) / (1.0 - sl);
+                        bernstein::subdivide_into(&rest, t, &mut w, &mut right.w);
+                        stack.push(right);
+                    } else {
+                        w = rest;
+                    }
+                    b = a + sr * span;
+                    a += sl * span;
+                    let local = ((u_seed - a) / (b - a)).clamp(0.0, 1.0);
+                    let v = bernstein::eval_scalar_fast(&w, local);
+                    if v < best_f {
+                        best_f = v;
+                        best_u = a + local * (b - a);
+                    }
+                    continue 'interval;
                 }
             }
             let Some((lo, hi)) = clip::end_lines_below(&w, best_f) else {
@@ -396,7 +458,7 @@ pub(crate) fn minimize_below(
 ) -> Option<(f64, f64)> {
     with_product_len!(f.len(), F => {
         let arr: &[f64; F] = f.try_into().ok()?;
-        minimize_fixed::<F>(arr, a0, b0, bound, stats)
+        minimize_fixed::<F, false>(arr, a0, b0, bound, None, stats)
     }, None)
 }
 
@@ -423,24 +485,44 @@ fn chord_band<P: Point>(p: &[P], d: f64) -> Option<(f64, f64)> {
     (lo <= hi).then_some(clip::widen(lo, hi))
 }
 
-/// The parameter of the closest point (steps 1–2, then [`minimize_fixed`]).
+/// The parameter `u` of the closest point and `C(u) − Q` (steps 1–2, then [`minimize_fixed`]).
 #[inline]
-fn closest_u<P: Point, const F: usize>(
+fn closest_u<P: Point, const F: usize, const N: usize>(
     pts: &[P],
     q: P,
     r_max: f64,
     stats: &mut ClipStats,
-) -> Option<f64> {
+) -> Option<(f64, P)> {
     // The degree as a constant of this instantiation, so the fixed-size loops below unroll.
-    let n = (F - 1) / 2;
-    if pts.len() != n + 1 {
+    let n = N - 1;
+    if pts.len() != N || F != 2 * n + 1 {
         return None;
     }
-    let mut buf = [P::ZERO; MAX_DEGREE + 1];
+    let mut buf = [P::ZERO; N];
     for (pi, &c) in buf.iter_mut().zip(pts) {
         *pi = c - q;
     }
-    let p = &buf[..=n];
+    let p = &buf;
+    let u = closest_u_translated::<P, F>(p, r_max, stats)?;
+    // C(u) − Q by de Casteljau on the translated points: accurate to rounding even where f
+    // suffers cancellation (a query on the curve).
+    let mut at = buf;
+    for r in 1..N {
+        for i in 0..N - r {
+            at[i] = at[i].lerp_to(at[i + 1], u);
+        }
+    }
+    Some((u, at[0]))
+}
+
+/// The parameter of the closest point for the translated control points `p` (`C − Q`).
+#[inline(always)]
+fn closest_u_translated<P: Point, const F: usize>(
+    p: &[P],
+    r_max: f64,
+    stats: &mut ClipStats,
+) -> Option<f64> {
+    let n = (F - 1) / 2;
     // Step 1: the end points are candidates; d_min bounds the search.
     let d0 = p[0].length();
     let dn = p[n].length();
@@ -470,29 +552,25 @@ fn closest_u<P: Point, const F: usize>(
     };
     let mut f = [0.0; F];
     distance_squared_coeffs(p, &mut f);
-    let mut bound = if d_min.is_finite() {
+    let bound = if d_min.is_finite() {
         d_min * d_min
     } else {
         f64::INFINITY
     };
-    // A first true value of f where its smallest coefficient sits: usually close to the
-    // minimum, it tightens the bound for every clip that follows.
+    // The seed: where f's smallest coefficient sits (the control polygon of f dips lowest
+    // there; measured against the control polygon's point nearest the query and against the
+    // best of nine samples of f, it needed the fewest clips on `nendo bench closest`).
     let mut k_min = 0;
     for k in 1..F {
         if f[k] < f[k_min] {
             k_min = k;
         }
     }
-    let u_seed = (k_min as f64 / (F - 1) as f64).clamp(lo, hi);
-    let f_seed = bernstein::eval_scalar_fast(&f, u_seed);
-    let mut seeded = None;
-    if f_seed < bound {
-        bound = f_seed;
-        seeded = Some(u_seed);
-    }
-    match minimize_fixed::<F>(&f, lo, hi, bound, stats) {
+    let u_seed = k_min as f64 / (F - 1) as f64;
+    let u_seed = u_seed.clamp(lo, hi);
+    match minimize_fixed::<F, true>(&f, lo, hi, bound, Some(u_seed), stats) {
         Some((u, _)) => Some(u),
-        None => seeded.or(best),
+        None => best,
     }
 }
 
@@ -563,15 +641,16 @@ pub fn closest_bezier_with_stats<P: Point>(
         scaled = pts.iter().map(|&c| c * s).collect();
         (&scaled[..], q * s)
     };
-    let u = with_product_len!(2 * pts.len() - 1, F => closest_u::<P, F>(search, qs, (r_max + slack) * s, stats), None)?;
+    let (u, at) = with_product_len!(2 * pts.len() - 1, F => {
+        const N: usize = F.div_ceil(2);
+        closest_u::<P, F, N>(search, qs, (r_max + slack) * s, stats)
+    }, None)?;
+    // `at = C(u) − Q` (on the scaled copy when rescaled: de Casteljau's differences of huge
+    // coordinates could overflow on the original).
     let (point, distance) = if s == 1.0 {
-        let point = curve.eval(u);
-        (point, (point - q).length())
+        (at + q, at.length())
     } else {
-        // Evaluated on the scaled copy too: de Casteljau's differences of huge coordinates
-        // could overflow on the original.
-        let ps = bernstein::eval(search, u);
-        (ps * (1.0 / s), (ps - qs).length() / s)
+        ((at + qs) * (1.0 / s), at.length() / s)
     };
     (distance <= r_max + slack).then_some(Nearest { u, point, distance })
 }

@@ -18,7 +18,17 @@
 //! - **deviation from the ideal** `S₀ + F(S₀)`: mean and max over the samples the finger or the
 //!   regulation moved (ideal or regulated position ≠ starting position);
 //! - **G1**: max and mean normal angle along every shared edge (33 points per edge), max and
-//!   mean over the cases.
+//!   mean over the cases;
+//! - **fixed region** ([`fixed_region_table`]): mean and max distance from the ideal over every
+//!   sample whose starting position lies within 2 r_f of the push point, whatever moved, so that
+//!   a method that moves more samples is not flattered; per depth, pooled over the 5 positions.
+//!   Next to `none`, `g1`, `exact` and the opt-in coupled `exact`
+//!   ([`Sculptor::with_coupled_exact`]) stands the **floor**: the least-squares G1 fit of the
+//!   ideal samples on the same grid, every group free ([`g1_fit`]). The targets checked for
+//!   the coupled projection: mean ≤ max(1.25 × none, 1.1 × floor), max ≤ none max + 0.01.
+//!   The same table on the plane refined ×2 and ×4 ([`crate::surface::refine::uniform`], the
+//!   same surface on a finer grid, `40 / K` samples per patch so the samples sit at the same points):
+//!   adding a grid is one line of [`report_text`].
 //!
 //! ## Compared with the paper
 //! Our inverse-only count on the 16 samples per patch (about 73 per case) matches the paper's
@@ -41,20 +51,28 @@
 //! single points.
 
 use glam::DVec3;
+use nalgebra::DMatrix;
 use std::time::Instant;
 
 use super::Table;
 use crate::surface::continuity::report;
 use crate::surface::deviation::{DeviationStats, ideal_samples, samples};
 use crate::surface::inverse;
-use crate::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor, deform};
+use crate::surface::refine;
+use crate::surface::{
+    Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor, Topology, deform,
+};
 
 /// Distance above which a sample counts as moved (side).
 pub const MOVED: f64 = 1e-3;
 /// The paper's "within 0.15 side" share.
 pub const WITHIN: f64 = 0.15;
-/// Samples per patch side.
+/// Samples per patch side (on the 10 × 10 plane; a plane refined K× takes `SAMPLES / K`, so
+/// that the samples sit at the same points of the plane).
 pub const SAMPLES: usize = 40;
+/// The fixed region of a case: every sample whose starting position lies within this many
+/// finger radii of the push point.
+pub const REGION_RADII: f64 = 2.0;
 
 /// A deterministic stream of random strokes (SplitMix64), so the library needs no `rand`.
 #[derive(Debug, Clone)]
@@ -167,35 +185,83 @@ pub struct ExperimentRow {
     pub g1_mean_deg: f64,
     /// G1 max per case, in case order.
     pub g1_max_per_case: Vec<f64>,
+    /// Distance from the ideal over the case's fixed region (every sample within
+    /// [`REGION_RADII`] `r_f` of the push point, whatever moved), per case, in case order.
+    pub region_per_case: Vec<DeviationStats>,
 }
 
-/// Runs the experiment for one method on the given cases.
+/// The experiment's plane: 10 × 10 unit patches, centred on the origin.
 ///
 /// # Panics
-/// Never for the 10 × 10 plane and valid pushes.
+/// Never (the parameters are valid).
 #[must_use]
-pub fn experiment(method: Regulation, cases: &[Op]) -> ExperimentRow {
-    let base = Primitive::Plane
+pub fn experiment_plane() -> Grid {
+    Primitive::Plane
         .build(&PrimitiveParams {
             patches: Some((10, 10)),
             ..PrimitiveParams::default()
         })
-        .unwrap_or_else(|e| panic!("plane: {e}"));
-    let s0 = samples(&base, SAMPLES);
+        .unwrap_or_else(|e| panic!("plane: {e}"))
+}
+
+/// The indices of the samples (`s0`: starting positions) in the fixed region of `op`: within
+/// [`REGION_RADII`] `r_f` of the push point (of the nearest point of a drag's path).
+#[must_use]
+pub fn fixed_region(s0: &[DVec3], op: &Op) -> Vec<usize> {
+    let (points, radius): (Vec<DVec3>, f64) = match op {
+        Op::Push { at, radius, .. } => (vec![*at], *radius),
+        Op::Drag { path, radius, .. } => (path.clone(), *radius),
+    };
+    let reach = REGION_RADII * radius;
+    (0..s0.len())
+        .filter(|&k| points.iter().any(|p| (s0[k] - *p).length() <= reach))
+        .collect()
+}
+
+/// Runs the experiment for one method on the given cases, on the 10 × 10 plane.
+#[must_use]
+pub fn experiment(method: Regulation, cases: &[Op]) -> ExperimentRow {
+    experiment_on(&experiment_plane(), SAMPLES, method, false, cases)
+}
+
+/// Runs the experiment for one method on the given cases, starting from `base` (e.g. the
+/// plane refined) with `k × k` samples per patch; `coupled` regulates with
+/// [`Sculptor::with_coupled_exact`].
+#[must_use]
+pub fn experiment_on(
+    base: &Grid,
+    k: usize,
+    method: Regulation,
+    coupled: bool,
+    cases: &[Op],
+) -> ExperimentRow {
+    let base = base.clone();
+    let s0 = samples(&base, k);
     let (mut moved_d, mut ideal_d) = (Vec::new(), Vec::new());
     let mut moved_count = 0usize;
     let mut moved_coarse = 0usize;
     let (mut g1_max, mut g1_mean_sum) = (0.0f64, 0.0);
     let mut per_case = Vec::new();
+    let mut region_per_case = Vec::new();
     for op in cases {
         let Ok(finger) = op.finger() else { continue };
-        let ideal = ideal_samples(&base, &finger, SAMPLES);
+        let ideal = ideal_samples(&base, &finger, k);
         let mut unreg = base.clone();
         let mut reg = base.clone();
         let _ = deform(&mut unreg, op, Regulation::None);
-        let _ = deform(&mut reg, op, method);
-        let u = samples(&unreg, SAMPLES);
-        let r = samples(&reg, SAMPLES);
+        let _ = if coupled {
+            Sculptor::with_coupled_exact().apply(&mut reg, op, method)
+        } else {
+            deform(&mut reg, op, method)
+        };
+        let u = samples(&unreg, k);
+        let r = samples(&reg, k);
+        region_per_case.push(DeviationStats::of(
+            fixed_region(&s0, op)
+                .into_iter()
+                .map(|i| (r[i] - ideal[i]).length()),
+            WITHIN,
+        ));
         for k in 0..s0.len() {
             let by_reg = (r[k] - u[k]).length();
             let from_ideal = (r[k] - ideal[k]).length();
@@ -241,7 +307,183 @@ pub fn experiment(method: Regulation, cases: &[Op]) -> ExperimentRow {
         g1_max_deg: g1_max,
         g1_mean_deg: g1_mean_sum / n,
         g1_max_per_case: per_case,
+        region_per_case,
     }
+}
+
+/// Statistics pooled over several sets: counts add, means weight by count, maxima combine.
+#[must_use]
+pub fn pooled(parts: &[DeviationStats]) -> DeviationStats {
+    let count: usize = parts.iter().map(|p| p.count).sum();
+    let weighted = |f: fn(&DeviationStats) -> f64| {
+        if count == 0 {
+            0.0
+        } else {
+            parts.iter().map(|p| f(p) * p.count as f64).sum::<f64>() / count as f64
+        }
+    };
+    DeviationStats {
+        count,
+        mean: weighted(|p| p.mean),
+        max: parts.iter().fold(0.0, |m, p| m.max(p.max)),
+        share_within: weighted(|p| p.share_within),
+    }
+}
+
+/// The floor of the experiment, per case: the distance from the ideal over the case's fixed
+/// region of the best G1 surface the grid can hold ([`g1_fit`] of the ideal samples); `None`
+/// when the grid is not a plane.
+#[must_use]
+pub fn floor_per_case(base: &Grid, k: usize, cases: &[Op]) -> Option<Vec<DeviationStats>> {
+    let s0 = samples(base, k);
+    let mut out = Vec::new();
+    for op in cases {
+        let Ok(finger) = op.finger() else { continue };
+        let ideal = ideal_samples(base, &finger, k);
+        let fit = g1_fit(base, &ideal, k)?;
+        out.push(DeviationStats::of(
+            fixed_region(&s0, op)
+                .into_iter()
+                .map(|i| (fit[i] - ideal[i]).length()),
+            WITHIN,
+        ));
+    }
+    Some(out)
+}
+
+/// The best G1 fit of a surface given by samples: the net that satisfies the same linear G1
+/// conditions as the exact regulation — every three-point row crossing a grid line
+/// `ρ P₋ − (1 + ρ) P₀ + P₊ = 0` with the grid's reference ratio — nearest to the samples in
+/// least squares (`k × k` per patch at the cell centres, in [`samples`] order, over the whole
+/// grid), returned as its own samples at the same parameters.
+///
+/// On a plane the G1 nets are a tensor product `K_u ⊗ K_v`: along u, the lattice rows with
+/// node `3i + s` of vertex `i` equal to `P_i + s̃ a_i` (`s̃ ∈ {−1, 0, ρ_i}`), two free values per
+/// vertex; likewise along v. The samples lie on a tensor grid too, so the least-squares fit
+/// separates: with `D_u` the samples' Bernstein weights times that basis, the fitted samples
+/// are `H_u Z H_vᵀ`, `H = D (DᵀD)⁻¹ Dᵀ`, per coordinate. `None` for other topologies (and if
+/// a normal matrix were singular, which it is not for `k ≥ 2`).
+#[must_use]
+pub fn g1_fit(base: &Grid, target: &[DVec3], k: usize) -> Option<Vec<DVec3>> {
+    if base.topology() != Topology::Plane {
+        return None;
+    }
+    let (m, n) = (base.patches_u(), base.patches_v());
+    if target.len() != m * n * k * k {
+        return None;
+    }
+    let hu = hat_1d(m, base.ratios_u(), k)?;
+    let hv = hat_1d(n, base.ratios_v(), k)?;
+    let (nu, nv) = (m * k, n * k);
+    let index = |uu: usize, vv: usize| {
+        let (iu, i, iv, j) = (uu / k, uu % k, vv / k, vv % k);
+        (iv * m + iu) * k * k + i * k + j
+    };
+    let mut out = vec![DVec3::ZERO; target.len()];
+    for c in 0..3 {
+        let z = DMatrix::from_fn(nu, nv, |uu, vv| target[index(uu, vv)][c]);
+        let fitted = &hu * z * hv.transpose();
+        for uu in 0..nu {
+            for vv in 0..nv {
+                out[index(uu, vv)][c] = fitted[(uu, vv)];
+            }
+        }
+    }
+    Some(out)
+}
+
+/// The hat matrix `D (DᵀD)⁻¹ Dᵀ` of one direction of a plane (see [`g1_fit`]).
+fn hat_1d(patches: usize, ratios: &[f64], k: usize) -> Option<DMatrix<f64>> {
+    let dim = 2 * (patches + 1);
+    let mut d = DMatrix::<f64>::zeros(patches * k, dim);
+    for p in 0..patches {
+        for i in 0..k {
+            let t = (i as f64 + 0.5) / k as f64;
+            let s = 1.0 - t;
+            let b = [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t];
+            for (l, bl) in b.iter().enumerate() {
+                let a = 3 * p + l;
+                let (vertex, offset) = match a % 3 {
+                    0 => (a / 3, 0.0),
+                    1 => ((a - 1) / 3, *ratios.get((a - 1) / 3)?),
+                    _ => ((a + 1) / 3, -1.0),
+                };
+                d[(p * k + i, 2 * vertex)] += bl;
+                d[(p * k + i, 2 * vertex + 1)] += bl * offset;
+            }
+        }
+    }
+    let chol = (d.transpose() * &d).cholesky()?;
+    Some(&d * chol.solve(&d.transpose()))
+}
+
+/// The per-depth comparison on the fixed region for one starting grid (`k × k` samples per
+/// patch): mean and max from the ideal for `none`, the paper's `g1`, `exact` (group by group,
+/// the default), `exact` coupled ([`Sculptor::with_coupled_exact`]) and the G1 floor, and
+/// whether the coupled projection meets the targets (see [`report_text`]).
+#[must_use]
+pub fn fixed_region_table(base: &Grid, k: usize, cases: &[Op]) -> String {
+    let per_depth =
+        |v: &[DeviationStats]| -> Vec<DeviationStats> { v.chunks(5).map(pooled).collect() };
+    let run = |method, coupled| {
+        per_depth(&experiment_on(base, k, method, coupled, cases).region_per_case)
+    };
+    let none = run(Regulation::None, false);
+    let g1 = run(Regulation::G1, false);
+    let exact = run(Regulation::Exact, false);
+    let coupled = run(Regulation::Exact, true);
+    let floor = floor_per_case(base, k, cases).map(|f| per_depth(&f));
+    let mut t = Table::new(&[
+        "depth",
+        "samples",
+        "none mean",
+        "none max",
+        "g1 mean",
+        "g1 max",
+        "exact mean",
+        "exact max",
+        "coupled mean",
+        "coupled max",
+        "floor mean",
+        "floor max",
+        "coupled/none",
+        "target mean",
+        "target max",
+        "met",
+    ]);
+    let all = |v: &[DeviationStats]| pooled(v);
+    let rows = none.len();
+    for d in 0..=rows {
+        let pick = |v: &[DeviationStats]| if d < rows { v[d] } else { all(v) };
+        let (a, b, e, c) = (pick(&none), pick(&g1), pick(&exact), pick(&coupled));
+        let f = floor.as_ref().map(|f| pick(f));
+        let target_mean = (1.25 * a.mean).max(f.map_or(0.0, |f| 1.1 * f.mean));
+        let target_max = a.max + 0.01;
+        let met = c.mean <= target_mean && c.max <= target_max;
+        t.row(vec![
+            if d < rows {
+                format!("{:.2}", 0.25 * (d + 1) as f64)
+            } else {
+                "all".to_string()
+            },
+            format!("{}", a.count),
+            format!("{:.4}", a.mean),
+            format!("{:.4}", a.max),
+            format!("{:.4}", b.mean),
+            format!("{:.4}", b.max),
+            format!("{:.4}", e.mean),
+            format!("{:.4}", e.max),
+            format!("{:.4}", c.mean),
+            format!("{:.4}", c.max),
+            f.map_or("-".into(), |f| format!("{:.4}", f.mean)),
+            f.map_or("-".into(), |f| format!("{:.4}", f.max)),
+            format!("{:.2}", c.mean / a.mean),
+            format!("{target_mean:.4}"),
+            format!("{target_max:.4}"),
+            if met { "yes" } else { "NO" }.to_string(),
+        ]);
+    }
+    t.render()
 }
 
 /// Continuity after a run of random strokes.
@@ -373,6 +615,32 @@ pub fn report_text(scale: f64) -> String {
         100 * SAMPLES * SAMPLES,
         t.render()
     ));
+    // The fixed region, by depth, on the plane and on the plane refined (the same finger).
+    let plane = experiment_plane();
+    for (label, grid, k) in [
+        ("10x10", Some(plane.clone()), SAMPLES),
+        (
+            "10x10 refined x2",
+            refine::uniform(&plane, 2).ok(),
+            SAMPLES / 2,
+        ),
+        (
+            "10x10 refined x4",
+            refine::uniform(&plane, 4).ok(),
+            SAMPLES / 4,
+        ),
+    ] {
+        let Some(grid) = grid else { continue };
+        out.push_str(&format!(
+            "\nFixed region, {label} plane ({k}x{k} samples per patch): distance from the ideal \
+             (side) over every sample within {REGION_RADII} r_f of the push point, pooled over the 5 \
+             positions per depth. floor: the least-squares G1 fit of the ideal on the same grid \
+             (same constraints, all groups free). coupled: exact regulation projecting the touched groups together \
+             (Sculptor::with_coupled_exact). Targets (for coupled): mean <= max(1.25 x none, 1.1 x floor), \
+             max <= none max + 0.01.\n{}",
+            fixed_region_table(&grid, k, &cases)
+        ));
+    }
     // G1 max by depth, for the methods that aim at G1.
     let mut t = Table::new(&["depth (side)", "c1 G1 max", "g1 G1 max", "exact G1 max"]);
     for k in 0..6 {

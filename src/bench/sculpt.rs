@@ -9,7 +9,9 @@
 //! with pulls of the same depth so the surface stays bounded over the repetitions. Times are
 //! medians over batches of the mean time per operation, in **CPU time of the measuring
 //! thread** on Linux (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`), so that other processes on a
-//! shared machine do not inflate them; elsewhere in wall time ([`super::Stopwatch`]).
+//! shared machine do not inflate them; elsewhere in wall time ([`super::Stopwatch`]). The last
+//! column is the exact regulation's opt-in coupled projection
+//! ([`crate::surface::Sculptor::with_coupled_exact`]).
 //!
 //! **Refinement** ([`refinement_report`], issue 13): the time of uniform refinement ×2 of the
 //! 40 × 40 plane and a 40 × 40 sphere (radius 3) — every patch split into 2 × 2, ratios
@@ -147,8 +149,18 @@ pub fn time_push(
     regulation: Regulation,
     calls_per_batch: usize,
 ) -> (f64, usize, usize) {
+    time_push_with(case, regulation, calls_per_batch, Sculptor::new())
+}
+
+/// [`time_push`] with a given sculptor (e.g. [`Sculptor::with_coupled_exact`]).
+#[must_use]
+pub fn time_push_with(
+    case: &Case,
+    regulation: Regulation,
+    calls_per_batch: usize,
+    mut sculptor: Sculptor,
+) -> (f64, usize, usize) {
     let mut grid = case.grid.clone();
-    let mut sculptor = Sculptor::new();
     let pull = reversed(&case.push);
     let (touched, examined) = match sculptor.apply(&mut grid.clone(), &case.push, regulation) {
         Ok(t) => (t.patches.len(), t.examined),
@@ -233,6 +245,7 @@ pub fn report(scale: f64) -> String {
     for r in methods {
         header.push(format!("{r} (µs)"));
     }
+    header.push("exact coupled (µs)".into());
     let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
     let mut t = Table::new(&header_refs);
     let mut medians: Vec<Vec<f64>> = Vec::new();
@@ -247,6 +260,13 @@ pub fn report(scale: f64) -> String {
             }
             times.push(ns);
         }
+        let (ns, _, _) = time_push_with(
+            &case,
+            Regulation::Exact,
+            calls,
+            Sculptor::with_coupled_exact(),
+        );
+        times.push(ns);
         row.push(examined.to_string());
         row.push(touched.to_string());
         row.extend(times.iter().map(|ns| format!("{:.2}", ns / 1e3)));
@@ -259,7 +279,7 @@ pub fn report(scale: f64) -> String {
         String::new(),
         String::new(),
     ];
-    ratio.extend((0..methods.len()).map(|k| format!("{:.2}", medians[2][k] / medians[0][k])));
+    ratio.extend((0..=methods.len()).map(|k| format!("{:.2}", medians[2][k] / medians[0][k])));
     t.row(ratio);
     let mut ratio = vec![
         "ratio sphere 32x16 / 8x4".to_string(),
@@ -267,7 +287,7 @@ pub fn report(scale: f64) -> String {
         String::new(),
         String::new(),
     ];
-    ratio.extend((0..methods.len()).map(|k| format!("{:.2}", medians[4][k] / medians[3][k])));
+    ratio.extend((0..=methods.len()).map(|k| format!("{:.2}", medians[4][k] / medians[3][k])));
     t.row(ratio);
     let clock = if thread_cpu_ns().is_some() {
         "thread CPU time"

@@ -264,6 +264,19 @@ impl Sculptor {
         Self::default()
     }
 
+    /// A sculptor whose [`Regulation::Exact`] projects all the groups a stroke touched
+    /// together, nearest to the unregulated net in `∫|ΔS|²` over every patch around them
+    /// (the coupled projection of [`super::regulate::exact`]), instead of group by group.
+    /// Not the default: it is 2–3× dearer per stroke, and a stroke grown frame by frame (the
+    /// hand's [`super::Presser`]) would no longer equal the stroke applied at once, since a
+    /// group's result then depends on its neighbours'. `nendo bench regulation` measures it.
+    #[must_use]
+    pub fn with_coupled_exact() -> Self {
+        let mut s = Self::default();
+        s.projections.coupled = true;
+        s
+    }
+
     /// Applies one operation: push, pull, draw a line (along a fixed direction, per-point
     /// directions or the surface normals), move or smooth.
     ///

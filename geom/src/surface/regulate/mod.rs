@@ -139,6 +139,13 @@ fn write_pole(grid: &mut Grid, pole: &Pole, p: &PolePoints) {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Projections {
     map: HashMap<ProjectionKey, Option<exact::Projection>, BuildHasherDefault<KeyHasher>>,
+    /// The coupled projection's scratch space.
+    solver: exact::Coupled,
+    /// The groups the coupled projection works on.
+    groups: Vec<Group>,
+    /// Whether [`Regulation::Exact`] projects the groups together in the surface metric
+    /// ([`exact::Coupled`]) instead of group by group.
+    pub(crate) coupled: bool,
 }
 
 /// The ratios' bits and the slots that exist.
@@ -202,6 +209,39 @@ pub(crate) fn regulate(
         return 0;
     }
     let mut count = 0;
+    if method == Regulation::Exact && projections.coupled {
+        // Poles first (their rings are fixed nodes of the groups' projection), then every
+        // group together in the surface metric.
+        for &end in poles {
+            let Some(pole) = grid.pole(end) else { continue };
+            let mut p = read_pole(grid, &pole);
+            if exact::regulate_pole(&mut p, &pole.ratios) {
+                write_pole(grid, &pole, &p);
+            }
+            count += 1;
+        }
+        projections.groups.clear();
+        for &(k, q) in vertices {
+            let Some(g) = grid.group(k, q) else { continue };
+            if g.patch_count() >= 2 {
+                projections.groups.push(g);
+            }
+        }
+        count += projections.groups.len();
+        let groups = std::mem::take(&mut projections.groups);
+        if !projections.solver.regulate(grid, &groups) {
+            // Not expected (the normal matrix is positive definite): group by group.
+            for g in &groups {
+                let mut p = read_group(grid, g);
+                if let Some(proj) = projections.get(g.ratios, exact::present(&p)) {
+                    proj.apply(&mut p);
+                    write_group(grid, g, &p);
+                }
+            }
+        }
+        projections.groups = groups;
+        return count;
+    }
     for &(k, q) in vertices {
         let Some(g) = grid.group(k, q) else { continue };
         if g.patch_count() < 2 {

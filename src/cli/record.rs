@@ -101,7 +101,9 @@ fn record(args: Args) -> anyhow::Result<String> {
     // to record: an error naming each device's problem, and no trace is written.
     let stream = HandStream::connect(&profile, &options)?;
     let status = stream.status();
-    if !status.is_empty() && status.iter().all(|s| s.state != SourceState::Ok) {
+    // (A replay has no devices to wait for: its states come with its frames.)
+    let live = stream.source_header().is_none();
+    if live && !status.is_empty() && status.iter().all(|s| s.state != SourceState::Ok) {
         let errors: Vec<String> = status
             .iter()
             .map(|s| {
@@ -113,7 +115,7 @@ fn record(args: Args) -> anyhow::Result<String> {
         drop(stream);
         anyhow::bail!("{}", errors.join("; "));
     }
-    for s in status.iter().filter(|s| s.state != SourceState::Ok) {
+    for s in status.iter().filter(|s| live && s.state != SourceState::Ok) {
         eprintln!(
             "nendo record: warning: {} is not there yet ({}); recording without it, retrying",
             s.role.name(),

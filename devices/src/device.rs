@@ -28,6 +28,17 @@ use crate::{DeviceError, GloveSample, Joint, TrackerPose};
 /// How long a device may take to answer a handshake command.
 pub const ANSWER_TIMEOUT: Duration = Duration::from_millis(300);
 
+/// How many times a handshake is tried before the device is declared absent: a missing or
+/// garbled answer to any step (a timeout, an unexpected answer) re-syncs the line and resends
+/// the whole handshake, after [`HANDSHAKE_BACKOFF`] doubling at each attempt. A port that
+/// cannot be opened or hangs up is not retried here (the stream reopens it every
+/// [`StreamOptions::retry`](crate::StreamOptions::retry)).
+pub const HANDSHAKE_ATTEMPTS: u32 = 4;
+
+/// The pause before the second handshake attempt; it doubles for each later one (50, 100,
+/// 200 ms: a device given up on has had about 2 s to answer).
+pub const HANDSHAKE_BACKOFF: Duration = Duration::from_millis(50);
+
 /// Counters of a device beyond its decoder's.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct DeviceStats {
@@ -42,6 +53,9 @@ pub struct DeviceStats {
     pub ignored: u64,
     /// Successful starts (1 + reconnections).
     pub starts: u64,
+    /// Handshake attempts that failed with a missing or garbled answer and were retried (or,
+    /// the last one, given up on).
+    pub handshake_retries: u64,
 }
 
 /// A data glove: joint angles per named joint.
@@ -124,11 +138,32 @@ impl<P: SerialProtocol> SerialDevice<P> {
         }
     }
 
+    /// Opens the port and does the handshake, retrying it on a missing or garbled answer (see
+    /// [`HANDSHAKE_ATTEMPTS`]): before each new attempt the line is re-synced (what is in
+    /// flight is drained, the decoder forgets its bytes) and the whole handshake is resent,
+    /// since every protocol's handshake begins by stopping the device.
     fn start_link(&mut self) -> Result<(), DeviceError> {
         self.link = None;
         let mut link = SerialLink::open(&self.port, self.baud)?;
-        self.decoder.clear();
-        self.protocol.start(&mut link, &mut self.decoder)?;
+        let mut backoff = HANDSHAKE_BACKOFF;
+        let mut attempt = 1;
+        loop {
+            self.decoder.clear();
+            match self.protocol.start(&mut link, &mut self.decoder) {
+                Ok(()) => break,
+                Err(e) if retryable(&e) => {
+                    self.stats.handshake_retries += 1;
+                    if attempt >= HANDSHAKE_ATTEMPTS {
+                        return Err(e);
+                    }
+                    attempt += 1;
+                    std::thread::sleep(backoff);
+                    backoff *= 2;
+                    link.drain(Duration::from_millis(20), ANSWER_TIMEOUT)?;
+                }
+                Err(e) => return Err(e),
+            }
+        }
         self.decoder.clear();
         self.link = Some(link);
         self.stats.starts += 1;
@@ -218,6 +253,16 @@ impl<P: SerialProtocol<Sample = TrackerPose>> Tracker for SerialDevice<P> {
     fn stats(&self) -> DeviceStats {
         self.device_stats()
     }
+}
+
+/// Whether a handshake failure is worth another attempt: the device did not answer in time or
+/// answered something else (a garbled answer). A port that is gone, or a glove out of its
+/// interface unit, is not.
+fn retryable(e: &DeviceError) -> bool {
+    matches!(
+        e,
+        DeviceError::Timeout { .. } | DeviceError::BadAnswer { .. }
+    )
 }
 
 /// The joints a glove protocol reports.
@@ -515,6 +560,17 @@ impl SerialProtocol for FastrakProtocol {
             stats.faults += 1;
             return Ok(None);
         }
+        // Beyond the tracker's measuring range (with a margin): a corrupt value (a flipped
+        // exponent bit of a binary field), dropped and counted as invalid.
+        if let Some(p) = r.position {
+            let limit = fastrak::POSITION_LIMIT_M / self.units.metres();
+            if p.iter().any(|x| !x.is_finite() || x.abs() > limit) {
+                return Err(DeviceError::InvalidValue(format!(
+                    "Fastrak position {p:?} beyond the measuring range (±{limit:.1} {})",
+                    self.units.name()
+                )));
+            }
+        }
         r.pose(self.units).map(Some)
     }
 }
@@ -556,6 +612,16 @@ impl SerialProtocol for FlockProtocol {
         r: flock::FlockRecord,
         _: &mut DeviceStats,
     ) -> Result<Option<TrackerPose>, DeviceError> {
+        // The scale is the bird's measuring range (positions cannot exceed it as encoded; a
+        // record built otherwise is refused all the same).
+        let scale = self.framing.scale_inches;
+        if let Some(p) = r.position
+            && p.iter().any(|x| !x.is_finite() || x.abs() > scale)
+        {
+            return Err(DeviceError::InvalidValue(format!(
+                "bird position {p:?} in beyond its scale ±{scale} in"
+            )));
+        }
         r.pose(self.conjugate).map(Some)
     }
 }
@@ -631,6 +697,16 @@ impl UltraUsbGlove {
         let n = report.len() as u64;
         self.stats.decode.bytes_in += n;
         match fivedt::decode_ultra_report(report, self.report_id) {
+            Ok(values)
+                if values
+                    .iter()
+                    .any(|v| v.unsigned_abs() > fivedt::ULTRA_FULL_SCALE) =>
+            {
+                // Beyond the sensor's full scale: corrupt, dropped and counted.
+                self.stats.decode.records += 1;
+                self.stats.decode.record_bytes += n;
+                self.stats.invalid += 1;
+            }
             Ok(values) => {
                 self.stats.decode.records += 1;
                 self.stats.decode.record_bytes += n;

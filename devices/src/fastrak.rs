@@ -28,8 +28,14 @@
 //! ## Resynchronisation
 //! Hunt for `0` followed by a station digit and a space-or-letter; then every field must parse
 //! (ASCII: digits, one point, optional sign; binary: finite), lie in its range (positions within
-//! ±1000 units, angles within ±180°, quaternion of norm ≈ 1) and CR LF must sit where the output
-//! list puts it. Otherwise drop one byte and hunt again.
+//! ±1000 units, angles within ±180°, quaternion of norm within 0.02 of 1) and CR LF must sit
+//! where the output list puts it. Otherwise drop one byte and hunt again.
+//!
+//! ## Measuring range
+//! The backend passes on positions within [`POSITION_LIMIT_M`] = 3.81 m per axis: the
+//! standard source's 10-foot range ([`MEASURING_RANGE_M`]) with a 25 % margin. A well-framed
+//! record beyond it is a corrupt value (a flipped exponent bit of a binary f32): dropped and
+//! counted as invalid. Orientations are checked by the decoder (above).
 
 use glam::{DQuat, DVec3, EulerRot};
 
@@ -54,8 +60,19 @@ pub const CENTIMETRES: u8 = b'u';
 /// The error byte of a record the tracker does not flag (a space). Any other value (a letter)
 /// flags the record; the backend counts it as a fault and drops it.
 pub const NO_ERROR: u8 = b' ';
-/// Largest position magnitude accepted, in device units.
+/// Largest position magnitude the decoder accepts as a well-formed field, in device units (the
+/// ASCII field's own limit, `±999.99`): beyond it a candidate record is misframed.
 pub const POSITION_RANGE: f64 = 1000.0;
+
+/// The Fastrak's measuring range with its standard source: 10 feet (3.05 m) from the source,
+/// per axis (manual Rev G: operation to 10 ft, specified accuracy to 30 in).
+pub const MEASURING_RANGE_M: f64 = 3.048;
+
+/// Largest position coordinate the backend passes on, in metres: the measuring range with a
+/// 25 % margin (3.81 m, 150 in). A well-framed record beyond it (a flipped exponent bit of a
+/// binary field turns 3 in into 783 in) is dropped and counted as invalid
+/// ([`DeviceStats::invalid`](crate::DeviceStats::invalid)).
+pub const POSITION_LIMIT_M: f64 = 1.25 * MEASURING_RANGE_M;
 /// Width of an ASCII field.
 pub const ASCII_FIELD: usize = 7;
 
@@ -134,6 +151,14 @@ impl Units {
         match self {
             Units::Inches => 0.0254,
             Units::Centimetres => 0.01,
+        }
+    }
+
+    /// The unit's name, for messages.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Units::Inches => "in",
+            Units::Centimetres => "cm",
         }
     }
 }

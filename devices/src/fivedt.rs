@@ -75,6 +75,10 @@ pub const ULTRA_REPORT_LEN: usize = 64;
 /// Scale of an Ultra value: raw/4096 is the fraction of full scale.
 pub const ULTRA_SCALE: f64 = 1.0 / 4096.0;
 
+/// Full scale of an Ultra value: a report value beyond ±4096 is outside the sensor's range
+/// (corrupt); the backend drops the report and counts it as invalid.
+pub const ULTRA_FULL_SCALE: u16 = 4096;
+
 /// The joints of the 14-sensor gloves, in sensor order.
 pub const JOINTS_14: [Joint; 14] = [
     Joint::ThumbMcp,

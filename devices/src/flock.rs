@@ -30,6 +30,14 @@
 //! Matrix elements are taken column by column (this and the quaternion's handedness differ
 //! between sources; the profile can conjugate the quaternion).
 //!
+//! ## Measuring range
+//! A position is at most ±S inches per axis by construction (a 16-bit word scaled by S/32768):
+//! the scale is the bird's measuring range, and the backend passes on only positions within
+//! it. Orientation: angles must keep the elevation within ±90° ([`ELEVATION_LIMIT_DEG`]), a
+//! matrix must be a rotation (`MᵀM` within 0.05 of the identity, determinant within 0.05 of
+//! 1), a quaternion's norm within 0.02 of 1; any other record is dropped and counted as
+//! invalid.
+//!
 //! ## Resynchronisation
 //! Hunt for a byte with bit 7 set; reject the candidate when a later byte of the same record has
 //! bit 7 set (a truncated record followed by the next one), or when its quaternion or matrix is
@@ -50,6 +58,9 @@ pub const STOP: u8 = b'?';
 pub const PHASE_BIT: u8 = 0x80;
 /// The default position scale S, inches.
 pub const DEFAULT_SCALE_INCHES: f64 = 36.0;
+/// Largest elevation a bird reports, degrees (azimuth and roll span ±180°, elevation ±90°): an
+/// angles record beyond it is corrupt, dropped and counted as invalid.
+pub const ELEVATION_LIMIT_DEG: f64 = 90.0 + 0.02;
 /// The position scales a bird can be set to, inches: 36, and 72 or 144 in the extended ranges.
 pub const SCALES_INCHES: [f64; 3] = [36.0, 72.0, 144.0];
 
@@ -162,6 +173,13 @@ impl FlockRecord {
             .map_or(DVec3::ZERO, |p| DVec3::from_array(p) * 0.0254);
         let q = match self.orientation {
             None => DQuat::IDENTITY,
+            Some(BirdOrientation::Angles([_, y, _]))
+                if !y.is_finite() || y.abs() > ELEVATION_LIMIT_DEG =>
+            {
+                return Err(DeviceError::InvalidValue(format!(
+                    "bird elevation {y}° beyond ±90°"
+                )));
+            }
             Some(BirdOrientation::Angles([z, y, x])) => DQuat::from_euler(
                 EulerRot::ZYX,
                 z.to_radians(),
@@ -171,7 +189,12 @@ impl FlockRecord {
             Some(BirdOrientation::Quaternion([w, x, y, z])) => DQuat::from_xyzw(x, y, z, w),
             Some(BirdOrientation::Matrix(m)) => {
                 let m = DMat3::from_cols_array(&m);
-                if !m.is_finite() || (m.determinant() - 1.0).abs() > 0.05 {
+                let gram = m.transpose() * m - DMat3::IDENTITY;
+                let skew = gram
+                    .to_cols_array()
+                    .iter()
+                    .fold(0.0f64, |a, x| a.max(x.abs()));
+                if !m.is_finite() || (m.determinant() - 1.0).abs() > 0.05 || skew > 0.05 {
                     return Err(DeviceError::InvalidValue(
                         "bird matrix is not a rotation".into(),
                     ));

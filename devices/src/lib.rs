@@ -67,6 +67,6 @@ pub use frame::{
 };
 pub use mouse::{MouseHand, ViewRay};
 pub use profile::{HandSize, Profile, WorldFromTracker};
-pub use stream::{HandStream, StreamOptions, StreamStats};
+pub use stream::{DeviceRole, DeviceStatus, HandStream, StreamOptions, StreamStats};
 pub use throughput::{ThroughputRow, decode_throughput};
 pub use trace::{Trace, TraceHeader, TraceWriter};

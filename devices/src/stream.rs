@@ -15,6 +15,13 @@
 //!   resumes by itself when it is back;
 //! - bad records and bad values are dropped and counted in [`DeviceStats`], never passed on.
 //!
+//! Starting: [`HandStream::open`] needs every device to answer its handshake now (an absent
+//! port is an error); [`HandStream::connect`] starts whatever is present and keeps retrying
+//! what is missing every [`StreamOptions::retry`], exactly as for a device unplugged mid-session
+//! (the window's Connect, `nendo record`). [`HandStream::status`] gives per device what a
+//! status panel shows ([`DeviceStatus`]: state, sample rate, the last error — cleared when the
+//! device recovers —, faults, rejected records, watchdog trips).
+//!
 //! Nothing here panics on device input; a poisoned lock is recovered, not unwrapped.
 
 use std::path::Path;
@@ -79,6 +86,104 @@ pub struct StreamStats {
     pub tracker: DeviceStats,
 }
 
+/// Which device of a stream.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DeviceRole {
+    /// The data glove.
+    Glove,
+    /// The hand tracker.
+    Tracker,
+}
+
+impl DeviceRole {
+    fn index(self) -> usize {
+        match self {
+            DeviceRole::Glove => 0,
+            DeviceRole::Tracker => 1,
+        }
+    }
+
+    /// `glove` or `tracker`, for people.
+    pub const fn name(self) -> &'static str {
+        match self {
+            DeviceRole::Glove => "glove",
+            DeviceRole::Tracker => "tracker",
+        }
+    }
+}
+
+/// One device of a stream as a status panel shows it ([`HandStream::status`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeviceStatus {
+    /// Glove or tracker.
+    pub role: DeviceRole,
+    /// What and where the device is (`Fastrak station 1 on /dev/ttyS0`; for a replay, the
+    /// trace).
+    pub description: String,
+    /// The source's state now: `Ok` while samples arrive, `Silent` after the watchdog tripped
+    /// (the handshake is being resent), `Disconnected` while the port is absent or lost (being
+    /// reopened), `Absent` for a source a replayed trace does not have.
+    pub state: SourceState,
+    /// Samples per second over the last half second or so (0 when none came for a second).
+    pub rate_hz: f64,
+    /// The device's last error, `None` once it has started again and delivers samples.
+    pub last_error: Option<String>,
+    /// Samples delivered.
+    pub samples: u64,
+    /// Faults the device reported in place of a sample ([`DeviceStats::faults`]).
+    pub faults: u64,
+    /// Records dropped: misframed or failing a check in the decoder, plus well-formed records
+    /// whose values were out of range ([`DecodeStats::rejected`](crate::DecodeStats) +
+    /// [`DeviceStats::invalid`]).
+    pub rejected: u64,
+    /// Times the watchdog declared the device silent and restarted it.
+    pub watchdog_trips: u64,
+    /// Times the device was lost (I/O error, failed reopen).
+    pub disconnects: u64,
+    /// All of the device's counters.
+    pub stats: DeviceStats,
+}
+
+/// A device's status as the worker keeps it.
+#[derive(Debug, Default)]
+struct RoleStatus {
+    present: bool,
+    description: String,
+    error: Option<String>,
+    samples: u64,
+    watchdog_trips: u64,
+    disconnects: u64,
+    window_start: Option<Instant>,
+    window_count: u64,
+    rate: f64,
+    last_sample: Option<Instant>,
+}
+
+impl RoleStatus {
+    /// Counts `n` samples arriving now.
+    fn samples(&mut self, n: u64) {
+        let now = Instant::now();
+        self.samples += n;
+        self.last_sample = Some(now);
+        self.error = None;
+        let start = *self.window_start.get_or_insert(now);
+        self.window_count += n;
+        let elapsed = now.duration_since(start).as_secs_f64();
+        if elapsed >= 0.5 {
+            self.rate = self.window_count as f64 / elapsed;
+            self.window_start = Some(now);
+            self.window_count = 0;
+        }
+    }
+
+    fn rate_now(&self) -> f64 {
+        match self.last_sample {
+            Some(t) if t.elapsed() < Duration::from_secs(1) => self.rate,
+            _ => 0.0,
+        }
+    }
+}
+
 #[derive(Debug, Default)]
 struct Merge {
     pose: Option<TrackerPose>,
@@ -100,6 +205,7 @@ struct Shared {
     glove_stats: Mutex<DeviceStats>,
     tracker_stats: Mutex<DeviceStats>,
     last_error: Mutex<Option<String>>,
+    roles: Mutex<[RoleStatus; 2]>,
     start: Instant,
 }
 
@@ -151,6 +257,15 @@ impl Shared {
     fn note_error(&self, e: &DeviceError) {
         *lock(&self.last_error) = Some(e.to_string());
     }
+
+    fn role(&self, role: DeviceRole, f: impl FnOnce(&mut RoleStatus)) {
+        f(&mut lock(&self.roles)[role.index()]);
+    }
+
+    fn note_role_error(&self, role: DeviceRole, e: &DeviceError) {
+        self.note_error(e);
+        self.role(role, |r| r.error = Some(e.to_string()));
+    }
 }
 
 /// Which source a worker thread serves.
@@ -160,6 +275,20 @@ enum Source {
 }
 
 impl Source {
+    fn role(&self) -> DeviceRole {
+        match self {
+            Source::Glove(_) => DeviceRole::Glove,
+            Source::Tracker(_) => DeviceRole::Tracker,
+        }
+    }
+
+    fn describe(&self) -> String {
+        match self {
+            Source::Glove(g) => g.describe(),
+            Source::Tracker(t) => t.describe(),
+        }
+    }
+
     fn start(&mut self) -> Result<(), DeviceError> {
         match self {
             Source::Glove(g) => g.start(),
@@ -230,15 +359,28 @@ impl Source {
     }
 }
 
+/// Whether every device must start now.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Start {
+    /// Every device answers now, or the stream is not opened ([`HandStream::open`]).
+    AllNow,
+    /// What is present starts now, the rest is retried ([`HandStream::connect`]).
+    Tolerant,
+}
+
 enum Phase {
     Running { last_data: Instant },
     Restart { at: Instant },
 }
 
-fn run_source(mut source: Source, shared: Arc<Shared>, watchdog: Duration, retry: Duration) {
-    let mut phase = Phase::Running {
-        last_data: Instant::now(),
-    };
+fn run_source(
+    mut source: Source,
+    shared: Arc<Shared>,
+    watchdog: Duration,
+    retry: Duration,
+    mut phase: Phase,
+) {
+    let role = source.role();
     let mut gloves = Vec::new();
     let mut poses = Vec::new();
     while !shared.stop.load(Ordering::Relaxed) {
@@ -247,20 +389,30 @@ fn run_source(mut source: Source, shared: Arc<Shared>, watchdog: Duration, retry
                 match source.read_and_publish(&shared, &mut gloves, &mut poses) {
                     Ok(0) if last_data.elapsed() > watchdog => {
                         shared.watchdog_trips.fetch_add(1, Ordering::Relaxed);
+                        shared.role(role, |r| {
+                            r.watchdog_trips += 1;
+                            r.error = Some(format!(
+                                "{}: no valid sample for {} ms (watchdog): restarting",
+                                r.description,
+                                watchdog.as_millis()
+                            ));
+                        });
                         source.set_state(&shared, SourceState::Silent);
                         source.stop();
                         phase = Phase::Restart { at: Instant::now() };
                     }
                     Ok(0) => {}
-                    Ok(_) => {
+                    Ok(n) => {
+                        shared.role(role, |r| r.samples(n as u64));
                         phase = Phase::Running {
                             last_data: Instant::now(),
                         }
                     }
                     Err(e) => {
-                        shared.note_error(&e);
+                        shared.note_role_error(role, &e);
                         let state = if e.is_disconnect() {
                             shared.disconnects.fetch_add(1, Ordering::Relaxed);
+                            shared.role(role, |r| r.disconnects += 1);
                             SourceState::Disconnected
                         } else {
                             SourceState::Silent
@@ -286,7 +438,7 @@ fn run_source(mut source: Source, shared: Arc<Shared>, watchdog: Duration, retry
                         }
                     }
                     Err(e) => {
-                        shared.note_error(&e);
+                        shared.note_role_error(role, &e);
                         if e.is_disconnect() {
                             source.set_state(&shared, SourceState::Disconnected);
                         }
@@ -334,6 +486,24 @@ impl HandStream {
     /// silent stream. The mouse profile is refused: its hand is driven by the window through
     /// [`MouseHand`](crate::MouseHand).
     pub fn open(profile: &Profile, options: &StreamOptions) -> Result<HandStream, DeviceError> {
+        Self::open_with(profile, options, Start::AllNow)
+    }
+
+    /// Like [`HandStream::open`], but a device that is absent or does not answer now is not an
+    /// error: the stream starts with whatever is present and keeps retrying the rest every
+    /// [`StreamOptions::retry`] (its state `Disconnected` or `Silent` until it answers, its
+    /// error in [`HandStream::status`]), as for a device unplugged mid-session. Errors are
+    /// only those of the profile itself (a bad glove or tracker entry, an unreadable replay
+    /// trace, the mouse profile).
+    pub fn connect(profile: &Profile, options: &StreamOptions) -> Result<HandStream, DeviceError> {
+        Self::open_with(profile, options, Start::Tolerant)
+    }
+
+    fn open_with(
+        profile: &Profile,
+        options: &StreamOptions,
+        start: Start,
+    ) -> Result<HandStream, DeviceError> {
         let watchdog = options
             .watchdog
             .unwrap_or(Duration::from_millis(profile.watchdog_ms));
@@ -359,7 +529,7 @@ impl HandStream {
                     }
                     None => None,
                 };
-                HandStream::from_devices(glove, tracker, watchdog, options)
+                HandStream::start_devices(glove, tracker, watchdog, options, start)
             }
             Input::Replay(r) => {
                 let trace = Trace::read(Path::new(&r.trace))?;
@@ -384,6 +554,27 @@ impl HandStream {
         watchdog: Duration,
         options: &StreamOptions,
     ) -> Result<HandStream, DeviceError> {
+        Self::start_devices(glove, tracker, watchdog, options, Start::AllNow)
+    }
+
+    /// Starts a stream over device backends; those that do not start now are retried by
+    /// their threads (see [`HandStream::connect`]).
+    pub fn connect_devices(
+        glove: Option<Box<dyn Glove>>,
+        tracker: Option<Box<dyn Tracker>>,
+        watchdog: Duration,
+        options: &StreamOptions,
+    ) -> Result<HandStream, DeviceError> {
+        Self::start_devices(glove, tracker, watchdog, options, Start::Tolerant)
+    }
+
+    fn start_devices(
+        glove: Option<Box<dyn Glove>>,
+        tracker: Option<Box<dyn Tracker>>,
+        watchdog: Duration,
+        options: &StreamOptions,
+        start: Start,
+    ) -> Result<HandStream, DeviceError> {
         if glove.is_none() && tracker.is_none() {
             return Err(DeviceError::Unsupported(
                 "a stream needs a glove or a tracker".into(),
@@ -399,12 +590,17 @@ impl HandStream {
             description.push(t.describe());
             sources.push(Source::Tracker(t));
         }
+        let mut failures: Vec<Option<DeviceError>> = Vec::new();
         for i in 0..sources.len() {
-            if let Err(e) = sources[i].start() {
-                for s in &mut sources[..i] {
-                    s.stop();
+            match sources[i].start() {
+                Ok(()) => failures.push(None),
+                Err(e) if start == Start::Tolerant => failures.push(Some(e)),
+                Err(e) => {
+                    for s in &mut sources[..i] {
+                        s.stop();
+                    }
+                    return Err(e);
                 }
-                return Err(e);
             }
         }
         // After the start: a glove may fit its joints to the model it found (the 5DT Ultra).
@@ -418,21 +614,45 @@ impl HandStream {
         }
         let (tx, rx) = sync_channel(options.capacity.max(1));
         let mut merge = Merge::default();
-        for s in &sources {
+        for (s, failure) in sources.iter().zip(&failures) {
+            let state = match failure {
+                None => SourceState::Ok,
+                Some(e) if e.is_disconnect() => SourceState::Disconnected,
+                Some(_) => SourceState::Silent,
+            };
             match s {
-                Source::Glove(_) => merge.glove = SourceState::Ok,
-                Source::Tracker(_) => merge.tracker = SourceState::Ok,
+                Source::Glove(_) => merge.glove = state,
+                Source::Tracker(_) => merge.tracker = state,
             }
         }
         let shared = Arc::new(Shared::new(tx, merge));
+        for (s, failure) in sources.iter().zip(&failures) {
+            let description = s.describe();
+            shared.role(s.role(), |r| {
+                r.present = true;
+                r.description = description;
+            });
+            if let Some(e) = failure {
+                shared.note_role_error(s.role(), e);
+            }
+        }
         let threads = sources
             .into_iter()
-            .map(|s| {
+            .zip(failures)
+            .map(|(s, failure)| {
                 let shared = Arc::clone(&shared);
                 let retry = options.retry;
+                let phase = match failure {
+                    None => Phase::Running {
+                        last_data: Instant::now(),
+                    },
+                    Some(_) => Phase::Restart {
+                        at: Instant::now() + retry,
+                    },
+                };
                 std::thread::Builder::new()
                     .name("nendo-device".into())
-                    .spawn(move || run_source(s, shared, watchdog, retry))
+                    .spawn(move || run_source(s, shared, watchdog, retry, phase))
                     .map_err(|e| DeviceError::Io {
                         device: "device thread".into(),
                         error: e,
@@ -455,6 +675,12 @@ impl HandStream {
     pub fn replay(trace: Trace, speed: f64, repeat: bool, capacity: usize) -> HandStream {
         let (tx, rx) = sync_channel(capacity.max(1));
         let shared = Arc::new(Shared::new(tx, Merge::default()));
+        for role in [DeviceRole::Glove, DeviceRole::Tracker] {
+            shared.role(role, |r| {
+                r.present = true;
+                r.description = format!("{} of the replayed trace", role.name());
+            });
+        }
         let joints = trace.header.joints.clone();
         let source_header = trace.header.clone();
         let worker = Arc::clone(&shared);
@@ -494,6 +720,18 @@ impl HandStream {
                                 break;
                             }
                             std::thread::sleep((due - now).min(POLL));
+                        }
+                        // The replay's states are the trace's, frame by frame.
+                        {
+                            let mut m = lock(&worker.merge);
+                            m.tracker = f.status.tracker;
+                            m.glove = f.status.glove;
+                        }
+                        if f.status.tracker_fresh {
+                            worker.role(DeviceRole::Tracker, |r| r.samples(1));
+                        }
+                        if f.status.glove_fresh {
+                            worker.role(DeviceRole::Glove, |r| r.samples(1));
                         }
                         worker.send(HandFrame {
                             time: Timestamp(t),
@@ -587,9 +825,43 @@ impl HandStream {
         (m.tracker, m.glove)
     }
 
-    /// The last device error, for the status line.
+    /// The last device error of the stream's whole life (also after the device recovered; a
+    /// status panel wants [`HandStream::status`], whose errors clear on recovery).
     pub fn last_error(&self) -> Option<String> {
         lock(&self.shared.last_error).clone()
+    }
+
+    /// Each device of the stream, glove first: state, rate, last error (cleared once the
+    /// device delivers again), counters. A replay lists the trace's glove and tracker with the
+    /// states recorded in it.
+    pub fn status(&self) -> Vec<DeviceStatus> {
+        let (tracker_state, glove_state) = self.states();
+        let stats = self.stats();
+        let roles = lock(&self.shared.roles);
+        [DeviceRole::Glove, DeviceRole::Tracker]
+            .into_iter()
+            .filter(|role| roles[role.index()].present)
+            .map(|role| {
+                let r = &roles[role.index()];
+                let (state, device) = match role {
+                    DeviceRole::Glove => (glove_state, stats.glove),
+                    DeviceRole::Tracker => (tracker_state, stats.tracker),
+                };
+                DeviceStatus {
+                    role,
+                    description: r.description.clone(),
+                    state,
+                    rate_hz: r.rate_now(),
+                    last_error: r.error.clone(),
+                    samples: r.samples,
+                    faults: device.faults,
+                    rejected: device.decode.rejected + device.invalid,
+                    watchdog_trips: r.watchdog_trips,
+                    disconnects: r.disconnects,
+                    stats: device,
+                }
+            })
+            .collect()
     }
 
     /// Whether a replayed trace has played to its end (always false for live devices).
@@ -638,6 +910,7 @@ impl Shared {
             glove_stats: Mutex::new(DeviceStats::default()),
             tracker_stats: Mutex::new(DeviceStats::default()),
             last_error: Mutex::new(None),
+            roles: Mutex::new([RoleStatus::default(), RoleStatus::default()]),
             start: Instant::now(),
         }
     }

@@ -397,7 +397,7 @@ impl Modeller {
         egui::CollapsingHeader::new("Devices")
             .default_open(false)
             .show(ui, |ui| {
-                let radius = self.tools.settings.radius;
+                let radius = crate::hand::DEFAULT_FINGER_RADIUS;
                 if let Some(profile) = self.live.ui(ui, radius, &mut self.session.doc) {
                     commands.push(Command::UseMouseHand(profile));
                 }

@@ -209,8 +209,11 @@ pub fn experiment_plane() -> Grid {
 #[must_use]
 pub fn fixed_region(s0: &[DVec3], op: &Op) -> Vec<usize> {
     let (points, radius): (Vec<DVec3>, f64) = match op {
-        Op::Push { at, radius, .. } => (vec![*at], *radius),
-        Op::Drag { path, radius, .. } => (path.clone(), *radius),
+        Op::Push { at, radius, .. }
+        | Op::PushNormal { at, radius, .. }
+        | Op::Move { at, radius, .. }
+        | Op::Smooth { at, radius, .. } => (vec![*at], *radius),
+        Op::Drag { path, radius, .. } | Op::Groove { path, radius, .. } => (path.clone(), *radius),
     };
     let reach = REGION_RADII * radius;
     (0..s0.len())

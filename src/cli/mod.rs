@@ -8,6 +8,7 @@ pub mod check;
 pub mod closest;
 pub mod curve;
 pub mod devices;
+pub mod emulate;
 pub mod export;
 pub mod figure;
 pub mod morph;
@@ -48,6 +49,9 @@ pub enum Command {
     Curve(curve::Args),
     /// List serial ports and HID devices, and which device profile fits each.
     Devices(devices::Args),
+    /// Run a device emulator (fastrak, cyberglove, flock, 5dt-glove5) on a pseudo-terminal: print
+    /// its port, then move a hand through a scripted gesture, for trying glove mode without hardware.
+    Emulate(emulate::Args),
     /// Write a model as a mesh (OBJ with normals, binary STL, GLB) within a tolerance, or exactly
     /// as CAD (STEP AP214, IGES 5.3: the patches as B-spline surfaces, the curves).
     Export(export::Args),
@@ -83,6 +87,7 @@ pub fn run() -> ExitCode {
         Some(Command::Closest(args)) => closest::run(args),
         Some(Command::Curve(args)) => curve::run(args),
         Some(Command::Devices(args)) => devices::run(args),
+        Some(Command::Emulate(args)) => emulate::run(args),
         Some(Command::Export(args)) => export::run(args),
         Some(Command::Figure(args)) => figure::run(args),
         Some(Command::Morph(args)) => morph::run(args),

@@ -4,6 +4,11 @@
 //! SIGINT (Ctrl-C), SIGTERM or SIGHUP: in every case the frames so far are written and the
 //! trace is finished atomically (its `end` line, then renamed into place), so stopping early
 //! never loses the recording nor leaves a temporary file behind.
+//!
+//! Devices start as in the window's Connect ([`HandStream::connect`]): whatever is present
+//! records from the start, a device absent or mute at start is retried every 250 ms and joins
+//! when it answers (a warning says so); with no device answering, the command fails naming
+//! each device's error and writes nothing.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -14,7 +19,7 @@ const MAX_SECONDS: f64 = 86_400.0;
 
 use clap::Args as ClapArgs;
 use nendo_devices::profile::{self, Input};
-use nendo_devices::{HandStream, StreamOptions, TraceWriter};
+use nendo_devices::{HandStream, SourceState, StreamOptions, TraceWriter};
 
 /// Arguments of `nendo record`.
 #[derive(Debug, ClapArgs)]
@@ -91,7 +96,32 @@ fn record(args: Args) -> anyhow::Result<String> {
     // From here on a stop signal ends the loop below instead of exiting the process (the
     // binary's handler, `super::signal`, defers to it).
     let stop = super::signal::DeferredStop::new();
-    let stream = HandStream::open(&profile, &options)?;
+    // Whatever is present starts now; a device absent or mute at start is retried through
+    // the recording (as one unplugged mid-recording is). With none present there is nothing
+    // to record: an error naming each device's problem, and no trace is written.
+    let stream = HandStream::connect(&profile, &options)?;
+    let status = stream.status();
+    // (A replay has no devices to wait for: its states come with its frames.)
+    let live = stream.source_header().is_none();
+    if live && !status.is_empty() && status.iter().all(|s| s.state != SourceState::Ok) {
+        let errors: Vec<String> = status
+            .iter()
+            .map(|s| {
+                s.last_error
+                    .clone()
+                    .unwrap_or_else(|| format!("{} did not start", s.description))
+            })
+            .collect();
+        drop(stream);
+        anyhow::bail!("{}", errors.join("; "));
+    }
+    for s in status.iter().filter(|s| live && s.state != SourceState::Ok) {
+        eprintln!(
+            "nendo record: warning: {} is not there yet ({}); recording without it, retrying",
+            s.role.name(),
+            s.last_error.as_deref().unwrap_or("no answer")
+        );
+    }
     for w in stream.warnings() {
         eprintln!("nendo record: warning: {w}");
     }

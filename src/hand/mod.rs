@@ -48,7 +48,8 @@ pub use kinematics::{Digit, FingerChain, Hand, HandPose};
 pub use mouse::MouseFinger;
 pub use press::Placement;
 pub use session::{
-    Activation, FingerModel, FrameOutcome, HandLoop, HandOptions, LoopStats, Session, Touch,
+    Activation, DEFAULT_FINGER_RADIUS, FingerModel, FrameOutcome, HandLoop, HandOptions, LoopStats,
+    Session, Touch,
 };
 
 /// What can go wrong in the hand loop.

@@ -330,6 +330,99 @@ impl Choreography {
     }
 }
 
+/// A named hand gesture over the default plane (`--primitive plane`, z = 0), for the device
+/// emulators of `nendo emulate`: each is one loop of a few seconds, in world units ("side")
+/// through the profile's tracker-to-world transform, so the hand does the same over the model
+/// whatever the transform. The glove holds the pointing pose ([`POINTING`]) except where said.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Gesture {
+    /// 3.0 s: the index fingertip comes straight down at (0.5, 0.5), 0.3 side into the plane,
+    /// holds, and lifts out again: a dent.
+    Press,
+    /// 5.5 s: the fingertip dips 0.15 side into the plane at x = −0.8 and draws a wave to
+    /// x = 0.8 (y = 0.3·sin 2πs), then lifts and goes back: a wavy groove.
+    Wave,
+    /// 3.5 s: the fingertip touches the plane at (−0.5, −0.5), the thumb closes on the index
+    /// and the glove's switch is pressed (the grip), the hand rises 0.4 side pulling the clay
+    /// up, then the switch is released and the thumb opens: a bump.
+    Pinch,
+}
+
+impl Gesture {
+    /// Every gesture.
+    pub const ALL: [Gesture; 3] = [Gesture::Press, Gesture::Wave, Gesture::Pinch];
+
+    /// The gesture's name on the command line.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Gesture::Press => "press",
+            Gesture::Wave => "wave",
+            Gesture::Pinch => "pinch",
+        }
+    }
+
+    /// The gesture of a name.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Gesture> {
+        Gesture::ALL.into_iter().find(|g| g.name() == name)
+    }
+
+    /// One loop of the gesture as frames at `rate_hz`, for a hand placed by
+    /// `world_from_tracker` (the default hand size; tracker poses in metres, the 18 CyberGlove
+    /// angles, the switch as [`buttons::PRIMARY`]).
+    ///
+    /// # Errors
+    /// [`HandError`] for a transform that is not a similarity or a rate that is not positive.
+    pub fn trace(
+        self,
+        world_from_tracker: WorldFromTracker,
+        rate_hz: f64,
+    ) -> Result<Trace, HandError> {
+        let mut c = Choreography::new(world_from_tracker, rate_hz)?;
+        let down = -DVec3::Z;
+        // Frames for a duration in seconds.
+        let n = |seconds: f64| ((seconds * rate_hz).round() as usize).max(1);
+        match self {
+            Gesture::Press => {
+                let above = DVec3::new(0.5, 0.5, 0.5);
+                c.place(above, down, DVec3::Y);
+                c.hold(n(0.25));
+                c.move_to(DVec3::new(0.5, 0.5, -0.3), down, n(1.0));
+                c.hold(n(0.5));
+                c.move_to(above, down, n(1.0));
+                c.hold(n(0.25));
+            }
+            Gesture::Wave => {
+                let start = DVec3::new(-0.8, 0.0, 0.4);
+                c.place(start, down, DVec3::X);
+                c.move_to(DVec3::new(-0.8, 0.0, -0.15), down, n(0.5));
+                c.path(n(3.0), |s| {
+                    (
+                        DVec3::new(-0.8 + 1.6 * s, 0.3 * (TAU * s).sin(), -0.15),
+                        down,
+                    )
+                });
+                c.move_to(DVec3::new(0.8, 0.0, 0.4), down, n(0.5));
+                c.move_to(start, down, n(1.5));
+            }
+            Gesture::Pinch => {
+                let above = DVec3::new(-0.5, -0.5, 0.4);
+                c.place(above, down, DVec3::Y);
+                c.move_to(DVec3::new(-0.5, -0.5, 0.0), down, n(0.75));
+                c.bend_to(&[(Joint::ThumbMcp, 0.9), (Joint::ThumbIp, 0.8)], n(0.25));
+                c.press(buttons::PRIMARY);
+                c.hold(n(0.25));
+                c.move_to(above, down, n(1.25));
+                c.press(0);
+                c.bend_to(&[(Joint::ThumbMcp, 0.5), (Joint::ThumbIp, 0.4)], n(0.25));
+                c.hold(n(0.75));
+            }
+        }
+        c.finish(self.name())
+    }
+}
+
 /// A trace shipped in `devices/traces/`, with the surface it was made for.
 #[derive(Debug, Clone)]
 pub struct Shipped {

@@ -147,10 +147,15 @@ pub struct HandOptions {
     pub grip_distance: f64,
 }
 
+/// The default finger radius `r_f`, in sides: the hand loop's in the window and in
+/// `nendo replay` alike, so a trace gives the same surface in both (the shipped traces and
+/// their figures are made with it).
+pub const DEFAULT_FINGER_RADIUS: f64 = 1.0;
+
 impl Default for HandOptions {
     fn default() -> Self {
         Self {
-            finger_radius: 1.0,
+            finger_radius: DEFAULT_FINGER_RADIUS,
             finger: FingerModel::default(),
             min_depth: 1e-4,
             stroke_step: 5e-3,

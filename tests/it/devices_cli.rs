@@ -342,3 +342,170 @@ fn devices_skips_a_bad_profile_with_a_warning_and_lists_the_rest() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Starts `nendo emulate ARGS`, returning the child and the port its first line names.
+fn emulate(args: &[&str]) -> (std::process::Child, String) {
+    use std::io::BufRead;
+    let mut child = nendo()
+        .arg("emulate")
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    let stdout = child.stdout.take().unwrap();
+    std::io::BufReader::new(stdout)
+        .read_line(&mut line)
+        .unwrap();
+    (child, line.trim().to_string())
+}
+
+/// Waits for a child at most `seconds`, killing it (our own) if it overruns.
+fn wait_for(mut child: std::process::Child, seconds: u64) -> std::process::Output {
+    let deadline = Instant::now() + Duration::from_secs(seconds);
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("the child did not end within {seconds} s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn record_records_from_nendo_emulate_and_the_emulator_ends_after_its_seconds() {
+    let (emulator, port) = emulate(&["fastrak", "--seconds", "3", "--motion", "press"]);
+    assert!(
+        port.starts_with('/'),
+        "the first line is the port: {port:?}"
+    );
+    assert!(Path::new(&port).exists(), "{port}");
+    let dir = temp("emulate-record");
+    let out_path = dir.join("emulated.trace");
+    let started = Instant::now();
+    let out = nendo()
+        .args([
+            "record",
+            "--profile",
+            "fastrak",
+            "--seconds",
+            "1",
+            "--port",
+            &port,
+        ])
+        .arg("--out")
+        .arg(&out_path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let trace = Trace::read(&out_path).unwrap();
+    // 120 Hz for a second: a hundred samples or so, every one with a pose.
+    assert!(trace.frames.len() > 60, "{} frames", trace.frames.len());
+    assert!(trace.frames.iter().all(|f| f.pose.is_some()));
+    // The press: the hand comes down, so the tracker's z changes.
+    let z: Vec<f64> = trace
+        .frames
+        .iter()
+        .filter_map(|f| f.pose)
+        .map(|p| p.position.z)
+        .collect();
+    let span =
+        z.iter().cloned().fold(f64::MIN, f64::max) - z.iter().cloned().fold(f64::MAX, f64::min);
+    assert!(span > 0.01, "the hand moves: z spans {span} m");
+    let done = wait_for(emulator, 10);
+    assert!(
+        done.status.success(),
+        "{}",
+        String::from_utf8_lossy(&done.stderr)
+    );
+    assert!(started.elapsed() < Duration::from_secs(8));
+    assert!(!Path::new(&port).exists(), "the emulator removed its port");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn emulate_ends_cleanly_on_sigterm_and_refuses_bad_options() {
+    let (emulator, port) = emulate(&["cyberglove", "--motion", "pinch"]);
+    assert!(Path::new(&port).exists(), "{port}");
+    std::thread::sleep(Duration::from_millis(300));
+    let kill = Command::new("kill")
+        .args(["-TERM", &emulator.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let done = wait_for(emulator, 10);
+    let stderr = String::from_utf8_lossy(&done.stderr);
+    assert!(done.status.success(), "{stderr}");
+    assert!(stderr.contains("stopped by a signal"), "{stderr}");
+    assert!(!Path::new(&port).exists(), "the emulator removed its port");
+    for (args, says) in [
+        (&["fastrak", "--motion", "juggle"][..], "unknown motion"),
+        (&["fastrak", "--format", "hex"][..], "ascii or binary"),
+        (&["flock", "--format", "50"][..], "36, 72 or 144"),
+        (&["cyberglove", "--corrupt", "2"][..], "probability"),
+        (&["5dt-glove5", "--seconds=-1"][..], "--seconds"),
+    ] {
+        let out = nendo().arg("emulate").args(args).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn record_starts_with_the_device_present_and_takes_in_the_other_when_it_answers() {
+    let glove = PtyEmulator::spawn(CyberGloveModel::new(SensorCount::Eighteen)).unwrap();
+    let tracker = PtyEmulator::spawn(FastrakModel::new()).unwrap();
+    // The tracker is switched off when recording starts, and switched on a second later.
+    tracker.unplug();
+    let dir = temp("record-partial");
+    let path = dir.join("partial.trace");
+    let child = nendo()
+        .args([
+            "record",
+            "--profile",
+            "cyberglove2-18-fastrak",
+            "--seconds",
+            "3",
+            "--glove-port",
+        ])
+        .arg(glove.path())
+        .arg("--tracker-port")
+        .arg(tracker.path())
+        .arg("--out")
+        .arg(&path)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(1));
+    tracker.replug();
+    let out = wait_for(child, 20);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("tracker is not there yet") && stderr.contains("cannot open serial port"),
+        "{stderr}"
+    );
+    let trace = Trace::read(&path).unwrap();
+    let first_pose = trace.frames.iter().position(|f| f.pose.is_some());
+    assert!(
+        trace.frames[0].joints.is_some() && trace.frames[0].pose.is_none(),
+        "the glove records from the start, without the tracker"
+    );
+    let first_pose = first_pose.expect("the tracker joined the recording");
+    assert!(
+        trace.frames[first_pose..]
+            .iter()
+            .filter(|f| f.pose.is_some())
+            .count()
+            > 50
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

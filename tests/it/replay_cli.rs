@@ -293,3 +293,42 @@ fn a_missing_model_or_trace_is_named_once() {
     assert!(err.contains("line 3"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 16: the window's hand loop (`HandDriver::feed`, what its Devices panel calls per
+/// frame, with the window's finger radius) and `nendo replay` with its defaults give the same
+/// surface for a shipped trace.
+#[cfg(feature = "gui")]
+#[test]
+fn the_windows_hand_loop_and_nendo_replay_give_the_same_surface() {
+    use nendo::app::document::Document;
+    use nendo::app::hand_input::HandDriver;
+    use nendo::hand::{DEFAULT_FINGER_RADIUS, FingerModel};
+
+    let dir = temp_dir("window-vs-replay");
+    let out = dir.join("replayed.json");
+    let path = shipped("plane-groove");
+    let o = nendo(&["replay", &path, "--primitive", "plane", "--out", s(&out)]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let replayed = Model::read(&out).unwrap().model;
+
+    let trace = Trace::read(Path::new(&path)).unwrap();
+    let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+    let mut doc = Document::new(Model::new(plane.clone()));
+    let mut driver = HandDriver::new(
+        trace.header.hand,
+        trace.header.world_from_tracker,
+        FingerModel::for_profile_name(trace.header.profile.as_deref()),
+        DEFAULT_FINGER_RADIUS,
+    )
+    .unwrap();
+    for f in &trace.frames {
+        driver.feed(&mut doc, f);
+    }
+    driver.end_contact(&mut doc);
+    let window = &doc.model().surface;
+    assert_ne!(window, &plane, "the trace deforms the plane");
+    assert_eq!(doc.model().regulation, replayed.regulation);
+    // The model file keeps every bit of the control points.
+    assert_eq!(window.nodes(), replayed.surface.nodes());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,4 +1,5 @@
-//! Byte-exact emulators of the serial devices, for tests and demonstrations without hardware.
+//! Byte-exact emulators of the serial devices, for tests and demonstrations without hardware
+//! (`nendo emulate` runs one in the foreground; see the README).
 //!
 //! A [`DeviceModel`] is the device's behaviour as bytes: it answers the commands the host
 //! sends and, while streaming, produces a record every period, using the protocol modules'
@@ -8,13 +9,21 @@
 //! garbage, so the stream's watchdog and reconnection are tested against real I/O.
 //!
 //! The models' motion is deterministic in the record index `k`, and each model exposes its
-//! ground truth (`values_at`, `pose_at`) so tests can check decoded frames exactly.
+//! ground truth (`values_at`, `pose_at`) so tests can check decoded frames exactly; a
+//! [`Script`] replaces it with a motion of the caller's (a scripted hand gesture). The pty can
+//! also garble the answer to a handshake command ([`PtyEmulator::garble_answer_to`]) and
+//! corrupt streamed records at random ([`PtyEmulator::corrupt_randomly`]).
+//!
+//! Only serial devices are emulated: the 5DT Ultra on USB HID would need a virtual HID device
+//! (`/dev/uhid`, root), which this crate does not create.
 
 mod models;
 #[cfg(unix)]
 mod pty;
 
-pub use models::{CyberGloveModel, FastrakModel, FlockModel, Glove5Model, Glove16Model, GlovePlug};
+pub use models::{
+    CyberGloveModel, FastrakModel, FlockModel, Glove5Model, Glove16Model, GlovePlug, Script,
+};
 #[cfg(unix)]
 pub use pty::PtyEmulator;
 

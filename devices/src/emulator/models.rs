@@ -13,6 +13,31 @@ use crate::fastrak::{self, DataFormat, FastrakFraming, FastrakRecord, Item, Unit
 use crate::fivedt::{self, Glove5Record, Glove16Packet};
 use crate::flock::{self, BirdOrientation, FlockFraming, FlockRecord, RecordMode};
 
+/// A scripted motion: the value of record `k` (a pose for a tracker, raw sensor values for a
+/// glove). Models given one ([`FastrakModel::with_path`], [`CyberGloveModel::with_values`], …)
+/// move through it instead of their test motion, so a person without hardware can watch a
+/// hand move (`nendo emulate`).
+#[derive(Clone)]
+pub struct Script<T>(Arc<dyn Fn(u64) -> T + Send + Sync>);
+
+impl<T> Script<T> {
+    /// A script from a function of the record index.
+    pub fn new(f: impl Fn(u64) -> T + Send + Sync + 'static) -> Self {
+        Script(Arc::new(f))
+    }
+
+    /// The value of record `k`.
+    pub fn at(&self, k: u64) -> T {
+        (self.0)(k)
+    }
+}
+
+impl<T> std::fmt::Debug for Script<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Script")
+    }
+}
+
 /// Whether a CyberGlove is plugged into its interface unit. A handle shared with a model
 /// running on a [`PtyEmulator`](super::PtyEmulator), so a test can pull the glove out of the
 /// unit (the serial line stays up) and plug it back in.
@@ -44,6 +69,8 @@ pub struct CyberGloveModel {
     k: u64,
     period: Duration,
     plug: GlovePlug,
+    script: Option<Script<Vec<u8>>>,
+    switch: Option<Script<bool>>,
 }
 
 impl CyberGloveModel {
@@ -57,7 +84,23 @@ impl CyberGloveModel {
             k: 0,
             period: Duration::from_millis(10),
             plug: GlovePlug(Arc::new(AtomicBool::new(true))),
+            script: None,
+            switch: None,
         }
+    }
+
+    /// The same glove moving through `script`: the raw sensor values of record `k` in sensor
+    /// order (missing values read 128; 0, which would corrupt the record, reads 1).
+    pub fn with_values(mut self, script: Script<Vec<u8>>) -> Self {
+        self.script = Some(script);
+        self
+    }
+
+    /// The same glove with its switch pressed when `script` says so (in the status byte, when
+    /// the host asks for one).
+    pub fn with_switch(mut self, script: Script<bool>) -> Self {
+        self.switch = Some(script);
+        self
     }
 
     /// The handle that plugs the glove into its interface unit and pulls it out.
@@ -88,8 +131,22 @@ impl CyberGloveModel {
             cyberglove::encode_fault(header, cyberglove::GloveFault::GloveUnplugged, out);
             return;
         }
-        let values = Self::values_at(self.sensors, self.k);
-        let status = self.status_byte.then(|| Self::status_at(self.k));
+        let values = match &self.script {
+            Some(script) => {
+                let mut v = script.at(self.k);
+                v.resize(self.sensors.count(), 128);
+                v.iter_mut().for_each(|x| *x = (*x).max(1));
+                v
+            }
+            None => Self::values_at(self.sensors, self.k),
+        };
+        let status = self.status_byte.then(|| match &self.switch {
+            Some(switch) if switch.at(self.k) => {
+                cyberglove::STATUS_GLOVE_IN | cyberglove::STATUS_SWITCH
+            }
+            Some(_) => cyberglove::STATUS_GLOVE_IN,
+            None => Self::status_at(self.k),
+        });
         cyberglove::encode_sample(header, &values, status, out);
         self.k += 1;
     }
@@ -137,6 +194,7 @@ impl DeviceModel for CyberGloveModel {
 pub struct Glove5Model {
     streaming: bool,
     k: u64,
+    script: Option<Script<[u8; 5]>>,
 }
 
 impl Glove5Model {
@@ -154,8 +212,23 @@ impl Glove5Model {
         }
     }
 
+    /// The same glove moving through `script`: the five finger bytes of record `k`, thumb
+    /// to little finger (pitch and roll level).
+    pub fn with_values(mut self, script: Script<[u8; 5]>) -> Self {
+        self.script = Some(script);
+        self
+    }
+
     fn record(&mut self, out: &mut Vec<u8>) {
-        fivedt::encode_glove5(&Self::record_at(self.k), out);
+        let record = match &self.script {
+            Some(script) => Glove5Record {
+                fingers: script.at(self.k),
+                pitch: 128,
+                roll: 128,
+            },
+            None => Self::record_at(self.k),
+        };
+        fivedt::encode_glove5(&record, out);
         self.k += 1;
     }
 }
@@ -279,6 +352,7 @@ pub struct FastrakModel {
     command: Option<Vec<u8>>,
     k: u64,
     flag_every: Option<u64>,
+    script: Option<Script<TrackerPose>>,
 }
 
 impl Default for FastrakModel {
@@ -299,7 +373,21 @@ impl FastrakModel {
             command: None,
             k: 0,
             flag_every: None,
+            script: None,
         }
+    }
+
+    /// The same tracker moving through `script` (poses in metres in the tracker's frame;
+    /// positions are kept within the ASCII field, ±999.99 units).
+    pub fn with_path(mut self, script: Script<TrackerPose>) -> Self {
+        self.script = Some(script);
+        self
+    }
+
+    /// The same tracker powered on in another record format (the host may change it).
+    pub fn with_format(mut self, format: DataFormat) -> Self {
+        self.format = format;
+        self
     }
 
     /// The same tracker, flagging every `n`-th record (those with `k mod n = n − 1`) with the
@@ -328,8 +416,12 @@ impl FastrakModel {
     }
 
     fn record(&mut self, out: &mut Vec<u8>) {
-        let pose = Self::pose_at(self.k);
-        let p = pose.position / self.units.metres();
+        let pose = match &self.script {
+            Some(script) => script.at(self.k),
+            None => Self::pose_at(self.k),
+        };
+        let p =
+            (pose.position / self.units.metres()).clamp(DVec3::splat(-999.0), DVec3::splat(999.0));
         let q = pose.orientation;
         let (az, el, roll) = q.to_euler(EulerRot::ZYX);
         let flagged = self.flag_every.is_some_and(|n| Self::is_flagged(n, self.k));
@@ -408,6 +500,7 @@ pub struct FlockModel {
     framing: FlockFraming,
     streaming: bool,
     k: u64,
+    script: Option<Script<TrackerPose>>,
 }
 
 impl Default for FlockModel {
@@ -426,7 +519,21 @@ impl FlockModel {
             },
             streaming: false,
             k: 0,
+            script: None,
         }
+    }
+
+    /// The same bird moving through `script` (poses in metres in the transmitter's frame;
+    /// positions are kept within the scale).
+    pub fn with_path(mut self, script: Script<TrackerPose>) -> Self {
+        self.script = Some(script);
+        self
+    }
+
+    /// The same bird with another position scale, inches (36, 72 or 144).
+    pub fn with_scale(mut self, inches: f64) -> Self {
+        self.framing.scale_inches = inches;
+        self
     }
 
     /// The true pose of record `k`, metres.
@@ -440,7 +547,10 @@ impl FlockModel {
     }
 
     fn record(&mut self, out: &mut Vec<u8>) {
-        let pose = Self::pose_at(self.k);
+        let pose = match &self.script {
+            Some(script) => script.at(self.k),
+            None => Self::pose_at(self.k),
+        };
         let q = pose.orientation;
         let (z, y, x) = q.to_euler(EulerRot::ZYX);
         let orientation = match self.framing.mode {
@@ -458,7 +568,13 @@ impl FlockModel {
             }
         };
         let record = FlockRecord {
-            position: Some((pose.position / 0.0254).to_array()),
+            position: Some({
+                // Within the scale, one step short of the word's end (32767/32768).
+                let s = self.framing.scale_inches * 0.999;
+                (pose.position / 0.0254)
+                    .clamp(DVec3::splat(-s), DVec3::splat(s))
+                    .to_array()
+            }),
             orientation,
         };
         flock::encode_record(&self.framing, &record, out);

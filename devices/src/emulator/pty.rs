@@ -27,6 +27,11 @@ struct Control {
     records: u64,
     dropped_bytes: u64,
     corrupt_every: Option<u64>,
+    /// Probability of flipping one bit of a streamed record, and the generator's state.
+    corrupt_probability: Option<(f64, u64)>,
+    /// Answers still to garble: (command byte, XOR mask of the answer's first byte).
+    garble: Vec<(u8, u8)>,
+    answers_garbled: u64,
     ptys_opened: u64,
 }
 
@@ -174,6 +179,27 @@ impl PtyEmulator {
         lock(&self.control).corrupt_every = n.filter(|&n| n > 0);
     }
 
+    /// Flips one bit in each streamed record with probability `p` (0 ≤ p ≤ 1; `None` or 0:
+    /// stop), drawn from a generator seeded with `seed` (the same seed corrupts the same
+    /// records).
+    pub fn corrupt_randomly(&self, p: Option<f64>, seed: u64) {
+        lock(&self.control).corrupt_probability = p
+            .filter(|p| p.is_finite() && *p > 0.0)
+            .map(|p| (p.min(1.0), seed | 1));
+    }
+
+    /// Garbles the device's answer to the next `command` byte the host sends: the answer's
+    /// first byte is XORed with `mask` (a header made unrecognisable, a phasing bit lost).
+    /// Several calls queue several answers to garble.
+    pub fn garble_answer_to(&self, command: u8, mask: u8) {
+        lock(&self.control).garble.push((command, mask));
+    }
+
+    /// Answers garbled so far ([`PtyEmulator::garble_answer_to`]).
+    pub fn answers_garbled(&self) -> u64 {
+        lock(&self.control).answers_garbled
+    }
+
     /// Every byte the host has sent so far.
     pub fn received(&self) -> Vec<u8> {
         lock(&self.control).received.clone()
@@ -203,6 +229,22 @@ impl Drop for PtyEmulator {
         }
         let _ = std::fs::remove_dir_all(&self.dir);
     }
+}
+
+/// With random corruption on, whether to flip a bit of a record of `len` bytes, and which
+/// (bit index `8·byte + bit`). xorshift64*: a fixed seed gives the same flips.
+fn random_flip(control: &Mutex<Control>, len: usize) -> Option<usize> {
+    let mut c = lock(control);
+    let (p, state) = c.corrupt_probability.as_mut()?;
+    let mut next = || {
+        *state ^= *state >> 12;
+        *state ^= *state << 25;
+        *state ^= *state >> 27;
+        state.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    };
+    let draw = (next() >> 11) as f64 / (1u64 << 53) as f64;
+    let bit = (next() % (8 * len as u64)) as usize;
+    (draw < *p).then_some(bit)
 }
 
 fn run(mut model: impl DeviceModel, mut pty: Option<Pty>, link: &Path, control: &Mutex<Control>) {
@@ -263,9 +305,21 @@ fn run(mut model: impl DeviceModel, mut pty: Option<Pty>, link: &Path, control: 
             match p.master.read(&mut buf) {
                 Ok(0) => break,
                 Ok(n) => {
-                    lock(control).received.extend_from_slice(&buf[..n]);
+                    let mut c = lock(control);
+                    c.received.extend_from_slice(&buf[..n]);
                     if !silent {
-                        model.receive(&buf[..n], &mut reply);
+                        // Byte by byte, so an answer can be told apart from the others.
+                        for &b in &buf[..n] {
+                            let before = reply.len();
+                            model.receive(&[b], &mut reply);
+                            if reply.len() > before
+                                && let Some(i) = c.garble.iter().position(|g| g.0 == b)
+                            {
+                                let (_, mask) = c.garble.remove(i);
+                                reply[before] ^= mask;
+                                c.answers_garbled += 1;
+                            }
+                        }
                     }
                 }
                 Err(e) if e.kind() == ErrorKind::Interrupted => {}
@@ -289,6 +343,11 @@ fn run(mut model: impl DeviceModel, mut pty: Option<Pty>, link: &Path, control: 
             {
                 let i = (streamed as usize * 7) % record.len();
                 record[i] ^= 1 << (streamed % 8);
+            }
+            if !record.is_empty()
+                && let Some(flip) = random_flip(control, record.len())
+            {
+                record[flip / 8] ^= 1 << (flip % 8);
             }
             write_all_or_drop(&mut p.master, &record, control);
             lock(control).records += 1;

@@ -4,6 +4,7 @@
 mod corruption;
 mod emulated_devices;
 mod fuzz;
+mod startup;
 mod stream;
 mod support;
 mod trace;

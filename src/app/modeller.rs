@@ -1398,9 +1398,22 @@ mod tests {
         m.pointer(PointerInput::Moved(centre));
         m.pointer(PointerInput::Pressed(Button::Left, centre));
         m.pointer(PointerInput::Released(Button::Left, centre));
-        // Two edits: the auto-refinement under the finger (on by default), then the push.
-        assert_eq!(m.document().revision(), 2);
+        // One edit: the push, on the grid auto-refined under the finger (on by default).
+        assert_eq!(m.document().revision(), 1);
         assert_eq!(m.document().history().undo_name(), Some("push"));
+        let surface = &m.document().model().surface;
+        assert!(
+            surface.patches_u() > 10 && surface.patches_v() > 10,
+            "refined under the finger: {} x {}",
+            surface.patches_u(),
+            surface.patches_v()
+        );
+        assert!(m.session.doc.undo());
+        assert_eq!(
+            m.document().model().surface.patches_u(),
+            10,
+            "one undo step"
+        );
     }
 
     /// Push deforms live while the button is held; Esc (or a right click) during the stroke

@@ -220,7 +220,6 @@ impl Refinement {
             return Err(RefineError::Factor(k));
         }
         let mut r = Self::none(grid);
-        let pieces: Vec<f64> = (1..k).map(|j| j as f64 / k as f64).collect();
         let (m, n) = (r.m, r.n);
         let to = (m.checked_mul(k), n.checked_mul(k));
         let (Some(to_u), Some(to_v)) = to else {
@@ -239,6 +238,8 @@ impl Refinement {
                 to_v,
             });
         }
+        // Only now, with k known to fit the grid limit, the split parameters.
+        let pieces: Vec<f64> = (1..k).map(|j| j as f64 / k as f64).collect();
         r.u = vec![pieces.clone(); m];
         r.v = vec![pieces; n];
         Ok(r)
@@ -418,10 +419,30 @@ pub struct FingerRefinement {
 /// The refinement that makes every patch the operation's finger reaches at most `r_f / 2`
 /// across (the rule of the module docs), never past [`MAX_PATCHES`].
 ///
+/// Operations whose direction follows the surface (`"normal"`) get their finger on `grid`
+/// ([`Op::finger_on`]); a move or a smooth reaches like a push of its radius at its point
+/// along the inward normal there (as deep as the move is long; a tenth of the radius for a
+/// smooth).
+///
 /// # Errors
-/// [`RefineError::Surface`] with [`SurfaceError::BadOp`] for an invalid operation.
+/// [`RefineError::Surface`] with [`SurfaceError::BadOp`] for an invalid operation (or one whose
+/// point has no surface near it).
 pub fn for_finger(grid: &Grid, op: &Op) -> Result<FingerRefinement, RefineError> {
-    let finger = op.finger()?;
+    op.validate()?;
+    let reach = match op {
+        Op::Move { at, to, radius } => Some((*at, (*to - *at).length(), *radius)),
+        Op::Smooth { at, radius, .. } => Some((*at, 0.1 * radius, *radius)),
+        _ => None,
+    };
+    let finger = match reach {
+        Some((at, depth, radius)) => Op::PushNormal {
+            at,
+            depth: depth.max(1e-3 * radius),
+            radius,
+        }
+        .finger_on(grid)?,
+        None => op.finger_on(grid)?,
+    };
     let target = finger.radius() / 2.0;
     let mut total = Refinement::none(grid);
     let mut current = grid.clone();
@@ -749,6 +770,58 @@ mod tests {
             + q[1] * (3.0 * s * s * t)
             + q[2] * (3.0 * s * t * t)
             + q[3] * (t * t * t)
+    }
+
+    /// A factor far past the grid limit (up to `usize::MAX`) is refused before anything is
+    /// allocated.
+    #[test]
+    fn a_huge_uniform_factor_is_refused_without_allocating() {
+        let g = build(Primitive::Sphere, (8, 4));
+        for k in [usize::MAX, usize::MAX / 2, 1 << 40, 100_000] {
+            assert!(
+                matches!(
+                    Refinement::uniform(&g, k),
+                    Err(RefineError::TooLarge { .. })
+                ),
+                "k = {k}"
+            );
+        }
+    }
+
+    /// The finger rule works for every operation form: along the normal, a move and a smooth
+    /// refine where they reach, like a push there.
+    #[test]
+    fn every_operation_form_has_a_finger_rule() {
+        let g = build(Primitive::Sphere, (8, 4));
+        let top = DVec3::new(0.0, 0.0, 3.0);
+        let ops = [
+            Op::PushNormal {
+                at: top,
+                depth: 0.2,
+                radius: 0.6,
+            },
+            Op::Groove {
+                path: vec![top, DVec3::new(1.0, 0.0, 2.8)],
+                dirs: crate::surface::Dirs::Normal,
+                depth: 0.2,
+                radius: 0.6,
+            },
+            Op::Move {
+                at: top,
+                to: top + DVec3::new(0.0, 0.0, 0.5),
+                radius: 0.6,
+            },
+            Op::Smooth {
+                at: top,
+                radius: 0.6,
+                strength: 0.5,
+            },
+        ];
+        for op in &ops {
+            let f = for_finger(&g, op).unwrap_or_else(|e| panic!("{op:?}: {e}"));
+            assert!(!f.refinement.is_empty(), "{op:?} refines the coarse sphere");
+            assert!((f.target - 0.3).abs() < 1e-15);
+        }
     }
 
     #[test]

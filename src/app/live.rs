@@ -238,7 +238,8 @@ impl LiveInput {
             return;
         };
         self.disconnect_from(doc);
-        let stream = match HandStream::open(&profile, &StreamOptions::default()) {
+        // A device that is off now is retried until it answers, as one unplugged mid-session.
+        let stream = match HandStream::connect(&profile, &StreamOptions::default()) {
             Ok(stream) => stream,
             Err(e) => {
                 self.message = Some(e.to_string());
@@ -630,5 +631,42 @@ mod tests {
             live.message.as_deref(),
             Some("the mouse drives the hand (Hand tool)")
         );
+    }
+
+    /// Connect starts even when neither device is there now (both ports missing): the stream
+    /// keeps retrying them, as for a device unplugged mid-session, instead of failing with
+    /// "cannot open serial port".
+    #[test]
+    fn connect_starts_with_absent_devices_and_retries_them() {
+        let mut profiles = profile::builtin();
+        let k = profiles
+            .iter()
+            .position(|p| {
+                matches!(&p.input, Input::Devices { glove: Some(g), tracker: Some(_) } if g.port().is_some())
+            })
+            .expect("a built-in serial glove and tracker profile");
+        if let Input::Devices {
+            glove: Some(glove),
+            tracker: Some(tracker),
+        } = &mut profiles[k].input
+        {
+            glove.set_port("/nonexistent/nendo-glove");
+            tracker.set_port("/nonexistent/nendo-tracker");
+        }
+        let mut live = LiveInput {
+            profiles,
+            selected: k,
+            radius: crate::hand::DEFAULT_FINGER_RADIUS,
+            ..LiveInput::default()
+        };
+        let mut doc = plane_doc();
+        assert!(live.connect_or_mouse(&mut doc).is_none());
+        assert!(
+            live.is_connected(),
+            "connected, retrying: {:?}",
+            live.message
+        );
+        live.disconnect_from(&mut doc);
+        assert!(!live.is_connected());
     }
 }

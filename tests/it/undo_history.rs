@@ -6,6 +6,7 @@ use glam::DVec3;
 use nendo::app::Document;
 use nendo::app::curve_edit::straight_cubic;
 use nendo::app::history::History;
+use nendo::bench::live::{Strokes, typical_stroke};
 use nendo::curve::json::DynCurve;
 use nendo::curve::{Bezier, Curve};
 use nendo::model::Model;
@@ -48,45 +49,10 @@ fn point(rng: &mut ChaCha8Rng, n: usize) -> DVec3 {
     DVec3::new(rng.gen_range(-h..h), rng.gen_range(-h..h), 0.0)
 }
 
-/// A typical stroke as the window makes it: a push, pull or drawn line of the default finger
-/// (radius 1.25, depth 0.3), live over a few frames.
-fn stroke(doc: &mut Document, rng: &mut ChaCha8Rng, n: usize) {
-    let at = point(rng, n);
-    let depth = rng.gen_range(-0.3..0.3);
-    if rng.gen_bool(0.5) {
-        doc.begin_stroke(if depth < 0.0 { "pull" } else { "push" });
-        // A live push: redone from the start with a growing depth.
-        for k in 1..=3 {
-            doc.rewind_stroke();
-            let op = Op::Push {
-                at,
-                dir: -DVec3::Z,
-                depth: depth * f64::from(k) / 3.0,
-                radius: 1.25,
-            };
-            let _ = doc.apply(&op);
-        }
-    } else {
-        doc.begin_stroke("draw a line");
-        let mut last = at;
-        for _ in 0..3 {
-            let next = last + DVec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), 0.0);
-            let op = Op::Drag {
-                path: vec![last, next],
-                dir: -DVec3::Z,
-                depth,
-                radius: 1.25,
-            };
-            let _ = doc.apply(&op);
-            last = next;
-        }
-    }
-    doc.end_stroke();
-}
-
 #[test]
 fn a_thousand_random_edits_undo_to_the_start_and_redo_to_the_end_bit_for_bit() {
     let mut rng = ChaCha8Rng::seed_from_u64(1000);
+    let mut strokes = Strokes::new(1000);
     let n = 12;
     let start = plane(n);
     let mut doc = Document::new(start.clone());
@@ -135,7 +101,7 @@ fn a_thousand_random_edits_undo_to_the_start_and_redo_to_the_end_bit_for_bit() {
                 assert_identical(doc.model(), &before, "cancelled stroke");
                 continue;
             }
-            _ => stroke(&mut doc, &mut rng, n),
+            _ => typical_stroke(&mut doc, &mut strokes, n),
         }
         steps += 1;
     }
@@ -170,8 +136,8 @@ fn a_thousand_random_edits_undo_to_the_start_and_redo_to_the_end_bit_for_bit() {
 #[test]
 fn a_stroke_undo_changes_only_the_patches_it_touched() {
     let mut doc = Document::new(plane(64));
-    let mut rng = ChaCha8Rng::seed_from_u64(7);
-    stroke(&mut doc, &mut rng, 8);
+    let mut strokes = Strokes::new(7);
+    typical_stroke(&mut doc, &mut strokes, 8);
     let revision = doc.revision();
     assert!(doc.undo());
     let changed = doc
@@ -189,9 +155,9 @@ fn a_stroke_undo_changes_only_the_patches_it_touched() {
 fn a_thousand_typical_strokes_on_256_by_256_fit_in_100_mb() {
     let n = 256;
     let mut doc = Document::new(plane(n));
-    let mut rng = ChaCha8Rng::seed_from_u64(256);
+    let mut strokes = Strokes::new(256);
     for _ in 0..1000 {
-        stroke(&mut doc, &mut rng, n);
+        typical_stroke(&mut doc, &mut strokes, n);
     }
     let history = doc.history();
     assert_eq!(history.undo_len(), 1000, "no step was dropped");

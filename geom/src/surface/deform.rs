@@ -42,6 +42,7 @@ use super::nearest::nearest;
 use super::regulate::{self, Projections, Regulation};
 use super::shape_fn::{Finger, Op};
 use super::smooth::{EnergyDrop, HALVINGS, energy_of, patch_energy, thin_plate_matrix};
+use super::topology::wrap;
 use std::collections::HashMap;
 
 /// The largest absolute value a control-point coordinate may take (10⁵⁰).
@@ -819,17 +820,6 @@ impl Sculptor {
         }
         // Marks from a different grid of the same size must not count: they are only ever
         // compared with the current generation, which no earlier operation used.
-    }
-}
-
-/// `i` wrapped into `0..len` around a closed direction; `None` outside an open one.
-fn wrap(i: isize, len: usize, closed: bool) -> Option<usize> {
-    if closed {
-        Some(i.rem_euclid(len as isize) as usize)
-    } else if (0..len as isize).contains(&i) {
-        Some(i as usize)
-    } else {
-        None
     }
 }
 

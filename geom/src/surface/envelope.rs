@@ -41,6 +41,7 @@ use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
 use super::mirror::Symmetry;
 use super::regulate::{self, Projections, Regulation};
+use super::topology::wrap;
 use super::{Aabb, Finger, Grid, Op, SurfaceError, verify};
 
 /// One placement of the finger during a contact.
@@ -531,17 +532,6 @@ fn reaches(
         }
     }
     Ok(())
-}
-
-/// `i` wrapped into `0..len` around a closed direction; `None` outside an open one.
-fn wrap(i: isize, len: usize, closed: bool) -> Option<usize> {
-    if closed {
-        Some(i.rem_euclid(len as isize) as usize)
-    } else if (0..len as isize).contains(&i) {
-        Some(i as usize)
-    } else {
-        None
-    }
 }
 
 #[cfg(test)]

@@ -109,6 +109,17 @@ impl FromStr for Topology {
     }
 }
 
+/// `i` wrapped into `0..len` around a closed direction; `None` outside an open one.
+pub(crate) fn wrap(i: isize, len: usize, closed: bool) -> Option<usize> {
+    if closed {
+        Some(i.rem_euclid(len as isize) as usize)
+    } else if (0..len as isize).contains(&i) {
+        Some(i as usize)
+    } else {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

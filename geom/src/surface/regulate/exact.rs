@@ -98,6 +98,7 @@ use glam::DVec3;
 use super::super::grid::Grid;
 use super::super::group::Group;
 use super::super::plane_fit::symmetric_eigen;
+use super::super::topology::wrap;
 use super::{GroupPoints, PolePoints};
 
 /// Gram matrix entries `∫₀¹ B_i³ B_k³` for `i, k ∈ {0, 1}` (the vertex row and the next).
@@ -505,17 +506,6 @@ impl Coupled {
             }
         }
         true
-    }
-}
-
-/// `i` wrapped into `0..len` around a closed direction; `None` outside an open one.
-fn wrap(i: isize, len: usize, closed: bool) -> Option<usize> {
-    if closed {
-        Some(i.rem_euclid(len as isize) as usize)
-    } else if (0..len as isize).contains(&i) {
-        Some(i as usize)
-    } else {
-        None
     }
 }
 

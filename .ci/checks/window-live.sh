@@ -42,15 +42,9 @@ fail() {
   exit 1
 }
 
-export XDG_RUNTIME_DIR="$WORK/xdg"
-mkdir -p "$XDG_RUNTIME_DIR" && chmod 700 "$XDG_RUNTIME_DIR"
-export XDG_STATE_HOME="$WORK/state"
-
-Xvfb -displayfd 3 -screen 0 1600x1000x24 -nolisten tcp 3>"$WORK/display" 2>"$WORK/xvfb.log" &
-XVFB_PID=$!
-for _ in $(seq 100); do [ -s "$WORK/display" ] && break; sleep 0.1; done
-[ -s "$WORK/display" ] || fail "Xvfb did not start"
-export DISPLAY=":$(head -n1 "$WORK/display")"
+# shellcheck source=lib/xvfb.sh
+. .ci/checks/lib/xvfb.sh
+start_xvfb
 
 # Starts the app (extra arguments pass through) and waits for its first drawn frame.
 start_app() {

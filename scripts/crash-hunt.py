@@ -70,6 +70,7 @@ SHARES = {
     "morph": 3731,
     "devices": 4045,
     "record": 4182,
+    "refine": 3000,
 }
 DEFAULT_COUNT = 84000
 BATCH_LINES = 8
@@ -567,6 +568,11 @@ class Seeds:
             b'{"op":"drag","path":[[-0.5,0,0],[0.5,0,0]],"dir":[0,0,-1],"depth":0.1,"radius":0.3}',
             b'{"op":"drag","path":[[0,0,1],[0.2,0.1,1],[0.4,0.1,0.9]],"dir":[0,0,-1],"depth":-0.05,"radius":0.2}',
             b'{"op":"push","at":[0,0,1],"dir":[0,0,-1],"depth":0.1,"radius":0.3}',
+            b'{"op":"push","at":[0,0,1],"dir":"normal","depth":0.1,"radius":0.3}',
+            b'{"op":"drag","path":[[-0.5,0,0],[0,0.2,0],[0.5,0,0]],"dir":"normal","depth":0.1,"radius":0.3}',
+            b'{"op":"drag","path":[[-0.5,0,0],[0.5,0,0]],"dirs":[[0,0,-1],[0,0.1,-1]],"depth":0.1,"radius":0.3}',
+            b'{"op":"move","at":[0,0,0],"to":[0.1,0.2,0.3],"radius":0.5}',
+            b'{"op":"smooth","at":[0.2,0,0],"radius":0.6,"strength":0.5}',
         ]
         batch = read(os.path.join(ROOT, "tests/data/curves/batch.jsonl"))
         self.curve_lines = [l for l in batch.split(b"\n") if l.strip()]
@@ -688,6 +694,10 @@ def gen_sculpt(rng, seeds):
                 c["argv"] += [flag, rng.choice(HOSTILE_FLOATS) if maybe(rng, 0.5) else rng.choice(["0.5", "1", "2", "0.1"])]
     if maybe(rng, 0.2):
         c["argv"] += ["--regulation", rng.choice(["none", "c1", "g1", "exact", "default", "", "G1", "x"])]
+    if maybe(rng, 0.15):
+        c["argv"] += ["--mirror", rng.choice(["x", "y", "z"]) if maybe(rng, 0.9) else rng.choice(["", "X", "w", "xy"])]
+    if maybe(rng, 0.15):
+        c["argv"].append("--auto-refine")
     if maybe(rng, 0.8):
         lines = [rng.choice(seeds.ops_lines) for _ in range(rng.choice([1, 1, 2, 3, 5]))]
         data = b"\n".join(lines) + b"\n"
@@ -722,13 +732,31 @@ def gen_check(rng, seeds):
 def gen_export(rng, seeds):
     c = new_case("export")
     c["argv"].append(model_input(rng, seeds, c))
-    ext = rng.choice([".obj", ".stl", ".glb"]) if maybe(rng, 0.95) else rng.choice(["", ".OBJ", ".ply", ".glb.tmp"])
+    ext = rng.choice([".obj", ".stl", ".glb", ".step", ".stp", ".igs", ".iges"]) if maybe(rng, 0.95) else rng.choice(["", ".OBJ", ".ply", ".glb.tmp", ".STEP"])
     c["argv"].append(out_path(rng, c, "mesh" + ext))
+    if maybe(rng, 0.15):
+        c["argv"] += ["--up", rng.choice(["y", "z"]) if maybe(rng, 0.8) else rng.choice(["x", "", "Y", "-z"])]
+    if maybe(rng, 0.15):
+        c["argv"] += ["--scale", rng.choice(HOSTILE_FLOATS) if maybe(rng, 0.6) else rng.choice(["1", "25.4", "1000"])]
     tol = rng.choice(HOSTILE_FLOATS) if maybe(rng, 0.3) else rng.choice(["0.05", "0.01", "0.1", "0.2"])
     # fine tolerances are heavy: keep them rare
     if tol in ("1e-320", "5e-324", "1e-300") and not maybe(rng, 0.3):
         tol = "0.05"
     c["argv"] += ["--tolerance", tol]
+    return c
+
+
+def gen_refine(rng, seeds):
+    c = new_case("refine")
+    c["argv"].append(model_input(rng, seeds, c, mutate_p=0.6))
+    if maybe(rng, 0.5):
+        k = rng.choice(HOSTILE_INTS) if maybe(rng, 0.3) else rng.choice(["1", "2", "3"])
+        c["argv"] += ["--uniform", k]
+    for flag in ("--insert-u", "--insert-v"):
+        if maybe(rng, 0.45):
+            ts = [rng.choice(HOSTILE_FLOATS) if maybe(rng, 0.3) else f"{rng.uniform(0, 4):.3f}" for _ in range(rng.choice([1, 1, 2, 3]))]
+            c["argv"] += [flag, ",".join(ts) if maybe(rng, 0.95) else ",".join(ts) + ","]
+    c["argv"] += ["--out", out_path(rng, c, "out.json")]
     return c
 
 
@@ -1057,6 +1085,7 @@ GENERATORS = {
     "morph": gen_morph,
     "devices": gen_devices,
     "record": gen_record,
+    "refine": gen_refine,
 }
 
 

@@ -12,16 +12,34 @@ pub struct Contour {
 }
 
 impl Contour {
+    /// The largest coordinate magnitude a contour may have. Far beyond any drawing, and small
+    /// enough that the contour's extent, its area and the sampling grids laid over its bounds
+    /// stay finite (a vertex at 1.8e308 made the extent overflow and the sampling never end).
+    pub const MAX_COORDINATE: f64 = 1e12;
+
     /// A contour through `points`. Repeated consecutive vertices (and a last vertex equal to the
     /// first) are dropped.
     ///
     /// # Errors
     /// [`FigureError::NotFinite`] for a NaN or infinite coordinate, [`FigureError::Contour`]
-    /// with fewer than three distinct vertices or a zero area; `what` names the contour.
+    /// for a coordinate beyond ±[`Contour::MAX_COORDINATE`], with fewer than three distinct
+    /// vertices or a zero area; `what` names the contour.
     pub fn new(points: Vec<DVec2>, what: &str) -> Result<Self, FigureError> {
         if let Some(i) = points.iter().position(|p| !p.is_finite()) {
             return Err(FigureError::NotFinite {
                 what: format!("{what} vertex {i}"),
+            });
+        }
+        if let Some(i) = points
+            .iter()
+            .position(|p| p.abs().max_element() > Self::MAX_COORDINATE)
+        {
+            return Err(FigureError::Contour {
+                what: what.to_string(),
+                reason: format!(
+                    "vertex {i} lies beyond ±{:e}, where sizes and areas are no longer representable",
+                    Self::MAX_COORDINATE
+                ),
             });
         }
         let mut clean: Vec<DVec2> = Vec::with_capacity(points.len());
@@ -244,5 +262,20 @@ mod tests {
         let e =
             Contour::new(vec![DVec2::ZERO, DVec2::X, DVec2::new(f64::NAN, 1.0)], "c").unwrap_err();
         assert!(e.to_string().contains("c vertex 2"));
+    }
+
+    #[test]
+    fn rejects_vertices_too_far_for_its_extent_to_be_finite() {
+        let far = vec![
+            DVec2::new(10.0, 50.0),
+            DVec2::new(40.0, 20.0),
+            DVec2::new(-1.797_693_134_862_315_7e308, 50.0),
+            DVec2::new(40.0, 80.0),
+        ];
+        let e = Contour::new(far, "d").unwrap_err();
+        assert!(e.to_string().contains("vertex 2"), "{e}");
+        let edge = Contour::MAX_COORDINATE;
+        let ok = vec![DVec2::ZERO, DVec2::new(edge, 0.0), DVec2::new(0.0, -edge)];
+        assert!(Contour::new(ok, "e").is_ok());
     }
 }

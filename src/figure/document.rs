@@ -19,9 +19,9 @@
 //!   0.5, positive), `name`, `view` (the rectangle drawn; default the figure's bounds),
 //!   `background` (default white), `metacircles` (default none; `colour` default `#8a5a3c`,
 //!   `radius ≥ 0`, `density` of any sign), `contour` (a closed polygon, the outline the figure
-//!   was fitted to), `polygons` (closed, each with a colour), `curves` (2D curves in the form of
-//!   [`crate::curve::json`]; in a morph, curve `k` of the source corresponds to curve `k` of
-//!   the destination).
+//!   was fitted to, its coordinates within ±1e12), `polygons` (closed, each with a colour),
+//!   `curves` (2D curves in the form of [`crate::curve::json`]; in a morph, curve `k` of the
+//!   source corresponds to curve `k` of the destination).
 //! * Reading refuses unknown and repeated members, validates every number and says where a
 //!   problem is (the member's path, line and column; see [`crate::json_doc`]); the text is
 //!   produced and consumed by the callers (the library reads and writes no files).

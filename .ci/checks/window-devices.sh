@@ -5,7 +5,8 @@
 #
 # 1. The window starts with both devices off: Connect still starts, both read Disconnected.
 # 2. The emulators start: both devices reach Ok (the window retries them), the hand is drawn,
-#    and the press gesture deforms the clay (a contact counted, the 3D view changed).
+#    and the press gesture deforms the clay (a contact counted, the 3D view changed, the
+#    autosaved model apart from the plane).
 # 3. The glove emulator is stopped: the glove reads Disconnected with an error.
 # 4. It is started again on the same path: the glove is Ok again and its error is gone.
 #
@@ -115,7 +116,18 @@ sleep 1.5
 view_shot pressed
 pressed="$(differ before pressed)"
 awk -v d="$pressed" 'BEGIN { exit !(d + 0 > 2000) }' || fail "the hand and the dent did not change the view ($pressed pixels)"
-echo "hand drawn, clay pressed: $(jq .contacts "$WORK/status.json") contact(s), $pressed pixels of the view changed"
+# The clay itself (the hand hides the dent from this view): the autosave against the plane.
+"$BIN" sculpt --primitive plane --out "$WORK/plane.json" 2>/dev/null
+deviation=0
+for _ in $(seq 40); do
+  if [ -s "$WORK/autosave.nendo.json" ]; then
+    deviation="$("$BIN" check "$WORK/autosave.nendo.json" --against "$WORK/plane.json" 2>/dev/null | jq '.deviation.max' || echo 0)"
+    awk -v d="$deviation" 'BEGIN { exit !(d + 0 > 0.01) }' && break
+  fi
+  sleep 0.25
+done
+awk -v d="$deviation" 'BEGIN { exit !(d + 0 > 0.01) }' || fail "the autosaved clay is still the plane (deviation $deviation)"
+echo "hand drawn, clay pressed: $(jq .contacts "$WORK/status.json") contact(s), $pressed pixels of the view changed, the autosave $deviation sides from the plane"
 
 # --- 3: the glove goes away.
 kill "$GLOVE_PID"

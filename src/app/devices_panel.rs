@@ -370,15 +370,21 @@ impl LiveInput {
                     }
                 });
                 ui.horizontal(|ui| {
-                    let mut scale = profile.world_from_tracker.scale;
+                    let mut scale = self.scale_edit.unwrap_or(profile.world_from_tracker.scale);
                     ui.label("sides per metre");
                     let r = ui.add(
                         egui::DragValue::new(&mut scale)
                             .speed(0.1)
                             .range(0.01..=100_000.0),
                     );
-                    if r.changed() && !r.dragged() || r.drag_stopped() {
-                        self.set_scale(doc, scale);
+                    if r.changed() {
+                        self.scale_edit = Some(scale);
+                    }
+                    // Applied (and saved) when typed, or when the drag ends.
+                    if ((r.changed() && !r.dragged()) || r.drag_stopped())
+                        && let Some(s) = self.scale_edit.take()
+                    {
+                        self.set_scale(doc, s);
                     }
                 });
                 let radius = self.radius(&profile, false);
@@ -403,7 +409,7 @@ impl LiveInput {
                         if resp.changed() {
                             self.radius_set = Some(r);
                         }
-                        if resp.drag_stopped() || resp.changed() && !resp.dragged() {
+                        if resp.drag_stopped() || (resp.changed() && !resp.dragged()) {
                             self.rebuild_hand(doc);
                         }
                     }

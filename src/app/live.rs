@@ -284,6 +284,8 @@ pub struct LiveInput {
     pub(super) calibration: CalibrationCapture,
     /// The hand size being edited.
     pub(super) hand_edit: Option<HandSize>,
+    /// The sides per metre being dragged.
+    pub(super) scale_edit: Option<f64>,
     /// The user's profile folder (`None`: none is listed or written; tests).
     profile_dir: Option<PathBuf>,
     /// `NENDO_STATUS_FILE` and when it was last written.
@@ -382,9 +384,15 @@ impl LiveInput {
         self.select(found.unwrap_or(self.selected.min(self.entries.len().saturating_sub(1))));
     }
 
-    /// Selects an entry; its ports are the remembered ones, or the profile's own.
+    /// Selects an entry (keeping the ports typed for the one selected before); its ports are
+    /// the remembered ones, or the profile's own.
     pub(super) fn select(&mut self, index: usize) {
         self.remember_ports();
+        self.show_entry(index);
+    }
+
+    /// Selects an entry with its remembered ports, or the profile's own.
+    fn show_entry(&mut self, index: usize) {
         self.selected = index;
         let Some(entry) = self.entries.get(index) else {
             return;
@@ -495,14 +503,16 @@ impl LiveInput {
         self.radius_set = settings.finger_radius.filter(|r| r.is_finite() && *r > 0.0);
         let wanted = settings.profile.as_deref();
         let found = wanted.and_then(|k| self.entries.iter().position(|e| e.key() == k));
+        // The ports shown so far are the defaults, not the user's: nothing to keep.
         match (found, wanted) {
-            (Some(k), _) => self.select(k),
+            (Some(k), _) => self.show_entry(k),
             (None, Some(path)) if Path::new(path).is_file() => {
+                self.show_entry(self.selected);
                 if let Err(e) = self.open_profile_file(Path::new(path)) {
                     self.message = Some(format!("the remembered profile: {e}"));
                 }
             }
-            _ => self.select(self.selected),
+            _ => self.show_entry(self.selected),
         }
     }
 
@@ -1459,6 +1469,27 @@ mod tests {
         );
         assert_eq!(again.tracker_port, "/dev/ttyUSB7");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Ports are remembered per profile, and a restart (settings applied) keeps every
+    /// profile's, not only the selected one's.
+    #[test]
+    fn ports_are_remembered_per_profile() {
+        let mut live = listed();
+        let k = glove_and_tracker(&live);
+        assert!(live.entries[0].profile.glove().is_some() && k != 0);
+        live.select(0);
+        live.glove_port = "/dev/ttyA".into();
+        live.select(k);
+        live.tracker_port = "/dev/ttyB".into();
+        let mut settings = Settings::default();
+        live.store_settings(&mut settings);
+        let mut again = listed();
+        again.apply_settings(&settings);
+        assert_eq!(again.selected, k);
+        assert_eq!(again.tracker_port, "/dev/ttyB");
+        again.select(0);
+        assert_eq!(again.glove_port, "/dev/ttyA");
     }
 
     /// The follow-the-hand radius: the library's default for a hand fitted to the 10-side

@@ -17,6 +17,8 @@
 //! | [`mouse`] | [`MouseHand`]: a hand driven by the mouse's view ray |
 //! | [`trace`] | the recorded-trace text format, reader and atomic writer |
 //! | [`profile`] | device profiles (JSON): ports, calibration, tracker-to-world transform, hand size |
+//! | [`alignment`] | recenter and scale the tracker-to-world transform, fit the hand to the model |
+//! | [`glove_calibration`] | a glove's offsets and gains from a flat hand, a fist and the thumb out |
 //! | [`discover`] | serial ports and HID devices present, and which profile fits each |
 //! | [`emulator`] | byte-exact device emulators on pseudo-terminals, for tests and demonstrations |
 //! | [`throughput`] | decode throughput per protocol (the `nendo bench input` table) |
@@ -41,6 +43,7 @@
 //! the records it reads, in its own words.
 #![warn(missing_docs)]
 
+pub mod alignment;
 pub mod cyberglove;
 pub mod decode;
 pub mod device;
@@ -51,6 +54,7 @@ pub mod fastrak;
 pub mod fivedt;
 pub mod flock;
 pub mod frame;
+pub mod glove_calibration;
 pub mod mouse;
 pub mod profile;
 pub mod serial;

@@ -227,6 +227,17 @@ impl GloveProfile {
         }
     }
 
+    /// The calibration table, to replace (a glove calibration writes it; the sensor count
+    /// must stay, see [`GloveProfile::validate`]).
+    pub fn calibration_mut(&mut self) -> &mut Vec<SensorCalibration> {
+        match self {
+            GloveProfile::CyberGlove { calibration, .. }
+            | GloveProfile::FiveDtGlove5 { calibration, .. }
+            | GloveProfile::FiveDtGlove16 { calibration, .. }
+            | GloveProfile::FiveDtUltraUsb { calibration, .. } => calibration,
+        }
+    }
+
     /// The protocol's name in profiles.
     pub fn protocol(&self) -> &'static str {
         match self {
@@ -780,6 +791,38 @@ impl Profile {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }
 
+    /// Validates the profile and writes it to `path` as pretty JSON, atomically (the one safe
+    /// writer, `nendo_file`): a failed write leaves any earlier file as it was.
+    ///
+    /// # Errors
+    /// [`DeviceError::Profile`] for a profile that does not validate, [`DeviceError::File`]
+    /// when the file cannot be written.
+    pub fn save(&self, path: &Path) -> Result<(), DeviceError> {
+        self.validate(&path.display().to_string())?;
+        let mut text = self.to_json();
+        text.push('\n');
+        nendo_file::write_bytes(path, text.as_bytes()).map_err(|e| DeviceError::File {
+            path: path.to_path_buf(),
+            error: e.into_io(),
+        })
+    }
+
+    /// The glove, to change (its port, its calibration).
+    pub fn glove_mut(&mut self) -> Option<&mut GloveProfile> {
+        match &mut self.input {
+            Input::Devices { glove, .. } => glove.as_mut(),
+            _ => None,
+        }
+    }
+
+    /// The tracker, to change (its port).
+    pub fn tracker_mut(&mut self) -> Option<&mut TrackerProfile> {
+        match &mut self.input {
+            Input::Devices { tracker, .. } => tracker.as_mut(),
+            _ => None,
+        }
+    }
+
     /// Checks everything serde cannot: format and version, sensor counts against calibration
     /// tables, ranges.
     pub fn validate(&self, name: &str) -> Result<(), DeviceError> {
@@ -898,6 +941,11 @@ pub fn builtin() -> Vec<Profile> {
         .collect()
 }
 
+/// Whether `name` is a shipped profile's name.
+pub fn is_builtin(name: &str) -> bool {
+    BUILTIN.iter().any(|(n, _)| *n == name)
+}
+
 /// A profile by shipped name (`cyberglove2-18`) or by path to a JSON file.
 pub fn resolve(name_or_path: &str) -> Result<Profile, DeviceError> {
     if let Some((name, text)) = BUILTIN.iter().find(|(n, _)| *n == name_or_path) {
@@ -979,6 +1027,28 @@ mod tests {
         assert!((a.get(Joint::IndexMcp).unwrap() - 1.0).abs() < 1e-12);
         assert_eq!(a.len(), 1);
         assert!(calibrate(&table, &[1e6, 0.0]).is_err());
+    }
+
+    #[test]
+    fn a_saved_profile_reads_back_the_same() {
+        let mut p = resolve("cyberglove2-18-fastrak").unwrap();
+        p.name = "mine".into();
+        if let Some(g) = p.glove_mut() {
+            g.set_port("/tmp/glove");
+            g.calibration_mut()[0].offset = 12.5;
+        }
+        let dir = std::env::temp_dir().join(format!("nendo-profile-save-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("mine.json");
+        p.save(&path).unwrap();
+        assert_eq!(Profile::load(&path).unwrap(), p);
+        // An invalid profile is refused and the file is left as it was.
+        let mut bad = p.clone();
+        bad.world_from_tracker.scale = -1.0;
+        assert!(bad.save(&path).is_err());
+        assert_eq!(Profile::load(&path).unwrap(), p);
+        assert!(is_builtin("fastrak") && !is_builtin("mine"));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -20,6 +20,12 @@ pub enum DialogPurpose {
     SaveOps,
     /// Replay an operations file.
     ReplayOps,
+    /// Open a device profile (JSON).
+    OpenProfile,
+    /// Name the trace file a device session records to.
+    RecordTrace,
+    /// Pick a recorded trace to replay.
+    ReplayTrace,
 }
 
 impl DialogPurpose {
@@ -30,6 +36,9 @@ impl DialogPurpose {
             DialogPurpose::ExportMesh => "Export (.obj, .stl, .glb; exact: .step, .igs)",
             DialogPurpose::SaveOps => "Save recorded operations",
             DialogPurpose::ReplayOps => "Replay operations",
+            DialogPurpose::OpenProfile => "Open a device profile",
+            DialogPurpose::RecordTrace => "Record the device session to (.trace)",
+            DialogPurpose::ReplayTrace => "Replay a hand trace (.trace)",
         }
     }
 
@@ -37,7 +46,10 @@ impl DialogPurpose {
     fn saves(self) -> bool {
         matches!(
             self,
-            DialogPurpose::SaveModel | DialogPurpose::ExportMesh | DialogPurpose::SaveOps
+            DialogPurpose::SaveModel
+                | DialogPurpose::ExportMesh
+                | DialogPurpose::SaveOps
+                | DialogPurpose::RecordTrace
         )
     }
 
@@ -49,6 +61,8 @@ impl DialogPurpose {
                 &[".obj", ".stl", ".glb", ".step", ".stp", ".igs", ".iges"]
             }
             DialogPurpose::SaveOps | DialogPurpose::ReplayOps => &[".jsonl", ".ops", ".txt"],
+            DialogPurpose::OpenProfile => &[".json"],
+            DialogPurpose::RecordTrace | DialogPurpose::ReplayTrace => &[".trace"],
         }
     }
 }

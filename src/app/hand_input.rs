@@ -29,6 +29,8 @@ pub struct HandDriver {
     recorded: bool,
     /// Why the surface last refused a frame's placements (the status line shows it).
     refused: Option<SurfaceError>,
+    /// Contacts that changed the surface (one undoable edit each).
+    contacts: u64,
 }
 
 impl HandDriver {
@@ -54,7 +56,22 @@ impl HandDriver {
             before: None,
             recorded: false,
             refused: None,
+            contacts: 0,
         })
+    }
+
+    /// The same driver with its contact count starting at `contacts` (a hand rebuilt after an
+    /// alignment change keeps counting).
+    #[must_use]
+    pub fn with_contacts(mut self, contacts: u64) -> Self {
+        self.contacts = contacts;
+        self
+    }
+
+    /// Contacts that have changed the surface so far.
+    #[must_use]
+    pub fn contacts(&self) -> u64 {
+        self.contacts
     }
 
     /// The loop (pose, fingertip, counters).
@@ -80,6 +97,7 @@ impl HandDriver {
                 doc.record_undo("hand", before);
             }
             self.recorded = true;
+            self.contacts += 1;
         }
         if let Some(ops) = outcome.committed {
             doc.record_ops(&ops);

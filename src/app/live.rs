@@ -11,6 +11,23 @@
 //! surface), and draws the hand. The geometry work happens on the window's thread, at frame
 //! time, on all the frames received since the last one — so a slow frame delays the clay but
 //! never loses a sample.
+//!
+//! Around the loop, [`LiveInput`] keeps what the Devices panel ([`super::devices_panel`])
+//! edits: the profiles listed (shipped ones, the user's profile folder, files opened), the
+//! ports chosen, the recording, the alignment and the glove calibration — both written into the
+//! user's profile ([`nendo_devices::alignment`], [`nendo_devices::glove_calibration`]).
+//!
+//! The finger radius of a device hand follows the hand's size in the world unless it is set:
+//! `r = DEFAULT_FINGER_RADIUS · L · s / (FIT_FRACTION · 10)`, `L` the hand's length (metres),
+//! `s` the profile's sides per metre — so a hand fitted to the default 10-side plane
+//! ("Fit the hand to the model") touches with the library's default radius, and a hand half as
+//! large with half of it. A replayed trace is read with `DEFAULT_FINGER_RADIUS` unless set, as
+//! `nendo replay` reads it.
+//!
+//! Test aid: with `NENDO_STATUS_FILE=PATH` the window rewrites PATH (atomically, at most four
+//! times a second) with one JSON object: the session (`none`, `devices`, `replay`), each
+//! device's status as the panel shows it, whether the hand is drawn and how many contacts it
+//! has made — what `.ci/checks/window-devices.sh` waits on.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -18,18 +35,31 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use nendo_devices::discover::{Inventory, inventory};
+use glam::DVec3;
+use nendo_devices::discover::Inventory;
+use nendo_devices::glove_calibration::{CalibrationPose, PoseSamples, SensorFit, calibrate_glove};
 use nendo_devices::profile::{Input, MouseProfile};
 use nendo_devices::{
-    DeviceError, HandFrame, HandStream, Profile, SourceState, StreamOptions, Trace, TraceWriter,
-    profile,
+    DeviceError, DeviceStatus, HandFrame, HandSize, HandStream, Profile, SourceState,
+    StreamOptions, Trace, TraceWriter, TrackerPose, WorldFromTracker, alignment, profile,
 };
 
 use super::document::Document;
+use super::file_dialog::{DialogPurpose, FileDialog};
 use super::hand_input::HandDriver;
-use crate::hand::FingerModel;
+use super::settings::{DevicePorts, Settings};
+use crate::hand::{DEFAULT_FINGER_RADIUS, FingerModel};
 use crate::render::{LineBatch, SphereInstance};
 use crate::surface::SurfaceError;
+
+/// The environment variable naming the machine-readable status file (a test aid).
+pub const STATUS_FILE_ENV: &str = "NENDO_STATUS_FILE";
+
+/// The side of the model the follow-the-hand radius is referred to (the default plane's).
+const REFERENCE_EXTENT: f64 = 10.0;
+
+/// How long each calibration pose is captured.
+pub const CAPTURE: Duration = Duration::from_millis(1000);
 
 /// What the loop thread shares with the window.
 #[derive(Debug, Default)]
@@ -55,9 +85,10 @@ enum LiveError {
 
 #[derive(Debug, Clone, Default)]
 struct LoopStatus {
-    tracker: SourceState,
-    glove: SourceState,
-    last_error: Option<String>,
+    /// Each device, as [`HandStream::status`] gives it.
+    devices: Vec<DeviceStatus>,
+    /// A recording error (the device errors are per device).
+    recording_error: Option<String>,
     finished: bool,
 }
 
@@ -72,6 +103,10 @@ struct Session {
     shared: Arc<Shared>,
     thread: Option<JoinHandle<()>>,
     started: Instant,
+    /// The trace a replay plays.
+    replay: Option<PathBuf>,
+    /// The trace the session records to.
+    recording: Option<PathBuf>,
 }
 
 impl Session {
@@ -83,6 +118,7 @@ impl Session {
     ) -> Result<Session, LiveError> {
         let describe = stream.describe();
         let shared = Arc::new(Shared::default());
+        let recording = record.as_ref().map(|(p, _)| p.clone());
         let mut writer = match record {
             Some((path, profile)) => {
                 // A replayed trace is recorded with its own header, not the replay profile's.
@@ -91,6 +127,7 @@ impl Session {
             }
             None => None,
         };
+        lock(&shared.status).devices = stream.status();
         let worker = Arc::clone(&shared);
         let thread = std::thread::Builder::new()
             .name("nendo live input".into())
@@ -107,7 +144,8 @@ impl Session {
                     if let Some(w) = &mut writer {
                         for f in &batch {
                             if let Err(e) = w.push(f) {
-                                lock(&worker.status).last_error = Some(format!("recording: {e}"));
+                                lock(&worker.status).recording_error =
+                                    Some(format!("recording: {e}"));
                             }
                         }
                     }
@@ -115,13 +153,9 @@ impl Session {
                         .frames
                         .fetch_add(batch.len() as u64, Ordering::Relaxed);
                     lock(&worker.inbox).extend(batch);
-                    let (tracker, glove) = stream.states();
+                    let devices = stream.status();
                     let mut status = lock(&worker.status);
-                    status.tracker = tracker;
-                    status.glove = glove;
-                    if let Some(e) = stream.last_error() {
-                        status.last_error = Some(e);
-                    }
+                    status.devices = devices;
                     if finished {
                         status.finished = true;
                         break;
@@ -136,6 +170,8 @@ impl Session {
             shared,
             thread: Some(thread),
             started: Instant::now(),
+            replay: None,
+            recording,
         })
     }
 
@@ -153,26 +189,333 @@ impl Drop for Session {
     }
 }
 
+/// Where a listed profile comes from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) enum ProfileSource {
+    /// Shipped with nendo (read-only: changes go to a user copy).
+    Builtin,
+    /// A profile file (the user's folder, or opened).
+    File(PathBuf),
+}
+
+/// A profile in the panel's list.
+#[derive(Debug, Clone)]
+pub(super) struct ProfileEntry {
+    pub(super) profile: Profile,
+    pub(super) source: ProfileSource,
+}
+
+impl ProfileEntry {
+    /// How settings name it: a shipped profile's name, or the file's path.
+    pub(super) fn key(&self) -> String {
+        match &self.source {
+            ProfileSource::Builtin => self.profile.name.clone(),
+            ProfileSource::File(p) => p.display().to_string(),
+        }
+    }
+
+    /// How the picker lists it.
+    pub(super) fn label(&self) -> String {
+        match &self.source {
+            ProfileSource::Builtin => format!("{} (built-in)", self.profile.name),
+            ProfileSource::File(p) => format!(
+                "{} ({})",
+                self.profile.name,
+                p.file_name()
+                    .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into())
+            ),
+        }
+    }
+}
+
+/// The model point under the view's centre and the model's size: what recentering and fitting
+/// the hand aim at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewAnchor {
+    /// The surface point under the view centre (the orbit target when the centre misses).
+    pub point: DVec3,
+    /// The surface's unit normal there, facing the viewer.
+    pub normal: DVec3,
+    /// The model's largest extent, world units.
+    pub extent: f64,
+}
+
+/// The glove calibration in progress: the samples captured per pose.
+#[derive(Debug, Default)]
+pub(super) struct CalibrationCapture {
+    pub(super) samples: PoseSamples,
+    /// The pose being captured and when the capture ends.
+    pub(super) capturing: Option<(CalibrationPose, Instant)>,
+    /// The last result, for the panel.
+    pub(super) result: Option<String>,
+}
+
 /// The device panel's state and the live session.
 #[derive(Debug, Default)]
 pub struct LiveInput {
-    profiles: Vec<Profile>,
-    selected: usize,
-    inventory: Option<Inventory>,
+    pub(super) entries: Vec<ProfileEntry>,
+    pub(super) selected: usize,
+    /// Ports typed or picked for the selected profile's glove and tracker.
+    pub(super) glove_port: String,
+    pub(super) tracker_port: String,
+    /// Remembered ports per profile key.
+    pub(super) ports: std::collections::BTreeMap<String, DevicePorts>,
+    pub(super) inventory: Option<Inventory>,
     session: Option<Session>,
+    /// The profile the session runs (ports applied).
+    running: Option<Profile>,
     /// The hand the session's frames drive.
     driver: Option<HandDriver>,
-    /// Finger radius for the next session's hand.
-    radius: f64,
-    record_to: String,
+    /// The finger radius set by hand (`None`: it follows the hand).
+    pub(super) radius_set: Option<f64>,
+    /// Record every device session.
+    pub(super) record: bool,
+    /// The trace to record to.
+    pub(super) record_to: String,
+    /// Connect waits: the recording would replace this file.
+    pub(super) confirm_overwrite: Option<PathBuf>,
     /// Frames taken by the window, and when counting started.
     rate: (u64, Option<Instant>, f64),
-    message: Option<String>,
+    pub(super) message: Option<String>,
     /// A trace file to replay, chosen in the panel.
     pub(super) trace_path: String,
+    /// The last tracker pose received (what recentering moves).
+    last_pose: Option<TrackerPose>,
+    pub(super) calibration: CalibrationCapture,
+    /// The hand size being edited.
+    pub(super) hand_edit: Option<HandSize>,
+    /// The sides per metre being dragged.
+    pub(super) scale_edit: Option<f64>,
+    /// The user's profile folder (`None`: none is listed or written; tests).
+    profile_dir: Option<PathBuf>,
+    /// `NENDO_STATUS_FILE` and when it was last written.
+    status_file: Option<PathBuf>,
+    status_written: Option<Instant>,
+    /// Contacts the device hand has made (one undoable edit each).
+    contacts: u64,
+}
+
+/// `stem-2.trace`, `stem-3.trace`, …: the first name beside `path` that is free.
+#[must_use]
+pub fn fresh_name(path: &Path) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "session".into(), |s| s.to_string_lossy().into_owned());
+    let ext = path
+        .extension()
+        .map_or_else(|| "trace".into(), |e| e.to_string_lossy().into_owned());
+    let dir = path.parent().unwrap_or_else(|| Path::new(""));
+    (2u32..)
+        .map(|k| dir.join(format!("{stem}-{k}.{ext}")))
+        .find(|p| std::fs::symlink_metadata(p).is_err())
+        .unwrap_or_else(|| path.to_path_buf())
+}
+
+/// The finger radius that follows a hand (see the module docs).
+#[must_use]
+pub fn following_radius(hand: &HandSize, world_from_tracker: &WorldFromTracker) -> f64 {
+    DEFAULT_FINGER_RADIUS * alignment::hand_length(hand) * world_from_tracker.scale
+        / (alignment::FIT_FRACTION * REFERENCE_EXTENT)
 }
 
 impl LiveInput {
+    /// A panel listing the shipped profiles and those in `profile_dir` (the user's folder,
+    /// where user copies of changed shipped profiles go), writing its status file when the
+    /// environment asks ([`STATUS_FILE_ENV`]).
+    #[must_use]
+    pub fn with_profile_dir(profile_dir: Option<PathBuf>) -> Self {
+        let mut live = LiveInput {
+            profile_dir,
+            status_file: std::env::var_os(STATUS_FILE_ENV).map(PathBuf::from),
+            ..LiveInput::default()
+        };
+        live.rescan();
+        live
+    }
+
+    /// Lists the shipped profiles, the user's folder and the files opened before (kept).
+    pub(super) fn rescan(&mut self) {
+        let key = self.entries.get(self.selected).map(ProfileEntry::key);
+        let opened: Vec<ProfileEntry> = self
+            .entries
+            .iter()
+            .filter(|e| match &e.source {
+                ProfileSource::File(p) => self
+                    .profile_dir
+                    .as_deref()
+                    .is_none_or(|d| p.parent() != Some(d)),
+                ProfileSource::Builtin => false,
+            })
+            .cloned()
+            .collect();
+        let mut entries: Vec<ProfileEntry> = profile::builtin()
+            .into_iter()
+            .map(|profile| ProfileEntry {
+                profile,
+                source: ProfileSource::Builtin,
+            })
+            .collect();
+        let mut problems = Vec::new();
+        if let Some(dir) = &self.profile_dir
+            && let Ok(read) = std::fs::read_dir(dir)
+        {
+            let mut files: Vec<PathBuf> = read
+                .filter_map(Result::ok)
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|e| e == "json"))
+                .collect();
+            files.sort();
+            for path in files {
+                match Profile::load(&path) {
+                    Ok(profile) => entries.push(ProfileEntry {
+                        profile,
+                        source: ProfileSource::File(path),
+                    }),
+                    Err(e) => problems.push(e.to_string()),
+                }
+            }
+        }
+        entries.extend(opened);
+        self.entries = entries;
+        if !problems.is_empty() {
+            self.message = Some(problems.join("; "));
+        }
+        let found = key.and_then(|k| self.entries.iter().position(|e| e.key() == k));
+        self.select(found.unwrap_or(self.selected.min(self.entries.len().saturating_sub(1))));
+    }
+
+    /// Selects an entry (keeping the ports typed for the one selected before); its ports are
+    /// the remembered ones, or the profile's own.
+    pub(super) fn select(&mut self, index: usize) {
+        self.remember_ports();
+        self.show_entry(index);
+    }
+
+    /// Selects an entry with its remembered ports, or the profile's own.
+    fn show_entry(&mut self, index: usize) {
+        self.selected = index;
+        let Some(entry) = self.entries.get(index) else {
+            return;
+        };
+        let remembered = self.ports.get(&entry.key()).cloned().unwrap_or_default();
+        self.glove_port = remembered
+            .glove
+            .or_else(|| {
+                entry
+                    .profile
+                    .glove()
+                    .and_then(|g| g.port())
+                    .map(String::from)
+            })
+            .unwrap_or_default();
+        self.tracker_port = remembered
+            .tracker
+            .or_else(|| entry.profile.tracker().map(|t| t.port().to_string()))
+            .unwrap_or_default();
+        self.hand_edit = None;
+    }
+
+    /// Keeps the selected profile's ports, when they differ from the profile's own.
+    fn remember_ports(&mut self) {
+        if let Some(entry) = self.entries.get(self.selected) {
+            note_ports(&mut self.ports, entry, &self.glove_port, &self.tracker_port);
+        }
+    }
+
+    /// Adds (or finds) a profile file in the list and selects it.
+    pub(super) fn open_profile_file(&mut self, path: &Path) -> Result<(), DeviceError> {
+        let profile = Profile::load(path)?;
+        let path = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        let source = ProfileSource::File(path);
+        let index = match self.entries.iter().position(|e| e.source == source) {
+            Some(k) => {
+                self.entries[k].profile = profile;
+                k
+            }
+            None => {
+                self.entries.push(ProfileEntry { profile, source });
+                self.entries.len() - 1
+            }
+        };
+        self.select(index);
+        Ok(())
+    }
+
+    /// Selects a profile by shipped name or file path (`nendo --profile`), with the profile's
+    /// own ports (not remembered ones).
+    ///
+    /// # Errors
+    /// When it is neither a shipped profile nor a readable profile file.
+    pub fn select_profile(&mut self, name_or_path: &str) -> Result<(), DeviceError> {
+        if profile::is_builtin(name_or_path) {
+            let k = self
+                .entries
+                .iter()
+                .position(|e| e.source == ProfileSource::Builtin && e.profile.name == name_or_path);
+            if let Some(k) = k {
+                self.ports.remove(name_or_path);
+                self.select(k);
+                return Ok(());
+            }
+        }
+        // Through `resolve` for its error message on a name that is neither.
+        profile::resolve(name_or_path)?;
+        let path = Path::new(name_or_path);
+        let key = path
+            .canonicalize()
+            .unwrap_or_else(|_| path.to_path_buf())
+            .display()
+            .to_string();
+        self.ports.remove(&key);
+        self.open_profile_file(path)
+    }
+
+    /// The remembered part of the panel, into `settings`.
+    pub fn store_settings(&self, settings: &mut Settings) {
+        let mut ports = self.ports.clone();
+        if let Some(entry) = self.entries.get(self.selected) {
+            note_ports(&mut ports, entry, &self.glove_port, &self.tracker_port);
+            settings.profile = Some(entry.key());
+        }
+        settings.ports = ports;
+        settings.record = self.record;
+        settings.record_folder = Path::new(self.record_to.trim())
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .map(Path::to_path_buf);
+        settings.trace_folder = Path::new(self.trace_path.trim())
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .map(Path::to_path_buf);
+        settings.finger_radius = self.radius_set;
+    }
+
+    /// Takes the remembered settings (before the first frame).
+    pub fn apply_settings(&mut self, settings: &Settings) {
+        self.ports = settings.ports.clone();
+        self.record = settings.record;
+        if let Some(dir) = &settings.record_folder {
+            self.record_to = dir.join("session.trace").display().to_string();
+        }
+        if let Some(dir) = &settings.trace_folder {
+            self.trace_path = dir.display().to_string();
+        }
+        self.radius_set = settings.finger_radius.filter(|r| r.is_finite() && *r > 0.0);
+        let wanted = settings.profile.as_deref();
+        let found = wanted.and_then(|k| self.entries.iter().position(|e| e.key() == k));
+        // The ports shown so far are the defaults, not the user's: nothing to keep.
+        match (found, wanted) {
+            (Some(k), _) => self.show_entry(k),
+            (None, Some(path)) if Path::new(path).is_file() => {
+                self.show_entry(self.selected);
+                if let Err(e) = self.open_profile_file(Path::new(path)) {
+                    self.message = Some(format!("the remembered profile: {e}"));
+                }
+            }
+            _ => self.show_entry(self.selected),
+        }
+    }
+
     /// True while a session runs.
     #[must_use]
     pub fn is_connected(&self) -> bool {
@@ -195,26 +538,52 @@ impl LiveInput {
     /// Stops the session, if any.
     pub fn disconnect(&mut self) {
         self.driver = None;
+        self.running = None;
+        self.calibration.capturing = None;
         if let Some(mut s) = self.session.take() {
             s.stop();
             if let Some(r) = lock(&s.shared.recorded).take() {
+                let to = s
+                    .recording
+                    .as_ref()
+                    .map(|p| format!(" to {}", p.display()))
+                    .unwrap_or_default();
                 self.message = Some(match r {
-                    Ok(n) => format!("trace recorded: {n} frames"),
+                    Ok(n) => format!("trace recorded{to}: {n} frames"),
                     Err(e) => format!("trace recording failed: {e}"),
                 });
             }
         }
+        self.write_status(true);
     }
 
+    /// The trace to record to, if recording is on and a path is given.
     fn record_path(&self) -> Option<PathBuf> {
         let t = self.record_to.trim();
-        (!t.is_empty()).then(|| PathBuf::from(t))
+        (self.record && !t.is_empty()).then(|| PathBuf::from(t))
+    }
+
+    /// The selected profile, with the ports of the panel.
+    #[must_use]
+    pub(super) fn selected_profile(&self) -> Option<Profile> {
+        let mut p = self.entries.get(self.selected)?.profile.clone();
+        if let Some(g) = p.glove_mut()
+            && !self.glove_port.trim().is_empty()
+        {
+            g.set_port(self.glove_port.trim());
+        }
+        if let Some(t) = p.tracker_mut()
+            && !self.tracker_port.trim().is_empty()
+        {
+            t.set_port(self.tracker_port.trim());
+        }
+        Some(p)
     }
 
     /// The selected profile's mouse settings, when it is the mouse (driven by the window's
     /// Hand tool rather than opened as a stream).
-    fn selected_mouse(&self) -> Option<MouseProfile> {
-        match self.profiles.get(self.selected)?.input {
+    pub(super) fn selected_mouse(&self) -> Option<MouseProfile> {
+        match self.entries.get(self.selected)?.profile.input {
             Input::Mouse(m) => Some(m),
             _ => None,
         }
@@ -222,7 +591,7 @@ impl LiveInput {
 
     /// The Connect button: opens the devices of the selected profile, or, for the mouse
     /// profile, returns its settings for the Hand tool (stopping any device session).
-    fn connect_or_mouse(&mut self, doc: &mut Document) -> Option<MouseProfile> {
+    pub(super) fn connect_or_mouse(&mut self, doc: &mut Document) -> Option<MouseProfile> {
         if let Some(mouse) = self.selected_mouse() {
             self.disconnect_from(doc);
             self.message = Some("the mouse drives the hand (Hand tool)".into());
@@ -232,12 +601,29 @@ impl LiveInput {
         None
     }
 
-    /// Opens the devices of the selected profile.
-    fn connect(&mut self, doc: &mut Document) {
-        let Some(profile) = self.profiles.get(self.selected).cloned() else {
+    /// Opens the devices of the selected profile — unless the recording would replace an
+    /// existing file: then the panel asks first ([`LiveInput::confirm_overwrite`]).
+    pub fn connect(&mut self, doc: &mut Document) {
+        let record = self.record_path();
+        if let Some(path) = &record
+            && std::fs::symlink_metadata(path).is_ok()
+        {
+            self.confirm_overwrite = Some(path.clone());
+            return;
+        }
+        self.connect_recording(doc, record);
+    }
+
+    /// Connects recording to `record` (an answer to the overwrite question, or no question).
+    pub(super) fn connect_recording(&mut self, doc: &mut Document, record: Option<PathBuf>) {
+        self.confirm_overwrite = None;
+        let Some(profile) = self.selected_profile() else {
             return;
         };
         self.disconnect_from(doc);
+        if let Some(path) = &record {
+            self.record_to = path.display().to_string();
+        }
         // A device that is off now is retried until it answers, as one unplugged mid-session.
         let stream = match HandStream::connect(&profile, &StreamOptions::default()) {
             Ok(stream) => stream,
@@ -246,60 +632,90 @@ impl LiveInput {
                 return;
             }
         };
-        // A replay profile plays a trace recorded with another hand and transform: its frames
-        // are read with the trace's header, as `nendo replay` reads them.
-        let driver = match stream.source_header() {
-            Some(h) => HandDriver::new(
-                h.hand,
-                h.world_from_tracker,
-                FingerModel::for_profile_name(h.profile.as_deref()),
-                self.radius,
-            ),
-            None => HandDriver::new(
-                profile.hand,
-                profile.world_from_tracker,
-                FingerModel::for_profile(&profile),
-                self.radius,
-            ),
+        let replay = match &profile.input {
+            Input::Replay(r) => Some(PathBuf::from(&r.trace)),
+            _ => None,
         };
-        let driver = match driver {
-            Ok(d) => d,
-            Err(e) => {
-                self.message = Some(e.to_string());
-                return;
-            }
+        let Some(driver) = self.driver_for(&stream, &profile) else {
+            return;
         };
         // Mismatches the devices worked around (a glove for the other hand) stay on show.
         let warnings = (!stream.warnings().is_empty()).then(|| stream.warnings().join("; "));
-        match Session::start(stream, self.record_path().map(|p| (p, &profile))) {
-            Ok(s) => {
+        match Session::start(stream, record.map(|p| (p, &profile))) {
+            Ok(mut s) => {
+                s.replay = replay;
                 self.session = Some(s);
                 self.driver = Some(driver);
+                self.running = Some(profile);
                 self.message = warnings;
             }
             Err(e) => self.message = Some(e.to_string()),
         }
         self.rate = (0, Some(Instant::now()), 0.0);
+        self.write_status(true);
+    }
+
+    /// The hand for a stream: a replay reads its frames with the trace's header (its hand
+    /// and transform), as `nendo replay` does; live devices with the profile's.
+    fn driver_for(&mut self, stream: &HandStream, profile: &Profile) -> Option<HandDriver> {
+        let driver = match stream.source_header() {
+            Some(h) => HandDriver::new(
+                h.hand,
+                h.world_from_tracker,
+                FingerModel::for_profile_name(h.profile.as_deref()),
+                self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS),
+            ),
+            None => HandDriver::new(
+                profile.hand,
+                profile.world_from_tracker,
+                FingerModel::for_profile(profile),
+                self.radius(profile, false),
+            ),
+        };
+        match driver {
+            Ok(d) => Some(d),
+            Err(e) => {
+                self.message = Some(e.to_string());
+                None
+            }
+        }
+    }
+
+    /// The finger radius of a session: set, or following the hand (a replay: the default).
+    #[must_use]
+    pub fn radius(&self, profile: &Profile, replay: bool) -> f64 {
+        self.radius_set.unwrap_or_else(|| {
+            if replay {
+                DEFAULT_FINGER_RADIUS
+            } else {
+                following_radius(&profile.hand, &profile.world_from_tracker)
+            }
+        })
     }
 
     /// Plays a recorded trace as if it came from the devices.
-    fn replay(&mut self, path: &Path, doc: &mut Document) {
+    pub(super) fn replay(&mut self, path: &Path, doc: &mut Document) {
         self.disconnect_from(doc);
         match Trace::read(path) {
             Ok(trace) => {
                 let h = &trace.header;
-                let finger = FingerModel::for_profile_name(h.profile.as_deref());
-                let driver =
-                    match HandDriver::new(h.hand, h.world_from_tracker, finger, self.radius) {
-                        Ok(d) => d,
-                        Err(e) => {
-                            self.message = Some(e.to_string());
-                            return;
-                        }
-                    };
+                let driver = HandDriver::new(
+                    h.hand,
+                    h.world_from_tracker,
+                    FingerModel::for_profile_name(h.profile.as_deref()),
+                    self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS),
+                );
+                let driver = match driver {
+                    Ok(d) => d,
+                    Err(e) => {
+                        self.message = Some(e.to_string());
+                        return;
+                    }
+                };
                 let stream = HandStream::replay(trace, 1.0, false, 1024);
                 match Session::start(stream, None) {
-                    Ok(s) => {
+                    Ok(mut s) => {
+                        s.replay = Some(path.to_path_buf());
                         self.session = Some(s);
                         self.driver = Some(driver);
                     }
@@ -315,6 +731,7 @@ impl LiveInput {
     /// through the hand against `doc`; returns why the surface refused a frame, if it did.
     pub fn poll(&mut self, doc: &mut Document) -> Option<SurfaceError> {
         let Some(session) = &self.session else {
+            self.write_status(false);
             return None;
         };
         let frames = std::mem::take(&mut *lock(&session.shared.inbox));
@@ -325,7 +742,12 @@ impl LiveInput {
                 driver.feed(doc, f);
             }
             refused = driver.take_refused();
+            self.contacts = driver.contacts();
         }
+        if let Some(pose) = frames.iter().rev().find_map(|f| f.pose) {
+            self.last_pose = Some(pose);
+        }
+        self.capture(&frames);
         let (count, since, _) = &mut self.rate;
         *count += frames.len() as u64;
         if let Some(t) = since {
@@ -341,6 +763,7 @@ impl LiveInput {
                 s.stop();
             }
         }
+        self.write_status(finished);
         refused
     }
 
@@ -352,132 +775,408 @@ impl LiveInput {
         }
     }
 
-    /// The device panel. Returns the mouse profile's settings when the user chose the mouse
-    /// as the hand (the caller selects the Hand tool).
-    pub fn ui(
-        &mut self,
-        ui: &mut egui::Ui,
-        radius: f64,
-        doc: &mut Document,
-    ) -> Option<MouseProfile> {
-        let mut use_mouse = None;
-        self.radius = radius;
-        if self.profiles.is_empty() {
-            self.profiles = profile::builtin();
-        }
-        let names: Vec<String> = self.profiles.iter().map(|p| p.name.clone()).collect();
-        egui::ComboBox::from_label("profile")
-            .selected_text(names.get(self.selected).cloned().unwrap_or_default())
-            .show_ui(ui, |ui| {
-                for (i, name) in names.iter().enumerate() {
-                    ui.selectable_value(&mut self.selected, i, name);
-                }
-            });
-        if let Some(p) = self.profiles.get(self.selected) {
-            ui.small(&p.description);
-        }
-        // Fields on rows of their own, as wide as the panel: a field beside a label or a
-        // button would push the button off the fixed-width panel.
-        let mouse = self.selected_mouse().is_some();
-        if !mouse {
-            ui.label("record trace to (optional file):");
-            ui.add(
-                egui::TextEdit::singleline(&mut self.record_to)
-                    .desired_width(ui.available_width())
-                    .hint_text("trace.jsonl"),
-            );
-        }
-        ui.horizontal_wrapped(|ui| {
-            if self.session.is_none() {
-                let (label, hint) = if mouse {
-                    (
-                        "Use the mouse hand",
-                        "selects the Hand tool: the view ray is the finger",
-                    )
-                } else {
-                    ("Connect", "opens the profile's devices")
-                };
-                if ui.button(label).on_hover_text(hint).clicked() {
-                    use_mouse = self.connect_or_mouse(doc);
-                }
-            } else if ui.button("Disconnect").clicked() {
-                self.disconnect_from(doc);
+    /// The session's devices as the panel shows them, and whether it is a replay.
+    pub(super) fn device_status(&self) -> Option<(Vec<DeviceStatus>, Option<String>, bool)> {
+        let s = self.session.as_ref()?;
+        let status = lock(&s.shared.status);
+        Some((
+            status.devices.clone(),
+            status.recording_error.clone(),
+            s.replay.is_some(),
+        ))
+    }
+
+    /// `describe — N s; frames, rate`, for the panel.
+    pub(super) fn session_line(&self) -> Option<String> {
+        let s = self.session.as_ref()?;
+        let what = match &s.replay {
+            Some(p) => format!("replaying {}", p.display()),
+            None => s.describe.clone(),
+        };
+        let recording = s
+            .recording
+            .as_ref()
+            .map(|p| format!("; recording to {}", p.display()))
+            .unwrap_or_default();
+        Some(format!(
+            "{what} — {:.0} s, {} frames, {:.1} frames/s{recording}",
+            s.started.elapsed().as_secs_f64(),
+            s.shared.frames.load(Ordering::Relaxed),
+            self.rate.2
+        ))
+    }
+
+    /// The running live profile (devices, not a replay).
+    pub(super) fn running_devices(&self) -> Option<&Profile> {
+        self.running
+            .as_ref()
+            .filter(|p| matches!(p.input, Input::Devices { .. }))
+    }
+
+    /// The last tracker pose.
+    pub(super) fn last_pose(&self) -> Option<TrackerPose> {
+        self.last_pose
+    }
+
+    /// A file dialog for the panel's purposes, opening where its file is.
+    #[must_use]
+    pub fn new_dialog(&self, purpose: DialogPurpose) -> Option<FileDialog> {
+        let (current, default) = match purpose {
+            DialogPurpose::OpenProfile => (
+                self.entries
+                    .get(self.selected)
+                    .and_then(|e| match &e.source {
+                        ProfileSource::File(p) => Some(p.clone()),
+                        ProfileSource::Builtin => None,
+                    })
+                    .or_else(|| self.profile_dir.as_ref().map(|d| d.join("profile.json"))),
+                "profile.json",
+            ),
+            DialogPurpose::RecordTrace => (
+                Some(PathBuf::from(self.record_to.trim())).filter(|p| !p.as_os_str().is_empty()),
+                "session.trace",
+            ),
+            DialogPurpose::ReplayTrace => {
+                let t = PathBuf::from(self.trace_path.trim());
+                let inside = if t.is_dir() { t.join("x.trace") } else { t };
+                (Some(inside).filter(|p| !p.as_os_str().is_empty()), "")
             }
-            if ui.button("List ports").clicked() {
-                self.inventory = Some(inventory(&self.profiles));
+            _ => return None,
+        };
+        let current = current.filter(|p| p.parent().is_some_and(Path::is_dir));
+        Some(FileDialog::beside(purpose, current.as_deref(), default))
+    }
+
+    /// A file dialog of the panel picked `path`.
+    pub fn dialog_chosen(&mut self, purpose: DialogPurpose, path: &Path) {
+        match purpose {
+            DialogPurpose::OpenProfile => {
+                if let Err(e) = self.open_profile_file(path) {
+                    self.message = Some(e.to_string());
+                }
             }
-        });
-        ui.label("trace to replay:");
-        ui.add(
-            egui::TextEdit::singleline(&mut self.trace_path)
-                .desired_width(ui.available_width())
-                .hint_text("trace.jsonl"),
+            DialogPurpose::RecordTrace => {
+                let mut path = path.to_path_buf();
+                if path.extension().is_none() {
+                    path.set_extension("trace");
+                }
+                self.record_to = path.display().to_string();
+                self.record = true;
+            }
+            DialogPurpose::ReplayTrace => self.trace_path = path.display().to_string(),
+            _ => {}
+        }
+    }
+
+    // --- Alignment and calibration -----------------------------------------------------
+
+    /// Replaces the selected profile's transform (and the running session's hand), and saves
+    /// the profile into the user's folder.
+    fn set_alignment(&mut self, doc: &mut Document, wft: WorldFromTracker, what: &str) {
+        let Some(entry) = self.entries.get_mut(self.selected) else {
+            return;
+        };
+        entry.profile.world_from_tracker = wft;
+        if let Some(r) = &mut self.running {
+            r.world_from_tracker = wft;
+        }
+        self.rebuild_hand(doc);
+        self.save_profile(what);
+    }
+
+    /// Builds the session's hand again from the running profile (after an alignment or
+    /// radius change), ending the contact in progress.
+    pub(super) fn rebuild_hand(&mut self, doc: &mut Document) {
+        let Some(profile) = self.running_devices().cloned() else {
+            return;
+        };
+        self.end_contact(doc);
+        let driver = HandDriver::new(
+            profile.hand,
+            profile.world_from_tracker,
+            FingerModel::for_profile(&profile),
+            self.radius(&profile, false),
         );
-        if ui
-            .add_enabled(
-                !self.trace_path.trim().is_empty(),
-                egui::Button::new("Replay trace"),
-            )
-            .clicked()
-        {
-            let path = PathBuf::from(self.trace_path.trim());
-            self.replay(&path, doc);
+        match driver {
+            Ok(d) => self.driver = Some(d.with_contacts(self.contacts)),
+            Err(e) => self.message = Some(e.to_string()),
         }
-        if let Some(inv) = &self.inventory {
-            egui::CollapsingHeader::new(format!(
-                "ports ({} serial, {} HID)",
-                inv.serial.len(),
-                inv.hid.len()
-            ))
-            .default_open(true)
-            .show(ui, |ui| {
-                for s in &inv.serial {
-                    ui.small(format!("{}  {}", s.path, s.fits.join(", ")));
-                }
-                if let Some(e) = &inv.serial_error {
-                    ui.small(format!("serial: {e}"));
-                }
-                for h in &inv.hid {
-                    ui.small(format!(
-                        "{:04x}:{:04x} {}  {}",
-                        h.vid,
-                        h.pid,
-                        h.product,
-                        h.fits.join(", ")
-                    ));
-                }
-                if let Some(e) = &inv.hid_error {
-                    ui.small(format!("HID: {e}"));
-                }
-            });
+    }
+
+    /// Recenter: the hand, where it is now, appears half a hand above the model point under
+    /// the view centre (above, along the normal: placed on it, the fingers would be in the
+    /// clay at once).
+    pub(super) fn recenter(&mut self, doc: &mut Document, anchor: &ViewAnchor) {
+        let (Some(pose), Some(entry)) = (self.last_pose, self.entries.get(self.selected)) else {
+            self.message = Some("recenter: no tracker pose yet (connect a tracker)".into());
+            return;
+        };
+        let p = &entry.profile;
+        let lift = 0.5 * alignment::hand_length(&p.hand) * p.world_from_tracker.scale;
+        let target = anchor.point + anchor.normal * lift;
+        match alignment::recenter(&p.world_from_tracker, pose.position, target) {
+            Ok(w) => self.set_alignment(doc, w, "recentred"),
+            Err(e) => self.message = Some(format!("recenter: {e}")),
         }
-        match &self.session {
-            Some(s) => {
-                let status = lock(&s.shared.status).clone();
-                ui.label(format!(
-                    "{} — {:.0} s",
-                    s.describe,
-                    s.started.elapsed().as_secs_f64()
+    }
+
+    /// Sets the sides per metre, the hand staying where it is.
+    pub(super) fn set_scale(&mut self, doc: &mut Document, scale: f64) {
+        let Some(entry) = self.entries.get(self.selected) else {
+            return;
+        };
+        let at = self.last_pose.map_or(DVec3::ZERO, |p| p.position);
+        match alignment::rescale_about(&entry.profile.world_from_tracker, at, scale) {
+            Ok(w) => self.set_alignment(doc, w, &format!("{scale:.3} sides per metre")),
+            Err(e) => self.message = Some(format!("scale: {e}")),
+        }
+    }
+
+    /// Fits the hand to the model ([`alignment::fit_scale`]).
+    pub(super) fn fit_hand(&mut self, doc: &mut Document, anchor: &ViewAnchor) {
+        let Some(entry) = self.entries.get(self.selected) else {
+            return;
+        };
+        match alignment::fit_scale(&entry.profile.hand, anchor.extent) {
+            Ok(s) => self.set_scale(doc, s),
+            Err(e) => self.message = Some(format!("fit the hand: {e}")),
+        }
+    }
+
+    /// Applies the edited hand size.
+    pub(super) fn apply_hand(&mut self, doc: &mut Document, hand: HandSize) {
+        if let Err(e) = hand.validate() {
+            self.message = Some(format!("hand size: {e}"));
+            return;
+        }
+        let Some(entry) = self.entries.get_mut(self.selected) else {
+            return;
+        };
+        entry.profile.hand = hand;
+        if let Some(r) = &mut self.running {
+            r.hand = hand;
+        }
+        self.hand_edit = None;
+        self.rebuild_hand(doc);
+        self.save_profile("hand size");
+    }
+
+    /// Starts capturing a calibration pose for [`CAPTURE`].
+    pub(super) fn capture_pose(&mut self, pose: CalibrationPose) {
+        self.calibration.samples.clear(pose);
+        self.calibration.capturing = Some((pose, Instant::now() + CAPTURE));
+        self.calibration.result = None;
+    }
+
+    fn capture(&mut self, frames: &[HandFrame]) {
+        let Some((pose, until)) = self.calibration.capturing else {
+            return;
+        };
+        for f in frames {
+            if f.status.glove_fresh
+                && let Some(j) = f.joints
+            {
+                self.calibration.samples.push(pose, j);
+            }
+        }
+        if Instant::now() >= until {
+            self.calibration.capturing = None;
+        }
+    }
+
+    /// Fits the glove's offsets and gains from the captured poses, writes them into the user's
+    /// profile and reconnects with them.
+    pub(super) fn finish_calibration(&mut self, doc: &mut Document) {
+        let Some(table) = self
+            .running_devices()
+            .and_then(|p| p.glove())
+            .map(|g| g.calibration().to_vec())
+        else {
+            self.calibration.result = Some("connect the glove first".into());
+            return;
+        };
+        match calibrate_glove(&table, &self.calibration.samples) {
+            Ok((fitted, fits)) => {
+                let both = fits
+                    .iter()
+                    .filter(|f| **f == SensorFit::OffsetAndGain)
+                    .count();
+                let offset = fits.iter().filter(|f| **f == SensorFit::OffsetOnly).count();
+                if let Some(g) = self
+                    .entries
+                    .get_mut(self.selected)
+                    .and_then(|e| e.profile.glove_mut())
+                {
+                    *g.calibration_mut() = fitted;
+                }
+                self.calibration.result = Some(format!(
+                    "{both} sensors: offset and gain; {offset}: offset (gain kept)"
                 ));
-                ui.label(format!(
-                    "tracker {:?}, glove {:?}; {} frames, {:.1} frames/s",
-                    status.tracker,
-                    status.glove,
-                    s.shared.frames.load(Ordering::Relaxed),
-                    self.rate.2
-                ));
-                if let Some(e) = status.last_error {
-                    ui.colored_label(egui::Color32::from_rgb(230, 90, 70), e);
+                self.calibration.samples = PoseSamples::default();
+                if self.save_profile("glove calibration") {
+                    // The stream calibrates in the device thread: start it with the new table.
+                    self.connect_recording(doc, None);
                 }
             }
-            None => {
-                ui.label("not connected");
+            Err(e) => self.calibration.result = Some(e.to_string()),
+        }
+    }
+
+    /// Writes the selected profile (ports of the panel applied) into the user's folder: back
+    /// to its file, or — a shipped profile — to a new user copy `NAME-mine.json`, which is
+    /// then selected. Returns whether it was written.
+    fn save_profile(&mut self, what: &str) -> bool {
+        let Some(mut profile) = self.selected_profile() else {
+            return false;
+        };
+        let Some(entry) = self.entries.get(self.selected) else {
+            return false;
+        };
+        let path = match &entry.source {
+            ProfileSource::File(p) => p.clone(),
+            ProfileSource::Builtin => {
+                let Some(dir) = &self.profile_dir else {
+                    self.message = Some(format!("{what}: applied (no profile folder to save to)"));
+                    return false;
+                };
+                if let Err(e) = std::fs::create_dir_all(dir) {
+                    self.message = Some(format!("{what}: cannot create {}: {e}", dir.display()));
+                    return false;
+                }
+                profile.name = format!("{}-mine", profile.name);
+                let first = dir.join(format!("{}.json", profile.name));
+                if std::fs::symlink_metadata(&first).is_ok() {
+                    let fresh = fresh_name(&first);
+                    if let Some(stem) = fresh.file_stem() {
+                        profile.name = stem.to_string_lossy().into_owned();
+                    }
+                    fresh
+                } else {
+                    first
+                }
+            }
+        };
+        match profile.save(&path) {
+            Ok(()) => {
+                let builtin = entry.source == ProfileSource::Builtin;
+                if builtin {
+                    // The shipped entry goes back to shipped values; the copy is selected.
+                    let name = entry.profile.name.clone();
+                    if let Some(original) = profile::builtin().into_iter().find(|p| p.name == name)
+                        && let Some(e) = self.entries.get_mut(self.selected)
+                    {
+                        e.profile = original;
+                    }
+                    let (glove, tracker) = (self.glove_port.clone(), self.tracker_port.clone());
+                    self.entries.push(ProfileEntry {
+                        profile,
+                        source: ProfileSource::File(path.clone()),
+                    });
+                    self.select(self.entries.len() - 1);
+                    (self.glove_port, self.tracker_port) = (glove, tracker);
+                } else if let Some(e) = self.entries.get_mut(self.selected) {
+                    e.profile = profile;
+                }
+                self.message = Some(format!("{what}: saved to {}", path.display()));
+                true
+            }
+            Err(e) => {
+                self.message = Some(format!("{what}: {e}"));
+                false
             }
         }
-        if let Some(m) = &self.message {
-            ui.small(m);
+    }
+
+    // --- The status file ------------------------------------------------------------------
+
+    /// Rewrites the status file ([`STATUS_FILE_ENV`]): at most four times a second, or now
+    /// with `force`.
+    fn write_status(&mut self, force: bool) {
+        let Some(path) = self.status_file.clone() else {
+            return;
+        };
+        let due = self
+            .status_written
+            .is_none_or(|t| t.elapsed() >= Duration::from_millis(250));
+        if !(force || due) {
+            return;
         }
-        use_mouse
+        self.status_written = Some(Instant::now());
+        let session = match &self.session {
+            None => "none",
+            Some(s) if s.replay.is_some() => "replay",
+            Some(_) => "devices",
+        };
+        let devices: Vec<serde_json::Value> = self
+            .device_status()
+            .map(|(d, _, _)| d)
+            .unwrap_or_default()
+            .iter()
+            .map(|d| {
+                serde_json::json!({
+                    "role": d.role.name(),
+                    "state": state_name(d.state),
+                    "rate_hz": (d.rate_hz * 10.0).round() / 10.0,
+                    "samples": d.samples,
+                    "last_error": d.last_error,
+                    "faults": d.faults,
+                    "rejected": d.rejected,
+                    "watchdog_trips": d.watchdog_trips,
+                    "disconnects": d.disconnects,
+                })
+            })
+            .collect();
+        let hand_drawn = self
+            .driver
+            .as_ref()
+            .is_some_and(|d| d.hand_loop().pose().is_some());
+        let line = serde_json::json!({
+            "session": session,
+            "devices": devices,
+            "hand_drawn": hand_drawn,
+            "contacts": self.contacts,
+        });
+        let text = format!("{line}\n");
+        if let Err(e) = nendo_file::write_bytes(&path, text.as_bytes()) {
+            self.message = Some(format!("{STATUS_FILE_ENV}: {}", e.reason()));
+            self.status_file = None;
+        }
+    }
+}
+
+/// Notes in `ports` the ports typed for `entry`, where they differ from the profile's own
+/// (none noted: the entry is dropped).
+fn note_ports(
+    ports: &mut std::collections::BTreeMap<String, DevicePorts>,
+    entry: &ProfileEntry,
+    glove: &str,
+    tracker: &str,
+) {
+    let own_glove = entry.profile.glove().and_then(|g| g.port());
+    let own_tracker = entry.profile.tracker().map(|t| t.port());
+    let differs = |typed: &str, own: Option<&str>| {
+        let typed = typed.trim();
+        (!typed.is_empty() && Some(typed) != own).then(|| typed.to_string())
+    };
+    let noted = DevicePorts {
+        glove: differs(glove, own_glove),
+        tracker: differs(tracker, own_tracker),
+    };
+    if noted == DevicePorts::default() {
+        ports.remove(&entry.key());
+    } else {
+        ports.insert(entry.key(), noted);
+    }
+}
+
+/// A source state's name in the panel and the status file.
+#[must_use]
+pub fn state_name(state: SourceState) -> &'static str {
+    match state {
+        SourceState::Absent => "absent",
+        SourceState::Ok => "ok",
+        SourceState::Silent => "silent",
+        SourceState::Disconnected => "disconnected",
     }
 }
 
@@ -571,17 +1270,23 @@ mod tests {
         ))
     }
 
-    /// The panel fits the fixed-width tool panel: nothing (the Replay button, the record
-    /// field) reaches past its right edge, whichever profile is selected.
+    /// The Devices panel fits its width: nothing (the Replay button, the record field, the
+    /// port fields) reaches past its right edge, whichever profile is selected.
     #[test]
-    fn the_device_panel_fits_the_tool_panel() {
+    fn the_device_panel_fits_its_width() {
         let mut live = LiveInput::default();
         let mut doc = plane_doc();
-        live.trace_path = "/some/rather/long/path/to/a/recorded/trace.jsonl".into();
+        live.trace_path = "/some/rather/long/path/to/a/recorded/session.trace".into();
+        live.record = true;
+        live.record_to = "/another/rather/long/path/to/a/recording/session.trace".into();
+        let anchor = ViewAnchor {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+            extent: 10.0,
+        };
         let ctx = egui::Context::default();
         let count = profile::builtin().len();
         for selected in 0..count {
-            live.selected = selected;
             let mut overflow = None;
             for _ in 0..2 {
                 let raw = egui::RawInput {
@@ -592,11 +1297,14 @@ mod tests {
                     ..Default::default()
                 };
                 let _ = ctx.run_ui(raw, |ui| {
-                    egui::Panel::left("devices test")
-                        .exact_size(crate::app::panels::PANEL_WIDTH)
+                    egui::Panel::right("devices test")
+                        .exact_size(crate::app::devices_panel::DEVICES_PANEL_WIDTH)
                         .show(ui, |ui| {
                             let right = ui.max_rect().max.x;
-                            live.ui(ui, 1.25, &mut doc);
+                            let _ = live.ui(ui, &mut doc, &anchor);
+                            if live.selected != selected {
+                                live.select(selected);
+                            }
                             overflow = Some(ui.min_rect().max.x - right);
                         });
                 });
@@ -609,20 +1317,32 @@ mod tests {
         }
     }
 
+    fn listed() -> LiveInput {
+        let mut live = LiveInput::default();
+        live.rescan();
+        live
+    }
+
+    fn glove_and_tracker(live: &LiveInput) -> usize {
+        live.entries
+            .iter()
+            .position(|e| {
+                matches!(&e.profile.input, Input::Devices { glove: Some(g), tracker: Some(_) } if g.port().is_some())
+            })
+            .expect("a built-in serial glove and tracker profile")
+    }
+
     /// Connect on the mouse profile opens no stream: it hands the mouse settings to the Hand
     /// tool, with no error.
     #[test]
     fn the_mouse_profile_selects_the_mouse_hand() {
-        let mut live = LiveInput {
-            profiles: profile::builtin(),
-            ..LiveInput::default()
-        };
+        let mut live = listed();
         let mouse = live
-            .profiles
+            .entries
             .iter()
-            .position(|p| matches!(p.input, Input::Mouse(_)))
+            .position(|e| matches!(e.profile.input, Input::Mouse(_)))
             .expect("a built-in mouse profile");
-        live.selected = mouse;
+        live.select(mouse);
         let mut doc = plane_doc();
         let got = live.connect_or_mouse(&mut doc);
         assert!(got.is_some(), "the mouse profile's settings");
@@ -633,32 +1353,16 @@ mod tests {
         );
     }
 
-    /// Connect starts even when neither device is there now (both ports missing): the stream
-    /// keeps retrying them, as for a device unplugged mid-session, instead of failing with
-    /// "cannot open serial port".
+    /// Connect starts even when neither device is there now (both ports, chosen in the panel,
+    /// missing): the stream keeps retrying them, as for a device unplugged mid-session, and
+    /// each device's status says why it waits.
     #[test]
     fn connect_starts_with_absent_devices_and_retries_them() {
-        let mut profiles = profile::builtin();
-        let k = profiles
-            .iter()
-            .position(|p| {
-                matches!(&p.input, Input::Devices { glove: Some(g), tracker: Some(_) } if g.port().is_some())
-            })
-            .expect("a built-in serial glove and tracker profile");
-        if let Input::Devices {
-            glove: Some(glove),
-            tracker: Some(tracker),
-        } = &mut profiles[k].input
-        {
-            glove.set_port("/nonexistent/nendo-glove");
-            tracker.set_port("/nonexistent/nendo-tracker");
-        }
-        let mut live = LiveInput {
-            profiles,
-            selected: k,
-            radius: crate::hand::DEFAULT_FINGER_RADIUS,
-            ..LiveInput::default()
-        };
+        let mut live = listed();
+        let k = glove_and_tracker(&live);
+        live.select(k);
+        live.glove_port = "/nonexistent/nendo-glove".into();
+        live.tracker_port = "/nonexistent/nendo-tracker".into();
         let mut doc = plane_doc();
         assert!(live.connect_or_mouse(&mut doc).is_none());
         assert!(
@@ -666,7 +1370,142 @@ mod tests {
             "connected, retrying: {:?}",
             live.message
         );
+        let (devices, _, replay) = live.device_status().expect("a session");
+        assert!(!replay);
+        assert_eq!(devices.len(), 2);
+        for d in &devices {
+            assert_eq!(d.state, SourceState::Disconnected, "{d:?}");
+            let e = d.last_error.as_deref().unwrap_or_default();
+            assert!(e.contains("/nonexistent/nendo-"), "{e}");
+        }
+        let running = live.running_devices().expect("the running profile");
+        assert_eq!(
+            running.tracker().map(|t| t.port()),
+            Some("/nonexistent/nendo-tracker")
+        );
         live.disconnect_from(&mut doc);
         assert!(!live.is_connected());
+    }
+
+    /// An existing recording is never replaced without asking: Connect waits with the
+    /// question; "Record to NAME-2.trace" records beside it and the first file is untouched.
+    #[test]
+    fn a_recording_never_overwrites_without_asking() {
+        let dir = std::env::temp_dir().join(format!("nendo-live-ask-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("dir");
+        let first = dir.join("session.trace");
+        std::fs::write(&first, "an earlier recording").expect("written");
+        let mut live = listed();
+        let k = glove_and_tracker(&live);
+        live.select(k);
+        live.glove_port = "/nonexistent/nendo-glove".into();
+        live.tracker_port = "/nonexistent/nendo-tracker".into();
+        live.record = true;
+        live.record_to = first.display().to_string();
+        let mut doc = plane_doc();
+        live.connect(&mut doc);
+        assert!(!live.is_connected(), "waits for the answer");
+        assert_eq!(live.confirm_overwrite.as_deref(), Some(first.as_path()));
+        let fresh = fresh_name(&first);
+        assert_eq!(fresh, dir.join("session-2.trace"));
+        live.connect_recording(&mut doc, Some(fresh.clone()));
+        assert!(live.is_connected());
+        live.disconnect_from(&mut doc);
+        assert_eq!(
+            std::fs::read_to_string(&first).expect("kept"),
+            "an earlier recording"
+        );
+        assert!(Trace::read(&fresh).is_ok(), "the new recording is a trace");
+        assert_eq!(fresh_name(&first), dir.join("session-3.trace"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Alignment on a shipped profile goes into a user copy in the profile folder (selected
+    /// from then on); the shipped entry keeps its values; the ports chosen go with it; a
+    /// second change goes to the same copy.
+    #[test]
+    fn alignment_is_saved_into_a_user_copy_of_a_shipped_profile() {
+        let dir = std::env::temp_dir().join(format!("nendo-live-copy-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut live = LiveInput::with_profile_dir(Some(dir.clone()));
+        let k = glove_and_tracker(&live);
+        live.select(k);
+        let name = live.entries[k].profile.name.clone();
+        live.tracker_port = "/dev/ttyUSB7".into();
+        let mut doc = plane_doc();
+        let anchor = ViewAnchor {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+            extent: 10.0,
+        };
+        live.fit_hand(&mut doc, &anchor);
+        let copy = dir.join(format!("{name}-mine.json"));
+        let saved = Profile::load(&copy).expect("the user copy");
+        let hand = alignment::hand_length(&saved.hand);
+        assert!((saved.world_from_tracker.scale * hand - 4.0).abs() < 1e-9);
+        assert_eq!(saved.tracker().map(|t| t.port()), Some("/dev/ttyUSB7"));
+        assert_eq!(live.entries[k].profile.world_from_tracker.scale, 1.0);
+        assert_eq!(
+            live.entries[live.selected].source,
+            ProfileSource::File(copy.clone())
+        );
+        live.set_scale(&mut doc, 5.0);
+        assert_eq!(
+            Profile::load(&copy)
+                .expect("the same copy")
+                .world_from_tracker
+                .scale,
+            5.0
+        );
+        // Listed again from the folder after a rescan, and remembered by path.
+        let mut settings = Settings::default();
+        live.store_settings(&mut settings);
+        let mut again = LiveInput::with_profile_dir(Some(dir.clone()));
+        again.apply_settings(&settings);
+        assert_eq!(
+            again.entries[again.selected].key(),
+            copy.display().to_string()
+        );
+        assert_eq!(again.tracker_port, "/dev/ttyUSB7");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Ports are remembered per profile, and a restart (settings applied) keeps every
+    /// profile's, not only the selected one's.
+    #[test]
+    fn ports_are_remembered_per_profile() {
+        let mut live = listed();
+        let k = glove_and_tracker(&live);
+        assert!(live.entries[0].profile.glove().is_some() && k != 0);
+        live.select(0);
+        live.glove_port = "/dev/ttyA".into();
+        live.select(k);
+        live.tracker_port = "/dev/ttyB".into();
+        let mut settings = Settings::default();
+        live.store_settings(&mut settings);
+        let mut again = listed();
+        again.apply_settings(&settings);
+        assert_eq!(again.selected, k);
+        assert_eq!(again.tracker_port, "/dev/ttyB");
+        again.select(0);
+        assert_eq!(again.glove_port, "/dev/ttyA");
+    }
+
+    /// The follow-the-hand radius: the library's default for a hand fitted to the 10-side
+    /// plane, proportional to the hand's world size; a set radius wins; a replay reads with
+    /// the default, as `nendo replay`.
+    #[test]
+    fn the_finger_radius_follows_the_hand_unless_set() {
+        let mut p = profile::resolve("cyberglove2-18-fastrak").expect("shipped");
+        p.world_from_tracker.scale = alignment::fit_scale(&p.hand, 10.0).expect("fits");
+        let mut live = LiveInput::default();
+        assert!((live.radius(&p, false) - DEFAULT_FINGER_RADIUS).abs() < 1e-12);
+        p.world_from_tracker.scale *= 0.5;
+        assert!((live.radius(&p, false) - 0.5 * DEFAULT_FINGER_RADIUS).abs() < 1e-12);
+        assert_eq!(live.radius(&p, true), DEFAULT_FINGER_RADIUS);
+        live.radius_set = Some(0.3);
+        assert_eq!(live.radius(&p, false), 0.3);
+        assert_eq!(live.radius(&p, true), 0.3);
     }
 }

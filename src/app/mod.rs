@@ -28,13 +28,16 @@
 //! | [`file_dialog`] | the egui file dialog |
 //! | [`export_job`] | mesh export off the UI thread |
 //! | [`hand_input`] | device frames and the mouse as a hand: the hand loop on the document, the hand drawn |
-//! | [`live`] | the device loop on its own thread |
+//! | [`live`] | the device loop on its own thread; profiles, ports, alignment, calibration, the status file |
+//! | [`devices_panel`] | the Devices panel (the toolbar's Devices button) |
+//! | [`settings`] | the settings remembered between runs, the user's profile folder |
 //! | [`window`] | winit, the surface, egui and the renderer together |
 
 pub mod autosave;
 pub mod camera;
 pub mod command;
 pub mod curve_edit;
+pub mod devices_panel;
 pub mod display_cache;
 pub mod document;
 pub mod export_job;
@@ -48,6 +51,7 @@ pub mod modeller;
 mod panels;
 pub mod reach;
 pub mod scene;
+pub mod settings;
 pub mod stroke;
 pub mod tools;
 pub mod window;
@@ -74,6 +78,8 @@ pub struct WindowOptions {
     pub no_autosave: bool,
     /// Do not offer to recover an earlier autosave (it is left in place until overwritten).
     pub no_recover: bool,
+    /// A device profile (shipped name or file) to connect to at start.
+    pub profile: Option<String>,
 }
 
 /// Opens the modeller window and runs it until it closes.
@@ -94,6 +100,12 @@ pub fn run(options: WindowOptions) -> anyhow::Result<()> {
     } else {
         options.autosave.clone().or_else(autosave::default_path)
     };
-    let modeller = Modeller::new(doc, autosave, !options.no_recover);
+    let mut modeller =
+        Modeller::new(doc, autosave, !options.no_recover).with_settings(settings::default_path());
+    if let Some(profile) = &options.profile {
+        modeller
+            .connect_profile(profile)
+            .map_err(|e| anyhow::anyhow!("--profile {profile}: {e}"))?;
+    }
     WindowApp::new(modeller).run()
 }

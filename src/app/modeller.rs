@@ -21,10 +21,11 @@ use super::file_dialog::{DialogPurpose, FileDialog};
 use super::hand_input::MouseHand;
 use super::keymap::{Action, OrbitButton};
 use super::lifecycle::{Next, Pending, PrimitiveForm, Session};
-use super::live::LiveInput;
+use super::live::{LiveInput, ViewAnchor};
 use super::panels::{self, FrameRate, PANEL_WIDTH, Status};
 use super::reach::Reach;
 use super::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
+use super::settings::Settings;
 use super::stroke::LiveStroke;
 use super::tools::{DEPTH_RANGE, Edit, RADIUS_RANGE, Tool, ToolContext, ToolSettings, ToolState};
 use crate::curve::Curve;
@@ -152,6 +153,10 @@ pub struct Modeller {
     hand: MouseHand,
     /// Devices.
     live: LiveInput,
+    /// The Devices panel is shown.
+    devices_open: bool,
+    /// The remembered settings as last written, and where (`None`: nothing is remembered).
+    settings: Option<(PathBuf, Settings)>,
     /// What is derived from the document.
     cache: DisplayCache,
     /// Reframe the camera on the next refresh (new model).
@@ -201,6 +206,8 @@ impl Modeller {
             },
             hand: MouseHand::default(),
             live: LiveInput::default(),
+            devices_open: false,
+            settings: None,
             cache: DisplayCache::default(),
             frame_pending: true,
             panel: PanelSettings {
@@ -221,6 +228,110 @@ impl Modeller {
             help: false,
             hover_view: None,
             reach: Reach::default(),
+        }
+    }
+
+    /// The same modeller remembering its settings in `path` (see [`super::settings`]): they
+    /// are read now (a file that cannot be used gives a warning on the status line and the
+    /// defaults), the user's profile folder is listed, and every later change is written.
+    #[must_use]
+    pub fn with_settings(mut self, path: Option<PathBuf>) -> Self {
+        self.live = LiveInput::with_profile_dir(super::settings::profile_dir());
+        let Some(path) = path else {
+            return self;
+        };
+        let (settings, warning) = Settings::load(&path);
+        if let Some(w) = warning {
+            eprintln!("nendo: {w}");
+            self.set_status(w, true);
+        }
+        self.live.apply_settings(&settings);
+        self.devices_open = settings.devices_open;
+        self.panel.orbit = match settings.orbit.as_deref() {
+            Some("middle") => OrbitButton::Middle,
+            _ => OrbitButton::Right,
+        };
+        // What is in effect now, so only a real change writes the file.
+        let current = self.current_settings(&settings);
+        self.settings = Some((path, current));
+        self
+    }
+
+    /// The settings in effect, on top of `base` (members this window does not know are kept).
+    fn current_settings(&self, base: &Settings) -> Settings {
+        let mut s = base.clone();
+        self.live.store_settings(&mut s);
+        s.orbit = Some(
+            match self.panel.orbit {
+                OrbitButton::Right => "right",
+                OrbitButton::Middle => "middle",
+            }
+            .into(),
+        );
+        s.devices_open = self.devices_open;
+        s
+    }
+
+    /// Writes the settings when they changed (a failure is shown once, then retried at the
+    /// next change).
+    fn remember_settings(&mut self) {
+        let Some((path, last)) = &self.settings else {
+            return;
+        };
+        let now = self.current_settings(last);
+        if now == *last {
+            return;
+        }
+        let path = path.clone();
+        if let Err(e) = now.save(&path) {
+            self.set_status(e.to_string(), true);
+        }
+        self.settings = Some((path, now));
+    }
+
+    /// Selects a device profile (a shipped name or a file) and connects to its devices, the
+    /// Devices panel shown (`nendo --profile`).
+    ///
+    /// # Errors
+    /// When the profile is neither shipped nor a readable profile file.
+    pub fn connect_profile(
+        &mut self,
+        name_or_path: &str,
+    ) -> Result<(), nendo_devices::DeviceError> {
+        self.live.select_profile(name_or_path)?;
+        self.devices_open = true;
+        if let Some(mouse) = self.live.connect_or_mouse(&mut self.session.doc) {
+            self.apply(Command::UseMouseHand(mouse));
+        }
+        Ok(())
+    }
+
+    /// The model point under the view centre (the orbit target when the centre misses the
+    /// surface) and the model's size: what the Devices panel aligns the hand with.
+    fn view_anchor(&self) -> ViewAnchor {
+        let viewport = self.pointer.viewport;
+        let ray = self.camera.ray(viewport * 0.5, viewport);
+        let display = self.cache.display();
+        let extent = display
+            .mesh
+            .bounds()
+            .map_or(10.0, |(lo, hi)| f64::from((hi - lo).max_element()))
+            .max(1e-6);
+        match crate::mesh::pick(self.cache.patches(), &display.mesh, &ray) {
+            Some(hit) => ViewAnchor {
+                point: hit.point,
+                normal: if hit.normal.dot(ray.direction) > 0.0 {
+                    -hit.normal
+                } else {
+                    hit.normal
+                },
+                extent,
+            },
+            None => ViewAnchor {
+                point: self.camera.target.as_dvec3(),
+                normal: -ray.direction,
+                extent,
+            },
         }
     }
 
@@ -297,13 +408,31 @@ impl Modeller {
             commands.extend(self.key_action(action));
         }
         egui::Panel::top("nendo top").show(ui, |ui| {
-            commands.extend(panels::top_bar_ui(ui, self.session.doc.history()));
+            ui.horizontal(|ui| {
+                ui.toggle_value(&mut self.devices_open, "Devices")
+                    .on_hover_text(
+                        "glove and tracker: profile, ports, status, alignment, calibration",
+                    );
+                ui.separator();
+                commands.extend(panels::top_bar_ui(ui, self.session.doc.history()));
+            });
         });
         egui::Panel::left("nendo tools")
             .exact_size(PANEL_WIDTH)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| self.side_panel_ui(ui, &mut commands));
             });
+        if self.devices_open {
+            let anchor = self.view_anchor();
+            egui::Panel::right("nendo devices")
+                .exact_size(super::devices_panel::DEVICES_PANEL_WIDTH)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        ui.heading("Devices");
+                        commands.extend(self.live.ui(ui, &mut self.session.doc, &anchor));
+                    });
+                });
+        }
         egui::Panel::bottom("nendo status").show(ui, |ui| {
             panels::status_ui(ui, self.status.as_ref(), self.session.autosave());
         });
@@ -322,6 +451,7 @@ impl Modeller {
         for command in commands {
             self.apply(command);
         }
+        self.remember_settings();
         view
     }
 
@@ -393,14 +523,6 @@ impl Modeller {
                 let recorded = self.session.doc.recording.as_ref().map(Vec::len);
                 let replaying = self.replay.as_ref().map(|r| (r.next, r.ops.len()));
                 commands.extend(panels::record_ui(ui, recorded, replaying));
-            });
-        egui::CollapsingHeader::new("Devices")
-            .default_open(false)
-            .show(ui, |ui| {
-                let radius = crate::hand::DEFAULT_FINGER_RADIUS;
-                if let Some(profile) = self.live.ui(ui, radius, &mut self.session.doc) {
-                    commands.push(Command::UseMouseHand(profile));
-                }
             });
     }
 
@@ -521,10 +643,16 @@ impl Modeller {
     }
 
     fn new_dialog(&self, purpose: DialogPurpose) -> FileDialog {
+        if let Some(dialog) = self.live.new_dialog(purpose) {
+            return dialog;
+        }
         let default = match purpose {
             DialogPurpose::SaveModel | DialogPurpose::OpenModel => "model.nendo.json",
             DialogPurpose::ExportMesh => "model.obj",
             DialogPurpose::SaveOps | DialogPurpose::ReplayOps => "ops.jsonl",
+            // The Devices panel opens its own dialogs for these.
+            DialogPurpose::OpenProfile => "profile.json",
+            DialogPurpose::RecordTrace | DialogPurpose::ReplayTrace => "session.trace",
         };
         FileDialog::beside(purpose, self.session.doc.path.as_deref(), default)
     }
@@ -539,6 +667,9 @@ impl Modeller {
             }
             DialogPurpose::ExportMesh => self.export(&path),
             DialogPurpose::SaveOps => self.save_recording(&path),
+            DialogPurpose::OpenProfile
+            | DialogPurpose::RecordTrace
+            | DialogPurpose::ReplayTrace => self.live.dialog_chosen(purpose, &path),
             DialogPurpose::ReplayOps => match std::fs::read_to_string(&path) {
                 Ok(text) => match parse_ops(&text) {
                     Ok(ops) => self.replay = Some(Replay { ops, next: 0 }),

@@ -7,6 +7,11 @@
 //! draws on top. Pointer input reaches the modeller only when egui did not consume it — except
 //! the moves and the release of a gesture the viewport started, so a drag never sticks.
 //!
+//! Whether a press is egui's is decided at the press's own position ([`over_ui`]), not only by
+//! egui's `wants_pointer_input`: that answer is from the last frame, when the pointer may still
+//! have been over the surface — a move onto a toolbar button and a click within one frame
+//! would otherwise reach both the button and the sculpting tool.
+//!
 //! ## Slow frames
 //!
 //! Input is never read once per frame only. The modeller gets every winit pointer event as it
@@ -90,6 +95,25 @@ pub struct WindowApp {
     clock: Instant,
     /// `NENDO_FRAME_DELAY_MS`: a sleep after each frame (a test aid).
     frame_delay: Option<Duration>,
+}
+
+/// Whether the window position `cursor` (physical pixels) is over egui's UI: over a window or
+/// other area above the background, or outside the 3D view's rectangle `view` (origin and
+/// size, physical pixels: the panels). Decided from the position itself and the areas of the
+/// last frame, so it is right for a pointer that moved since that frame.
+#[must_use]
+pub fn over_ui(ctx: &egui::Context, cursor: Vec2, view: (Vec2, Vec2)) -> bool {
+    let (origin, size) = view;
+    let inside = cursor.x >= origin.x
+        && cursor.y >= origin.y
+        && cursor.x < origin.x + size.x
+        && cursor.y < origin.y + size.y;
+    let ppp = ctx.pixels_per_point().max(1e-3);
+    let pos = egui::pos2(cursor.x / ppp, cursor.y / ppp);
+    let above = ctx
+        .layer_id_at(pos)
+        .is_some_and(|layer| layer.order != egui::Order::Background);
+    above || !inside
 }
 
 /// The environment variable that slows every frame down (a test aid, see the module docs).
@@ -488,6 +512,10 @@ impl ApplicationHandler for WindowApp {
         }
         let owns = self.modeller.owns_pointer();
         let (origin, _) = gfx.viewport;
+        // The UI's own answer is from the last frame; the position decides as well.
+        let ui_ctx = self.egui_ctx.clone();
+        let viewport = gfx.viewport;
+        let on_ui = |cursor: Vec2| over_ui(&ui_ctx, cursor, viewport);
         match event {
             WindowEvent::CloseRequested => {
                 self.modeller.request_close();
@@ -509,9 +537,9 @@ impl ApplicationHandler for WindowApp {
             }
             WindowEvent::CursorMoved { position, .. } => {
                 gfx.cursor = Vec2::new(position.x as f32, position.y as f32);
-                if !response.consumed || owns {
-                    let p = gfx.cursor - origin;
-                    self.pointer(PointerInput::Moved(p));
+                let cursor = gfx.cursor;
+                if owns || !(response.consumed || on_ui(cursor)) {
+                    self.pointer(PointerInput::Moved(cursor - origin));
                 }
             }
             WindowEvent::CursorLeft { .. } => self.pointer(PointerInput::Left),
@@ -523,8 +551,9 @@ impl ApplicationHandler for WindowApp {
                     _ => return,
                 };
                 let p = gfx.cursor - origin;
+                let on_ui = on_ui(gfx.cursor);
                 match state {
-                    ElementState::Pressed if !response.consumed => {
+                    ElementState::Pressed if !response.consumed && !on_ui => {
                         self.pointer(PointerInput::Pressed(button, p))
                     }
                     ElementState::Released if owns || !response.consumed => {
@@ -533,7 +562,9 @@ impl ApplicationHandler for WindowApp {
                     _ => {}
                 }
             }
-            WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
+            WindowEvent::MouseWheel { delta, .. }
+                if !response.consumed && (owns || !on_ui(gfx.cursor)) =>
+            {
                 let steps = match delta {
                     MouseScrollDelta::LineDelta(_, y) => y,
                     MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
@@ -618,5 +649,73 @@ mod tests {
             1.0,
         );
         assert_eq!(passes.len(), 2);
+    }
+
+    /// Issue 16 item 8: the pointer over the 3D view in the last frame, then moved onto a
+    /// toolbar button and pressed before the next frame. egui's answer (from that last frame)
+    /// says the pointer is not its own; the position says it is, so the press goes to the
+    /// button only and never sculpts.
+    #[test]
+    fn a_press_that_moved_onto_a_button_within_the_frame_is_the_uis() {
+        let ctx = egui::Context::default();
+        let screen = egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(800.0, 600.0));
+        let mut button_rect = egui::Rect::NOTHING;
+        let mut window_rect = egui::Rect::NOTHING;
+        let mut view = egui::Rect::NOTHING;
+        let mut frame = |events: Vec<egui::Event>| {
+            let raw = egui::RawInput {
+                screen_rect: Some(screen),
+                events,
+                ..Default::default()
+            };
+            let _ = ctx.run_ui(raw, |ui| {
+                egui::Panel::top("top").show(ui, |ui| {
+                    button_rect = ui.button("Open…").rect;
+                });
+                egui::Panel::left("tools")
+                    .exact_size(200.0)
+                    .show(ui, |ui| ui.label("tools"));
+                let ctx = ui.ctx().clone();
+                if let Some(r) = egui::Window::new("Devices")
+                    .fixed_pos([550.0, 400.0])
+                    .show(&ctx, |ui| ui.label("a floating window"))
+                {
+                    window_rect = r.response.rect;
+                }
+                view = ui.available_rect_before_wrap();
+            });
+        };
+        frame(Vec::new());
+        let surface = egui::pos2(350.0, 150.0);
+        frame(vec![egui::Event::PointerMoved(surface)]);
+        frame(vec![egui::Event::PointerMoved(surface)]);
+        let viewport = (
+            Vec2::new(view.min.x, view.min.y),
+            Vec2::new(view.width(), view.height()),
+        );
+        let px = |p: egui::Pos2| Vec2::new(p.x, p.y);
+        assert!(
+            !ctx.egui_wants_pointer_input(),
+            "over the surface: layer {:?}, view {view:?}, window {window_rect:?}",
+            ctx.layer_id_at(surface)
+        );
+        assert!(!over_ui(&ctx, px(surface), viewport));
+        // The stale answer egui-winit would give for a press on the button now.
+        assert!(
+            !ctx.egui_wants_pointer_input(),
+            "stale: still the surface's"
+        );
+        assert!(
+            over_ui(&ctx, px(button_rect.center()), viewport),
+            "the toolbar button"
+        );
+        assert!(
+            over_ui(&ctx, Vec2::new(50.0, 300.0), viewport),
+            "the tool panel"
+        );
+        assert!(
+            over_ui(&ctx, px(window_rect.center()), viewport),
+            "a floating window over the view"
+        );
     }
 }

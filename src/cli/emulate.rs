@@ -16,6 +16,9 @@
 //! on SIGINT / SIGTERM / SIGHUP (the binary's one handler, deferred while it runs), removing
 //! the pty's link.
 //!
+//! With `--link PATH` the first line is PATH, a symbolic link to the pty's own link, so a
+//! profile can name a fixed port and a restarted emulator is the device plugged back in.
+//!
 //! Limits: serial devices only — the 5DT Data Glove Ultra is USB HID, and emulating it needs a
 //! virtual HID device (`/dev/uhid`, root), which nendo does not create; one pty per process
 //! (run one emulator per device: a tracker and a glove are two processes); the Flock's
@@ -80,6 +83,56 @@ pub struct Args {
     /// with (default: the device's shipped profile); give the host the same one.
     #[arg(long)]
     pub profile: Option<String>,
+    /// Also make PATH a symbolic link to the port (replacing a link left there, never a file),
+    /// removed again at the end: a host profile can name a fixed path, and an emulator started
+    /// again with the same `--link` is the same device plugged back in. The first line printed
+    /// is then PATH.
+    #[arg(long, value_name = "PATH")]
+    pub link: Option<std::path::PathBuf>,
+}
+
+/// A symbolic link `--link` made to the emulator's port; removed on drop if it still points
+/// there.
+struct UserLink {
+    path: std::path::PathBuf,
+    target: String,
+}
+
+impl UserLink {
+    /// Points `path` at `target`: a new link, or in place of a symbolic link (a stale one from
+    /// an emulator that was killed); anything else at `path` is refused.
+    fn make(path: &std::path::Path, target: &str) -> anyhow::Result<UserLink> {
+        if let Ok(meta) = std::fs::symlink_metadata(path)
+            && !meta.file_type().is_symlink()
+        {
+            anyhow::bail!(
+                "--link {}: something other than a symbolic link is there; not replacing it",
+                path.display()
+            );
+        }
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(format!(".new-{}", std::process::id()));
+        let tmp = std::path::PathBuf::from(tmp);
+        let _ = std::fs::remove_file(&tmp);
+        std::os::unix::fs::symlink(target, &tmp)
+            .and_then(|()| std::fs::rename(&tmp, path))
+            .map_err(|e| anyhow::anyhow!("--link {}: {e}", path.display()))?;
+        Ok(UserLink {
+            path: path.to_path_buf(),
+            target: target.to_string(),
+        })
+    }
+}
+
+impl Drop for UserLink {
+    fn drop(&mut self) {
+        // Only our own link: another emulator may have taken the path over since.
+        if std::fs::read_link(&self.path)
+            .is_ok_and(|t| t.as_os_str() == std::ffi::OsStr::new(&self.target))
+        {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
 }
 
 fn parse_motion(s: &str) -> Result<Gesture, String> {
@@ -265,7 +318,13 @@ fn emulate(args: &Args) -> anyhow::Result<String> {
     // From here on a stop signal ends the loop below (the binary's handler defers to it), so
     // the emulator is dropped and its link removed.
     let stop = super::signal::DeferredStop::new();
-    let port = emulator.port();
+    let user_link = match &args.link {
+        Some(path) => Some(UserLink::make(path, &emulator.port())?),
+        None => None,
+    };
+    let port = user_link
+        .as_ref()
+        .map_or_else(|| emulator.port(), |l| l.path.display().to_string());
     {
         let mut out = std::io::stdout().lock();
         writeln!(out, "{port}")?;
@@ -290,6 +349,7 @@ fn emulate(args: &Args) -> anyhow::Result<String> {
     };
     let records = emulator.records_sent();
     let dropped = emulator.dropped_bytes();
+    drop(user_link);
     drop(emulator);
     Ok(format!(
         "{what}: {records} records streamed in {:.1} s{why}, {dropped} bytes the host did not take",

@@ -1,4 +1,5 @@
-//! `nendo [MODEL] [--autosave PATH]`: the modeller window (the command without a subcommand).
+//! `nendo [MODEL] [--autosave PATH] [--profile FILE_OR_NAME]`: the modeller window (the command
+//! without a subcommand).
 
 use clap::Args as ClapArgs;
 use std::path::PathBuf;
@@ -19,6 +20,10 @@ pub struct Args {
     /// Do not offer to recover the autosave of a session that did not close cleanly.
     #[arg(long)]
     pub no_recover: bool,
+    /// Connect to a device profile's glove and tracker at start: a shipped profile's name
+    /// (`cyberglove2-18-fastrak`) or a profile file; the Devices panel opens.
+    #[arg(long, value_name = "FILE_OR_NAME")]
+    pub profile: Option<String>,
 }
 
 /// Opens the window.
@@ -29,6 +34,7 @@ pub fn run(args: Args) -> ExitCode {
         autosave: args.autosave,
         no_autosave: args.no_autosave,
         no_recover: args.no_recover,
+        profile: args.profile,
     };
     match crate::app::run(options) {
         Ok(()) => ExitCode::SUCCESS,

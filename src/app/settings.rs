@@ -1,0 +1,229 @@
+//! The window's settings remembered between runs: a small JSON file,
+//! `$XDG_CONFIG_HOME/nendo/settings.json` (`~/.config/nendo/settings.json` without
+//! `XDG_CONFIG_HOME`), and the user's profile folder beside it (`…/nendo/profiles/`).
+//!
+//! ```json
+//! {"format":"nendo-settings","version":1,"profile":"/home/me/.config/nendo/profiles/mine.json",
+//!  "ports":{"mine":{"glove":"/dev/ttyUSB1","tracker":"/dev/ttyUSB0"}},
+//!  "record":true,"record_folder":"/home/me/traces","trace_folder":"/home/me/traces",
+//!  "orbit":"right","finger_radius":null,"devices_open":true}
+//! ```
+//!
+//! Every member is optional (a missing one takes its default); unknown members are ignored,
+//! so an older nendo reads a newer file. A file that cannot be read or parsed gives a warning
+//! and the defaults, and is replaced at the next change. Writes go through the one atomic
+//! writer (`nendo_file`).
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The format name the file carries.
+pub const SETTINGS_FORMAT: &str = "nendo-settings";
+
+/// The ports chosen for one profile's devices.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct DevicePorts {
+    /// The glove's serial port.
+    pub glove: Option<String>,
+    /// The tracker's serial port.
+    pub tracker: Option<String>,
+}
+
+/// The remembered settings (see the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// Always [`SETTINGS_FORMAT`].
+    pub format: String,
+    /// 1.
+    pub version: u32,
+    /// The profile last selected: a shipped profile's name or a profile file's path.
+    pub profile: Option<String>,
+    /// Ports per profile (keyed like `profile`).
+    pub ports: BTreeMap<String, DevicePorts>,
+    /// Record a trace of every device session.
+    pub record: bool,
+    /// Where recordings go.
+    pub record_folder: Option<PathBuf>,
+    /// Where the last replayed trace was.
+    pub trace_folder: Option<PathBuf>,
+    /// The mouse button that orbits: `right` or `middle`.
+    pub orbit: Option<String>,
+    /// The finger radius of device hands, when set by hand (`None`: it follows the hand).
+    pub finger_radius: Option<f64>,
+    /// The Devices panel is shown.
+    pub devices_open: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            format: SETTINGS_FORMAT.into(),
+            version: 1,
+            profile: None,
+            ports: BTreeMap::new(),
+            record: false,
+            record_folder: None,
+            trace_folder: None,
+            orbit: None,
+            finger_radius: None,
+            devices_open: false,
+        }
+    }
+}
+
+/// Why the settings could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write the settings {}: {reason}", path.display())]
+pub struct SettingsError {
+    path: PathBuf,
+    reason: String,
+}
+
+/// `$XDG_CONFIG_HOME/nendo` (or `~/.config/nendo`), if either variable is set.
+#[must_use]
+pub fn config_dir() -> Option<PathBuf> {
+    let base = std::env::var_os("XDG_CONFIG_HOME")
+        .map(PathBuf::from)
+        .filter(|p| p.is_absolute())
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")))?;
+    Some(base.join("nendo"))
+}
+
+/// The settings file's default path.
+#[must_use]
+pub fn default_path() -> Option<PathBuf> {
+    config_dir().map(|d| d.join("settings.json"))
+}
+
+/// The user's profile folder.
+#[must_use]
+pub fn profile_dir() -> Option<PathBuf> {
+    config_dir().map(|d| d.join("profiles"))
+}
+
+impl Settings {
+    /// Reads `path`: the settings and, when the file was there but unusable, a warning (the
+    /// defaults are returned then). A missing file is no warning.
+    #[must_use]
+    pub fn load(path: &Path) -> (Settings, Option<String>) {
+        let text = match std::fs::read_to_string(path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                return (Settings::default(), None);
+            }
+            Err(e) => {
+                return (
+                    Settings::default(),
+                    Some(format!(
+                        "settings {}: {e}; using the defaults",
+                        path.display()
+                    )),
+                );
+            }
+        };
+        match serde_json::from_str::<Settings>(&text) {
+            Ok(s) if s.format == SETTINGS_FORMAT => (s, None),
+            Ok(s) => (
+                Settings::default(),
+                Some(format!(
+                    "settings {}: format {:?} is not {SETTINGS_FORMAT:?}; using the defaults",
+                    path.display(),
+                    s.format
+                )),
+            ),
+            Err(e) => (
+                Settings::default(),
+                Some(format!(
+                    "settings {}: {e}; using the defaults",
+                    path.display()
+                )),
+            ),
+        }
+    }
+
+    /// Writes the settings to `path` atomically, creating its folder.
+    ///
+    /// # Errors
+    /// [`SettingsError`] when the folder or the file cannot be written.
+    pub fn save(&self, path: &Path) -> Result<(), SettingsError> {
+        let fail = |reason: String| SettingsError {
+            path: path.to_path_buf(),
+            reason,
+        };
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| fail(e.to_string()))?;
+        }
+        let mut text = serde_json::to_string_pretty(self).map_err(|e| fail(e.to_string()))?;
+        text.push('\n');
+        nendo_file::write_bytes(path, text.as_bytes()).map_err(|e| fail(e.reason()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("nendo-settings-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir
+    }
+
+    #[test]
+    fn settings_round_trip_and_a_missing_file_is_the_defaults() {
+        let dir = temp("round");
+        let path = dir.join("nendo").join("settings.json");
+        assert_eq!(Settings::load(&path), (Settings::default(), None));
+        let mut s = Settings {
+            profile: Some("/p/mine.json".into()),
+            record: true,
+            record_folder: Some("/traces".into()),
+            orbit: Some("middle".into()),
+            finger_radius: Some(0.5),
+            devices_open: true,
+            ..Settings::default()
+        };
+        s.ports.insert(
+            "/p/mine.json".into(),
+            DevicePorts {
+                glove: Some("/dev/ttyUSB1".into()),
+                tracker: None,
+            },
+        );
+        s.save(&path).expect("saved");
+        assert_eq!(Settings::load(&path), (s, None));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_corrupt_file_warns_and_gives_the_defaults() {
+        let dir = temp("corrupt");
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("settings.json");
+        for text in [
+            "{\"profile\": 3",
+            "[1,2]",
+            "{\"format\":\"other\"}",
+            "\u{0}",
+        ] {
+            std::fs::write(&path, text).expect("written");
+            let (s, warning) = Settings::load(&path);
+            assert_eq!(s, Settings::default(), "{text:?}");
+            let warning = warning.expect("a warning");
+            assert!(warning.contains("using the defaults"), "{warning}");
+        }
+        // Unknown members and missing ones are fine.
+        std::fs::write(
+            &path,
+            r#"{"format":"nendo-settings","later":1,"record":true}"#,
+        )
+        .expect("written");
+        let (s, warning) = Settings::load(&path);
+        assert!(warning.is_none() && s.record);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

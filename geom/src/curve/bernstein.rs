@@ -213,6 +213,7 @@ pub fn subdivide_into<T: Coeff>(c: &[T], t: f64, left: &mut [T], right: &mut [T]
 /// Casteljau passes, written with constant loop bounds so that they unroll (the hot loop of
 /// the closest-point query).
 #[inline(always)]
+#[allow(clippy::needless_range_loop)] // index loops: they unroll for the constant length
 pub(crate) fn subdivide_fixed<const F: usize>(
     c: &[f64; F],
     t: f64,
@@ -381,10 +382,10 @@ pub fn sign_changes(c: &[f64]) -> usize {
     let Some(&last) = c.last() else {
         return 0;
     };
-    let mut irregular = !(last.abs() > 0.0);
+    let mut irregular = last == 0.0 || last.is_nan();
     let mut flips = 0;
     for k in 1..c.len() {
-        irregular |= !(c[k - 1].abs() > 0.0);
+        irregular |= c[k - 1] == 0.0 || c[k - 1].is_nan();
         flips += usize::from((c[k - 1] < 0.0) != (c[k] < 0.0));
     }
     if !irregular {

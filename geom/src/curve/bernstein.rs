@@ -209,6 +209,50 @@ pub fn subdivide_into<T: Coeff>(c: &[T], t: f64, left: &mut [T], right: &mut [T]
     }
 }
 
+/// [`subdivide_into`] for scalar coefficient arrays of a fixed length `F`: the same de
+/// Casteljau passes, written with constant loop bounds so that they unroll (the hot loop of
+/// the closest-point query).
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // index loops: they unroll for the constant length
+pub(crate) fn subdivide_fixed<const F: usize>(
+    c: &[f64; F],
+    t: f64,
+    left: &mut [f64; F],
+    right: &mut [f64; F],
+) {
+    *right = *c;
+    left[0] = c[0];
+    for r in 1..F {
+        for i in 0..F - r {
+            right[i] += (right[i + 1] - right[i]) * t;
+        }
+        left[r] = right[0];
+    }
+}
+
+/// [`restrict_in_place`] for scalar coefficient arrays of a fixed length `F` (constant loop
+/// bounds, as [`subdivide_fixed`]).
+#[inline(always)]
+pub(crate) fn restrict_fixed<const F: usize>(c: &mut [f64; F], a: f64, b: f64) {
+    debug_assert!(a <= b);
+    if a > 0.0 {
+        for r in 1..F {
+            for i in 0..F - r {
+                c[i] += (c[i + 1] - c[i]) * a;
+            }
+        }
+    }
+    if b < 1.0 {
+        let span = 1.0 - a;
+        let t = if span > 0.0 { (b - a) / span } else { 0.0 };
+        for r in 1..F {
+            for i in (r..F).rev() {
+                c[i] = c[i - 1] + (c[i] - c[i - 1]) * t;
+            }
+        }
+    }
+}
+
 /// Splits a Bernstein form at `t` into the forms on `[0,t]` and `[t,1]`.
 #[must_use]
 pub fn subdivide<T: Coeff>(c: &[T], t: f64) -> (Vec<T>, Vec<T>) {
@@ -333,6 +377,20 @@ pub fn product<A: Copy, B: Copy>(a: &[A], b: &[B], pair: impl Fn(A, B) -> f64) -
 #[inline]
 #[must_use]
 pub fn sign_changes(c: &[f64]) -> usize {
+    // Without zeros (or NaN) the count is that of adjacent pairs of opposite signs, branch-free;
+    // otherwise the zeros are skipped one by one below.
+    let Some(&last) = c.last() else {
+        return 0;
+    };
+    let mut irregular = last == 0.0 || last.is_nan();
+    let mut flips = 0;
+    for k in 1..c.len() {
+        irregular |= c[k - 1] == 0.0 || c[k - 1].is_nan();
+        flips += usize::from((c[k - 1] < 0.0) != (c[k] < 0.0));
+    }
+    if !irregular {
+        return flips;
+    }
     let mut count = 0;
     let mut last = 0.0f64;
     for &x in c {

@@ -131,8 +131,9 @@ pub fn end_lines_below(c: &[f64], level: f64) -> Option<(f64, f64)> {
     // Least slopes from each end, in units of the coefficient index.
     let mut left = f64::INFINITY;
     let mut right = f64::INFINITY;
-    for (k, &ck) in c.iter().enumerate().take(m).skip(1) {
-        let v = ck - level;
+    #[allow(clippy::needless_range_loop)] // index loop: unrolls for a constant length
+    for k in 1..m {
+        let v = c[k] - level;
         any |= v <= 0.0;
         let from_left = (v - c0) * RECIPROCAL[k];
         let from_right = (v - cm) * RECIPROCAL[m - k];
@@ -224,14 +225,14 @@ pub fn bracketed_root(c: &[f64], mut lo: f64, mut hi: f64, start: f64) -> (f64, 
     let mut power = [0.0; POWER_MAX + 1];
     let use_power = m <= POWER_MAX;
     if use_power {
-        for (k, pk) in power.iter_mut().enumerate().take(m + 1) {
-            let row = bernstein::binomial_row(k);
+        // Index loops with the degree's bounds, so that they unroll once `m` is a constant.
+        let scale = bernstein::binomial_row(m);
+        for k in 0..=m {
             let mut acc = 0.0;
-            for (i, &ci) in c.iter().enumerate().take(k + 1) {
-                let term = ci * row[i];
-                acc += if (k - i) % 2 == 0 { term } else { -term };
+            for i in 0..=k {
+                acc += c[i] * SIGNED_BINOMIAL[k][i];
             }
-            *pk = acc * bernstein::binomial(m, k);
+            power[k] = acc * scale[k];
         }
     }
     let neg_before_root = c[0] < 0.0;
@@ -285,6 +286,35 @@ pub fn bracketed_root(c: &[f64], mut lo: f64, mut hi: f64, start: f64) -> (f64, 
 
 /// Highest degree that [`bracketed_root`] evaluates in the power basis.
 const POWER_MAX: usize = 8;
+
+/// `(−1)^{k−i} C(k,i)` for `i ≤ k ≤ POWER_MAX`: the Bernstein-to-power conversion
+/// `a_k = C(m,k) Σ_{i≤k} (−1)^{k−i} C(k,i) c_i` as a table of exact integers (no parity
+/// branches in the hot loop; the sums round exactly as with the binomials and signs applied
+/// term by term).
+static SIGNED_BINOMIAL: [[f64; POWER_MAX + 1]; POWER_MAX + 1] = {
+    let mut t = [[0.0; POWER_MAX + 1]; POWER_MAX + 1];
+    let mut c = [[0i64; POWER_MAX + 1]; POWER_MAX + 1];
+    let mut k = 0;
+    while k <= POWER_MAX {
+        c[k][0] = 1;
+        let mut i = 1;
+        while i <= k {
+            c[k][i] = c[k - 1][i - 1] + if i < k { c[k - 1][i] } else { 0 };
+            i += 1;
+        }
+        let mut i = 0;
+        while i <= k {
+            t[k][i] = if (k - i) % 2 == 0 {
+                c[k][i] as f64
+            } else {
+                -(c[k][i] as f64)
+            };
+            i += 1;
+        }
+        k += 1;
+    }
+    t
+};
 
 /// `f(t) = Σ c_k C(m,k) t^k (1−t)^(m−k)` and
 /// `f'(t) = m Σ (c_{k+1} − c_k) C(m−1,k) t^k (1−t)^(m−1−k)`, by Horner's scheme in `t/(1−t)`

@@ -217,7 +217,7 @@ fn minimize_fixed<const F: usize, const SEEDED: bool>(
     let mut stack = IntervalStack::new();
     let mut steps = 0u32;
     let (mut a, mut b) = (a0, b0);
-    bernstein::restrict_in_place(&mut w, a, b);
+    bernstein::restrict_fixed(&mut w, a, b);
     loop {
         'interval: loop {
             steps += 1;
@@ -251,7 +251,11 @@ fn minimize_fixed<const F: usize, const SEEDED: bool>(
                 break 'interval;
             }
             if changes == 1 {
-                let first = gk.iter().copied().find(|&v| v != 0.0).unwrap_or(0.0);
+                let first = if gk[0] != 0.0 {
+                    gk[0]
+                } else {
+                    gk.iter().copied().find(|&v| v != 0.0).unwrap_or(0.0)
+                };
                 if first > 0.0 {
                     break 'interval; // a maximum inside; both ends already counted
                 }
@@ -284,7 +288,7 @@ fn minimize_fixed<const F: usize, const SEEDED: bool>(
                             a,
                             b: a + sl * span,
                         };
-                        bernstein::subdivide_into(&w, sl, &mut left.w, &mut rest);
+                        bernstein::subdivide_fixed(&w, sl, &mut left.w, &mut rest);
                         stack.push(left);
                     }
                     if sr < 1.0 {
@@ -294,7 +298,7 @@ fn minimize_fixed<const F: usize, const SEEDED: bool>(
                             b,
                         };
                         let t = (sr - sl) / (1.0 - sl);
-                        bernstein::subdivide_into(&rest, t, &mut w, &mut right.w);
+                        bernstein::subdivide_fixed(&rest, t, &mut w, &mut right.w);
                         stack.push(right);
                     } else {
                         w = rest;
@@ -331,20 +335,20 @@ fn minimize_fixed<const F: usize, const SEEDED: bool>(
                 // The clip removed less than 20 %: split the interval (the curve) in two. One
                 // de Casteljau pass at 1/2 gives both halves; the right one waits on the stack.
                 stats.splits += 1;
-                bernstein::restrict_in_place(&mut w, lo, hi);
+                bernstein::restrict_fixed(&mut w, lo, hi);
                 let whole = w;
                 let mut right = Pending {
                     w: [0.0; F],
                     a: a + 0.5 * (lo + hi) * span,
                     b: a + hi * span,
                 };
-                bernstein::subdivide_into(&whole, 0.5, &mut w, &mut right.w);
+                bernstein::subdivide_fixed(&whole, 0.5, &mut w, &mut right.w);
                 stack.push(right);
                 b = right.a;
                 a += lo * span;
                 continue 'interval;
             }
-            bernstein::restrict_in_place(&mut w, lo, hi);
+            bernstein::restrict_fixed(&mut w, lo, hi);
             b = a + hi * span;
             a += lo * span;
         }
@@ -600,8 +604,10 @@ pub(crate) fn magnitude<P: Point>(pts: &[P], q: P) -> f64 {
 /// `[1/EXTREME, EXTREME]`, else 1. Scaling by a power of two is exact (short of subnormals),
 /// so distances and parameters found on the scaled copy are those of the original.
 #[inline]
+#[allow(clippy::manual_range_contains)]
 pub(crate) fn rescale_for(m: f64) -> f64 {
-    if !(1.0 / EXTREME..=EXTREME).contains(&m) && m > 0.0 && m.is_finite() {
+    // Plain comparisons: `RangeInclusive::contains` cost about 80 instructions per query here.
+    if !(m >= 1.0 / EXTREME && m <= EXTREME) && m > 0.0 && m.is_finite() {
         let e = m.log2().floor() as i32;
         2f64.powi(-e)
     } else {

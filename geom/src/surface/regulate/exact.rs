@@ -292,6 +292,72 @@ pub(crate) struct Coupled {
     data: Vec<f64>,
     /// The right-hand side, then the solution `θ` (4 vectors per group).
     rhs: Vec<DVec3>,
+    /// What the normal matrix depends on, for the present solve: per group its ratios' bits
+    /// and which slots exist (the corners above give the rest).
+    shape: Vec<(u64, u64, [bool; 9])>,
+    /// Factored normal matrices of recent solves, by shape (see [`FactorCache`]).
+    factors: FactorCache,
+}
+
+/// The Cholesky factors of recent coupled solves. The normal matrix depends only on the
+/// patches' corner groups (`corners`, in the groups' order) and on each group's ratios and
+/// slots, not on the displacement and not on where on the grid the groups are: a stroke that
+/// moves by whole patches over a uniform region, or strokes repeated at the same place, find
+/// their factor here and only assemble the right-hand side and solve.
+#[derive(Debug, Clone, Default)]
+struct FactorCache {
+    entries: Vec<Factor>,
+    /// The entry to overwrite next when full (round robin).
+    next: usize,
+}
+
+/// One cached factor: its key and the skyline factor.
+#[derive(Debug, Clone, Default)]
+struct Factor {
+    corners: Vec<[Option<u32>; 4]>,
+    shape: Vec<(u64, u64, [bool; 9])>,
+    first: Vec<usize>,
+    start: Vec<usize>,
+    data: Vec<f64>,
+}
+
+impl FactorCache {
+    /// Most factors kept.
+    const LIMIT: usize = 8;
+
+    fn find(&self, corners: &[[Option<u32>; 4]], shape: &[(u64, u64, [bool; 9])]) -> Option<usize> {
+        self.entries
+            .iter()
+            .position(|f| f.corners == corners && f.shape == shape)
+    }
+
+    /// Stores a factor (reusing an old entry's buffers when full).
+    fn store(
+        &mut self,
+        corners: &[[Option<u32>; 4]],
+        shape: &[(u64, u64, [bool; 9])],
+        (first, start, data): (&[usize], &[usize], &[f64]),
+    ) {
+        let i = if self.entries.len() < Self::LIMIT {
+            self.entries.push(Factor::default());
+            self.entries.len() - 1
+        } else {
+            let i = self.next;
+            self.next = (self.next + 1) % Self::LIMIT;
+            i
+        };
+        let f = &mut self.entries[i];
+        for (dst, src) in [(&mut f.first, first), (&mut f.start, start)] {
+            dst.clear();
+            dst.extend_from_slice(src);
+        }
+        f.corners.clear();
+        f.corners.extend_from_slice(corners);
+        f.shape.clear();
+        f.shape.extend_from_slice(shape);
+        f.data.clear();
+        f.data.extend_from_slice(data);
+    }
 }
 
 impl Coupled {
@@ -358,19 +424,29 @@ impl Coupled {
             }
             self.corners.push(c);
         }
-        // Skyline layout.
-        let rows = 4 * count;
-        self.first.clear();
-        self.start.clear();
-        let mut len = 0;
-        for r in 0..rows {
-            let f = 4 * self.first_group[r / 4];
-            self.first.push(f);
-            self.start.push(len);
-            len += r + 1 - f;
+        // The matrix's key; a factor of the same shape is reused.
+        self.shape.clear();
+        for g in &self.groups {
+            let present = std::array::from_fn(|k| g.nodes[k / 3][k % 3].is_some());
+            self.shape
+                .push((g.ratios.0.to_bits(), g.ratios.1.to_bits(), present));
         }
-        self.data.clear();
-        self.data.resize(len, 0.0);
+        let cached = self.factors.find(&self.corners, &self.shape);
+        // Skyline layout (a cached factor has its own).
+        let rows = 4 * count;
+        if cached.is_none() {
+            self.first.clear();
+            self.start.clear();
+            let mut len = 0;
+            for r in 0..rows {
+                let f = 4 * self.first_group[r / 4];
+                self.first.push(f);
+                self.start.push(len);
+                len += r + 1 - f;
+            }
+            self.data.clear();
+            self.data.resize(len, 0.0);
+        }
         self.rhs.clear();
         self.rhs.resize(rows, DVec3::ZERO);
         // Assembly, patch by patch.
@@ -436,6 +512,9 @@ impl Coupled {
                     }
                 }
                 // Normal-matrix blocks with every regulated corner at or before it.
+                if cached.is_some() {
+                    continue;
+                }
                 for (ds, gd) in corners.iter().enumerate() {
                     let Some(gd) = gd else { continue };
                     let gd = *gd as usize;
@@ -484,10 +563,23 @@ impl Coupled {
                 }
             }
         }
-        if !skyline_cholesky(&self.first, &self.start, &mut self.data) {
-            return false;
+        match cached {
+            Some(i) => {
+                let f = &self.factors.entries[i];
+                skyline_solve(&f.first, &f.start, &f.data, &mut self.rhs);
+            }
+            None => {
+                if !skyline_cholesky(&self.first, &self.start, &mut self.data) {
+                    return false;
+                }
+                self.factors.store(
+                    &self.corners,
+                    &self.shape,
+                    (&self.first, &self.start, &self.data),
+                );
+                skyline_solve(&self.first, &self.start, &self.data, &mut self.rhs);
+            }
         }
-        skyline_solve(&self.first, &self.start, &self.data, &mut self.rhs);
         if self.rhs.iter().any(|x| !x.is_finite()) {
             return false;
         }
@@ -800,6 +892,41 @@ mod tests {
                     "{prim} group {:?}: {worse} vs {best}",
                     g.vertex
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn a_reused_factor_gives_the_fresh_solve() {
+        // The same push shifted by whole patches has the same normal matrix: the second
+        // solve reuses the first's factor and must agree with a fresh sculptor's.
+        use crate::surface::{Op, Primitive, PrimitiveParams, Regulation, Sculptor};
+        let base = Primitive::Plane
+            .build(&PrimitiveParams {
+                patches: Some((10, 10)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap();
+        let push = |x: f64, y: f64, depth: f64| Op::Push {
+            at: DVec3::new(x, y, 0.0),
+            dir: DVec3::new(0.1, -0.05, -1.0),
+            depth,
+            radius: 1.1,
+        };
+        let mut warm = Sculptor::with_coupled_exact();
+        let mut scratch = base.clone();
+        warm.apply(&mut scratch, &push(-1.7, 0.4, 0.3), Regulation::Exact)
+            .unwrap();
+        for (x, y, depth) in [(0.3, 0.4, 0.5), (1.3, -1.6, -0.2), (-1.7, 0.4, 0.7)] {
+            let op = push(x, y, depth);
+            let mut reused = base.clone();
+            warm.apply(&mut reused, &op, Regulation::Exact).unwrap();
+            let mut fresh = base.clone();
+            Sculptor::with_coupled_exact()
+                .apply(&mut fresh, &op, Regulation::Exact)
+                .unwrap();
+            for (a, b) in reused.nodes().iter().zip(fresh.nodes()) {
+                assert!((*a - *b).length() < 1e-13, "{x} {y}: {a} vs {b}");
             }
         }
     }

@@ -327,9 +327,11 @@ impl Sculptor {
     /// A sculptor whose [`Regulation::Exact`] projects all the groups a stroke touched
     /// together, nearest to the unregulated net in `∫|ΔS|²` over every patch around them
     /// (the coupled projection of [`super::regulate::exact`]), instead of group by group.
-    /// Not the default: it is 2–3× dearer per stroke, and a stroke grown frame by frame (the
-    /// hand's [`super::Presser`]) would no longer equal the stroke applied at once, since a
-    /// group's result then depends on its neighbours'. `nendo bench regulation` measures it.
+    /// Not the default: a stroke grown frame by frame (the hand's [`super::Presser`]) would no
+    /// longer equal the stroke applied at once, since a group's result then depends on its
+    /// neighbours' (the rule and the alternatives: [`super::regulate::exact`]'s module docs);
+    /// it also costs about 1.2× the group-by-group projection per stroke.
+    /// `nendo bench regulation` and `nendo bench sculpt` measure it.
     #[must_use]
     pub fn with_coupled_exact() -> Self {
         let mut s = Self::default();

@@ -367,6 +367,9 @@ struct Factor {
 impl FactorCache {
     /// Most factors kept.
     const LIMIT: usize = 8;
+    /// Largest factor kept (entries of the skyline, 512 KiB): a stroke over thousands of
+    /// groups is not repeated often enough to be worth the memory.
+    const LARGEST: usize = 1 << 16;
 
     fn find(&self, corners: &[[Option<u32>; 4]], shape: &[(u64, u64, [bool; 9])]) -> Option<usize> {
         self.entries
@@ -381,6 +384,9 @@ impl FactorCache {
         shape: &[(u64, u64, [bool; 9])],
         (first, start, data): (&[usize], &[usize], &[f64]),
     ) {
+        if data.len() > Self::LARGEST {
+            return;
+        }
         let i = if self.entries.len() < Self::LIMIT {
             self.entries.push(Factor::default());
             self.entries.len() - 1

@@ -39,6 +39,7 @@ use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
 use super::mirror::Symmetry;
 use super::nearest::nearest;
+use super::patch::{Patch, cubic_basis, cubic_basis_derivative};
 use super::regulate::{self, Projections, Regulation};
 use super::shape_fn::{Finger, Op};
 use super::smooth::{EnergyDrop, HALVINGS, energy_of, patch_energy, thin_plate_matrix};
@@ -148,8 +149,14 @@ pub fn verify(
 /// The largest angle (degrees) between the normals of the two sides of the edge between
 /// patches `a` and `b` (`b` after `a` along u when `along_u`, else along v), at
 /// `VERIFY_SAMPLES` points; NaN when a normal is not finite.
+///
+/// The normals are [`Patch::normal`]'s: where both derivatives on the edge are clearly
+/// regular (its first branch) they come from the two rows next to the edge
+/// ([`edge_derivatives`]) and the patch's size taken once per edge; anywhere else (collapsed
+/// rows, singular points) from [`Patch::normal`] itself.
 fn edge_angle(grid: &Grid, a: usize, b: usize, along_u: bool) -> f64 {
     let (pa, pb) = (grid.patch_struct(a), grid.patch_struct(b));
+    let (sa, sb) = (pa.size(), pb.size());
     let mut worst = 0.0f64;
     for i in 0..VERIFY_SAMPLES {
         let t = i as f64 / (VERIFY_SAMPLES - 1) as f64;
@@ -158,7 +165,11 @@ fn edge_angle(grid: &Grid, a: usize, b: usize, along_u: bool) -> f64 {
         } else {
             ((t, 1.0), (t, 0.0))
         };
-        if let (Some(na), Some(nb)) = (pa.normal(ua, va), pb.normal(ub, vb)) {
+        let na = regular_normal(edge_derivatives(&pa, along_u, true, t), sa)
+            .or_else(|| pa.normal(ua, va));
+        let nb = regular_normal(edge_derivatives(&pb, along_u, false, t), sb)
+            .or_else(|| pb.normal(ub, vb));
+        if let (Some(na), Some(nb)) = (na, nb) {
             let angle = angle_deg(na, nb);
             // A NaN angle (a degenerate normal pair) stays the worst.
             if angle.is_nan() || angle > worst {
@@ -167,6 +178,54 @@ fn edge_angle(grid: &Grid, a: usize, b: usize, along_u: bool) -> f64 {
         }
     }
     worst
+}
+
+/// `(S_u, S_v)` of a patch on its boundary `u = 0` / `u = 1` (`along_u`; `at_end` picks 1) or
+/// `v = 0` / `v = 1`, at parameter `t` along that boundary: the derivative along the edge from
+/// the boundary row, the one across it from the boundary row and the next,
+/// `3 Σ_k B_k(t) (P_edge,k − P_next,k)` (signed towards increasing parameter).
+fn edge_derivatives(p: &Patch, along_u: bool, at_end: bool, t: f64) -> (DVec3, DVec3) {
+    let b = cubic_basis(t);
+    let d = cubic_basis_derivative(t);
+    let (edge, next, sign) = if at_end { (3, 2, 3.0) } else { (0, 1, -3.0) };
+    let point = |r: usize, k: usize| {
+        if along_u {
+            p.points[4 * r + k]
+        } else {
+            p.points[4 * k + r]
+        }
+    };
+    let mut along = DVec3::ZERO;
+    let mut across = DVec3::ZERO;
+    for k in 0..4 {
+        let e = point(edge, k);
+        along += e * d[k];
+        across += (e - point(next, k)) * b[k];
+    }
+    across *= sign;
+    if along_u {
+        (across, along)
+    } else {
+        (along, across)
+    }
+}
+
+/// The unit normal `unit(S_u × S_v)` when [`Patch::normal`] would take its regular branch
+/// (both derivatives longer than `10⁻⁹ · size`, their cross product not degenerate); `None`
+/// otherwise (the caller then asks [`Patch::normal`]).
+fn regular_normal((du, dv): (DVec3, DVec3), size: f64) -> Option<DVec3> {
+    if size.is_nan() || size <= 0.0 {
+        return None;
+    }
+    let tiny = 1e-9 * size;
+    let (lu, lv) = (du.length(), dv.length());
+    if lu > tiny && lv > tiny {
+        let n = du.cross(dv);
+        if n.length() > 1e-10 * lu * lv {
+            return n.try_normalize();
+        }
+    }
+    None
 }
 
 /// Calls `f(a, b, along_u)` once for every shared edge of the listed patches (sorted).
@@ -268,9 +327,11 @@ impl Sculptor {
     /// A sculptor whose [`Regulation::Exact`] projects all the groups a stroke touched
     /// together, nearest to the unregulated net in `∫|ΔS|²` over every patch around them
     /// (the coupled projection of [`super::regulate::exact`]), instead of group by group.
-    /// Not the default: it is 2–3× dearer per stroke, and a stroke grown frame by frame (the
-    /// hand's [`super::Presser`]) would no longer equal the stroke applied at once, since a
-    /// group's result then depends on its neighbours'. `nendo bench regulation` measures it.
+    /// Not the default: a stroke grown frame by frame (the hand's [`super::Presser`]) would no
+    /// longer equal the stroke applied at once, since a group's result then depends on its
+    /// neighbours' (the rule and the alternatives: [`super::regulate::exact`]'s module docs);
+    /// it also costs about 1.2× the group-by-group projection per stroke.
+    /// `nendo bench regulation` and `nendo bench sculpt` measure it.
     #[must_use]
     pub fn with_coupled_exact() -> Self {
         let mut s = Self::default();
@@ -827,6 +888,45 @@ impl Sculptor {
 mod tests {
     use super::*;
     use crate::surface::{Primitive, PrimitiveParams};
+
+    #[test]
+    fn edge_normals_are_the_patch_normals() {
+        // The verification's edge normals against `Patch::normal` (the full frame), on
+        // random patches, at both boundaries in both directions.
+        let mut x = 17u64;
+        let mut r = move || {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for _ in 0..200 {
+            let points: [DVec3; 16] = std::array::from_fn(|k| {
+                DVec3::new((k / 4) as f64, (k % 4) as f64, 0.0) + DVec3::new(r(), r(), r())
+            });
+            let p = Patch::new(points);
+            for along_u in [true, false] {
+                for at_end in [true, false] {
+                    for t in [0.0, 0.3, 0.5, 1.0] {
+                        let side = if at_end { 1.0 } else { 0.0 };
+                        let (u, v) = if along_u { (side, t) } else { (t, side) };
+                        let fast =
+                            regular_normal(edge_derivatives(&p, along_u, at_end, t), p.size());
+                        let f = p.frame(u, v);
+                        assert!(
+                            (edge_derivatives(&p, along_u, at_end, t).0 - f.du).length() < 1e-12
+                        );
+                        assert!(
+                            (edge_derivatives(&p, along_u, at_end, t).1 - f.dv).length() < 1e-12
+                        );
+                        if let (Some(a), Some(b)) = (fast, p.normal(u, v)) {
+                            assert!((a - b).length() < 1e-12);
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     fn sphere() -> Grid {
         Primitive::Sphere

@@ -8,8 +8,11 @@
 //! touches: the history only notes the touched patches), then [`Document::end_stroke`] — or
 //! [`Document::cancel_stroke`], which puts back exactly the surface the stroke started from,
 //! or [`Document::rewind_stroke`], which does the same but keeps the stroke open (a push
-//! whose depth is redone from the start every frame). [`Document::surface_changes_since`]
-//! tells the display which patches changed, so it re-tessellates only those.
+//! whose depth is redone from the start every frame; it costs what the stroke touched since
+//! the last rewind). [`Document::rebase_stroke`] moves an open stroke onto a finer grid of
+//! the same surface (auto-refinement) without losing its way back to the original grid.
+//! [`Document::surface_changes_since`] tells the display which patches changed, so it
+//! re-tessellates only those.
 
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -252,20 +255,41 @@ impl Document {
     }
 
     /// Puts the surface back to where the stroke in progress began, keeping the stroke open
-    /// (a live push redoes its dent from the start with the new depth each frame). False
-    /// when no stroke was in progress.
+    /// under its name (a live push redoes its dent from the start with the new depth each
+    /// frame); the operations it recorded are taken off the recording. Costs what the stroke
+    /// touched since it began or was last rewound, and the display is told exactly those
+    /// patches. False when no stroke was in progress.
     pub fn rewind_stroke(&mut self) -> bool {
         let Some(recorded) = self.stroke else {
             return false;
         };
-        let what = self
-            .history
-            .undo_name()
-            .map_or_else(|| "stroke".to_string(), str::to_string);
-        self.cancel_stroke();
-        self.history.begin(what, &self.model);
-        self.stroke = Some(recorded);
+        let restored = self.history.rewind(&mut self.model);
+        if let Some(rec) = &mut self.recording {
+            rec.truncate(recorded);
+        }
+        self.note_restored(restored);
         true
+    }
+
+    /// Moves the stroke in progress onto `surface`, a finer grid of the surface it started
+    /// from (an auto-refinement where the finger reaches: the same surface, more patches).
+    /// The stroke is rewound first; from here on it rewinds to `surface`, while its undo
+    /// step still leads from the model it began with and a cancel puts that model back, grid
+    /// and all. False (nothing done) when no stroke was in progress.
+    pub fn rebase_stroke(&mut self, surface: Grid) -> bool {
+        if !self.rewind_stroke() {
+            return false;
+        }
+        self.model.surface = surface;
+        self.history.rebase_open(&self.model);
+        self.bump(SurfaceChange::Everything);
+        true
+    }
+
+    /// Renames the stroke in progress (a stroke named after its final operation). False
+    /// when no stroke was in progress.
+    pub fn rename_stroke(&mut self, what: &str) -> bool {
+        self.stroke.is_some() && self.history.rename_open(what)
     }
 
     /// Runs `f` on the surface with the model's regulation (a hand loop deforming it); `f`

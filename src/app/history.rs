@@ -48,6 +48,9 @@ pub struct History {
     open: Option<String>,
     /// What changed since the base.
     dirty: Dirty,
+    /// The model the open edit started from, when the base was moved onto a finer grid of
+    /// it during the edit ([`History::rebase_open`]).
+    origin: Option<Box<Model>>,
 }
 
 /// What may have changed since the base.
@@ -291,6 +294,7 @@ impl History {
             base: model.clone(),
             open: None,
             dirty: Dirty::default(),
+            origin: None,
         }
     }
 
@@ -339,7 +343,14 @@ impl History {
         let earlier = self.open.take();
         self.dirty = Dirty::default();
         self.drop_redo();
-        if before != self.base {
+        if let Some(origin) = self.origin.take() {
+            // A re-gridded edit leads from its origin to `before`, kept whole.
+            self.base = before;
+            self.push_undo(Step {
+                what: earlier.unwrap_or_else(|| "edit".to_string()),
+                change: Change::Whole(origin),
+            });
+        } else if before != self.base {
             let old = std::mem::replace(&mut self.base, before);
             self.push_undo(Step {
                 what: earlier.unwrap_or_else(|| "edit".to_string()),
@@ -369,7 +380,11 @@ impl History {
             return;
         };
         let dirty = std::mem::take(&mut self.dirty);
-        let change = if same_shape(&self.base.surface, &model.surface) {
+        let change = if let Some(origin) = self.origin.take() {
+            // The edit moved onto a finer grid: the step leads from the model it started from.
+            self.base = model.clone();
+            Change::Whole(origin)
+        } else if same_shape(&self.base.surface, &model.surface) {
             let before = self.base.surface.nodes();
             let after = model.surface.nodes();
             let nodes = if dirty.everything {
@@ -417,10 +432,24 @@ impl History {
         self.drop_redo();
     }
 
-    /// Puts `model` back to the base where it changed since the last commit (a cancelled
-    /// stroke) and forgets the edit in progress. Returns what changed on the surface.
+    /// Puts `model` back to where the open edit began (a cancelled stroke: the origin, when
+    /// the edit was re-gridded, or else the base where it changed since the last commit) and
+    /// forgets the edit in progress. Returns what changed on the surface.
     pub fn revert(&mut self, model: &mut Model) -> Restored {
         self.open = None;
+        if let Some(origin) = self.origin.take() {
+            self.dirty = Dirty::default();
+            self.base = *origin;
+            *model = self.base.clone();
+            return Restored::Everything;
+        }
+        self.rewind(model)
+    }
+
+    /// Puts `model` back to the base where it changed since the last commit, keeping the edit
+    /// in progress open under its name (a live stroke redoing its operation from the start
+    /// each frame). Costs what the edit touched since. Returns what changed on the surface.
+    pub fn rewind(&mut self, model: &mut Model) -> Restored {
         let dirty = std::mem::take(&mut self.dirty);
         model.regulation = self.base.regulation;
         if model.curves != self.base.curves {
@@ -460,6 +489,35 @@ impl History {
                 *model = self.base.clone();
                 Restored::Everything
             }
+        }
+    }
+
+    /// Moves the open edit onto `model`, a finer grid of the surface the edit is at now (an
+    /// auto-refinement during a live stroke; `model` as it is after a [`History::rewind`]):
+    /// from here on the edit rewinds to `model`, while the step it commits still leads from
+    /// the model it started from and a [`History::revert`] puts that one back. False (nothing
+    /// done) when no edit is open.
+    pub fn rebase_open(&mut self, model: &Model) -> bool {
+        if self.open.is_none() {
+            return false;
+        }
+        let before = std::mem::replace(&mut self.base, model.clone());
+        if self.origin.is_none() {
+            self.origin = Some(Box::new(before));
+        }
+        self.dirty = Dirty::default();
+        true
+    }
+
+    /// Renames the open edit (a live stroke named after its final operation: a push that
+    /// ended as a pull). False when no edit is open.
+    pub fn rename_open(&mut self, what: impl Into<String>) -> bool {
+        match &mut self.open {
+            Some(name) => {
+                *name = what.into();
+                true
+            }
+            None => false,
         }
     }
 

@@ -694,6 +694,67 @@ mod tests {
         assert_eq!(h.redo_len(), 0);
     }
 
+    /// An open edit rewinds to its base as often as asked, keeps its name, and once moved
+    /// onto a finer grid rewinds to that grid, commits one step from the original and
+    /// reverts to the original, bit for bit.
+    #[test]
+    fn an_open_edit_rewinds_and_rebases_onto_a_refinement() {
+        let op = |depth: f64| Op::Push {
+            at: DVec3::new(0.1, 0.25, 0.0),
+            dir: -DVec3::Z,
+            depth,
+            radius: 1.0,
+        };
+        let mut now = plane(6);
+        let start = now.clone();
+        let mut h = History::new(&now);
+        h.begin("push", &now);
+        let mut sculptor = Sculptor::new();
+        for depth in [0.1, 0.2] {
+            h.rewind(&mut now);
+            let t = sculptor
+                .apply(&mut now.surface, &op(depth), now.regulation)
+                .expect("push");
+            h.touch_patches(&t.patches);
+            let mut back = now.clone();
+            let restored = h.clone().rewind(&mut back);
+            assert_eq!(back, start, "rewound bit for bit");
+            assert_eq!(
+                restored,
+                Restored::Patches(t.patches.clone()),
+                "the touched patches"
+            );
+        }
+        assert_eq!(h.undo_name(), Some("push"), "the name stays");
+        // Onto a finer grid of the same surface.
+        h.rewind(&mut now);
+        let finer = crate::surface::refine::Refinement::uniform(&now.surface, 2)
+            .and_then(|r| r.apply(&now.surface))
+            .expect("refined");
+        now.surface = finer;
+        let rebased = now.clone();
+        assert!(h.rebase_open(&now));
+        let t = sculptor
+            .apply(&mut now.surface, &op(0.3), now.regulation)
+            .expect("push");
+        h.touch_patches(&t.patches);
+        let mut back = now.clone();
+        h.clone().rewind(&mut back);
+        assert_eq!(back, rebased, "rewinds to the finer grid");
+        let mut cancelled = now.clone();
+        assert_eq!(h.clone().revert(&mut cancelled), Restored::Everything);
+        assert_eq!(cancelled, start, "a revert puts the original grid back");
+        assert!(h.rename_open("pull"));
+        h.commit(&now);
+        let end = now.clone();
+        assert_eq!(h.undo_len(), 1);
+        assert!(h.undo(&mut now).is_some());
+        assert_eq!(now, start, "one step back to the original grid");
+        assert!(h.redo(&mut now).is_some());
+        assert_eq!(now, end);
+        assert_eq!(h.undo_name(), Some("pull"));
+    }
+
     #[test]
     fn a_change_of_shape_is_kept_whole() {
         let mut now = plane(2);

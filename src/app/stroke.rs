@@ -140,7 +140,7 @@ impl LiveStroke {
             return;
         }
         let revision = doc.revision();
-        if !doc.in_stroke() {
+        if !(self.opened && doc.in_stroke()) {
             if op.is_none() {
                 // No stroke open and nothing to show: the surface is as it is.
                 self.shown = None;
@@ -266,9 +266,23 @@ mod tests {
         let patches = start.surface.patches();
         let mesh = crate::mesh::tessellate(&patches, &Tessellation::DISPLAY);
         let mut stroke = LiveStroke::begin(&doc, &patches, &mesh, true);
-        stroke.show(&mut doc, Some(&push(0.1)));
-        stroke.show(&mut doc, Some(&push(0.2)));
         let counts = |d: &Document| (d.model().surface.patches_u(), d.model().surface.patches_v());
+        // Once refined, a frame needing no further refinement changes only its patches.
+        let mut partial = 0;
+        for depth in [0.1, 0.2, 0.15, 0.25, 0.2] {
+            let grid_before = counts(&doc);
+            stroke.show(&mut doc, Some(&push(depth)));
+            if grid_before != (8, 4) && counts(&doc) == grid_before {
+                let frame = stroke.frame_changes().expect("a frame on the refined grid");
+                let total = counts(&doc).0 * counts(&doc).1;
+                assert!(frame.len() < total, "{} of {total} patches", frame.len());
+                partial += 1;
+            }
+        }
+        assert!(
+            partial >= 2,
+            "{partial} partial frames after the refinement"
+        );
         assert!(
             counts(&doc).0 * counts(&doc).1 > 32,
             "refined: {:?}",

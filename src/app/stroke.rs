@@ -7,12 +7,14 @@
 //! `apply(S₀, op_t)`, the operation the gesture describes *now* (its depth from the drag or
 //! the wheel, its path so far) applied afresh to `S₀` — never an increment on the previous
 //! frame's surface. A frame
-//! 1. rewinds the patches the previous frame changed back to `S₀`
-//!    ([`Document::rewind_stroke`]: the history puts back exactly the control points the
-//!    stroke touched, so `S₀` is restored bit for bit at the cost of what it touched);
-//! 2. applies `op_t` ([`Document::apply`]), which notes the patches it changed (`T_t`).
+//! 1. rewinds the patches the previous frame changed back to `S₀` (the history puts back
+//!    exactly the control points the stroke touched, so `S₀` is restored bit for bit at the
+//!    cost of what it touched);
+//! 2. applies `op_t`, noting the patches it changed (`T_t`) —
 //!
-//! The document's revision log then holds `T_{t−1} ∪ T_t` — exactly the patches whose control
+//! both as one revision ([`Document::reapply_stroke`]).
+//!
+//! That revision notes `T_{t−1} ∪ T_t` — exactly the patches whose control
 //! points changed this frame — so the display cache re-tessellates only those (and the seam
 //! heat of the ring around them) and the renderer re-uploads only their vertices
 //! ([`super::display_cache`]). Hence
@@ -26,7 +28,7 @@
 //!
 //! With auto-refine on (the window's setting), the working start `S₀'` is refined where the
 //! operation's finger reaches ([`crate::surface::refine::for_finger`]) before it is applied
-//! and the document's stroke moves onto it ([`Document::rebase_stroke`]): the refinement
+//! and the document's stroke moves onto it ([`Document::reapply_stroke`]): the refinement
 //! changes the grid, not the surface, so `S₀'` and `S₀` are the same surface, and a cancel or
 //! undo puts the original grid back. A frame that refines rebuilds the whole display (the
 //! patch count changed); the frames after it are partial again.
@@ -150,27 +152,25 @@ impl LiveStroke {
             }
             doc.begin_stroke(op.map_or("stroke", edit_name));
             self.opened = true;
-        } else {
-            doc.rewind_stroke();
         }
-        if self.auto_refine
-            && let Some(op) = op
-            && let Ok(f) = refine::for_finger(&doc.model().surface, op)
-            && !f.refinement.is_empty()
-            && let Ok(refined) = f.refinement.apply(&doc.model().surface)
-        {
-            doc.rebase_stroke(refined);
-        }
+        let refine_for = |grid: &crate::surface::Grid| -> Option<crate::surface::Grid> {
+            let op = op.filter(|_| self.auto_refine)?;
+            let f = refine::for_finger(grid, op).ok()?;
+            if f.refinement.is_empty() {
+                return None;
+            }
+            f.refinement.apply(grid).ok()
+        };
+        let result = doc.reapply_stroke(op, refine_for).flatten();
         self.touched.clear();
         self.shown = None;
-        if let Some(op) = op {
-            match doc.apply(op) {
-                Ok(touched) => {
-                    self.touched = touched.patches;
-                    self.shown = Some(op.clone());
-                }
-                Err(e) => self.refused = Some(e),
+        match result {
+            Some(Ok(touched)) => {
+                self.touched = touched.patches;
+                self.shown = op.cloned();
             }
+            Some(Err(e)) => self.refused = Some(e),
+            None => {}
         }
         self.frame = doc.surface_changes_since(revision);
     }

@@ -208,6 +208,16 @@ impl DisplayCache {
         self.uploads.push_back((self.generation, ranges));
     }
 
+    /// True when the display kept segment counts during a gesture that the surface no
+    /// longer needs (see the module docs): until the next refresh outside a gesture, it is on
+    /// the exact surface but not the full rebuild's layout.
+    #[must_use]
+    pub fn counts_stale(&self) -> bool {
+        self.live
+            .as_ref()
+            .is_some_and(LiveTessellation::counts_stale)
+    }
+
     /// The patches' control points.
     #[must_use]
     pub fn patches(&self) -> &[PatchPoints] {

@@ -8,8 +8,12 @@
 //! touches: the history only notes the touched patches), then [`Document::end_stroke`] — or
 //! [`Document::cancel_stroke`], which puts back exactly the surface the stroke started from,
 //! or [`Document::rewind_stroke`], which does the same but keeps the stroke open (a push
-//! whose depth is redone from the start every frame). [`Document::surface_changes_since`]
-//! tells the display which patches changed, so it re-tessellates only those.
+//! whose depth is redone from the start every frame; it costs what the stroke touched since
+//! the last rewind). [`Document::reapply_stroke`] is a live stroke's frame as one revision:
+//! rewind, possibly move onto a finer grid of the same surface (auto-refinement, without
+//! losing the way back to the original grid), apply.
+//! [`Document::surface_changes_since`] tells the display which patches changed, so it
+//! re-tessellates only those.
 
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -187,6 +191,13 @@ impl Document {
     /// # Errors
     /// [`SurfaceError::BadOp`] for an invalid operation; nothing changes then.
     pub fn apply(&mut self, op: &Op) -> Result<Touched, SurfaceError> {
+        let touched = self.apply_unnoted(op)?;
+        self.bump(SurfaceChange::Patches(touched.patches.clone()));
+        Ok(touched)
+    }
+
+    /// [`Document::apply`] without the revision bump (the caller bumps once for a frame).
+    fn apply_unnoted(&mut self, op: &Op) -> Result<Touched, SurfaceError> {
         op.validate()?;
         if self.stroke.is_none() {
             self.history.commit(&self.model);
@@ -211,7 +222,6 @@ impl Document {
         if let Some(rec) = &mut self.recording {
             rec.push(op.clone());
         }
-        self.bump(SurfaceChange::Patches(touched.patches.clone()));
         Ok(touched)
     }
 
@@ -252,20 +262,65 @@ impl Document {
     }
 
     /// Puts the surface back to where the stroke in progress began, keeping the stroke open
-    /// (a live push redoes its dent from the start with the new depth each frame). False
-    /// when no stroke was in progress.
+    /// under its name (a live push redoes its dent from the start with the new depth each
+    /// frame); the operations it recorded are taken off the recording. Costs what the stroke
+    /// touched since it began or was last rewound, and the display is told exactly those
+    /// patches. False when no stroke was in progress.
     pub fn rewind_stroke(&mut self) -> bool {
         let Some(recorded) = self.stroke else {
             return false;
         };
-        let what = self
-            .history
-            .undo_name()
-            .map_or_else(|| "stroke".to_string(), str::to_string);
-        self.cancel_stroke();
-        self.history.begin(what, &self.model);
-        self.stroke = Some(recorded);
+        let restored = self.history.rewind(&mut self.model);
+        if let Some(rec) = &mut self.recording {
+            rec.truncate(recorded);
+        }
+        self.note_restored(restored);
         true
+    }
+
+    /// One frame of a live stroke, as one revision: rewinds the stroke in progress
+    /// ([`Document::rewind_stroke`]), moves it onto the grid `refine` gives for the rewound
+    /// surface if it gives one (an auto-refinement where the finger reaches: the same
+    /// surface, more patches — the undo step still leads from the model the stroke began
+    /// with, and a cancel puts that model back, grid and all), then applies `op` if any. The
+    /// revision notes the patches rewound and those `op` changed (everything after a
+    /// refinement); nothing at all when neither changed anything. `None` when no stroke was
+    /// in progress (nothing done); otherwise `op`'s result.
+    pub fn reapply_stroke(
+        &mut self,
+        op: Option<&Op>,
+        refine: impl FnOnce(&Grid) -> Option<Grid>,
+    ) -> Option<Option<Result<Touched, SurfaceError>>> {
+        let recorded = self.stroke?;
+        let restored = self.history.rewind(&mut self.model);
+        if let Some(rec) = &mut self.recording {
+            rec.truncate(recorded);
+        }
+        let mut change = match restored {
+            Restored::Patches(p) => SurfaceChange::Patches(p),
+            Restored::Everything => SurfaceChange::Everything,
+        };
+        if let Some(finer) = refine(&self.model.surface) {
+            self.model.surface = finer;
+            self.history.rebase_open(&self.model);
+            change = SurfaceChange::Everything;
+        }
+        let result = op.map(|op| self.apply_unnoted(op));
+        if let (Some(Ok(touched)), SurfaceChange::Patches(p)) = (&result, &mut change) {
+            p.extend_from_slice(&touched.patches);
+            p.sort_unstable();
+            p.dedup();
+        }
+        if change != SurfaceChange::Patches(Vec::new()) {
+            self.bump(change);
+        }
+        Some(result)
+    }
+
+    /// Renames the stroke in progress (a stroke named after its final operation). False
+    /// when no stroke was in progress.
+    pub fn rename_stroke(&mut self, what: &str) -> bool {
+        self.stroke.is_some() && self.history.rename_open(what)
     }
 
     /// Runs `f` on the surface with the model's regulation (a hand loop deforming it); `f`

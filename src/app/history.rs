@@ -48,6 +48,9 @@ pub struct History {
     open: Option<String>,
     /// What changed since the base.
     dirty: Dirty,
+    /// The model the open edit started from, when the base was moved onto a finer grid of
+    /// it during the edit ([`History::rebase_open`]).
+    origin: Option<Box<Model>>,
 }
 
 /// What may have changed since the base.
@@ -291,6 +294,7 @@ impl History {
             base: model.clone(),
             open: None,
             dirty: Dirty::default(),
+            origin: None,
         }
     }
 
@@ -339,7 +343,14 @@ impl History {
         let earlier = self.open.take();
         self.dirty = Dirty::default();
         self.drop_redo();
-        if before != self.base {
+        if let Some(origin) = self.origin.take() {
+            // A re-gridded edit leads from its origin to `before`, kept whole.
+            self.base = before;
+            self.push_undo(Step {
+                what: earlier.unwrap_or_else(|| "edit".to_string()),
+                change: Change::Whole(origin),
+            });
+        } else if before != self.base {
             let old = std::mem::replace(&mut self.base, before);
             self.push_undo(Step {
                 what: earlier.unwrap_or_else(|| "edit".to_string()),
@@ -369,7 +380,11 @@ impl History {
             return;
         };
         let dirty = std::mem::take(&mut self.dirty);
-        let change = if same_shape(&self.base.surface, &model.surface) {
+        let change = if let Some(origin) = self.origin.take() {
+            // The edit moved onto a finer grid: the step leads from the model it started from.
+            self.base = model.clone();
+            Change::Whole(origin)
+        } else if same_shape(&self.base.surface, &model.surface) {
             let before = self.base.surface.nodes();
             let after = model.surface.nodes();
             let nodes = if dirty.everything {
@@ -417,10 +432,24 @@ impl History {
         self.drop_redo();
     }
 
-    /// Puts `model` back to the base where it changed since the last commit (a cancelled
-    /// stroke) and forgets the edit in progress. Returns what changed on the surface.
+    /// Puts `model` back to where the open edit began (a cancelled stroke: the origin, when
+    /// the edit was re-gridded, or else the base where it changed since the last commit) and
+    /// forgets the edit in progress. Returns what changed on the surface.
     pub fn revert(&mut self, model: &mut Model) -> Restored {
         self.open = None;
+        if let Some(origin) = self.origin.take() {
+            self.dirty = Dirty::default();
+            self.base = *origin;
+            *model = self.base.clone();
+            return Restored::Everything;
+        }
+        self.rewind(model)
+    }
+
+    /// Puts `model` back to the base where it changed since the last commit, keeping the edit
+    /// in progress open under its name (a live stroke redoing its operation from the start
+    /// each frame). Costs what the edit touched since. Returns what changed on the surface.
+    pub fn rewind(&mut self, model: &mut Model) -> Restored {
         let dirty = std::mem::take(&mut self.dirty);
         model.regulation = self.base.regulation;
         if model.curves != self.base.curves {
@@ -460,6 +489,35 @@ impl History {
                 *model = self.base.clone();
                 Restored::Everything
             }
+        }
+    }
+
+    /// Moves the open edit onto `model`, a finer grid of the surface the edit is at now (an
+    /// auto-refinement during a live stroke; `model` as it is after a [`History::rewind`]):
+    /// from here on the edit rewinds to `model`, while the step it commits still leads from
+    /// the model it started from and a [`History::revert`] puts that one back. False (nothing
+    /// done) when no edit is open.
+    pub fn rebase_open(&mut self, model: &Model) -> bool {
+        if self.open.is_none() {
+            return false;
+        }
+        let before = std::mem::replace(&mut self.base, model.clone());
+        if self.origin.is_none() {
+            self.origin = Some(Box::new(before));
+        }
+        self.dirty = Dirty::default();
+        true
+    }
+
+    /// Renames the open edit (a live stroke named after its final operation: a push that
+    /// ended as a pull). False when no edit is open.
+    pub fn rename_open(&mut self, what: impl Into<String>) -> bool {
+        match &mut self.open {
+            Some(name) => {
+                *name = what.into();
+                true
+            }
+            None => false,
         }
     }
 
@@ -634,6 +692,67 @@ mod tests {
         push(&mut now, &mut h, -1.0);
         assert!(h.redo(&mut now).is_none());
         assert_eq!(h.redo_len(), 0);
+    }
+
+    /// An open edit rewinds to its base as often as asked, keeps its name, and once moved
+    /// onto a finer grid rewinds to that grid, commits one step from the original and
+    /// reverts to the original, bit for bit.
+    #[test]
+    fn an_open_edit_rewinds_and_rebases_onto_a_refinement() {
+        let op = |depth: f64| Op::Push {
+            at: DVec3::new(0.1, 0.25, 0.0),
+            dir: -DVec3::Z,
+            depth,
+            radius: 1.0,
+        };
+        let mut now = plane(6);
+        let start = now.clone();
+        let mut h = History::new(&now);
+        h.begin("push", &now);
+        let mut sculptor = Sculptor::new();
+        for depth in [0.1, 0.2] {
+            h.rewind(&mut now);
+            let t = sculptor
+                .apply(&mut now.surface, &op(depth), now.regulation)
+                .expect("push");
+            h.touch_patches(&t.patches);
+            let mut back = now.clone();
+            let restored = h.clone().rewind(&mut back);
+            assert_eq!(back, start, "rewound bit for bit");
+            assert_eq!(
+                restored,
+                Restored::Patches(t.patches.clone()),
+                "the touched patches"
+            );
+        }
+        assert_eq!(h.undo_name(), Some("push"), "the name stays");
+        // Onto a finer grid of the same surface.
+        h.rewind(&mut now);
+        let finer = crate::surface::refine::Refinement::uniform(&now.surface, 2)
+            .and_then(|r| r.apply(&now.surface))
+            .expect("refined");
+        now.surface = finer;
+        let rebased = now.clone();
+        assert!(h.rebase_open(&now));
+        let t = sculptor
+            .apply(&mut now.surface, &op(0.3), now.regulation)
+            .expect("push");
+        h.touch_patches(&t.patches);
+        let mut back = now.clone();
+        h.clone().rewind(&mut back);
+        assert_eq!(back, rebased, "rewinds to the finer grid");
+        let mut cancelled = now.clone();
+        assert_eq!(h.clone().revert(&mut cancelled), Restored::Everything);
+        assert_eq!(cancelled, start, "a revert puts the original grid back");
+        assert!(h.rename_open("pull"));
+        h.commit(&now);
+        let end = now.clone();
+        assert_eq!(h.undo_len(), 1);
+        assert!(h.undo(&mut now).is_some());
+        assert_eq!(now, start, "one step back to the original grid");
+        assert!(h.redo(&mut now).is_some());
+        assert_eq!(now, end);
+        assert_eq!(h.undo_name(), Some("pull"));
     }
 
     #[test]

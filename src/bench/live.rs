@@ -1,25 +1,33 @@
-//! `nendo bench live`: what one frame of a live stroke costs, and what undo keeps per stroke.
+//! `nendo bench live`: what one frame of a live stroke costs in the window, and what undo
+//! keeps per stroke.
 //!
 //! **Live-stroke frame.** Planes of 10 × 10 and 40 × 40 unit patches, sculpted as in
 //! `nendo bench render` ([`super::render::sculpted_plane`]), under the model's default
-//! regulation. A stroke is open ([`Document::begin_stroke`]) and every frame draws one more
-//! segment of a line (the window's default finger: radius 1.25, depth 0.3; segments of
-//! 0.25 side, going round a circle) — a frame is then:
+//! regulation. Two gestures, each as the window draws it, with the window's default finger
+//! (radius 1.25, depth up to 0.3) and auto-refine off (a refinement changes the grid, so its
+//! frame rebuilds the whole display):
+//! - *push*: a live Push whose depth grows with the drag, 16 frames per stroke (depth 0.3·f/16
+//!   at frame f), then released; the next stroke starts further round a circle;
+//! - *line*: a Draw-a-line (a groove pressing along the surface's normals), its path growing
+//!   by 0.25 per frame round a circle, 16 frames per stroke (a path of up to 4 units,
+//!   re-applied whole every frame as the window does).
 //!
-//! 1. *deform + regulate*: [`Document::apply`] of the segment (the history only notes the
-//!    touched patches);
-//! 2. *re-tessellate*: [`DisplayCache::refresh`] while busy — only the touched patches are
+//! One frame is the window's path:
+//! 1. *deform + regulate*: [`LiveStroke::show`] — the previous frame's patches rewound to
+//!    the stroke's start, the operation applied to it;
+//! 2. *re-tessellate*: [`DisplayCache::refresh`] while busy — only the changed patches are
 //!    tessellated again, in place, and the seam heat around them;
-//! 3. *upload*: the GPU vertices of the changed ranges
-//!    ([`DisplayCache::vertex_ranges_since`]) built on the CPU
-//!    ([`crate::render::surface_vertices`]) — the buffer the renderer's `write_buffer`
-//!    copies; the GPU copy itself is not included (it needs an adapter, and on the software
-//!    renderer it is a memcpy of the same bytes).
+//! 3. *upload*: the changed vertex ranges ([`DisplayCache::vertex_ranges_since`]) handed to
+//!    [`Renderer::update_surface_vertices`] — their GPU vertices built and written with
+//!    `queue.write_buffer` at their offsets, then a (empty) `queue.submit` — on a headless
+//!    device when one opens ([`GpuContext::headless`]; the software renderer on a machine
+//!    without a GPU); without one, the vertices are built only (the table says which).
 //!
-//! The same run times the full rebuild the window did before: the same deformation, then the
-//! whole surface tessellated with its seam heat ([`SurfaceDisplay::new`]) and every vertex
-//! built for upload. Times are medians of the measuring thread's CPU time
-//! ([`super::cpu_median_ns`]), so other processes on a shared machine do not inflate them.
+//! The same run times the full rebuild the window did before, on the same frames: the same
+//! deformation, then the whole surface tessellated with its seam heat ([`SurfaceDisplay::new`])
+//! and every vertex uploaded ([`Renderer::set_surface`]). Times are medians over frames of the
+//! measuring thread's CPU time ([`super::sculpt::thread_cpu_ns`]), so other processes on a
+//! shared machine do not inflate them (a driver thread's copy is not counted either).
 //!
 //! **Undo memory.** Typical strokes — half live pushes or pulls (the default finger, depth up
 //! to 0.3, redone three times with a growing depth as the window does), half lines of three
@@ -29,142 +37,258 @@
 
 use glam::DVec3;
 use std::hint::black_box;
+use std::ops::Range;
 
 use super::{Table, cpu_median_ns, format_ns};
 use crate::app::Document;
 use crate::app::display_cache::DisplayCache;
 use crate::app::history::History;
 use crate::app::scene::SurfaceDisplay;
+use crate::app::stroke::LiveStroke;
 use crate::mesh::Tessellation;
 use crate::model::Model;
-use crate::render::surface_vertices;
-use crate::surface::{Op, Primitive, PrimitiveParams};
+use crate::render::{GpuContext, OFFSCREEN_FORMAT, Renderer, surface_vertices};
+use crate::surface::{Dirs, Op, Primitive, PrimitiveParams};
 
 /// The suite's tables.
 #[must_use]
 pub fn report(scale: f64) -> String {
-    let batches = ((15.0 * scale).round() as usize).max(3);
+    let strokes = ((4.0 * scale).round() as usize).max(2);
     let mut out = String::new();
-    out.push_str(&frames(batches));
+    out.push_str(&frames(strokes));
     out.push('\n');
     out.push_str(&undo_memory(((1000.0 * scale).round() as usize).max(20)));
     out
 }
 
-/// The point of the circular stroke at frame `k` (segments of 0.25 side).
+/// Frames per benched stroke.
+const FRAMES_PER_STROKE: usize = 16;
+
+/// The point of a circle of `radius` about the origin at arc length `0.25·k`.
 fn on_circle(k: usize, radius: f64) -> DVec3 {
     let angle = 0.25 * k as f64 / radius;
     DVec3::new(radius * angle.cos(), radius * angle.sin(), 0.0)
 }
 
-fn segment(k: usize, radius: f64) -> Op {
-    Op::Drag {
-        path: vec![on_circle(k, radius), on_circle(k + 1, radius)],
-        dir: -DVec3::Z,
-        depth: 0.3,
-        radius: 1.25,
+/// A gesture the bench draws (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Gesture {
+    Push,
+    Line,
+}
+
+impl Gesture {
+    /// The operation frame `f` (0-based) of stroke `s` shows.
+    fn op(self, s: usize, f: usize, circle: f64) -> Op {
+        let start = 3 * FRAMES_PER_STROKE * s;
+        match self {
+            Self::Push => Op::Push {
+                at: on_circle(start, circle),
+                dir: -DVec3::Z,
+                depth: 0.3 * (f + 1) as f64 / FRAMES_PER_STROKE as f64,
+                radius: 1.25,
+            },
+            Self::Line => Op::Groove {
+                path: (start..=start + f + 1)
+                    .map(|k| on_circle(k, circle))
+                    .collect(),
+                dirs: Dirs::Normal,
+                depth: 0.3,
+                radius: 1.25,
+            },
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::Push => "push",
+            Self::Line => "line",
+        }
     }
 }
 
+/// Where the frames' vertices go: a headless device's vertex buffer, or nowhere (built only).
+struct Upload {
+    gpu: Option<(GpuContext, Renderer)>,
+}
+
+impl Upload {
+    fn open() -> (Self, String) {
+        match GpuContext::headless() {
+            Ok(gpu) => {
+                let renderer = Renderer::new(&gpu.device, OFFSCREEN_FORMAT, 1);
+                let what = format!("written to the GPU ({})", gpu.describe());
+                (
+                    Self {
+                        gpu: Some((gpu, renderer)),
+                    },
+                    what,
+                )
+            }
+            Err(e) => (
+                Self { gpu: None },
+                format!("built only, no GPU write (no device: {e})"),
+            ),
+        }
+    }
+
+    /// Uploads the whole surface; returns the vertices uploaded.
+    fn all(&mut self, display: &SurfaceDisplay) -> usize {
+        let count = display.mesh.positions.len();
+        match &mut self.gpu {
+            Some((gpu, renderer)) => {
+                renderer.set_surface(&gpu.device, &gpu.queue, &display.mesh, &display.seam_heat);
+                gpu.queue.submit(std::iter::empty());
+            }
+            None => {
+                let all = 0..count as u32;
+                black_box(surface_vertices(&display.mesh, &display.seam_heat, all));
+            }
+        }
+        count
+    }
+
+    /// Uploads the given vertex ranges again; returns the vertices uploaded.
+    fn ranges(&mut self, display: &SurfaceDisplay, ranges: &[Range<u32>]) -> usize {
+        match &mut self.gpu {
+            Some((gpu, renderer)) => {
+                renderer.update_surface_vertices(
+                    &gpu.device,
+                    &gpu.queue,
+                    &display.mesh,
+                    &display.seam_heat,
+                    ranges,
+                );
+                gpu.queue.submit(std::iter::empty());
+            }
+            None => {
+                for r in ranges {
+                    black_box(surface_vertices(
+                        &display.mesh,
+                        &display.seam_heat,
+                        r.clone(),
+                    ));
+                }
+            }
+        }
+        ranges.iter().map(|r| (r.end - r.start) as usize).sum()
+    }
+}
+
+/// Per-frame times (ns) of the three phases and the vertices uploaded.
+#[derive(Default)]
+struct FrameTimes {
+    deform: Vec<f64>,
+    tessellate: Vec<f64>,
+    upload: Vec<f64>,
+    total: Vec<f64>,
+    vertices: Vec<f64>,
+    partial: usize,
+}
+
+/// Draws `strokes` strokes of `gesture` on `model`, 16 frames each, the window's way (or with
+/// a full rebuild each frame), timing each frame after the first stroke's first two.
+fn draw(
+    model: &Model,
+    gesture: Gesture,
+    strokes: usize,
+    full: bool,
+    upload: &mut Upload,
+) -> FrameTimes {
+    let now = || super::sculpt::thread_cpu_ns().unwrap_or(0) as f64;
+    let circle = model.surface.patches_u() as f64 / 4.0;
+    let mut doc = Document::new(model.clone());
+    let mut cache = DisplayCache::default();
+    cache.refresh(&doc, false);
+    upload.all(cache.display());
+    let mut times = FrameTimes::default();
+    let mut frame = 0usize;
+    for s in 0..strokes {
+        let mut stroke = LiveStroke::begin(&doc, cache.patches(), &cache.display().mesh, false);
+        let mut last = None;
+        for f in 0..FRAMES_PER_STROKE {
+            let op = gesture.op(s, f, circle);
+            let t0 = now();
+            let generation = cache.generation();
+            stroke.show(&mut doc, Some(&op));
+            let t1 = now();
+            let (t2, count) = if full {
+                let display =
+                    SurfaceDisplay::new(&doc.model().surface.patches(), &Tessellation::DISPLAY);
+                let t2 = now();
+                (t2, upload.all(&display))
+            } else {
+                cache.refresh(&doc, true);
+                let t2 = now();
+                let display = cache.display();
+                match cache.vertex_ranges_since(generation) {
+                    Some(ranges) => {
+                        times.partial += 1;
+                        (t2, upload.ranges(display, &ranges))
+                    }
+                    None => (t2, upload.all(display)),
+                }
+            };
+            let t3 = now();
+            frame += 1;
+            if frame > 2 {
+                times.deform.push(t1 - t0);
+                times.tessellate.push(t2 - t1);
+                times.upload.push(t3 - t2);
+                times.total.push(t3 - t0);
+                times.vertices.push(count as f64);
+            }
+            last = Some(op);
+        }
+        let _ = stroke.commit(&mut doc, last.as_ref());
+        cache.refresh(&doc, false);
+        upload.all(cache.display());
+    }
+    times
+}
+
 /// Live-stroke frame times against the full rebuild.
-fn frames(batches: usize) -> String {
+fn frames(strokes: usize) -> String {
+    let (mut upload, uploaded) = Upload::open();
     let mut table = Table::new(&[
         "live-stroke frame",
         "patches",
         "deform+regulate",
         "re-tessellate",
-        "upload build",
+        "upload",
         "frame (median)",
+        "partial frames",
         "full rebuild frame",
         "full / live",
         "vertices uploaded",
     ]);
     for n in [10usize, 40] {
         let model = Model::new(super::render::sculpted_plane(n));
-        let circle = n as f64 / 4.0;
-        // Live: the phases timed apart, then whole frames.
-        let mut doc = Document::new(model.clone());
-        let mut cache = DisplayCache::default();
-        cache.refresh(&doc, false);
-        doc.begin_stroke("draw a line");
-        let mut k = 0usize;
-        let mut uploaded = Vec::new();
-        let mut phases = [Vec::new(), Vec::new(), Vec::new()];
-        for _ in 0..batches * 4 {
-            let t0 = super::sculpt::thread_cpu_ns().unwrap_or(0);
-            let _ = black_box(doc.apply(&segment(k, circle)));
-            let t1 = super::sculpt::thread_cpu_ns().unwrap_or(0);
-            let generation = cache.generation();
-            cache.refresh(&doc, true);
-            let t2 = super::sculpt::thread_cpu_ns().unwrap_or(0);
-            let display = cache.display();
-            let mut count = 0usize;
-            match cache.vertex_ranges_since(generation) {
-                Some(ranges) => {
-                    for r in ranges {
-                        count +=
-                            black_box(surface_vertices(&display.mesh, &display.seam_heat, r)).len();
-                    }
-                }
-                None => {
-                    let all = 0..display.mesh.positions.len() as u32;
-                    count +=
-                        black_box(surface_vertices(&display.mesh, &display.seam_heat, all)).len();
-                }
-            }
-            let t3 = super::sculpt::thread_cpu_ns().unwrap_or(0);
-            uploaded.push(count as f64);
-            for (p, t) in phases.iter_mut().zip([t1 - t0, t2 - t1, t3 - t2]) {
-                p.push(t as f64);
-            }
-            k += 1;
+        for gesture in [Gesture::Push, Gesture::Line] {
+            let mut live = draw(&model, gesture, strokes, false, &mut upload);
+            let mut full = draw(&model, gesture, strokes.div_ceil(2), true, &mut upload);
+            let frame = super::median(&mut live.total);
+            let full_frame = super::median(&mut full.total);
+            table.row(vec![
+                format!("plane {n}x{n} {}", gesture.name()),
+                (n * n).to_string(),
+                format_ns(super::median(&mut live.deform)),
+                format_ns(super::median(&mut live.tessellate)),
+                format_ns(super::median(&mut live.upload)),
+                format_ns(frame),
+                format!("{}/{}", live.partial, strokes * FRAMES_PER_STROKE),
+                format_ns(full_frame),
+                format!("{:.1}", full_frame / frame),
+                format!(
+                    "{:.0} of {:.0}",
+                    super::median(&mut live.vertices),
+                    super::median(&mut full.vertices)
+                ),
+            ]);
         }
-        let live_frame = cpu_median_ns(batches, 2, |_| {
-            let _ = black_box(doc.apply(&segment(k, circle)));
-            let generation = cache.generation();
-            cache.refresh(&doc, true);
-            let display = cache.display();
-            let all = 0..display.mesh.positions.len() as u32;
-            match cache.vertex_ranges_since(generation) {
-                Some(ranges) => {
-                    for r in ranges {
-                        black_box(surface_vertices(&display.mesh, &display.seam_heat, r));
-                    }
-                }
-                None => {
-                    black_box(surface_vertices(&display.mesh, &display.seam_heat, all));
-                }
-            }
-            k += 1;
-        });
-        doc.end_stroke();
-        // Full: the same deformation, everything rebuilt.
-        let mut doc = Document::new(model);
-        doc.begin_stroke("draw a line");
-        let mut j = 0usize;
-        let full_frame = cpu_median_ns(batches.min(9), 1, |_| {
-            let _ = black_box(doc.apply(&segment(j, circle)));
-            let display =
-                SurfaceDisplay::new(&doc.model().surface.patches(), &Tessellation::DISPLAY);
-            let all = 0..display.mesh.positions.len() as u32;
-            black_box(surface_vertices(&display.mesh, &display.seam_heat, all));
-            j += 1;
-        });
-        let [mut deform, mut tess, mut upload] = phases;
-        table.row(vec![
-            format!("plane {n}x{n}"),
-            (n * n).to_string(),
-            format_ns(super::median(&mut deform)),
-            format_ns(super::median(&mut tess)),
-            format_ns(super::median(&mut upload)),
-            format_ns(live_frame),
-            format_ns(full_frame),
-            format!("{:.1}", full_frame / live_frame),
-            format!("{:.0}", super::median(&mut uploaded)),
-        ]);
     }
     format!(
-        "Live-stroke frames (CPU time; upload = building the changed vertices for the GPU, no adapter needed):\n{}",
+        "Live-stroke frames (CPU time of the measuring thread; upload = vertices {uploaded}):\n{}",
         table.render()
     )
 }

@@ -19,13 +19,23 @@
 //! the refinement changes the grid, not the surface, so `S₀'` and `S₀` are the same surface
 //! and a cancel or undo puts the original grid back.
 //!
+//! **Mirror** ([`LiveStroke::with_mirror`]): each operation is applied together with its mirror
+//! image ([`Sculptor::apply_mirrored`]); auto-refine then refines for the operation and for its
+//! mirror image, and keeps the refinement only when the refined grid is still symmetric
+//! ([`super::symmetry::refine_mirrored`]); otherwise it stops refining for the rest of the
+//! stroke ([`LiveStroke::take_refine_skipped`]).
+//!
+//! **Dabs** ([`LiveStroke::show_dabs`], a smoothing stroke): the operations are applied one
+//! after another, each on the surface the previous ones left, only the new ones each frame.
+//! The released stroke is one undo step holding every dab, and the recording gets every dab.
+//!
 //! Limits: a frame costs one copy of the grid plus the whole operation (a long Draw-a-line
 //! is re-applied along its whole path each frame); the operation runs at most once per frame
 //! (see [`LiveStroke::show`]), not once per input event.
 
 use crate::mesh::{PatchPoints, TriMesh};
 use crate::model::Model;
-use crate::surface::{Grid, Op, Sculptor, SurfaceError, refine};
+use crate::surface::{Grid, Op, Sculptor, SurfaceError, Symmetry, refine};
 
 use super::document::Document;
 
@@ -49,6 +59,15 @@ pub struct LiveStroke {
     touched: Vec<usize>,
     /// Why the last operation was refused, if it was (the surface then shows `before`).
     refused: Option<SurfaceError>,
+    /// The mirror every operation is applied with, if any.
+    mirror: Option<Symmetry>,
+    /// Auto-refine was skipped because it would have broken the grid's symmetry (not yet
+    /// reported).
+    refine_skipped: bool,
+    /// The dabs made part of `base` so far (a smoothing stroke), in order.
+    done: Vec<Op>,
+    /// How many dabs [`LiveStroke::show_dabs`] has taken (applied or refused).
+    dabs_seen: usize,
 }
 
 impl LiveStroke {
@@ -72,6 +91,37 @@ impl LiveStroke {
             shown: None,
             touched: Vec::new(),
             refused: None,
+            mirror: None,
+            refine_skipped: false,
+            done: Vec::new(),
+            dabs_seen: 0,
+        }
+    }
+
+    /// Applies every operation of the stroke together with its mirror image across
+    /// `mirror`'s plane (a map made for the document's grid; `None`: no mirror).
+    #[must_use]
+    pub fn with_mirror(mut self, mirror: Option<Symmetry>) -> Self {
+        self.mirror = mirror;
+        self
+    }
+
+    /// Takes whether auto-refine was skipped to keep the grid symmetric.
+    pub fn take_refine_skipped(&mut self) -> bool {
+        std::mem::take(&mut self.refine_skipped)
+    }
+
+    /// Shows the dabs of a smoothing stroke: those not taken yet are applied one after another
+    /// on the surface as it is (each a step of the stroke); `dabs` is the whole list so far
+    /// (it only grows). A refused dab is skipped (see [`LiveStroke::take_refused`]).
+    pub fn show_dabs(&mut self, doc: &mut Document, dabs: &[Op]) {
+        for dab in dabs.iter().skip(self.dabs_seen) {
+            self.dabs_seen += 1;
+            self.show(doc, Some(dab));
+            if let Some(op) = self.shown.take() {
+                self.base.clone_from(&doc.model().surface);
+                self.done.push(op);
+            }
         }
     }
 
@@ -113,17 +163,38 @@ impl LiveStroke {
         }
         if self.auto_refine
             && let Some(op) = op
-            && let Ok(f) = refine::for_finger(&self.base, op)
-            && !f.refinement.is_empty()
-            && let Ok(refined) = f.refinement.apply(&self.base)
         {
-            self.base = refined;
+            match &self.mirror {
+                Some(mirror) => match super::symmetry::refine_mirrored(&self.base, op, mirror) {
+                    super::symmetry::MirroredRefinement::Refined(refined, mirror) => {
+                        self.base = refined;
+                        self.mirror = Some(mirror);
+                    }
+                    super::symmetry::MirroredRefinement::Unchanged => {}
+                    super::symmetry::MirroredRefinement::Asymmetric => {
+                        self.auto_refine = false;
+                        self.refine_skipped = true;
+                    }
+                },
+                None => {
+                    if let Ok(f) = refine::for_finger(&self.base, op)
+                        && !f.refinement.is_empty()
+                        && let Ok(refined) = f.refinement.apply(&self.base)
+                    {
+                        self.base = refined;
+                    }
+                }
+            }
         }
         let base = &self.base;
         let sculptor = &mut self.sculptor;
+        let mirror = self.mirror.as_ref();
         let result = doc.sculpt_surface(|grid, regulation| {
             grid.clone_from(base);
-            let result = op.map(|op| sculptor.apply(grid, op, regulation));
+            let result = op.map(|op| match mirror {
+                Some(m) => sculptor.apply_mirrored(grid, op, regulation, m),
+                None => sculptor.apply(grid, op, regulation),
+            });
             // Always a change for the display: the surface was something else before.
             let changed = match &result {
                 Some(Ok(t)) => t.patches.len().max(1),
@@ -153,10 +224,12 @@ impl LiveStroke {
     /// nothing is recorded. Returns why the operation was refused, if it was.
     pub fn commit(mut self, doc: &mut Document, op: Option<&Op>) -> Option<SurfaceError> {
         self.show(doc, op);
-        match self.shown.take() {
-            Some(op) => {
-                doc.record_undo(edit_name(&op), self.before);
-                doc.record_ops(std::slice::from_ref(&op));
+        let mut ops = std::mem::take(&mut self.done);
+        ops.extend(self.shown.take());
+        match ops.first() {
+            Some(first) => {
+                doc.record_undo(edit_name(first), self.before);
+                doc.record_ops(&ops);
             }
             None => {
                 // Nothing applied: make sure the surface is exactly the start's.

@@ -20,10 +20,10 @@
 //! and a cancel or undo puts the original grid back.
 //!
 //! **Mirror** ([`LiveStroke::with_mirror`]): each operation is applied together with its mirror
-//! image ([`Sculptor::apply_mirrored`]); auto-refine then refines for the operation and for its
-//! mirror image, and keeps the refinement only when the refined grid is still symmetric
-//! ([`super::symmetry::refine_mirrored`]); otherwise it stops refining for the rest of the
-//! stroke ([`LiveStroke::take_refine_skipped`]).
+//! image ([`Sculptor::apply_mirrored`]); auto-refine then refines where the finger reaches and
+//! at the mirror images of those grid parameters, and keeps the refinement only when the
+//! refined grid is still symmetric ([`super::symmetry::refine_mirrored`]); otherwise it stops
+//! refining for the rest of the stroke ([`LiveStroke::take_refine_skipped`]).
 //!
 //! **Dabs** ([`LiveStroke::show_dabs`], a smoothing stroke): the operations are applied one
 //! after another, each on the surface the previous ones left, only the new ones each frame.
@@ -166,7 +166,8 @@ impl LiveStroke {
         {
             match &self.mirror {
                 Some(mirror) => match super::symmetry::refine_mirrored(&self.base, op, mirror) {
-                    super::symmetry::MirroredRefinement::Refined(refined, mirror) => {
+                    super::symmetry::MirroredRefinement::Refined(found) => {
+                        let (refined, mirror) = *found;
                         self.base = refined;
                         self.mirror = Some(mirror);
                     }

@@ -93,7 +93,7 @@ pub enum MirroredRefinement {
     Unchanged,
     /// The grid refined for the operation and its mirror image, still symmetric: the
     /// refined grid and its mirror map.
-    Refined(Grid, Symmetry),
+    Refined(Box<(Grid, Symmetry)>),
     /// The refinement would break the grid's symmetry: not refined.
     Asymmetric,
 }
@@ -122,7 +122,7 @@ pub fn refine_mirrored(grid: &Grid, op: &Op, mirror: &Symmetry) -> MirroredRefin
         return MirroredRefinement::Asymmetric;
     };
     match Symmetry::of(&refined, mirror.plane()) {
-        Ok(s) => MirroredRefinement::Refined(refined, s),
+        Ok(s) => MirroredRefinement::Refined(Box::new((refined, s))),
         Err(_) => MirroredRefinement::Asymmetric,
     }
 }
@@ -381,7 +381,8 @@ mod tests {
                 radius: 0.45,
             };
             match refine_mirrored(&grid, &op, &mirror) {
-                MirroredRefinement::Refined(refined, s) => {
+                MirroredRefinement::Refined(found) => {
+                    let (refined, s) = *found;
                     assert!(refined.patch_count() > grid.patch_count());
                     assert!(s.fits(&refined));
                 }

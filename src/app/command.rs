@@ -35,6 +35,10 @@ pub enum Command {
     SelectTool(Tool),
     /// Change the model's regulation method (undoable).
     SetRegulation(Regulation),
+    /// Apply the model's regulation method to the whole surface now (undoable).
+    RegulateNow,
+    /// Turn symmetry (every stroke mirrored across x = 0) on or off.
+    SetSymmetry(bool),
     /// Split every patch into 2 × 2 without changing the surface (undoable).
     Refine,
     /// Turn the refinement before each push, pull or draw-a-line on or off.

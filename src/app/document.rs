@@ -25,7 +25,7 @@ use super::history::{History, Restored};
 use crate::curve::Curve;
 use crate::curve::json::DynCurve;
 use crate::model::{Model, ModelError};
-use crate::surface::{Grid, Op, Regulation, Sculptor, SurfaceError, Touched};
+use crate::surface::{Grid, Op, Regulation, Sculptor, SurfaceError, Symmetry, Touched};
 
 /// What the last sculpting operation did and cost.
 #[derive(Debug, Clone, PartialEq)]
@@ -191,22 +191,33 @@ impl Document {
     /// # Errors
     /// [`SurfaceError::BadOp`] for an invalid operation; nothing changes then.
     pub fn apply(&mut self, op: &Op) -> Result<Touched, SurfaceError> {
-        let touched = self.apply_unnoted(op)?;
+        let touched = self.apply_unnoted(op, None)?;
         self.bump(SurfaceChange::Patches(touched.patches.clone()));
         Ok(touched)
     }
 
     /// [`Document::apply`] without the revision bump (the caller bumps once for a frame).
-    fn apply_unnoted(&mut self, op: &Op) -> Result<Touched, SurfaceError> {
+    /// With `mirror`, the operation is applied together with its mirror image
+    /// ([`Sculptor::apply_mirrored`]); the recording keeps the one-sided operation.
+    fn apply_unnoted(
+        &mut self,
+        op: &Op,
+        mirror: Option<&Symmetry>,
+    ) -> Result<Touched, SurfaceError> {
         op.validate()?;
         if self.stroke.is_none() {
             self.history.commit(&self.model);
         }
         let start = Instant::now();
         let regulation = self.model.regulation;
-        let touched = self
-            .sculptor
-            .apply(&mut self.model.surface, op, regulation)?;
+        let touched = match mirror {
+            Some(m) => self
+                .sculptor
+                .apply_mirrored(&mut self.model.surface, op, regulation, m)?,
+            None => self
+                .sculptor
+                .apply(&mut self.model.surface, op, regulation)?,
+        };
         self.last_op = Some(OpTiming {
             ms: start.elapsed().as_secs_f64() * 1e3,
             patches: touched.patches.len(),
@@ -286,10 +297,13 @@ impl Document {
     /// revision notes the patches rewound and those `op` changed (everything after a
     /// refinement); nothing at all when neither changed anything. `None` when no stroke was
     /// in progress (nothing done); otherwise `op`'s result.
+    ///
+    /// `prepare` sees the rewound surface and gives the finer grid to move onto, if any, and
+    /// the mirror map to apply `op` with (`None`: one-sided).
     pub fn reapply_stroke(
         &mut self,
         op: Option<&Op>,
-        refine: impl FnOnce(&Grid) -> Option<Grid>,
+        prepare: impl FnOnce(&Grid) -> (Option<Grid>, Option<Symmetry>),
     ) -> Option<Option<Result<Touched, SurfaceError>>> {
         let recorded = self.stroke?;
         let restored = self.history.rewind(&mut self.model);
@@ -300,16 +314,46 @@ impl Document {
             Restored::Patches(p) => SurfaceChange::Patches(p),
             Restored::Everything => SurfaceChange::Everything,
         };
-        if let Some(finer) = refine(&self.model.surface) {
+        let (finer, mirror) = prepare(&self.model.surface);
+        if let Some(finer) = finer {
             self.model.surface = finer;
             self.history.rebase_open(&self.model);
             change = SurfaceChange::Everything;
         }
-        let result = op.map(|op| self.apply_unnoted(op));
+        let result = op.map(|op| self.apply_unnoted(op, mirror.as_ref()));
         if let (Some(Ok(touched)), SurfaceChange::Patches(p)) = (&result, &mut change) {
             p.extend_from_slice(&touched.patches);
             p.sort_unstable();
             p.dedup();
+        }
+        if change != SurfaceChange::Patches(Vec::new()) {
+            self.bump(change);
+        }
+        Some(result)
+    }
+
+    /// Applies `op` on top of what the stroke in progress has done so far, without rewinding
+    /// (a smoothing stroke's dabs: each works on the surface the previous ones left), as one
+    /// revision noting the patches it changed. `prepare` is as for
+    /// [`Document::reapply_stroke`]: a finer grid to move onto first (the undo step and a
+    /// cancel still lead back to the model the stroke began with) and the mirror map. `None`
+    /// when no stroke is in progress (nothing done).
+    pub fn add_to_stroke(
+        &mut self,
+        op: &Op,
+        prepare: impl FnOnce(&Grid) -> (Option<Grid>, Option<Symmetry>),
+    ) -> Option<Result<Touched, SurfaceError>> {
+        self.stroke?;
+        let (finer, mirror) = prepare(&self.model.surface);
+        let mut change = SurfaceChange::Patches(Vec::new());
+        if let Some(finer) = finer {
+            self.model.surface = finer;
+            self.history.rebase_open(&self.model);
+            change = SurfaceChange::Everything;
+        }
+        let result = self.apply_unnoted(op, mirror.as_ref());
+        if let (Ok(touched), SurfaceChange::Patches(p)) = (&result, &mut change) {
+            p.extend_from_slice(&touched.patches);
         }
         if change != SurfaceChange::Patches(Vec::new()) {
             self.bump(change);

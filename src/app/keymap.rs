@@ -3,8 +3,8 @@
 //! table [`markdown`] prints (a test compares them), so none of them can drift.
 //!
 //! The keys follow Blender's sculpt mode where they do not clash: F then a move sets the
-//! finger radius, Shift+F the depth, Ctrl inverts a stroke, Home frames the model, number keys
-//! pick tools. The orbit button is a setting ([`OrbitButton`]): the right button (nendo's
+//! finger radius, Shift+F the depth, Ctrl inverts a stroke, Shift smooths, X toggles
+//! symmetry, G picks Move, Home frames the model, number keys pick tools. The orbit button is a setting ([`OrbitButton`]): the right button (nendo's
 //! default) or the middle one (Blender's).
 
 use egui::{Key, Modifiers};
@@ -32,6 +32,8 @@ pub enum Action {
     AdjustRadius,
     /// Set the depth by moving the mouse (click to keep, Esc to restore).
     AdjustDepth,
+    /// Turn symmetry (the mirror across x = 0) on or off.
+    ToggleSymmetry,
     /// Pick a tool.
     Tool(Tool),
 }
@@ -55,6 +57,9 @@ impl Action {
             }
             Action::AdjustDepth => {
                 "depth (a click's push, a line's groove): move the mouse; click to keep, Esc or right click to restore".into()
+            }
+            Action::ToggleSymmetry => {
+                "symmetry on / off: every stroke mirrored across x = 0 (offered for a model symmetric about it)".into()
             }
             Action::Tool(tool) => format!("tool: {}", tool.label()),
         }
@@ -133,6 +138,8 @@ pub fn keys() -> Vec<KeyBinding> {
         KeyBinding::new(Modifiers::NONE, Key::F1, Action::Help),
         KeyBinding::new(Modifiers::NONE, Key::Questionmark, Action::Help),
         KeyBinding::new(Modifiers::NONE, Key::Escape, Action::Cancel),
+        KeyBinding::new(Modifiers::NONE, Key::X, Action::ToggleSymmetry),
+        KeyBinding::new(Modifiers::NONE, Key::G, Action::Tool(Tool::Move)),
     ];
     keys.extend(
         Tool::ALL
@@ -196,15 +203,19 @@ pub fn mouse(orbit: OrbitButton) -> Vec<(&'static str, &'static str)> {
     let mut rows = vec![
         (
             "Left drag",
-            "the active tool (Push / Pull / Draw a line deform live while held)",
+            "the active tool (Push / Pull / Draw a line / Move / Smooth deform live while held)",
         ),
         (
             "Ctrl + Left drag",
             "the tool inverted: Push pulls, Pull pushes, a groove becomes a ridge",
         ),
         (
+            "Shift + Left drag",
+            "with Push, Pull or Draw a line: smooth (as the Smooth tool)",
+        ),
+        (
             "Wheel while pressing",
-            "the stroke's depth (the curve grab: nearer / farther)",
+            "the stroke's depth (Move and the curve grab: nearer / farther)",
         ),
         ("Right click while pressing", "cancel the stroke"),
     ];

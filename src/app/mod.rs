@@ -4,8 +4,9 @@
 //! ## Controls
 //!
 //! Every key and mouse binding is in one table, [`keymap`] (the help overlay, F1 or `?`, and
-//! the README list it from there). Push, Pull and Draw a line deform live while the button is
-//! held ([`stroke`]); Esc or a right click cancels the stroke exactly.
+//! the README list it from there). Push, Pull, Draw a line, Move and Smooth deform live while
+//! the button is held ([`stroke`]); Esc or a right click cancels the stroke exactly. With
+//! symmetry on (X, [`symmetry`]) every stroke is mirrored across `x = 0`.
 //!
 //! Input egui takes (a panel, a text field, a dialog) never reaches the tools.
 //!
@@ -20,6 +21,7 @@
 //! | [`autosave`] | the autosave file |
 //! | [`tools`], [`curve_edit`] | the mouse tools and the curve edits they make |
 //! | [`stroke`] | a live stroke: re-applied from its start each frame, one undo step, cancelled exactly |
+//! | [`symmetry`] | the symmetry toggle, the mirror image of an operation, refinement for a mirrored stroke |
 //! | [`reach`] | the patches an operation changes, outlined around the cursor |
 //! | [`keymap`] | every key and mouse binding, the one table the shortcuts, the help and the README use |
 //! | [`display_cache`] | what the window derives from the document (tessellation, continuity) |
@@ -53,6 +55,7 @@ pub mod reach;
 pub mod scene;
 pub mod settings;
 pub mod stroke;
+pub mod symmetry;
 pub mod tools;
 pub mod window;
 

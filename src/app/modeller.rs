@@ -27,6 +27,7 @@ use super::reach::Reach;
 use super::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
 use super::settings::Settings;
 use super::stroke::LiveStroke;
+use super::symmetry::MirrorToggle;
 use super::tools::{DEPTH_RANGE, Edit, RADIUS_RANGE, Tool, ToolContext, ToolSettings, ToolState};
 use crate::curve::Curve;
 use crate::curve::json::DynCurve;
@@ -34,7 +35,7 @@ use crate::mesh::Tessellation;
 use crate::model::Model;
 use crate::model::ops::{op_to_json, parse_ops};
 use crate::render::{LineBatch, SphereInstance, Style};
-use crate::surface::{Op, refine};
+use crate::surface::{Op, Plane, refine};
 
 /// Mouse buttons the viewport listens to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -182,6 +183,8 @@ pub struct Modeller {
     hover_view: Option<(OrbitCamera, u64)>,
     /// The patches the finger would reach (hover) or reaches (stroke).
     reach: Reach,
+    /// Symmetry: every stroke mirrored across x = 0 (X).
+    mirror: MirrorToggle,
 }
 
 impl Modeller {
@@ -228,6 +231,7 @@ impl Modeller {
             help: false,
             hover_view: None,
             reach: Reach::default(),
+            mirror: MirrorToggle::new(Plane::X),
         }
     }
 
@@ -368,6 +372,7 @@ impl Modeller {
     /// Whether Shift and Ctrl are held (from the window's modifier events).
     pub fn set_modifiers(&mut self, shift: bool, ctrl: bool) {
         self.pointer.shift = shift;
+        self.tools.state.set_smooth(shift);
         if ctrl != self.pointer.ctrl {
             self.pointer.ctrl = ctrl;
             self.tools.state.set_invert(ctrl);
@@ -469,6 +474,7 @@ impl Modeller {
                     ui,
                     self.tools.active,
                     &mut self.tools.settings,
+                    &self.mirror,
                 ));
             });
         egui::CollapsingHeader::new("Regulation")
@@ -553,7 +559,15 @@ impl Modeller {
             Command::SetRegulation(regulation) => {
                 self.end_hand_contacts();
                 self.session.doc.set_regulation(regulation);
+                self.set_status(
+                    format!(
+                        "regulation {regulation}: applies to the next strokes (or Regulate now)"
+                    ),
+                    false,
+                );
             }
+            Command::RegulateNow => self.regulate_now(),
+            Command::SetSymmetry(on) => self.set_symmetry(on),
             Command::Refine => {
                 self.end_hand_contacts();
                 let model = self.session.doc.model();
@@ -821,6 +835,70 @@ impl Modeller {
         }
         self.update_hover();
         self.update_reach();
+        self.update_mirror();
+    }
+
+    /// Looks again whether the model allows the mirror, when it changed (not during a stroke:
+    /// the stroke keeps its own mirror map).
+    fn update_mirror(&mut self) {
+        if self.stroke.is_none() && !self.gesture_busy() {
+            let doc = &self.session.doc;
+            self.mirror.update(doc.revision(), &doc.model().surface);
+        }
+    }
+
+    /// The mirror a stroke begun now uses (`None`: symmetry off or not offered).
+    fn active_mirror(&mut self) -> Option<crate::surface::Symmetry> {
+        let doc = &self.session.doc;
+        self.mirror.update(doc.revision(), &doc.model().surface);
+        self.mirror.active(&doc.model().surface).cloned()
+    }
+
+    /// Turns symmetry on or off; says why when the model does not allow it.
+    fn set_symmetry(&mut self, on: bool) {
+        let doc = &self.session.doc;
+        self.mirror.update(doc.revision(), &doc.model().surface);
+        if on && let Some(why) = self.mirror.why_not() {
+            self.set_status(why, true);
+            return;
+        }
+        self.mirror.set_wanted(on);
+        let text = if on {
+            format!(
+                "symmetry on: strokes are mirrored across {}",
+                self.mirror.plane()
+            )
+        } else {
+            "symmetry off".to_string()
+        };
+        self.set_status(text, false);
+    }
+
+    /// Applies the model's regulation to the whole surface as one undoable edit.
+    fn regulate_now(&mut self) {
+        self.cancel_stroke();
+        self.end_hand_contacts();
+        let model = self.session.doc.model();
+        let regulation = model.regulation;
+        let mut regulated = model.clone();
+        let worked = crate::surface::regulate::regulate_all(&mut regulated.surface, regulation);
+        if !regulated.surface.nodes().iter().all(|p| p.is_finite()) {
+            self.set_status(
+                format!("regulate now ({regulation}): the result is not finite; nothing changed"),
+                true,
+            );
+        } else if regulated.surface == model.surface {
+            self.set_status(
+                format!("regulate now ({regulation}): the surface already satisfies it"),
+                false,
+            );
+        } else {
+            self.session.doc.replace("regulate now", regulated);
+            self.set_status(
+                format!("regulated the whole surface ({regulation}, {worked} groups and poles)"),
+                false,
+            );
+        }
     }
 
     /// Shows the stroke in progress as its gesture now describes it (once per frame, however
@@ -832,6 +910,11 @@ impl Modeller {
         let Some(stroke) = &mut self.stroke else {
             return;
         };
+        if let Some(dabs) = self.tools.state.stroke_dabs(&self.tools.settings) {
+            stroke.show_dabs(&mut self.session.doc, &dabs);
+            self.report_stroke();
+            return;
+        }
         let op = {
             let ctx = ToolContext {
                 camera: &self.camera,
@@ -845,9 +928,24 @@ impl Modeller {
                 .stroke_op(self.tools.active, &ctx, &self.tools.settings)
         };
         stroke.show(&mut self.session.doc, op.as_ref());
+        self.report_stroke();
+    }
+
+    /// Says on the status line why the stroke's last operation was refused, or that
+    /// auto-refine was skipped to keep the grid symmetric.
+    fn report_stroke(&mut self) {
+        let Some(stroke) = &mut self.stroke else {
+            return;
+        };
         let refused = stroke.take_refused();
+        let skipped = stroke.take_refine_skipped();
         if let Some(e) = refused {
             self.set_status(format!("stroke refused: {e}"), true);
+        } else if skipped {
+            self.set_status(
+                "symmetry: auto-refine skipped for this stroke (refining would break the grid's symmetry)",
+                false,
+            );
         }
     }
 
@@ -921,6 +1019,7 @@ impl Modeller {
             Action::FrameAll => vec![Command::FrameAll],
             Action::Help => vec![Command::ToggleHelp],
             Action::Tool(tool) => vec![Command::SelectTool(tool)],
+            Action::ToggleSymmetry => vec![Command::SetSymmetry(!self.mirror.wanted())],
             Action::AdjustRadius | Action::AdjustDepth => {
                 if !self.gesture_busy() && self.session.prompt().is_none() {
                     let (what, start) = if action == Action::AdjustRadius {
@@ -986,7 +1085,7 @@ impl Modeller {
 
     /// The number by the cursor: a stroke's depth (and the patches it reaches), or the radius
     /// or depth F / Shift+F is setting.
-    fn cursor_label_ui(&self, ctx: &egui::Context, view: egui::Rect) {
+    fn cursor_label_ui(&self, ctx_egui: &egui::Context, view: egui::Rect) {
         let Some(cursor) = self.pointer.cursor else {
             return;
         };
@@ -1004,7 +1103,17 @@ impl Modeller {
                 curves: &[],
             };
             let Some(depth) = self.tools.state.stroke_depth(&ctx, &self.tools.settings) else {
-                return;
+                // Move and Smooth press no depth: how far the grab went, or the dabs so far.
+                let text = match stroke.shown() {
+                    Some(Op::Move { at, to, .. }) => format!(
+                        "move {:.3} · {} patches",
+                        (*to - *at).length(),
+                        stroke.touched().len()
+                    ),
+                    _ if self.tools.state.smoothing() => "smooth".to_string(),
+                    _ => return,
+                };
+                return Self::cursor_label(ctx_egui, view, cursor, text);
             };
             let signed = stroke.shown().map_or(0.0, |op| match op {
                 Op::Push { depth, .. }
@@ -1021,6 +1130,11 @@ impl Modeller {
         } else {
             return;
         };
+        Self::cursor_label(ctx_egui, view, cursor, text);
+    }
+
+    /// Draws `text` in a dark box by the cursor.
+    fn cursor_label(ctx: &egui::Context, view: egui::Rect, cursor: Vec2, text: String) {
         let ppp = ctx.pixels_per_point();
         let at = view.min + egui::vec2(cursor.x, cursor.y) / ppp + egui::vec2(18.0, 14.0);
         let painter = ctx.layer_painter(egui::LayerId::new(
@@ -1059,6 +1173,7 @@ impl Modeller {
     fn replace_document(&mut self, doc: Document) {
         self.cancel_stroke();
         self.end_hand_contacts();
+        self.mirror.invalidate();
         self.session.replace(doc);
         self.frame_pending = true;
         self.cache.invalidate();
@@ -1166,8 +1281,29 @@ impl Modeller {
         }
     }
 
-    /// Applies one sculpting operation, reporting failures on the status line.
+    /// Applies one sculpting operation, reporting failures on the status line. With symmetry
+    /// on, together with its mirror image (one undo step, refined symmetrically).
     fn sculpt(&mut self, op: &Op) {
+        if let Some(mirror) = self.active_mirror() {
+            let mut stroke = LiveStroke::begin(
+                &self.session.doc,
+                &[],
+                &crate::mesh::TriMesh::default(),
+                self.panel.auto_refine,
+            )
+            .with_mirror(Some(mirror));
+            stroke.show(&mut self.session.doc, Some(op));
+            if stroke.take_refine_skipped() {
+                self.set_status(
+                    "symmetry: auto-refine skipped (refining would break the grid's symmetry)",
+                    false,
+                );
+            }
+            if let Some(e) = stroke.commit(&mut self.session.doc, Some(op)) {
+                self.set_status(format!("operation refused: {e}"), true);
+            }
+            return;
+        }
         if self.panel.auto_refine {
             // Refine where the finger reaches first (its own undo step); an invalid operation
             // is reported by the operation itself.
@@ -1320,12 +1456,16 @@ impl Modeller {
                         let edits = self.tools.state.press(tool, &ctx, &self.tools.settings, p);
                         if self.tools.state.stroking() {
                             self.end_hand_contacts();
-                            self.stroke = Some(LiveStroke::begin(
-                                &self.session.doc,
-                                self.cache.patches(),
-                                &self.cache.display().mesh,
-                                self.panel.auto_refine,
-                            ));
+                            let mirror = self.active_mirror();
+                            self.stroke = Some(
+                                LiveStroke::begin(
+                                    &self.session.doc,
+                                    self.cache.patches(),
+                                    &self.cache.display().mesh,
+                                    self.panel.auto_refine,
+                                )
+                                .with_mirror(mirror),
+                            );
                             self.stroke_dirty = true;
                         }
                         self.apply_edits(edits);
@@ -1347,11 +1487,29 @@ impl Modeller {
                 }
                 Button::Left => {
                     self.pointer.buttons[0] = false;
+                    let smoothing = self.tools.state.smoothing();
                     let edits = self
                         .tools
                         .state
                         .release(tool, &ctx, &self.tools.settings, p);
                     match self.stroke.take() {
+                        // Every dab of a smoothing stroke, the last ones shown now.
+                        Some(mut stroke) if smoothing => {
+                            let dabs: Vec<Op> = edits
+                                .into_iter()
+                                .filter_map(|e| match e {
+                                    Edit::Sculpt(op) => Some(op),
+                                    _ => None,
+                                })
+                                .collect();
+                            self.stroke_dirty = false;
+                            stroke.show_dabs(&mut self.session.doc, &dabs);
+                            let refused = stroke.take_refused();
+                            if let Some(e) = stroke.commit(&mut self.session.doc, None).or(refused)
+                            {
+                                self.set_status(format!("operation refused: {e}"), true);
+                            }
+                        }
                         Some(stroke) => {
                             let op = edits.into_iter().find_map(|e| match e {
                                 Edit::Sculpt(op) => Some(op),
@@ -1428,8 +1586,14 @@ impl Modeller {
         self.tools
             .state
             .preview(tool, &ctx, settings, lines, spheres);
-        if tool.sculpts() && tool != Tool::Hand {
+        if tool.strokes() {
             self.reach.draw(&self.cache.display().mesh, lines);
+            if self.mirror.wanted()
+                && self.mirror.available()
+                && let Some((lo, hi)) = self.cache.display().mesh.bounds()
+            {
+                super::scene::mirror_plane(self.mirror.plane(), lo, hi, lines);
+            }
         }
         if tool == Tool::Hand {
             self.hand.draw(lines, spheres);
@@ -2021,6 +2185,8 @@ mod tests {
     fn refine_and_auto_refine_are_undoable_edits() {
         let mut m = Modeller::new(plane_doc(), None, false);
         assert!(m.panel.auto_refine);
+        // Unmirrored: a mirrored operation refines within its own undo step.
+        m.apply(Command::SetSymmetry(false));
         m.apply(Command::Refine);
         assert_eq!(m.document().model().surface.patch_count(), 400);
         assert_eq!(m.document().history().undo_name(), Some("refine"));
@@ -2055,5 +2221,195 @@ mod tests {
             radius: 0.5,
         });
         assert_eq!(m.document().model().surface.patch_count(), 100);
+    }
+
+    /// A left-button stroke from `from` to `to` in eight moves, a frame after each.
+    fn drag_stroke(m: &mut Modeller, from: Vec2, to: Vec2) {
+        m.pointer(PointerInput::Moved(from));
+        m.refresh();
+        m.pointer(PointerInput::Pressed(Button::Left, from));
+        for k in 1..=8 {
+            m.pointer(PointerInput::Moved(from.lerp(to, k as f32 / 8.0)));
+            m.refresh();
+        }
+        m.pointer(PointerInput::Released(Button::Left, to));
+        m.refresh();
+    }
+
+    fn bits(model: &Model) -> Vec<[u64; 3]> {
+        model
+            .surface
+            .nodes()
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect()
+    }
+
+    /// Symmetry is on for a symmetric model (every primitive), X toggles it; a model that is
+    /// not symmetric about x = 0 does not get it, and the status line says why.
+    #[test]
+    fn symmetry_is_offered_only_for_a_symmetric_model() {
+        let mut m = Modeller::new(plane_doc(), None, false);
+        m.set_viewport(Vec2::new(800.0, 600.0));
+        m.refresh();
+        let grid = m.document().model().surface.clone();
+        assert!(m.mirror.available() && m.mirror.active(&grid).is_some());
+        for command in m.key_action(Action::ToggleSymmetry) {
+            m.apply(command);
+        }
+        assert!(
+            !m.mirror.wanted() && m.mirror.active(&grid).is_none(),
+            "X: off"
+        );
+        for command in m.key_action(Action::ToggleSymmetry) {
+            m.apply(command);
+        }
+        assert!(m.mirror.active(&grid).is_some(), "X: on again");
+
+        let mut lopsided = plane_doc();
+        lopsided
+            .apply(&Op::Push {
+                at: DVec3::new(2.5, 0.5, 0.0),
+                dir: -DVec3::Z,
+                depth: 0.4,
+                radius: 1.0,
+            })
+            .expect("push");
+        m.replace_document(Document::new(lopsided.model().clone()));
+        m.refresh();
+        assert!(!m.mirror.available());
+        assert!(m.mirror.active(&m.document().model().surface).is_none());
+        m.mirror.set_wanted(false);
+        m.apply(Command::SetSymmetry(true));
+        let status = m.status.as_ref().expect("a status");
+        assert!(
+            status.error && status.text.contains("not symmetric"),
+            "{}",
+            status.text
+        );
+        assert!(!m.mirror.wanted(), "refused");
+    }
+
+    /// With symmetry on (and auto-refine, the window's default), every live stroke — Push,
+    /// Pull, Draw a line, Move, Smooth, and Shift+Push smoothing — changes both sides of the
+    /// plane and leaves the model symmetric to 1e-12; each is one undo step back to the
+    /// bit-identical model before it.
+    #[test]
+    fn mirrored_live_strokes_keep_the_model_symmetric() {
+        use crate::surface::mirror::symmetry_error;
+        let mut m = Modeller::new(plane_doc(), None, false);
+        m.set_viewport(Vec2::new(800.0, 600.0));
+        m.refresh();
+        let (from, to) = (Vec2::new(250.0, 330.0), Vec2::new(310.0, 290.0));
+        let cases = [
+            (Tool::Push, false),
+            (Tool::Pull, false),
+            (Tool::DrawLine, false),
+            (Tool::Move, false),
+            (Tool::Smooth, false),
+            (Tool::Push, true),
+        ];
+        for (tool, shift) in cases {
+            m.apply(Command::SelectTool(tool));
+            m.set_modifiers(shift, false);
+            let before = m.document().model().clone();
+            drag_stroke(&mut m, from, to);
+            m.set_modifiers(false, false);
+            let after = &m.document().model().surface;
+            let asym = symmetry_error(after, Plane::X).relative;
+            assert!(asym < 1e-12, "{tool:?} shift {shift}: asymmetry {asym:e}");
+            // Changed on both sides of the plane (compared on the same surface points).
+            let moved_on = |side: f64| {
+                [0.5, 1.0, 1.5, 2.0, 2.5, 3.0].iter().any(|&x| {
+                    [-1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5].iter().any(|&y| {
+                        let q = DVec3::new(side * x, y, 0.0);
+                        let a = crate::surface::nearest(&before.surface, q).expect("near");
+                        let b = crate::surface::nearest(after, a.point).expect("near");
+                        (a.point - b.point).length() > 1e-4
+                    })
+                })
+            };
+            assert!(
+                moved_on(1.0) && moved_on(-1.0),
+                "{tool:?} shift {shift}: both sides move"
+            );
+            assert!(m.document().history().undo_name().is_some());
+            let after = m.document().model().clone();
+            m.apply(Command::Undo);
+            assert_eq!(
+                bits(m.document().model()),
+                bits(&before),
+                "{tool:?}: one undo step"
+            );
+            m.apply(Command::Redo);
+            assert!(bits(m.document().model()) == bits(&after), "{tool:?}: redo");
+        }
+    }
+
+    /// A move stroke puts the grabbed surface point on the target (the surface passes through
+    /// it to 1e-9 of the model's size), with symmetry on or off.
+    #[test]
+    fn a_move_stroke_lands_the_grabbed_point_on_the_target() {
+        for symmetric in [true, false] {
+            let mut m = Modeller::new(plane_doc(), None, false);
+            m.set_viewport(Vec2::new(800.0, 600.0));
+            m.refresh();
+            m.apply(Command::SetSymmetry(symmetric));
+            m.apply(Command::SelectTool(Tool::Move));
+            m.apply(Command::StartRecording);
+            drag_stroke(&mut m, Vec2::new(260.0, 320.0), Vec2::new(280.0, 250.0));
+            let recorded = m.document().recording.clone().unwrap_or_default();
+            let [Op::Move { at, to, .. }] = recorded.as_slice() else {
+                panic!("one move recorded: {recorded:?}")
+            };
+            assert!((*to - *at).length() > 0.3, "moved: {at} -> {to}");
+            let surface = &m.document().model().surface;
+            let near = crate::surface::nearest(surface, *to).expect("near");
+            assert!(
+                (near.point - *to).length() < 1e-9 * 5.0,
+                "symmetric {symmetric}: the surface passes through the target: {}",
+                (near.point - *to).length()
+            );
+            assert_eq!(m.document().history().undo_name(), Some("move"));
+        }
+    }
+
+    /// "Regulate now" applies the chosen regulation to the whole surface as one undoable
+    /// command; undo restores the model bit for bit, redo the regulated one.
+    #[test]
+    fn regulate_now_is_one_exact_undo_step() {
+        let mut model = plane_doc().model().clone();
+        model.regulation = crate::surface::Regulation::None;
+        let mut m = Modeller::new(Document::new(model), None, false);
+        m.set_viewport(Vec2::new(800.0, 600.0));
+        m.refresh();
+        m.apply(Command::SetSymmetry(false));
+        m.apply(Command::SetAutoRefine(false));
+        m.sculpt(&Op::Push {
+            at: DVec3::new(0.7, 0.3, 0.0),
+            dir: DVec3::new(0.3, 0.2, -1.0),
+            depth: 0.6,
+            radius: 1.3,
+        });
+        m.apply(Command::SetRegulation(crate::surface::Regulation::Exact));
+        let creased = m.document().model().clone();
+        let seam = |model: &Model| crate::surface::continuity::report(&model.surface, 8).g1_max_deg;
+        m.apply(Command::RegulateNow);
+        let regulated = m.document().model().clone();
+        assert_ne!(regulated.surface, creased.surface, "regulated");
+        assert!(
+            seam(&regulated) < 0.01 && seam(&creased) > 0.1,
+            "G1 after: {} (before {})",
+            seam(&regulated),
+            seam(&creased)
+        );
+        assert_eq!(m.document().history().undo_name(), Some("regulate now"));
+        m.apply(Command::Undo);
+        assert!(
+            bits(m.document().model()) == bits(&creased),
+            "undo: bit-identical"
+        );
+        m.apply(Command::Redo);
+        assert!(bits(m.document().model()) == bits(&regulated), "redo");
     }
 }

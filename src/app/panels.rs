@@ -18,7 +18,8 @@ use super::history::History;
 use super::keymap::{self, Action, OrbitButton};
 use super::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
 use super::scene::{Overlays, SurfaceDisplay};
-use super::tools::{DEPTH_RANGE, RADIUS_RANGE, Tool, ToolSettings};
+use super::symmetry::MirrorToggle;
+use super::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, Tool, ToolSettings};
 use crate::curve::edit::GrabMethod;
 use crate::surface::continuity::ContinuityReport;
 use crate::surface::{Primitive, Regulation, Topology};
@@ -245,7 +246,12 @@ pub(super) fn primitive_ui(ui: &mut Ui, form: &mut PrimitiveForm) -> Vec<Command
 }
 
 /// The tool choice and its settings.
-pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> Vec<Command> {
+pub(super) fn tool_ui(
+    ui: &mut Ui,
+    tool: Tool,
+    settings: &mut ToolSettings,
+    mirror: &MirrorToggle,
+) -> Vec<Command> {
     let mut commands = Vec::new();
     let mut chosen = tool;
     for (k, t) in Tool::ALL.into_iter().enumerate() {
@@ -255,6 +261,7 @@ pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> V
     if chosen != tool {
         commands.push(Command::SelectTool(chosen));
     }
+    commands.extend(symmetry_ui(ui, mirror));
     let s = settings;
     ui.add(
         egui::Slider::new(&mut s.radius, RADIUS_RANGE)
@@ -268,6 +275,11 @@ pub(super) fn tool_ui(ui: &mut Ui, tool: Tool, settings: &mut ToolSettings) -> V
             .text("depth (click)"),
     )
     .on_hover_text("How deep a plain click pushes or pulls, and how deep a drawn line presses (Shift+F, then move the mouse)");
+    ui.add(
+        egui::Slider::new(&mut s.strength, STRENGTH_RANGE)
+            .text("smooth strength"),
+    )
+    .on_hover_text("How much each smoothing dab relaxes the clay toward a fairer shape (a step down the thin-plate bending energy): 1 takes the whole step");
     ui.checkbox(&mut s.ridge, "draw ridges (not grooves)")
         .on_hover_text(
             "Draw a line raises a ridge instead of cutting a groove (Ctrl while drawing swaps it)",
@@ -336,14 +348,28 @@ pub(super) fn regulation_ui(ui: &mut Ui, current: Regulation) -> Vec<Command> {
         .response
         .on_hover_text("How the control points around a stroke are adjusted afterwards so the patches still meet smoothly (tangent-continuous, G1)");
     ui.small(format!(
-        "{}. A change applies to the next strokes; the surface as it is stays.",
+        "{}. A change applies to the next strokes; the surface as it is stays (or use \"Regulate now\").",
         regulation_help(current)
     ));
-    if regulation == current {
-        Vec::new()
-    } else {
-        vec![Command::SetRegulation(regulation)]
+    let mut commands = Vec::new();
+    if regulation != current {
+        commands.push(Command::SetRegulation(regulation));
     }
+    if ui
+        .add_enabled(
+            current != Regulation::None,
+            egui::Button::new("Regulate now"),
+        )
+        .on_hover_text(format!(
+            "apply {} to the whole surface now, every seam and pole (undoable)",
+            current.name()
+        ))
+        .on_disabled_hover_text("regulation none adjusts nothing")
+        .clicked()
+    {
+        commands.push(Command::RegulateNow);
+    }
+    commands
 }
 
 /// Refinement: the "Refine" command (every patch into 2 × 2) and the auto-refine setting.
@@ -488,7 +514,37 @@ fn tool_help(t: Tool) -> &'static str {
         Tool::GrabCurve => "Grab a curve anywhere and move it",
         Tool::SplitCurve => "Click a curve to split it in two there",
         Tool::Tangent => "Drag a handle at a joint of two curves; the other side stays in line",
+        Tool::Move => {
+            "Grab the clay and move it (G): the point pressed follows the cursor, the clay within the finger radius follows it; the wheel moves it nearer or farther"
+        }
+        Tool::Smooth => {
+            "Drag over the clay to smooth it (Shift with Push, Pull or Draw a line does the same)"
+        }
         Tool::Hand => "The mouse drives the virtual hand: the view ray is the finger",
+    }
+}
+
+/// The symmetry checkbox: on when wanted and the model allows it; disabled, with the reason,
+/// when it does not.
+fn symmetry_ui(ui: &mut Ui, mirror: &MirrorToggle) -> Vec<Command> {
+    let available = mirror.available();
+    let mut on = mirror.wanted() && available;
+    let label = format!("symmetry (mirror across {})", mirror.plane());
+    let response = ui.add_enabled(available, egui::Checkbox::new(&mut on, label));
+    match mirror.why_not() {
+        Some(why) => {
+            response.on_disabled_hover_text(why);
+        }
+        None => {
+            response.on_hover_text(
+                "Every stroke is applied together with its mirror image across the plane, as one operation (X). The plane is drawn in the view. Not the Hand tool.",
+            );
+        }
+    }
+    if available && on != mirror.wanted() {
+        vec![Command::SetSymmetry(on)]
+    } else {
+        Vec::new()
     }
 }
 

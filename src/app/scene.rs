@@ -114,6 +114,32 @@ pub fn curve(samples: &[DVec3], control: Option<&[DVec3]>, highlight: bool, line
     }
 }
 
+/// The colour of the mirror plane's outline.
+pub const MIRROR_PLANE: Rgba = Rgba([0.3, 0.8, 1.0, 0.55]);
+
+/// Outlines the mirror plane across the model's box `lo..hi` (enlarged by a tenth of its
+/// diagonal each way, so a flat model still shows a rectangle), with a cross through it:
+/// the lines are depth-tested, so the clay hides the parts behind it.
+pub fn mirror_plane(plane: crate::surface::Plane, lo: Vec3, hi: Vec3, lines: &mut LineBatch) {
+    let margin = Vec3::splat(0.1 * (hi - lo).length().max(1e-3));
+    let (lo, hi) = (lo - margin, hi + margin);
+    let k = plane.axis();
+    // The two in-plane axes.
+    let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+    let point = |s: f32, t: f32| {
+        let mut p = Vec3::ZERO;
+        p[a] = lo[a] + s * (hi[a] - lo[a]);
+        p[b] = lo[b] + t * (hi[b] - lo[b]);
+        p
+    };
+    lines.polyline(
+        [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.0, 0.0)].map(|(s, t)| point(s, t)),
+        MIRROR_PLANE,
+    );
+    lines.segment(point(0.5, 0.0), point(0.5, 1.0), MIRROR_PLANE);
+    lines.segment(point(0.0, 0.5), point(1.0, 0.5), MIRROR_PLANE);
+}
+
 /// The bounds of `mesh` and of extra points (curves), `None` when there is nothing.
 #[must_use]
 pub fn scene_bounds(mesh: &TriMesh, extra: &[DVec3]) -> Option<(Vec3, Vec3)> {

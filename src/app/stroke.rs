@@ -33,6 +33,17 @@
 //! undo puts the original grid back. A frame that refines rebuilds the whole display (the
 //! patch count changed); the frames after it are partial again.
 //!
+//! **Mirror** ([`LiveStroke::with_mirror`]): each operation is applied together with its mirror
+//! image ([`crate::surface::Sculptor::apply_mirrored`]); auto-refine then refines where the
+//! finger reaches and at the mirror images of those grid parameters, and keeps the refinement
+//! only when the refined grid is still symmetric ([`super::symmetry::refine_mirrored`]);
+//! otherwise it stops refining for the rest of the stroke ([`LiveStroke::take_refine_skipped`]).
+//!
+//! **Dabs** ([`LiveStroke::show_dabs`], a smoothing stroke): the operations are applied one
+//! after another, each on the surface the previous ones left, only the new ones each frame
+//! ([`Document::add_to_stroke`]), never rewound. The released stroke is one undo step holding
+//! every dab, and the recording gets every dab.
+//!
 //! Limits: a frame re-applies the whole operation (a long Draw-a-line is re-applied along its
 //! whole path each frame, so its frames grow with the path); the operation runs at most once
 //! per frame (see [`LiveStroke::show`]), not once per input event. Should another edit end the
@@ -47,7 +58,7 @@
 //! against 44–52 ms for the same frames with the full rebuild the window did before.
 
 use crate::mesh::{PatchPoints, TriMesh};
-use crate::surface::{Op, SurfaceError, refine};
+use crate::surface::{Grid, Op, SurfaceError, Symmetry, refine};
 
 use super::document::Document;
 
@@ -70,6 +81,16 @@ pub struct LiveStroke {
     frame: Option<Vec<usize>>,
     /// Why the last operation was refused, if it was (the surface then shows the start).
     refused: Option<SurfaceError>,
+    /// The mirror every operation is applied with, if any (its map follows the grid when
+    /// auto-refine refines it).
+    mirror: Option<Symmetry>,
+    /// Auto-refine was skipped because it would have broken the grid's symmetry (not yet
+    /// reported).
+    refine_skipped: bool,
+    /// How many dabs [`LiveStroke::show_dabs`] has taken (applied or refused).
+    dabs_seen: usize,
+    /// The name of the first dab applied (a smoothing stroke), if any was.
+    dabbed: Option<&'static str>,
 }
 
 impl LiveStroke {
@@ -83,7 +104,6 @@ impl LiveStroke {
         mesh: &TriMesh,
         auto_refine: bool,
     ) -> Self {
-        debug_assert_eq!(patches.len(), doc.model().surface.patch_count());
         Self {
             auto_refine,
             base_patches: patches.to_vec(),
@@ -93,7 +113,78 @@ impl LiveStroke {
             touched: Vec::new(),
             frame: Some(Vec::new()),
             refused: None,
+            mirror: None,
+            refine_skipped: false,
+            dabs_seen: 0,
+            dabbed: None,
         }
+    }
+
+    /// Applies every operation of the stroke together with its mirror image across
+    /// `mirror`'s plane (a map made for the document's grid; `None`: no mirror).
+    #[must_use]
+    pub fn with_mirror(mut self, mirror: Option<Symmetry>) -> Self {
+        self.mirror = mirror;
+        self
+    }
+
+    /// Takes whether auto-refine was skipped to keep the grid symmetric.
+    pub fn take_refine_skipped(&mut self) -> bool {
+        std::mem::take(&mut self.refine_skipped)
+    }
+
+    /// What a frame works on, given the surface it starts from: the finer grid to move onto
+    /// when auto-refine asks for one, and the mirror map to apply `op` with.
+    fn prepare(&mut self, grid: &Grid, op: Option<&Op>) -> (Option<Grid>, Option<Symmetry>) {
+        let finer = match op.filter(|_| self.auto_refine) {
+            None => None,
+            Some(op) => match &self.mirror {
+                Some(mirror) => match super::symmetry::refine_mirrored(grid, op, mirror) {
+                    super::symmetry::MirroredRefinement::Refined(found) => {
+                        let (refined, mirror) = *found;
+                        self.mirror = Some(mirror);
+                        Some(refined)
+                    }
+                    super::symmetry::MirroredRefinement::Unchanged => None,
+                    super::symmetry::MirroredRefinement::Asymmetric => {
+                        self.auto_refine = false;
+                        self.refine_skipped = true;
+                        None
+                    }
+                },
+                None => refine::for_finger(grid, op)
+                    .ok()
+                    .filter(|f| !f.refinement.is_empty())
+                    .and_then(|f| f.refinement.apply(grid).ok()),
+            },
+        };
+        (finer, self.mirror.clone())
+    }
+
+    /// Shows the dabs of a smoothing stroke: those not taken yet are applied one after another
+    /// on the surface as it is ([`Document::add_to_stroke`]); `dabs` is the whole list so far
+    /// (it only grows). A refused dab is skipped (see [`LiveStroke::take_refused`]).
+    pub fn show_dabs(&mut self, doc: &mut Document, dabs: &[Op]) {
+        let revision = doc.revision();
+        for dab in dabs.iter().skip(self.dabs_seen) {
+            self.dabs_seen += 1;
+            if !(self.opened && doc.in_stroke()) {
+                doc.begin_stroke(edit_name(dab));
+                self.opened = true;
+            }
+            let result = doc.add_to_stroke(dab, |grid| self.prepare(grid, Some(dab)));
+            match result {
+                Some(Ok(touched)) => {
+                    self.dabbed.get_or_insert(edit_name(dab));
+                    self.touched.extend(touched.patches);
+                    self.touched.sort_unstable();
+                    self.touched.dedup();
+                }
+                Some(Err(e)) => self.refused = Some(e),
+                None => {}
+            }
+        }
+        self.frame = doc.surface_changes_since(revision);
     }
 
     /// The patches of the surface as it was when the stroke began.
@@ -153,15 +244,9 @@ impl LiveStroke {
             doc.begin_stroke(op.map_or("stroke", edit_name));
             self.opened = true;
         }
-        let refine_for = |grid: &crate::surface::Grid| -> Option<crate::surface::Grid> {
-            let op = op.filter(|_| self.auto_refine)?;
-            let f = refine::for_finger(grid, op).ok()?;
-            if f.refinement.is_empty() {
-                return None;
-            }
-            f.refinement.apply(grid).ok()
-        };
-        let result = doc.reapply_stroke(op, refine_for).flatten();
+        let result = doc
+            .reapply_stroke(op, |grid| self.prepare(grid, op))
+            .flatten();
         self.touched.clear();
         self.shown = None;
         match result {
@@ -178,11 +263,16 @@ impl LiveStroke {
     /// Ends the stroke with `op` applied: one undo step named after it, and the operation in
     /// the recording. Without an operation (nothing pressed in) the surface is restored and
     /// nothing is recorded. Returns why the operation was refused, if it was.
+    ///
+    /// A smoothing stroke ([`LiveStroke::show_dabs`]) is committed with `op` `None`: its dabs
+    /// stay, one undo step named after them.
     pub fn commit(mut self, doc: &mut Document, op: Option<&Op>) -> Option<SurfaceError> {
-        self.show(doc, op);
-        match self.shown.take() {
-            Some(op) => {
-                doc.rename_stroke(edit_name(&op));
+        if op.is_some() || self.dabbed.is_none() {
+            self.show(doc, op);
+        }
+        match self.shown.take().map(|op| edit_name(&op)).or(self.dabbed) {
+            Some(name) => {
+                doc.rename_stroke(name);
                 doc.end_stroke();
             }
             None => self.cancel_open(doc),

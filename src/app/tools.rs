@@ -7,6 +7,8 @@
 //! | grab curve | press near a curve (ray closest point) and drag: the grabbed point follows the cursor at its depth; the wheel moves it nearer / farther; the probe sphere shows the reach |
 //! | split curve | click on a curve: it splits there |
 //! | tangent | drag a control point next to a joint of two curves: the other side follows, collinear |
+//! | move | press on the surface and drag: the grabbed surface point follows the cursor on the plane through it facing the camera (the wheel moves that plane nearer / farther), the clay within the finger radius following ([`Op::Move`]); release keeps it, Esc or a right click cancels |
+//! | smooth | press and drag over the surface: smoothing dabs ([`Op::Smooth`], the panel's strength) at even spacing along the path, each on the surface the previous ones left; Shift held while pressing with Push, Pull or Draw a line smooths too |
 //! | hand | the mouse as the virtual hand ([`super::hand_input::MouseHandTool`], driven by the modeller): press pushes, drag draws a groove, with Shift (or "ridges") it grips and pulls; the wheel while pressed goes deeper |
 //!
 //! Tools read the surface, the curves and the camera through a [`ToolContext`] and answer with
@@ -37,6 +39,10 @@ pub enum Tool {
     SplitCurve,
     /// Edit the tangent at a joint of two curves.
     Tangent,
+    /// Grab the clay and move it (Blender's Grab, G).
+    Move,
+    /// Smooth the clay along a stroke.
+    Smooth,
     /// The mouse as the virtual hand: the view ray is the finger (the modeller drives a
     /// [`super::hand_input::MouseHandTool`]; the gestures here ignore it).
     Hand,
@@ -44,10 +50,12 @@ pub enum Tool {
 
 impl Tool {
     /// Every tool, in panel order.
-    pub const ALL: [Tool; 7] = [
+    pub const ALL: [Tool; 9] = [
         Tool::Push,
         Tool::Pull,
         Tool::DrawLine,
+        Tool::Move,
+        Tool::Smooth,
         Tool::GrabCurve,
         Tool::SplitCurve,
         Tool::Tangent,
@@ -64,6 +72,8 @@ impl Tool {
             Tool::GrabCurve => "Grab curve",
             Tool::SplitCurve => "Split curve",
             Tool::Tangent => "Tangent",
+            Tool::Move => "Move",
+            Tool::Smooth => "Smooth",
             Tool::Hand => "Hand (the mouse as the hand)",
         }
     }
@@ -71,7 +81,16 @@ impl Tool {
     /// True for the tools that sculpt the surface.
     #[must_use]
     pub fn sculpts(self) -> bool {
-        matches!(self, Tool::Push | Tool::Pull | Tool::DrawLine | Tool::Hand)
+        matches!(
+            self,
+            Tool::Push | Tool::Pull | Tool::DrawLine | Tool::Move | Tool::Smooth | Tool::Hand
+        )
+    }
+
+    /// True for the tools whose stroke deforms the surface live ([`super::stroke`]).
+    #[must_use]
+    pub fn strokes(self) -> bool {
+        self.sculpts() && self != Tool::Hand
     }
 }
 
@@ -79,6 +98,8 @@ impl Tool {
 pub const RADIUS_RANGE: std::ops::RangeInclusive<f64> = 0.05..=6.0;
 /// The depth the panel and Shift+F allow (side).
 pub const DEPTH_RANGE: std::ops::RangeInclusive<f64> = 0.01..=3.0;
+/// The smoothing strength the panel allows (`0 < s ≤ 1`, [`Op::Smooth`]).
+pub const STRENGTH_RANGE: std::ops::RangeInclusive<f64> = 0.01..=1.0;
 
 /// The finger and probe sizes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,6 +110,8 @@ pub struct ToolSettings {
     pub depth: f64,
     /// Draw ridges instead of grooves.
     pub ridge: bool,
+    /// Strength of each smoothing dab, `0 < s ≤ 1`.
+    pub strength: f64,
     /// Radius of the probe sphere (side).
     pub probe_radius: f64,
     /// Which control points a curve grab moves.
@@ -102,6 +125,7 @@ impl Default for ToolSettings {
             radius: 1.25,
             depth: 0.3,
             ridge: false,
+            strength: 0.5,
             probe_radius: 0.35,
             grab: GrabOptions::default(),
         }
@@ -235,6 +259,25 @@ enum Gesture {
         /// Length along the surface from the path's last point to `last.1`.
         carry: f64,
     },
+    /// Move: the clay grabbed at `at` (a point of the surface) follows the cursor on the plane
+    /// `(x − eye)·forward = depth`, facing the camera as it was at the press.
+    Move {
+        at: DVec3,
+        eye: DVec3,
+        forward: DVec3,
+        depth: f64,
+        start: Vec2,
+        cursor: Vec2,
+        /// The wheel moved the plane.
+        wheeled: bool,
+    },
+    /// Smooth: the dab points so far, evenly spaced along the surface (as a drawn line's).
+    Smooth {
+        path: Vec<DVec3>,
+        facing: DVec3,
+        last: (Vec2, DVec3),
+        carry: f64,
+    },
     /// A curve grabbed: its index in the model, the grab, the depth along the view ray.
     Grab {
         index: usize,
@@ -267,6 +310,8 @@ pub struct ToolState {
     hover: Hover,
     /// Ctrl held: push pulls, pull pushes, a groove becomes a ridge and back.
     invert: bool,
+    /// Shift held: a press with Push, Pull or Draw a line smooths instead (Blender's habit).
+    smooth: bool,
 }
 
 impl ToolState {
@@ -276,10 +321,39 @@ impl ToolState {
         self.gesture != Gesture::Idle
     }
 
-    /// True while a sculpting stroke (push, pull, draw a line) is in progress.
+    /// True while a sculpting stroke (push, pull, draw a line, move, smooth) is in progress.
     #[must_use]
     pub fn stroking(&self) -> bool {
-        matches!(self.gesture, Gesture::Press { .. } | Gesture::Stroke { .. })
+        matches!(
+            self.gesture,
+            Gesture::Press { .. }
+                | Gesture::Stroke { .. }
+                | Gesture::Move { .. }
+                | Gesture::Smooth { .. }
+        )
+    }
+
+    /// True while a smoothing stroke is in progress: its operations are dabs applied one
+    /// after another ([`ToolState::stroke_dabs`]), not one operation redone from the start.
+    #[must_use]
+    pub fn smoothing(&self) -> bool {
+        matches!(self.gesture, Gesture::Smooth { .. })
+    }
+
+    /// Shift held or not: a press with Push, Pull or Draw a line smooths instead (read live;
+    /// it counts when the button goes down).
+    pub fn set_smooth(&mut self, smooth: bool) {
+        self.smooth = smooth;
+    }
+
+    /// The tool a press with `tool` acts as now: Smooth for Push, Pull or Draw a line with
+    /// Shift held.
+    #[must_use]
+    pub fn acting_tool(&self, tool: Tool) -> Tool {
+        match tool {
+            Tool::Push | Tool::Pull | Tool::DrawLine if self.smooth => Tool::Smooth,
+            t => t,
+        }
     }
 
     /// Ctrl held or not: inverts push / pull and groove / ridge (read live, every frame).
@@ -322,6 +396,27 @@ impl ToolState {
         ctx: &ToolContext<'_>,
         settings: &ToolSettings,
     ) -> Option<Op> {
+        if let Gesture::Move {
+            at,
+            eye,
+            forward,
+            depth,
+            start,
+            cursor,
+            wheeled,
+        } = &self.gesture
+        {
+            // Not moved yet: nothing to show (and a click is no edit).
+            if cursor == start && !wheeled {
+                return None;
+            }
+            let to = plane_point(ctx, *eye, *forward, *depth, *cursor)?;
+            return Some(Op::Move {
+                at: *at,
+                to,
+                radius: settings.radius,
+            });
+        }
         let depth = self.stroke_depth(ctx, settings)?;
         // The wheel can take a stroke back to nothing, never past it (a push never turns
         // into a pull).
@@ -348,8 +443,28 @@ impl ToolState {
         }
     }
 
+    /// The smoothing dabs of the stroke in progress, in order (`None`: no smoothing stroke).
+    /// The list only grows while the stroke goes on; each dab applies to the surface the
+    /// previous ones left.
+    #[must_use]
+    pub fn stroke_dabs(&self, settings: &ToolSettings) -> Option<Vec<Op>> {
+        match &self.gesture {
+            Gesture::Smooth { path, .. } => Some(
+                path.iter()
+                    .map(|&at| Op::Smooth {
+                        at,
+                        radius: settings.radius,
+                        strength: settings.strength,
+                    })
+                    .collect(),
+            ),
+            _ => None,
+        }
+    }
+
     /// The operation a click at the hover would make (push, pull, or for Draw a line the
-    /// push of its depth): what the window outlines as the finger's reach.
+    /// push of its depth; a smoothing dab for Smooth and Move, whose reach is the same ball):
+    /// what the window outlines as the finger's reach.
     #[must_use]
     pub fn hover_op(
         &self,
@@ -357,10 +472,17 @@ impl ToolState {
         ctx: &ToolContext<'_>,
         settings: &ToolSettings,
     ) -> Option<Op> {
-        if !matches!(tool, Tool::Push | Tool::Pull | Tool::DrawLine) || self.busy() {
+        if !tool.strokes() || self.busy() {
             return None;
         }
         let hit = self.hover.surface?;
+        if matches!(self.acting_tool(tool), Tool::Move | Tool::Smooth) {
+            return Some(Op::Smooth {
+                at: hit.point,
+                radius: settings.radius,
+                strength: settings.strength,
+            });
+        }
         Some(Op::Push {
             at: hit.point,
             dir: -facing_normal(&hit, ctx),
@@ -394,9 +516,38 @@ impl ToolState {
         pixel: Vec2,
     ) -> Vec<Edit> {
         self.gesture = Gesture::Idle;
-        match tool {
+        match self.acting_tool(tool) {
             // The modeller drives the mouse hand itself.
             Tool::Hand => Vec::new(),
+            Tool::Move => {
+                let Some(hit) = ctx.pick_surface(pixel) else {
+                    return Vec::new();
+                };
+                let eye = ctx.camera.eye().as_dvec3();
+                let forward = -ctx.camera.to_eye().as_dvec3();
+                self.gesture = Gesture::Move {
+                    at: hit.point,
+                    eye,
+                    forward,
+                    depth: (hit.point - eye).dot(forward),
+                    start: pixel,
+                    cursor: pixel,
+                    wheeled: false,
+                };
+                Vec::new()
+            }
+            Tool::Smooth => {
+                let Some(hit) = ctx.pick_surface(pixel) else {
+                    return Vec::new();
+                };
+                self.gesture = Gesture::Smooth {
+                    path: vec![hit.point],
+                    facing: facing_normal(&hit, ctx),
+                    last: (pixel, hit.point),
+                    carry: 0.0,
+                };
+                Vec::new()
+            }
             Tool::Push | Tool::Pull | Tool::DrawLine => {
                 let Some(hit) = ctx.pick_surface(pixel) else {
                     return Vec::new();
@@ -494,8 +645,15 @@ impl ToolState {
             }
             Gesture::Stroke {
                 path, last, carry, ..
+            }
+            | Gesture::Smooth {
+                path, last, carry, ..
             } => {
                 extend_evenly(ctx, stroke_spacing(settings), path, last, carry, pixel);
+                Vec::new()
+            }
+            Gesture::Move { cursor, .. } => {
+                *cursor = pixel;
                 Vec::new()
             }
             Gesture::Grab {
@@ -554,11 +712,14 @@ impl ToolState {
             // The release point counts as the last move.
             let _ = self.drag(ctx, settings, pixel);
         }
-        let edits = self
-            .stroke_op(tool, ctx, settings)
-            .map(Edit::Sculpt)
-            .into_iter()
-            .collect();
+        let edits = match self.stroke_dabs(settings) {
+            Some(dabs) => dabs.into_iter().map(Edit::Sculpt).collect(),
+            None => self
+                .stroke_op(tool, ctx, settings)
+                .map(Edit::Sculpt)
+                .into_iter()
+                .collect(),
+        };
         self.gesture = Gesture::Idle;
         self.hover(tool, ctx, pixel);
         edits
@@ -590,6 +751,13 @@ impl ToolState {
                 *ray_t *= (-0.04 * f64::from(steps)).exp();
                 true
             }
+            Gesture::Move { depth, wheeled, .. } => {
+                *depth *= (-0.04 * f64::from(steps)).exp();
+                *wheeled = true;
+                true
+            }
+            // The wheel does nothing during a smoothing stroke (and does not zoom).
+            Gesture::Smooth { .. } => true,
             Gesture::Idle => false,
         }
     }
@@ -621,7 +789,20 @@ impl ToolState {
     ) -> Option<ToolFootprint> {
         let (point, facing) = match &self.gesture {
             Gesture::Press { hit, facing, .. } => (hit.point, *facing),
-            Gesture::Stroke { path, facing, .. } => (*path.last()?, *facing),
+            Gesture::Stroke { path, facing, .. } | Gesture::Smooth { path, facing, .. } => {
+                (*path.last()?, *facing)
+            }
+            Gesture::Move {
+                at,
+                eye,
+                forward,
+                depth,
+                cursor,
+                ..
+            } => (
+                plane_point(ctx, *eye, *forward, *depth, *cursor).unwrap_or(*at),
+                -*forward,
+            ),
             Gesture::Idle if tool.sculpts() => {
                 let hit = self.hover.surface?;
                 (hit.point, facing_normal(&hit, ctx))
@@ -666,8 +847,21 @@ impl ToolState {
                 lines.segment_on_top(hit.point.as_vec3(), tip.as_vec3(), Rgba::HIGHLIGHT);
                 spheres.push(marker(tip, 0.06 * settings.radius, [0.95, 0.3, 0.1, 1.0]));
             }
-            Gesture::Stroke { path, .. } => {
+            Gesture::Stroke { path, .. } | Gesture::Smooth { path, .. } => {
                 lines.polyline(path.iter().map(|p| p.as_vec3()), Rgba::HIGHLIGHT);
+            }
+            Gesture::Move {
+                at,
+                eye,
+                forward,
+                depth,
+                cursor,
+                ..
+            } => {
+                // Where the grabbed point was and where it goes, drawn on top of the clay.
+                let to = plane_point(ctx, *eye, *forward, *depth, *cursor).unwrap_or(*at);
+                lines.segment_on_top(at.as_vec3(), to.as_vec3(), Rgba::HIGHLIGHT);
+                spheres.push(marker(to, 0.06 * settings.radius, [0.95, 0.3, 0.1, 1.0]));
             }
             Gesture::Grab { ray_t, cursor, .. } => {
                 let at = ctx.ray(*cursor).at(*ray_t);
@@ -718,6 +912,24 @@ fn facing_normal(hit: &SurfaceHit, ctx: &ToolContext<'_>) -> DVec3 {
     } else {
         -hit.normal
     }
+}
+
+/// Where the ray through `pixel` meets the plane `(x − eye)·forward = depth` (`None` when it
+/// runs along the plane or meets it behind the eye).
+fn plane_point(
+    ctx: &ToolContext<'_>,
+    eye: DVec3,
+    forward: DVec3,
+    depth: f64,
+    pixel: Vec2,
+) -> Option<DVec3> {
+    let ray = ctx.ray(pixel);
+    let along = ray.direction.dot(forward);
+    if along.abs() < 1e-9 {
+        return None;
+    }
+    let t = (depth - (ray.origin - eye).dot(forward)) / along;
+    (t > 0.0 && t.is_finite()).then(|| ray.at(t))
 }
 
 /// Spacing of a drawn line's path points: a fifth of the finger radius.
@@ -966,5 +1178,124 @@ mod tests {
             (*depth - 0.05 * settings.radius).abs() < 1e-9,
             "one notch: {depth}"
         );
+    }
+
+    /// Move: a press grabs the surface point under the cursor, a drag takes it to the cursor
+    /// on the plane through it facing the camera, the wheel moves that plane nearer; a click
+    /// without a move is no edit.
+    #[test]
+    fn move_takes_the_grabbed_point_to_the_cursor_on_the_facing_plane() {
+        let scene = PlaneScene::new();
+        let ctx = scene.context();
+        let settings = ToolSettings::default();
+        let mut state = ToolState::default();
+        let centre = scene.viewport / 2.0;
+        assert!(state.press(Tool::Move, &ctx, &settings, centre).is_empty());
+        assert!(state.stroking() && !state.smoothing());
+        assert_eq!(
+            state.stroke_op(Tool::Move, &ctx, &settings),
+            None,
+            "not moved yet"
+        );
+        let hit = ctx
+            .pick_surface(centre)
+            .expect("the plane is under the centre");
+        let end = centre + Vec2::new(60.0, -40.0);
+        state.drag(&ctx, &settings, end);
+        let Some(Op::Move { at, to, radius }) = state.stroke_op(Tool::Move, &ctx, &settings) else {
+            panic!("a move")
+        };
+        assert_eq!(at, hit.point);
+        assert_eq!(radius, settings.radius);
+        let eye = scene.camera.eye().as_dvec3();
+        let forward = -scene.camera.to_eye().as_dvec3();
+        assert!(
+            (to - at).dot(forward).abs() < 1e-9 * (at - eye).length(),
+            "on the plane facing the camera"
+        );
+        let ray = ctx.ray(end);
+        assert!(
+            (to - ray.origin).cross(ray.direction).length() < 1e-9 * (to - eye).length(),
+            "under the cursor"
+        );
+        // The wheel away from the user brings the plane nearer the eye.
+        assert!(state.wheel(&ctx, &settings, 3.0));
+        let Some(Op::Move { to: nearer, .. }) = state.stroke_op(Tool::Move, &ctx, &settings) else {
+            panic!("a move")
+        };
+        assert!((nearer - eye).dot(forward) < (to - eye).dot(forward) - 1e-3);
+        let edits = state.release(Tool::Move, &ctx, &settings, end);
+        assert!(matches!(edits.as_slice(), [Edit::Sculpt(Op::Move { .. })]));
+        // A click is nothing.
+        state.press(Tool::Move, &ctx, &settings, centre);
+        assert!(
+            state
+                .release(Tool::Move, &ctx, &settings, centre)
+                .is_empty()
+        );
+    }
+
+    /// Smooth, and Push / Pull / Draw a line with Shift held: dabs of the panel's radius and
+    /// strength at even spacing along the path, all of them released as edits in order.
+    #[test]
+    fn smoothing_strokes_are_evenly_spaced_dabs() {
+        let scene = PlaneScene::new();
+        let ctx = scene.context();
+        let settings = ToolSettings::default();
+        let spacing = 0.2 * settings.radius;
+        for (tool, shift) in [
+            (Tool::Smooth, false),
+            (Tool::Push, true),
+            (Tool::Pull, true),
+            (Tool::DrawLine, true),
+        ] {
+            let mut state = ToolState::default();
+            state.set_smooth(shift);
+            assert_eq!(state.acting_tool(tool), Tool::Smooth);
+            let start = Vec2::new(300.0, 300.0);
+            state.press(tool, &ctx, &settings, start);
+            assert!(state.smoothing(), "{tool:?}");
+            assert_eq!(state.stroke_op(tool, &ctx, &settings), None);
+            for k in 1..=20 {
+                state.drag(
+                    &ctx,
+                    &settings,
+                    start + Vec2::new(6.0 * k as f32, 2.0 * k as f32),
+                );
+            }
+            let dabs = state.stroke_dabs(&settings).expect("dabs");
+            assert!(dabs.len() > 5, "{}", dabs.len());
+            let points: Vec<DVec3> = dabs
+                .iter()
+                .map(|d| match d {
+                    Op::Smooth {
+                        at,
+                        radius,
+                        strength,
+                    } => {
+                        assert_eq!((*radius, *strength), (settings.radius, settings.strength));
+                        *at
+                    }
+                    other => panic!("a smoothing dab: {other:?}"),
+                })
+                .collect();
+            for w in points.windows(2) {
+                let d = (w[1] - w[0]).length();
+                assert!((d - spacing).abs() < 1e-9, "spacing {d} vs {spacing}");
+            }
+            let edits = state.release(tool, &ctx, &settings, start + Vec2::new(120.0, 40.0));
+            assert!(edits.len() >= dabs.len());
+            assert!(
+                edits
+                    .iter()
+                    .all(|e| matches!(e, Edit::Sculpt(Op::Smooth { .. })))
+            );
+        }
+        // Without Shift, Push pushes.
+        let mut state = ToolState::default();
+        assert_eq!(state.acting_tool(Tool::Push), Tool::Push);
+        state.press(Tool::Push, &ctx, &settings, Vec2::new(300.0, 300.0));
+        assert!(!state.smoothing());
+        assert!(state.stroke_dabs(&settings).is_none());
     }
 }

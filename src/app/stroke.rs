@@ -104,6 +104,8 @@ impl LiveStroke {
         mesh: &TriMesh,
         auto_refine: bool,
     ) -> Self {
+        // A stroke that never picks (a one-off mirrored operation) passes no display.
+        debug_assert!(patches.is_empty() || patches.len() == doc.model().surface.patch_count());
         Self {
             auto_refine,
             base_patches: patches.to_vec(),

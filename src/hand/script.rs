@@ -324,6 +324,7 @@ impl Choreography {
                 world_from_tracker: *self.hand.world_from_tracker(),
                 hand: *self.hand.size(),
                 joints: CYBERGLOVE_18_JOINTS.to_vec(),
+                scene: None,
             },
             frames: self.frames,
         })
@@ -728,6 +729,7 @@ pub fn mouse_sphere() -> Result<Trace, HandError> {
             world_from_tracker: WorldFromTracker::default(),
             hand: HandSize::default(),
             joints,
+            scene: None,
         },
         frames,
     })

@@ -21,13 +21,14 @@ use std::time::{Duration, Instant};
 use nendo_devices::discover::{Inventory, inventory};
 use nendo_devices::profile::{Input, MouseProfile};
 use nendo_devices::{
-    DeviceError, HandFrame, HandStream, Profile, SourceState, StreamOptions, Trace, TraceWriter,
-    profile,
+    DeviceError, HandFrame, HandStream, Profile, SceneText, SourceState, StreamOptions, Trace,
+    TraceWriter, profile,
 };
 
 use super::document::Document;
 use super::hand_input::HandDriver;
 use crate::hand::FingerModel;
+use crate::hand::scene::Scene;
 use crate::render::{LineBatch, SphereInstance};
 use crate::surface::SurfaceError;
 
@@ -76,17 +77,20 @@ struct Session {
 
 impl Session {
     /// Starts the loop on `stream`; with `record`, every frame also goes to a trace file whose
-    /// header names `profile` (or, for a replay, is the replayed trace's own header).
+    /// header names `profile` (or, for a replay, is the replayed trace's own header) and the
+    /// scene the session runs on (see [`crate::hand::scene::Scene::of_window`]).
     fn start(
         stream: HandStream,
-        record: Option<(PathBuf, &Profile)>,
+        record: Option<(PathBuf, &Profile, Option<SceneText>)>,
     ) -> Result<Session, LiveError> {
         let describe = stream.describe();
         let shared = Arc::new(Shared::default());
         let mut writer = match record {
-            Some((path, profile)) => {
-                // A replayed trace is recorded with its own header, not the replay profile's.
-                let header = stream.recording_header(profile);
+            Some((path, profile, scene)) => {
+                // A replayed trace is recorded with its own header, not the replay profile's;
+                // the scene is the window's.
+                let mut header = stream.recording_header(profile);
+                header.scene = scene;
                 Some(TraceWriter::create(&path, header).map_err(LiveError::Record)?)
             }
             None => None,
@@ -248,19 +252,26 @@ impl LiveInput {
         };
         // A replay profile plays a trace recorded with another hand and transform: its frames
         // are read with the trace's header, as `nendo replay` reads them.
-        let driver = match stream.source_header() {
-            Some(h) => HandDriver::new(
-                h.hand,
-                h.world_from_tracker,
-                FingerModel::for_profile_name(h.profile.as_deref()),
-                self.radius,
-            ),
-            None => HandDriver::new(
-                profile.hand,
-                profile.world_from_tracker,
-                FingerModel::for_profile(&profile),
-                self.radius,
-            ),
+        let (driver, finger) = match stream.source_header() {
+            Some(h) => {
+                let finger = FingerModel::for_profile_name(h.profile.as_deref());
+                (
+                    HandDriver::new(h.hand, h.world_from_tracker, finger, self.radius),
+                    finger,
+                )
+            }
+            None => {
+                let finger = FingerModel::for_profile(&profile);
+                (
+                    HandDriver::new(
+                        profile.hand,
+                        profile.world_from_tracker,
+                        finger,
+                        self.radius,
+                    ),
+                    finger,
+                )
+            }
         };
         let driver = match driver {
             Ok(d) => d,
@@ -271,7 +282,19 @@ impl LiveInput {
         };
         // Mismatches the devices worked around (a glove for the other hand) stay on show.
         let warnings = (!stream.warnings().is_empty()).then(|| stream.warnings().join("; "));
-        match Session::start(stream, self.record_path().map(|p| (p, &profile))) {
+        // The recording names the scene it is made on: the document's model as it is now, and
+        // the hand's finger and radius.
+        let record = match self.record_path() {
+            Some(path) => match Scene::of_window(doc.model(), finger, self.radius).to_text() {
+                Ok(scene) => Some((path, &profile, Some(scene))),
+                Err(e) => {
+                    self.message = Some(format!("cannot record the scene: {e}"));
+                    return;
+                }
+            },
+            None => None,
+        };
+        match Session::start(stream, record) {
             Ok(s) => {
                 self.session = Some(s);
                 self.driver = Some(driver);
@@ -536,7 +559,7 @@ mod tests {
         std::fs::create_dir_all(&dir).expect("temp dir");
         let missing = dir.join("no-such-folder").join("t.trace");
         let stream = HandStream::replay(trace(), 100.0, false, 64);
-        let err = Session::start(stream, Some((missing.clone(), &profile)))
+        let err = Session::start(stream, Some((missing.clone(), &profile, None)))
             .map(|_| ())
             .expect_err("no folder to record into");
         assert!(matches!(err, LiveError::Record(_)), "{err:?}");
@@ -546,7 +569,8 @@ mod tests {
         );
         let path = dir.join("t.trace");
         let stream = HandStream::replay(trace(), 100.0, false, 64);
-        let mut session = Session::start(stream, Some((path.clone(), &profile))).expect("started");
+        let mut session =
+            Session::start(stream, Some((path.clone(), &profile, None))).expect("started");
         let deadline = Instant::now() + Duration::from_secs(10);
         while !lock(&session.shared.status).finished && Instant::now() < deadline {
             std::thread::sleep(Duration::from_millis(10));

@@ -27,7 +27,9 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 use super::HandError;
 use super::kinematics::{Digit, Hand};
 use super::mouse::MouseFinger;
-use crate::surface::{Grid, Primitive, PrimitiveParams};
+use super::scene::{Scene, SceneError, finger_name};
+use super::{DEFAULT_FINGER_RADIUS, FingerModel};
+use crate::surface::{Grid, Primitive, PrimitiveParams, Regulation};
 
 /// The joints of the CyberGlove II with 18 sensors, in its sensor order (the columns of the
 /// `cyberglove2-18-fastrak` profile's calibration table).
@@ -447,6 +449,23 @@ impl Shipped {
     pub fn grid(&self) -> Result<Grid, crate::surface::SurfaceError> {
         self.primitive.build(&self.params)
     }
+
+    /// The scene the trace's header carries: the primitive with every parameter it is built
+    /// from, the default regulation, the finger of the trace's profile (the view ray for the
+    /// mouse, the index finger for the glove) and the default finger radius; no mirror, no
+    /// refinement. `nendo replay` of the trace then needs only `--out`.
+    ///
+    /// # Errors
+    /// Never for the shipped parameters; a bad parameter is reported as the scene's error.
+    pub fn scene(&self) -> Result<Scene, SceneError> {
+        let mut scene = Scene::primitive(self.primitive, &self.params)?;
+        scene.regulation = Some(Regulation::default());
+        scene.finger = Some(finger_name(FingerModel::for_profile_name(
+            self.trace.header.profile.as_deref(),
+        )));
+        scene.finger_radius = Some(DEFAULT_FINGER_RADIUS);
+        Ok(scene)
+    }
 }
 
 /// The direction a fraction `s` of the way from `from` to `to`, turning at a steady rate in
@@ -742,7 +761,7 @@ pub fn mouse_sphere() -> Result<Trace, HandError> {
 pub fn shipped() -> Result<Vec<Shipped>, HandError> {
     let sphere = PrimitiveParams::default();
     let (pot, _) = tube_pot()?;
-    Ok(vec![
+    let mut shipped = vec![
         Shipped {
             name: "sphere-push-pull",
             about: "push 0.6 at the north pole, then grip and pull 0.6 at the equator (glove + tracker, 120 Hz)",
@@ -771,7 +790,16 @@ pub fn shipped() -> Result<Vec<Shipped>, HandError> {
             params: sphere,
             trace: mouse_sphere()?,
         },
-    ])
+    ];
+    // Every header names the scene it was made on.
+    for s in &mut shipped {
+        let scene = s
+            .scene()
+            .and_then(|scene| scene.to_text())
+            .map_err(|e| HandError::Model(format!("{}: {e}", s.name)))?;
+        s.trace.header.scene = Some(scene);
+    }
+    Ok(shipped)
 }
 
 #[cfg(test)]

@@ -633,6 +633,90 @@ mod tests {
         }
     }
 
+    /// The window's recorder writes the scene it records on — the document's model embedded,
+    /// the hand's finger and radius — and `nendo replay` of the recording, with no other
+    /// argument, gives the window's surface.
+    #[test]
+    fn a_window_recording_replays_to_the_windows_surface() {
+        use crate::hand::scene::{Scene, Start};
+        let dir = std::env::temp_dir().join(format!("nendo-live-scene-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("devices/traces/plane-groove.trace");
+        let profile_path = dir.join("replay.json");
+        let json = serde_json::json!({
+            "format": "nendo-device-profile",
+            "version": 1,
+            "name": "groove-replay",
+            "input": {"replay": {"trace": source, "speed": 40.0}},
+        });
+        std::fs::write(&profile_path, json.to_string()).expect("profile written");
+        let profile =
+            profile::resolve(&profile_path.display().to_string()).expect("the replay profile");
+        // A start that is no primitive: the plane with a bump beside the groove's path.
+        let mut doc = plane_doc();
+        let mut start = doc.model().clone();
+        let k = start
+            .surface
+            .nodes()
+            .iter()
+            .position(|p| (p.x - 1.0).abs() < 1e-9 && (p.y - 2.0).abs() < 1e-9)
+            .expect("a node at (1, 2)");
+        let p = start.surface.nodes()[k];
+        start
+            .surface
+            .set_nodes(&[(k, p + glam::DVec3::new(0.0, 0.0, 0.4))])
+            .expect("moved");
+        doc.replace("bump", start.clone());
+        let trace_path = dir.join("window.trace");
+        let mut live = LiveInput {
+            profiles: vec![profile],
+            selected: 0,
+            radius: 0.8,
+            record_to: trace_path.display().to_string(),
+            ..LiveInput::default()
+        };
+        live.connect(&mut doc);
+        assert!(live.is_connected(), "{:?}", live.message);
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while live.is_connected() && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(20));
+            let _ = live.poll(&mut doc);
+        }
+        assert!(!live.is_connected(), "the replayed trace ended");
+        assert_ne!(doc.model(), &start, "the hand grooved the document");
+        let recorded = Trace::read(&trace_path).expect("the recording");
+        let scene = Scene::of_trace(&recorded.header)
+            .expect("a valid scene")
+            .expect("a scene");
+        assert_eq!(scene.start, Start::Model(Box::new(start)));
+        assert_eq!(scene.finger.as_deref(), Some("index"));
+        assert_eq!(scene.finger_radius, Some(0.8));
+        let out = dir.join("replayed.json");
+        // `nendo replay TRACE --out OUT` (it reports its outcome on standard error).
+        let _ = crate::cli::replay::run(crate::cli::replay::Args {
+            trace: trace_path,
+            primitive: None,
+            patches: None,
+            radius: None,
+            height: None,
+            minor_radius: None,
+            model: None,
+            regulation: None,
+            profile: None,
+            finger: None,
+            finger_radius: None,
+            auto_refine: false,
+            no_auto_refine: false,
+            mirror: None,
+            out: out.clone(),
+        });
+        let replayed = crate::model::Model::read(&out).expect("the replay").model;
+        assert_eq!(replayed.surface.nodes(), doc.model().surface.nodes());
+        assert_eq!(&replayed, doc.model());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
     /// Connect on the mouse profile opens no stream: it hands the mouse settings to the Hand
     /// tool, with no error.
     #[test]

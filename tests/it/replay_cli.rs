@@ -192,7 +192,7 @@ fn bad_input_is_reported_and_nothing_is_written() {
                 "--out",
                 s(&out),
             ],
-            "line 7",
+            "line 8",
         ),
         (
             vec![
@@ -646,7 +646,9 @@ fn a_bad_scene_is_a_clear_error() {
     for (k, (bad, says)) in [
         (
             scene.replace("\"finger_radius\":1.0", "\"finger_radius\":NaN"),
-            format!("trace line {line}: scene: not well-formed JSON"),
+            format!(
+                "trace line {line}: scene: not well-formed JSON: expected value at line 1 column"
+            ),
         ),
         (
             scene.replace("\"finger_radius\":1.0", "\"finger_radius\":-1.0"),

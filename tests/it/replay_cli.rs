@@ -171,6 +171,8 @@ fn bad_input_is_reported_and_nothing_is_written() {
         text.replacen(" ok* ok* 0 P ", " ok* ok* 0 P nan ", 3),
     )
     .unwrap();
+    let no_scene = dir.join("no-scene.trace");
+    std::fs::write(&no_scene, with_scene(&text, "none")).unwrap();
     for (args, says) in [
         (
             vec![
@@ -206,7 +208,7 @@ fn bad_input_is_reported_and_nothing_is_written() {
             "none.trace",
         ),
         (
-            vec!["replay", &shipped("sphere-push-pull"), "--out", s(&out)],
+            vec!["replay", s(&no_scene), "--out", s(&out)],
             "give --primitive or --model",
         ),
         (
@@ -659,7 +661,7 @@ fn a_bad_scene_is_a_clear_error() {
                 "\"patches\":[10,10]",
                 "\"patches\":[10,10],\"radius\":1e999",
             ),
-            "number out of range".to_string(),
+            "primitive.radius: a number is out of range".to_string(),
         ),
         (
             scene.replace("\"name\":\"plane\"", "\"name\":\"cube\""),

@@ -73,4 +73,4 @@ pub use mouse::{MouseHand, ViewRay};
 pub use profile::{HandSize, Profile, WorldFromTracker};
 pub use stream::{DeviceRole, DeviceStatus, HandStream, StreamOptions, StreamStats};
 pub use throughput::{ThroughputRow, decode_throughput};
-pub use trace::{Trace, TraceHeader, TraceWriter};
+pub use trace::{SceneText, Trace, TraceHeader, TraceWriter};

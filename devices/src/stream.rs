@@ -775,7 +775,8 @@ impl HandStream {
 
     /// The header a recording of this stream must carry. A replay passes its trace's header
     /// on unchanged — its profile name, tracker-to-world transform and hand are the recording's,
-    /// not those of the replay profile that plays it; live devices get `profile`'s.
+    /// not those of the replay profile that plays it, and its scene; live devices get
+    /// `profile`'s, with no scene (the recorder names it).
     pub fn recording_header(&self, profile: &Profile) -> TraceHeader {
         match &self.source_header {
             Some(h) => h.clone(),
@@ -784,6 +785,7 @@ impl HandStream {
                 world_from_tracker: profile.world_from_tracker,
                 hand: profile.hand,
                 joints: self.joints.clone(),
+                scene: None,
             },
         }
     }

@@ -1,12 +1,13 @@
 //! Recorded traces: a versioned, line-oriented, human-readable format for hand frames.
 //!
 //! ```text
-//! nendo-hand-trace 1
+//! nendo-hand-trace 2
 //! # comments may appear anywhere before `frames`
 //! profile cyberglove2-18-fastrak
 //! world_from_tracker {"translation":[0.0,-0.3,0.0],"rotation_wxyz":[1.0,0.0,0.0,0.0],"scale":1.0}
 //! hand {"side":"right","palm_length":0.095,…}
 //! joints index_mcp index_pip
+//! scene {"primitive":{"name":"sphere","patches":[8,4],"radius":3.0},"finger":"index",…}
 //! frames
 //! 0 ok* ok 0 P 0.100000 0.200000 -0.050000 1.000000 0.000000 0.000000 0.000000 J 0.250000 0.500000
 //! 8333 ok ok* 1 P 0.100000 0.200000 -0.050000 1.000000 0.000000 0.000000 0.000000 J 0.260000 ?
@@ -14,11 +15,18 @@
 //! end 3
 //! ```
 //!
-//! - Line 1 names the format and its version ([`TRACE_FORMAT`], [`TRACE_VERSION`]).
+//! - Line 1 names the format and its version ([`TRACE_FORMAT`], [`TRACE_VERSION`]). This crate
+//!   writes version 2 and reads versions 1 and 2 ([`OLDEST_TRACE_VERSION`]).
 //! - Header lines, each a keyword and its value: `profile` (optional, the rest of the line),
 //!   `world_from_tracker` and `hand` (optional, one-line JSON as in profiles, validated by the
 //!   same rules; defaults when absent), `joints` (the glove columns of every frame, by joint
-//!   name; may be empty).
+//!   name; may be empty), and — since version 2 — `scene`: the scene the trace was recorded
+//!   on, `none` or one line of JSON (an object). This crate knows nothing of geometry: it
+//!   checks only that the scene is one line of well-formed JSON that is an object and carries
+//!   it as text ([`SceneText`]); the application defines its members (in nendo, the start
+//!   surface and the session's settings, `nendo::hand::scene`). The writer always writes
+//!   the `scene` line (last, as it may hold a whole model); a version-2 header without one
+//!   reads as `scene none`, and a version-1 header must not have one.
 //! - `frames` ends the header. Each following line is one frame:
 //!   `time tracker glove buttons P pose J angles`, where
 //!   - `time` is in microseconds since the recording started, never decreasing;
@@ -33,12 +41,16 @@
 //!     frame) or by a single `-` when the frame has no glove data.
 //! - `end N` closes the trace and repeats the number of frames, so truncation is detected.
 //!
+//! Version 1 is version 2 without the `scene` line: its frames read the same, and its header
+//! reads with no scene. Writing a parsed version-1 trace writes it as version 2 (with
+//! `scene none`).
+//!
 //! Every number is written with exactly six decimals (1 µm, 1 µrad, 10⁻⁶ of a quaternion) and
 //! read back only in that form, so traces diff cleanly and parse back bit-exactly: writing a
-//! parsed trace reproduces its text, and parsing a written trace reproduces its frames rounded
-//! to six decimals ([`quantize`]). Reading errors carry the 1-based line number; a file whose
-//! last line is cut short (no final newline, and the line does not read) is reported as
-//! truncated.
+//! parsed (version-2) trace reproduces its text, and parsing a written trace reproduces its
+//! frames rounded to six decimals ([`quantize`]); the scene is carried as its exact text.
+//! Reading errors carry the 1-based line number; a file whose last line is cut short (no
+//! final newline, and the line does not read) is reported as truncated.
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -54,8 +66,10 @@ use crate::{
 
 /// The format name on the first line.
 pub const TRACE_FORMAT: &str = "nendo-hand-trace";
-/// The format version this crate writes and reads.
-pub const TRACE_VERSION: u32 = 1;
+/// The format version this crate writes (and the newest it reads).
+pub const TRACE_VERSION: u32 = 2;
+/// The oldest format version this crate reads: version 1, without the `scene` header line.
+pub const OLDEST_TRACE_VERSION: u32 = 1;
 /// Decimals of every number in a trace.
 pub const DECIMALS: usize = 6;
 
@@ -70,6 +84,58 @@ pub struct TraceHeader {
     pub hand: HandSize,
     /// The glove columns of every frame.
     pub joints: Vec<Joint>,
+    /// The scene the trace was recorded on (`None`: the trace does not say; always `None`
+    /// for a version-1 trace).
+    pub scene: Option<SceneText>,
+}
+
+/// The `scene` of a trace header: one line of well-formed JSON whose value is an object,
+/// carried as its exact text. What its members mean is the application's business (this
+/// crate knows nothing of geometry); a trace only guarantees that the text reads as JSON and
+/// fits on its header line.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SceneText(String);
+
+impl SceneText {
+    /// Checks that `json` is one line of well-formed JSON whose value is an object; blanks
+    /// around it are dropped (the header line would not keep them).
+    ///
+    /// # Errors
+    /// [`DeviceError::InvalidValue`] saying what is wrong: a line break (the scene must fit
+    /// on its header line), text that is not JSON (with serde_json's line and column), or a
+    /// JSON value that is not an object.
+    pub fn new(json: impl Into<String>) -> Result<SceneText, DeviceError> {
+        let mut json = json.into();
+        let trimmed = json.trim();
+        if trimmed.len() != json.len() {
+            json = trimmed.to_owned();
+        }
+        if json.contains(['\n', '\r']) {
+            return Err(DeviceError::InvalidValue(
+                "scene: the JSON must be on one line (a line break in it)".into(),
+            ));
+        }
+        // Validated without building a JSON tree: a scene may hold a whole model.
+        serde_json::from_str::<serde::de::IgnoredAny>(&json)
+            .map_err(|e| DeviceError::InvalidValue(format!("scene: not well-formed JSON: {e}")))?;
+        if !json.starts_with('{') {
+            return Err(DeviceError::InvalidValue(
+                "scene: expected a JSON object `{...}`".into(),
+            ));
+        }
+        Ok(SceneText(json))
+    }
+
+    /// The JSON text.
+    pub fn as_str(&self) -> &str {
+        &self.0
+    }
+}
+
+impl std::fmt::Display for SceneText {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
 }
 
 /// A whole trace in memory.
@@ -191,6 +257,12 @@ pub fn format_header(h: &TraceHeader) -> String {
         s.push(' ');
         s.push_str(j.name());
     }
+    match &h.scene {
+        Some(scene) => {
+            let _ = write!(s, "\nscene {scene}");
+        }
+        None => s.push_str("\nscene none"),
+    }
     s.push_str("\nframes\n");
     s
 }
@@ -236,16 +308,18 @@ impl Trace {
                 format!("not a nendo hand trace (expected `{TRACE_FORMAT} {TRACE_VERSION}`)"),
             ));
         }
-        match words.next().map(str::parse::<u32>) {
-            Some(Ok(TRACE_VERSION)) => {}
+        let version = match words.next().map(str::parse::<u32>) {
+            Some(Ok(v)) if (OLDEST_TRACE_VERSION..=TRACE_VERSION).contains(&v) => v,
             Some(Ok(v)) => {
                 return Err(err(
                     1,
-                    format!("trace version {v}; this nendo reads version {TRACE_VERSION}"),
+                    format!(
+                        "trace version {v}; this nendo reads versions {OLDEST_TRACE_VERSION} to {TRACE_VERSION}"
+                    ),
                 ));
             }
             _ => return Err(err(1, "missing or malformed version".into())),
-        }
+        };
         let mut header = TraceHeader::default();
         let mut in_frames = false;
         for (n, line) in lines.by_ref() {
@@ -282,6 +356,23 @@ impl Trace {
                         }
                         seen |= 1 << j.index();
                     }
+                }
+                "scene" if version < 2 => {
+                    return Err(err(
+                        n,
+                        format!(
+                            "a `scene` header line needs trace version 2; this trace says version {version}"
+                        ),
+                    ));
+                }
+                "scene" => {
+                    header.scene = match rest.trim() {
+                        "none" => None,
+                        json => Some(SceneText::new(json).map_err(|e| match e {
+                            DeviceError::InvalidValue(m) => err(n, m),
+                            other => err(n, other.to_string()),
+                        })?),
+                    };
                 }
                 "frames" => {
                     in_frames = true;

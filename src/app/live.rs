@@ -40,7 +40,7 @@ use nendo_devices::discover::Inventory;
 use nendo_devices::glove_calibration::{CalibrationPose, PoseSamples, SensorFit, calibrate_glove};
 use nendo_devices::profile::{Input, MouseProfile};
 use nendo_devices::{
-    DeviceError, DeviceStatus, HandFrame, HandSize, HandStream, Profile, SourceState,
+    DeviceError, DeviceStatus, HandFrame, HandSize, HandStream, Profile, SceneText, SourceState,
     StreamOptions, Trace, TraceWriter, TrackerPose, WorldFromTracker, alignment, profile,
 };
 
@@ -48,6 +48,7 @@ use super::document::Document;
 use super::file_dialog::{DialogPurpose, FileDialog};
 use super::hand_input::HandDriver;
 use super::settings::{DevicePorts, Settings};
+use crate::hand::scene::Scene;
 use crate::hand::{DEFAULT_FINGER_RADIUS, FingerModel};
 use crate::render::{LineBatch, SphereInstance};
 use crate::surface::SurfaceError;
@@ -111,18 +112,21 @@ struct Session {
 
 impl Session {
     /// Starts the loop on `stream`; with `record`, every frame also goes to a trace file whose
-    /// header names `profile` (or, for a replay, is the replayed trace's own header).
+    /// header names `profile` (or, for a replay, is the replayed trace's own header) and the
+    /// scene the session runs on (see [`crate::hand::scene::Scene::of_window`]).
     fn start(
         stream: HandStream,
-        record: Option<(PathBuf, &Profile)>,
+        record: Option<(PathBuf, &Profile, Option<SceneText>)>,
     ) -> Result<Session, LiveError> {
         let describe = stream.describe();
         let shared = Arc::new(Shared::default());
-        let recording = record.as_ref().map(|(p, _)| p.clone());
+        let recording = record.as_ref().map(|(p, _, _)| p.clone());
         let mut writer = match record {
-            Some((path, profile)) => {
-                // A replayed trace is recorded with its own header, not the replay profile's.
-                let header = stream.recording_header(profile);
+            Some((path, profile, scene)) => {
+                // A replayed trace is recorded with its own header, not the replay profile's;
+                // the scene is the window's.
+                let mut header = stream.recording_header(profile);
+                header.scene = scene;
                 Some(TraceWriter::create(&path, header).map_err(LiveError::Record)?)
             }
             None => None,
@@ -636,12 +640,24 @@ impl LiveInput {
             Input::Replay(r) => Some(PathBuf::from(&r.trace)),
             _ => None,
         };
-        let Some(driver) = self.driver_for(&stream, &profile) else {
+        let Some((driver, finger, radius)) = self.driver_for(&stream, &profile) else {
             return;
         };
         // Mismatches the devices worked around (a glove for the other hand) stay on show.
         let warnings = (!stream.warnings().is_empty()).then(|| stream.warnings().join("; "));
-        match Session::start(stream, record.map(|p| (p, &profile))) {
+        // The recording names the scene it is made on: the document's model as it is now, and
+        // the hand's finger and radius.
+        let record = match record {
+            Some(path) => match Scene::of_window(doc.model(), finger, radius).to_text() {
+                Ok(scene) => Some((path, &profile, Some(scene))),
+                Err(e) => {
+                    self.message = Some(format!("cannot record the scene: {e}"));
+                    return;
+                }
+            },
+            None => None,
+        };
+        match Session::start(stream, record) {
             Ok(mut s) => {
                 s.replay = replay;
                 self.session = Some(s);
@@ -657,23 +673,33 @@ impl LiveInput {
 
     /// The hand for a stream: a replay reads its frames with the trace's header (its hand
     /// and transform), as `nendo replay` does; live devices with the profile's.
-    fn driver_for(&mut self, stream: &HandStream, profile: &Profile) -> Option<HandDriver> {
-        let driver = match stream.source_header() {
-            Some(h) => HandDriver::new(
-                h.hand,
-                h.world_from_tracker,
-                FingerModel::for_profile_name(h.profile.as_deref()),
-                self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS),
-            ),
-            None => HandDriver::new(
-                profile.hand,
-                profile.world_from_tracker,
-                FingerModel::for_profile(profile),
-                self.radius(profile, false),
-            ),
+    fn driver_for(
+        &mut self,
+        stream: &HandStream,
+        profile: &Profile,
+    ) -> Option<(HandDriver, FingerModel, f64)> {
+        let (driver, finger, radius) = match stream.source_header() {
+            Some(h) => {
+                let finger = FingerModel::for_profile_name(h.profile.as_deref());
+                let radius = self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS);
+                (
+                    HandDriver::new(h.hand, h.world_from_tracker, finger, radius),
+                    finger,
+                    radius,
+                )
+            }
+            None => {
+                let finger = FingerModel::for_profile(profile);
+                let radius = self.radius(profile, false);
+                (
+                    HandDriver::new(profile.hand, profile.world_from_tracker, finger, radius),
+                    finger,
+                    radius,
+                )
+            }
         };
         match driver {
-            Ok(d) => Some(d),
+            Ok(d) => Some((d, finger, radius)),
             Err(e) => {
                 self.message = Some(e.to_string());
                 None
@@ -1235,7 +1261,7 @@ mod tests {
         std::fs::create_dir_all(&dir).expect("temp dir");
         let missing = dir.join("no-such-folder").join("t.trace");
         let stream = HandStream::replay(trace(), 100.0, false, 64);
-        let err = Session::start(stream, Some((missing.clone(), &profile)))
+        let err = Session::start(stream, Some((missing.clone(), &profile, None)))
             .map(|_| ())
             .expect_err("no folder to record into");
         assert!(matches!(err, LiveError::Record(_)), "{err:?}");
@@ -1245,7 +1271,8 @@ mod tests {
         );
         let path = dir.join("t.trace");
         let stream = HandStream::replay(trace(), 100.0, false, 64);
-        let mut session = Session::start(stream, Some((path.clone(), &profile))).expect("started");
+        let mut session =
+            Session::start(stream, Some((path.clone(), &profile, None))).expect("started");
         let deadline = Instant::now() + Duration::from_secs(10);
         while !lock(&session.shared.status).finished && Instant::now() < deadline {
             std::thread::sleep(Duration::from_millis(10));
@@ -1315,6 +1342,94 @@ mod tests {
                 "profile {selected}: the panel's content runs {overflow} points past its edge"
             );
         }
+    }
+
+    /// The window's recorder writes the scene it records on — the document's model embedded,
+    /// the hand's finger and radius — and `nendo replay` of the recording, with no other
+    /// argument, gives the window's surface.
+    #[test]
+    fn a_window_recording_replays_to_the_windows_surface() {
+        use crate::hand::scene::{Scene, Start};
+        let dir = std::env::temp_dir().join(format!("nendo-live-scene-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("devices/traces/plane-groove.trace");
+        let profile_path = dir.join("replay.json");
+        let json = serde_json::json!({
+            "format": "nendo-device-profile",
+            "version": 1,
+            "name": "groove-replay",
+            "input": {"replay": {"trace": source, "speed": 40.0}},
+        });
+        std::fs::write(&profile_path, json.to_string()).expect("profile written");
+        let profile =
+            profile::resolve(&profile_path.display().to_string()).expect("the replay profile");
+        // A start that is no primitive: the plane with a bump beside the groove's path.
+        let mut doc = plane_doc();
+        let mut start = doc.model().clone();
+        let k = start
+            .surface
+            .nodes()
+            .iter()
+            .position(|p| (p.x - 1.0).abs() < 1e-9 && (p.y - 2.0).abs() < 1e-9)
+            .expect("a node at (1, 2)");
+        let p = start.surface.nodes()[k];
+        start
+            .surface
+            .set_nodes(&[(k, p + glam::DVec3::new(0.0, 0.0, 0.4))])
+            .expect("moved");
+        doc.replace("bump", start.clone());
+        let trace_path = dir.join("window.trace");
+        let mut live = LiveInput {
+            entries: vec![ProfileEntry {
+                profile,
+                source: ProfileSource::File(profile_path.clone()),
+            }],
+            selected: 0,
+            radius_set: Some(0.8),
+            record: true,
+            record_to: trace_path.display().to_string(),
+            ..LiveInput::default()
+        };
+        live.connect(&mut doc);
+        assert!(live.is_connected(), "{:?}", live.message);
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while live.is_connected() && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(20));
+            let _ = live.poll(&mut doc);
+        }
+        assert!(!live.is_connected(), "the replayed trace ended");
+        assert_ne!(doc.model(), &start, "the hand grooved the document");
+        let recorded = Trace::read(&trace_path).expect("the recording");
+        let scene = Scene::of_trace(&recorded.header)
+            .expect("a valid scene")
+            .expect("a scene");
+        assert_eq!(scene.start, Start::Model(Box::new(start)));
+        assert_eq!(scene.finger.as_deref(), Some("index"));
+        assert_eq!(scene.finger_radius, Some(0.8));
+        let out = dir.join("replayed.json");
+        // `nendo replay TRACE --out OUT` (it reports its outcome on standard error).
+        let _ = crate::cli::replay::run(crate::cli::replay::Args {
+            trace: trace_path,
+            primitive: None,
+            patches: None,
+            radius: None,
+            height: None,
+            minor_radius: None,
+            model: None,
+            regulation: None,
+            profile: None,
+            finger: None,
+            finger_radius: None,
+            auto_refine: false,
+            no_auto_refine: false,
+            mirror: None,
+            out: out.clone(),
+        });
+        let replayed = crate::model::Model::read(&out).expect("the replay").model;
+        assert_eq!(replayed.surface.nodes(), doc.model().surface.nodes());
+        assert_eq!(&replayed, doc.model());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     fn listed() -> LiveInput {

@@ -5,12 +5,21 @@
 //! trace is finished atomically (its `end` line, then renamed into place), so stopping early
 //! never loses the recording nor leaves a temporary file behind.
 //!
+//! The scene of the session (trace version 2, [`crate::hand::scene`]): `--primitive` (with
+//! `--patches`, `--radius`, `--height`, `--minor-radius`) or `--model` names the surface the
+//! recording is made on — a model is embedded in the trace, or with `--reference` named by its
+//! path (relative to the trace's directory when it is inside it, else absolute) and the
+//! SHA-256 of its bytes — and `--regulation`, `--finger`, `--finger-radius`, `--mirror`,
+//! `--auto-refine` the session's settings; `nendo replay TRACE --out M.json` then needs nothing
+//! else. Without `--primitive` or `--model` the trace says it has no scene (`scene none`; a
+//! replayed trace keeps its own), and the settings options are refused.
+//!
 //! Devices start as in the window's Connect ([`HandStream::connect`]): whatever is present
 //! records from the start, a device absent or mute at start is retried every 250 ms and joins
 //! when it answers (a warning says so); with no device answering, the command fails naming
 //! each device's error and writes nothing.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
@@ -19,7 +28,12 @@ const MAX_SECONDS: f64 = 86_400.0;
 
 use clap::Args as ClapArgs;
 use nendo_devices::profile::{self, Input};
-use nendo_devices::{HandStream, SourceState, StreamOptions, TraceWriter};
+use nendo_devices::{HandStream, SceneText, SourceState, StreamOptions, TraceWriter};
+
+use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
+use crate::hand::scene::{Scene, Start, sha256_hex};
+use crate::model::Model;
+use crate::surface::{Plane, Primitive, PrimitiveParams, Regulation};
 
 /// Arguments of `nendo record`.
 #[derive(Debug, ClapArgs)]
@@ -42,6 +56,127 @@ pub struct Args {
     /// Serial port replacing the profile tracker's.
     #[arg(long)]
     pub tracker_port: Option<String>,
+    /// The scene's start surface: a primitive (plane, cylinder, hemisphere, sphere, torus or
+    /// tube).
+    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_primitive), conflicts_with = "model")]
+    pub primitive: Option<Primitive>,
+    /// Patch counts `MxN` of the primitive.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_counts))]
+    pub patches: Option<(usize, usize)>,
+    /// Radius R of the primitive (major radius of a torus).
+    #[arg(long)]
+    pub radius: Option<f64>,
+    /// Height H (cylinder; the walls of the tube).
+    #[arg(long)]
+    pub height: Option<f64>,
+    /// Minor radius r of a torus.
+    #[arg(long)]
+    pub minor_radius: Option<f64>,
+    /// The scene's start surface: this model file, embedded in the trace.
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Name the `--model` by its path and SHA-256 instead of embedding it.
+    #[arg(long, requires = "model")]
+    pub reference: bool,
+    /// The scene's regulation method.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_regulation))]
+    pub regulation: Option<Regulation>,
+    /// The scene's touching finger (as `nendo replay --finger`).
+    #[arg(long, value_parser = clap::builder::ValueParser::new(finger_text))]
+    pub finger: Option<String>,
+    /// The scene's finger radius r_f in sides.
+    #[arg(long)]
+    pub finger_radius: Option<f64>,
+    /// The scene's symmetry plane: x, y or z.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(super::sculpt::parse_plane))]
+    pub mirror: Option<Plane>,
+    /// The scene refines the grid before each contact. Not with `--mirror`.
+    #[arg(long, conflicts_with = "mirror")]
+    pub auto_refine: bool,
+}
+
+/// A `--finger` value, checked by `nendo replay`'s parser and kept as given.
+fn finger_text(s: &str) -> Result<String, super::arg_error::ArgError> {
+    super::replay::parse_finger(s).map(|_| s.trim().to_owned())
+}
+
+/// `model` as the trace at `out` names it: relative to the trace's directory when it lies
+/// inside it, else absolute.
+fn reference_path(model: &Path, out: &Path) -> anyhow::Result<PathBuf> {
+    let absolute =
+        std::fs::canonicalize(model).map_err(|e| anyhow::anyhow!("{}: {e}", model.display()))?;
+    let dir = out
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    Ok(match std::fs::canonicalize(dir) {
+        Ok(dir) => absolute
+            .strip_prefix(&dir)
+            .map(Path::to_path_buf)
+            .unwrap_or(absolute.clone()),
+        Err(_) => absolute,
+    })
+}
+
+/// The scene the options name, checked (the model read, the primitive's parameters
+/// resolved); `None` without `--primitive` or `--model`.
+fn scene(args: &Args) -> anyhow::Result<Option<SceneText>> {
+    let shape = args.patches.is_some()
+        || args.radius.is_some()
+        || args.height.is_some()
+        || args.minor_radius.is_some();
+    let settings = args.regulation.is_some()
+        || args.finger.is_some()
+        || args.finger_radius.is_some()
+        || args.mirror.is_some()
+        || args.auto_refine;
+    let mut scene = match (&args.model, args.primitive) {
+        (Some(path), _) => {
+            if shape {
+                anyhow::bail!(
+                    "--patches, --radius, --height and --minor-radius shape a primitive; they do not apply to --model"
+                );
+            }
+            let bytes =
+                std::fs::read(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+            let text = String::from_utf8(bytes)
+                .map_err(|_| anyhow::anyhow!("{}: not a model (not UTF-8 text)", path.display()))?;
+            let model = Model::from_json_str(&text)
+                .map_err(|e| anyhow::anyhow!("{}", e.in_file(path)))?
+                .model;
+            Scene::new(if args.reference {
+                Start::ModelFile {
+                    path: reference_path(path, &args.out)?,
+                    sha256: sha256_hex(text.as_bytes()),
+                }
+            } else {
+                Start::Model(Box::new(model))
+            })
+        }
+        (None, Some(p)) => {
+            let params = PrimitiveParams {
+                patches: args.patches,
+                radius: args.radius,
+                height: args.height,
+                minor_radius: args.minor_radius,
+            };
+            Scene::primitive(p, &params)?
+        }
+        (None, None) => {
+            if shape || settings {
+                anyhow::bail!(
+                    "the scene's settings and a primitive's shape need its start surface: give --primitive or --model"
+                );
+            }
+            return Ok(None);
+        }
+    };
+    scene.regulation = args.regulation;
+    scene.finger.clone_from(&args.finger);
+    scene.finger_radius = args.finger_radius;
+    scene.mirror = args.mirror;
+    scene.auto_refine = args.auto_refine;
+    Ok(Some(scene.to_text()?))
 }
 
 /// What ended a recording.
@@ -67,6 +202,8 @@ fn record(args: Args) -> anyhow::Result<String> {
     if !(args.seconds.is_finite() && args.seconds > 0.0 && args.seconds <= MAX_SECONDS) {
         anyhow::bail!("--seconds must be a positive number of at most {MAX_SECONDS} (a day)");
     }
+    // The scene is checked before any device opens: a bad one records nothing.
+    let scene = scene(&args)?;
     let profile = profile::resolve(&args.profile)?;
     let mut options = StreamOptions {
         glove_port: args.glove_port,
@@ -125,8 +262,12 @@ fn record(args: Args) -> anyhow::Result<String> {
     for w in stream.warnings() {
         eprintln!("nendo record: warning: {w}");
     }
-    // A replayed trace is recorded with its own header, not the replay profile's.
-    let header = stream.recording_header(&profile);
+    // A replayed trace is recorded with its own header, not the replay profile's (and its own
+    // scene, unless the options name one).
+    let mut header = stream.recording_header(&profile);
+    if scene.is_some() {
+        header.scene = scene;
+    }
     let mut writer = TraceWriter::create(&args.out, header)?;
     let started = Instant::now();
     let end = started + Duration::from_secs_f64(args.seconds);

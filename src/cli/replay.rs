@@ -2,9 +2,21 @@
 //! hand → contact → push / pull / draw-a-line → regulation — and writes the model.
 //!
 //! ```text
-//! nendo replay devices/traces/tube-pot.trace --primitive tube --out pot.json
+//! nendo replay devices/traces/tube-pot.trace --out pot.json
+//! nendo replay devices/traces/tube-pot.trace --primitive tube --patches 16x8 --out pot.json
 //! nendo replay my.trace --model start.json --regulation g1 --profile cyberglove2-18-fastrak --out out.json
 //! ```
+//!
+//! The scene comes from the trace's header when it has one (trace version 2, see
+//! [`crate::hand::scene`]): the start surface (a primitive with its parameters, an embedded
+//! model, or a model file named by path and SHA-256) and the session's settings (regulation,
+//! finger, finger radius, mirror, auto-refine), so that `nendo replay TRACE --out M.json`
+//! reproduces the recorded session. Options given on the command line override the header's:
+//! `--primitive` or `--model` replaces its start surface (`--patches`, `--radius`, `--height`,
+//! `--minor-radius` alone change the parameters of the header's primitive), `--regulation`,
+//! `--finger`, `--finger-radius` replace its settings, `--mirror x|y|z|none` its symmetry,
+//! `--auto-refine` / `--no-auto-refine` its refinement. A trace without a scene (version 1, or
+//! recorded without one) needs `--primitive` or `--model`.
 //!
 //! The hand's sizes and the tracker-to-world transform come from the trace's header, or from
 //! `--profile` (a shipped profile's name or a profile file); frames recorded with the `mouse`
@@ -33,6 +45,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
+use crate::hand::scene::{Scene, Start};
 use crate::hand::{Digit, FingerModel, Hand, HandLoop, HandOptions, Probe, Touch};
 use crate::model::Model;
 use crate::surface::grid::MAX_PATCHES;
@@ -45,9 +58,10 @@ pub const PROGRESS_FROM: usize = 1_000;
 /// Arguments of `nendo replay`.
 #[derive(Debug, ClapArgs)]
 pub struct Args {
-    /// The trace (`nendo-hand-trace 1`).
+    /// The trace (`nendo-hand-trace` version 1 or 2).
     pub trace: PathBuf,
-    /// Start from a primitive: plane, cylinder, hemisphere, sphere, torus or tube.
+    /// Start from a primitive: plane, cylinder, hemisphere, sphere, torus or tube (default: the
+    /// trace's scene).
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_primitive), conflicts_with = "model")]
     pub primitive: Option<Primitive>,
     /// Patch counts `MxN` of the primitive.
@@ -62,10 +76,11 @@ pub struct Args {
     /// Minor radius r of a torus.
     #[arg(long)]
     pub minor_radius: Option<f64>,
-    /// Start from this model file instead of a primitive.
+    /// Start from this model file instead of a primitive (default: the trace's scene).
     #[arg(long)]
     pub model: Option<PathBuf>,
-    /// Regulation method (default: the model's, else the default method).
+    /// Regulation method (default: the trace's scene's, else the model's, else the default
+    /// method).
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_regulation))]
     pub regulation: Option<Regulation>,
     /// Device profile (shipped name or file) for the hand's sizes and the tracker-to-world
@@ -73,26 +88,49 @@ pub struct Args {
     #[arg(long)]
     pub profile: Option<String>,
     /// The touching finger: thumb, index, middle, ring, pinky, or ray (the mouse's view ray);
-    /// default: ray for mouse traces, index otherwise.
+    /// default: the trace's scene's, else ray for mouse traces, index otherwise.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_finger))]
     pub finger: Option<FingerModel>,
-    /// Finger radius r_f in sides (the fingertip capsule's and the shape function's).
+    /// Finger radius r_f in sides (the fingertip capsule's and the shape function's; default:
+    /// the trace's scene's, else 1).
     #[arg(long)]
     pub finger_radius: Option<f64>,
     /// Before each contact, split the patches its finger reaches until they are at most half
-    /// the finger radius across (the surface does not change). Not with `--mirror`.
-    #[arg(long, conflicts_with = "mirror")]
+    /// the finger radius across (the surface does not change). Not with `--mirror`. Default:
+    /// the trace's scene's.
+    #[arg(long, conflicts_with = "no_auto_refine")]
     pub auto_refine: bool,
+    /// Do not refine before contacts, whatever the trace's scene says.
+    #[arg(long)]
+    pub no_auto_refine: bool,
     /// Press every contact together with its mirror image across the plane x = 0, y = 0 or
-    /// z = 0. The model must be symmetric about the plane.
-    #[arg(long, value_parser = clap::builder::ValueParser::new(super::sculpt::parse_plane))]
-    pub mirror: Option<Plane>,
+    /// z = 0 (`none`: no mirror, whatever the trace's scene says). The model must be symmetric
+    /// about the plane. Default: the trace's scene's.
+    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_mirror))]
+    pub mirror: Option<Mirror>,
     /// Where to write the model (atomically).
     #[arg(long)]
     pub out: PathBuf,
 }
 
-fn parse_finger(s: &str) -> Result<FingerModel, super::arg_error::ArgError> {
+/// `--mirror`: a plane, or `none`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mirror {
+    /// No mirror, whatever the trace's scene says.
+    None,
+    /// Mirror across this plane.
+    Plane(Plane),
+}
+
+fn parse_mirror(s: &str) -> Result<Mirror, crate::surface::UnknownName> {
+    if s == "none" {
+        return Ok(Mirror::None);
+    }
+    super::sculpt::parse_plane(s).map(Mirror::Plane)
+}
+
+/// `--finger`'s parser, shared with `nendo record` and with the `finger` of a trace's scene.
+pub(super) fn parse_finger(s: &str) -> Result<FingerModel, super::arg_error::ArgError> {
     if s == "ray" {
         return Ok(FingerModel::Ray);
     }
@@ -209,35 +247,176 @@ impl AutoRefine {
     }
 }
 
-fn replay(args: &Args) -> anyhow::Result<String> {
-    let trace = Trace::read(&args.trace).map_err(|e| naming(&args.trace, &e))?;
+/// The session a replay runs: the trace's scene with the command line's options over it.
+struct Setup {
+    model: Model,
+    finger: Option<FingerModel>,
+    finger_radius: Option<f64>,
+    mirror: Option<Plane>,
+    auto_refine: bool,
+    /// What came from the trace's scene, for the summary.
+    from_scene: Vec<&'static str>,
+}
+
+/// Merges the trace's scene (if any) and the command line (which wins).
+fn setup(args: &Args, trace: &Trace) -> anyhow::Result<Setup> {
+    let in_trace = |e: &dyn std::fmt::Display| {
+        anyhow::anyhow!("{}: the trace's scene: {e}", args.trace.display())
+    };
+    let scene = Scene::of_trace(&trace.header).map_err(|e| in_trace(&e))?;
+    let mut from_scene = Vec::new();
     let shape_args = args.patches.is_some()
         || args.radius.is_some()
         || args.height.is_some()
         || args.minor_radius.is_some();
-    let mut model = match (&args.model, args.primitive) {
-        (Some(path), _) => {
+    let given = PrimitiveParams {
+        patches: args.patches,
+        radius: args.radius,
+        height: args.height,
+        minor_radius: args.minor_radius,
+    };
+    let build = |p: Primitive, params: &PrimitiveParams| -> anyhow::Result<Model> {
+        Ok(Model::new(
+            p.build(params).map_err(|e| anyhow::anyhow!("{p}: {e}"))?,
+        ))
+    };
+    let no_shape = || {
+        anyhow::anyhow!(
+            "--patches, --radius, --height and --minor-radius shape a primitive; they do not apply to --model"
+        )
+    };
+    let mut model = match (&args.model, args.primitive, &scene) {
+        (Some(path), _, _) => {
             if shape_args {
-                anyhow::bail!(
-                    "--patches, --radius, --height and --minor-radius shape a primitive; they do not apply to --model"
-                );
+                return Err(no_shape());
             }
             Model::read(path).map_err(|e| naming(path, &e))?.model
         }
-        (None, Some(p)) => {
-            let params = PrimitiveParams {
-                patches: args.patches,
-                radius: args.radius,
-                height: args.height,
-                minor_radius: args.minor_radius,
-            };
-            Model::new(p.build(&params).map_err(|e| anyhow::anyhow!("{p}: {e}"))?)
+        (None, Some(p), _) => build(p, &given)?,
+        (None, None, Some(scene)) => {
+            from_scene.push("start surface");
+            match &scene.start {
+                Start::Primitive { primitive, params } => {
+                    // The command line's parameters over the scene's.
+                    let params = PrimitiveParams {
+                        patches: given.patches.or(params.patches),
+                        radius: given.radius.or(params.radius),
+                        height: given.height.or(params.height),
+                        minor_radius: given.minor_radius.or(params.minor_radius),
+                    };
+                    build(*primitive, &params)?
+                }
+                _ if shape_args => {
+                    return Err(anyhow::anyhow!(
+                        "--patches, --radius, --height and --minor-radius shape a primitive; the trace's scene starts from a model"
+                    ));
+                }
+                _ => {
+                    let dir = args
+                        .trace
+                        .parent()
+                        .filter(|d| !d.as_os_str().is_empty())
+                        .unwrap_or(Path::new("."));
+                    scene.start_model(dir).map_err(|e| in_trace(&e))?
+                }
+            }
         }
-        (None, None) => anyhow::bail!("give --primitive or --model"),
+        (None, None, None) => {
+            anyhow::bail!("give --primitive or --model (the trace names no scene to start from)")
+        }
     };
-    if let Some(r) = args.regulation {
+    let scene_finger = match scene.as_ref().and_then(|s| s.finger.as_deref()) {
+        Some(f) => Some(parse_finger(f).map_err(|e| in_trace(&format!("finger: {e}")))?),
+        None => None,
+    };
+    let regulation = match (args.regulation, scene.as_ref().and_then(|s| s.regulation)) {
+        (Some(r), _) => Some(r),
+        (None, Some(r)) => {
+            from_scene.push("regulation");
+            Some(r)
+        }
+        (None, None) => None,
+    };
+    if let Some(r) = regulation {
         model.regulation = r;
     }
+    let finger = match (args.finger, scene_finger) {
+        (Some(f), _) => Some(f),
+        (None, Some(f)) => {
+            from_scene.push("finger");
+            Some(f)
+        }
+        (None, None) => None,
+    };
+    let finger_radius = match (
+        args.finger_radius,
+        scene.as_ref().and_then(|s| s.finger_radius),
+    ) {
+        (Some(r), _) => Some(r),
+        (None, Some(r)) => {
+            from_scene.push("finger radius");
+            Some(r)
+        }
+        (None, None) => None,
+    };
+    let mirror = match (args.mirror, scene.as_ref().and_then(|s| s.mirror)) {
+        (Some(Mirror::None), _) => None,
+        (Some(Mirror::Plane(p)), _) => Some(p),
+        (None, Some(p)) => {
+            from_scene.push("mirror");
+            Some(p)
+        }
+        (None, None) => None,
+    };
+    let auto_refine = if args.auto_refine {
+        true
+    } else if args.no_auto_refine {
+        false
+    } else {
+        let on = scene.as_ref().is_some_and(|s| s.auto_refine);
+        if on {
+            from_scene.push("auto-refine");
+        }
+        on
+    };
+    if auto_refine && mirror.is_some() {
+        let from_line = (
+            args.auto_refine,
+            matches!(args.mirror, Some(Mirror::Plane(_))),
+        );
+        anyhow::bail!(
+            "auto-refine does not go with a mirror ({})",
+            match from_line {
+                (true, true) => "--auto-refine and --mirror",
+                (true, false) =>
+                    "--auto-refine, and a mirror from the trace's scene: add --mirror none",
+                (false, true) =>
+                    "--mirror, and auto-refine from the trace's scene: add --no-auto-refine",
+                (false, false) =>
+                    "both from the trace's scene: add --no-auto-refine or --mirror none",
+            }
+        );
+    }
+    Ok(Setup {
+        model,
+        finger,
+        finger_radius,
+        mirror,
+        auto_refine,
+        from_scene,
+    })
+}
+
+fn replay(args: &Args) -> anyhow::Result<String> {
+    let trace = Trace::read(&args.trace).map_err(|e| naming(&args.trace, &e))?;
+    let Setup {
+        mut model,
+        finger: chosen_finger,
+        finger_radius,
+        mirror,
+        auto_refine,
+        from_scene,
+    } = setup(args, &trace)?;
     let (hand, mut finger) = match &args.profile {
         Some(name) => {
             let profile =
@@ -252,20 +431,20 @@ fn replay(args: &Args) -> anyhow::Result<String> {
             FingerModel::for_profile_name(trace.header.profile.as_deref()),
         ),
     };
-    if let Some(f) = args.finger {
+    if let Some(f) = chosen_finger {
         finger = f;
     }
     let mut options = HandOptions {
         finger,
         ..HandOptions::default()
     };
-    if let Some(r) = args.finger_radius {
+    if let Some(r) = finger_radius {
         options.finger_radius = r;
     }
     let regulation = model.regulation;
     // The loop of a `Session`, with the grid at hand so that it can be refined between
     // contacts.
-    let symmetry = match args.mirror {
+    let symmetry = match mirror {
         None => None,
         Some(plane) => {
             let s = Symmetry::of(&model.surface, plane)
@@ -278,7 +457,7 @@ fn replay(args: &Args) -> anyhow::Result<String> {
     let mut hand_loop = HandLoop::new(hand, options)?;
     hand_loop.set_mirror(symmetry);
     let mut grid = model.surface.clone();
-    let mut refiner = args.auto_refine.then(AutoRefine::default);
+    let mut refiner = auto_refine.then(AutoRefine::default);
     let total = trace.frames.len();
     let start = Instant::now();
     let mut next_tenth = 1;
@@ -328,8 +507,13 @@ fn replay(args: &Args) -> anyhow::Result<String> {
             model.surface.patches_v()
         )
     });
+    let scene = if from_scene.is_empty() {
+        String::new()
+    } else {
+        format!("; from the trace's scene: {}", from_scene.join(", "))
+    };
     Ok(format!(
-        "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}{refinement}; {:.3} s -> {}",
+        "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}{refinement}{scene}; {:.3} s -> {}",
         st.frames_with_finger,
         st.contacts,
         st.pushes,

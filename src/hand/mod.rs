@@ -15,6 +15,7 @@
 //! | [`session`] | [`HandLoop`]: frames → contact → the surface deformed; [`Session`]: the loop with its own grid, for replay |
 //! | [`press`] | the operation of one contact: its finger [`Placement`]s applied together, as an envelope, to the surface before the contact — re-exported from the geometry crate's engine, [`crate::surface::envelope`] (the hand only builds placements) |
 //! | [`mouse`] | [`MouseFinger`]: the mouse as a hand — the view ray is the finger; click depth and drag give push, pull and draw-a-line |
+//! //! | [`scene`] | [`Scene`](scene::Scene): the surface a recorded session started from and its settings, the `scene` line of a trace header (`nendo replay TRACE` needs nothing else) |
 //! | [`script`] | scripted hand motions written as real traces (inverse kinematics for a wanted fingertip), and the generators of the traces shipped in `devices/traces/` |
 //!
 //! ## Contact, in short (the rules are in [`session`])
@@ -40,6 +41,7 @@ pub mod contact;
 pub mod kinematics;
 pub mod mouse;
 pub mod press;
+pub mod scene;
 pub mod script;
 pub mod session;
 

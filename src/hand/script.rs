@@ -27,7 +27,9 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 use super::HandError;
 use super::kinematics::{Digit, Hand};
 use super::mouse::MouseFinger;
-use crate::surface::{Grid, Primitive, PrimitiveParams};
+use super::scene::{Scene, SceneError, finger_name};
+use super::{DEFAULT_FINGER_RADIUS, FingerModel};
+use crate::surface::{Grid, Primitive, PrimitiveParams, Regulation};
 
 /// The joints of the CyberGlove II with 18 sensors, in its sensor order (the columns of the
 /// `cyberglove2-18-fastrak` profile's calibration table).
@@ -324,6 +326,7 @@ impl Choreography {
                 world_from_tracker: *self.hand.world_from_tracker(),
                 hand: *self.hand.size(),
                 joints: CYBERGLOVE_18_JOINTS.to_vec(),
+                scene: None,
             },
             frames: self.frames,
         })
@@ -445,6 +448,23 @@ impl Shipped {
     /// Never for the shipped parameters; a bad parameter is reported as the surface's error.
     pub fn grid(&self) -> Result<Grid, crate::surface::SurfaceError> {
         self.primitive.build(&self.params)
+    }
+
+    /// The scene the trace's header carries: the primitive with every parameter it is built
+    /// from, the default regulation, the finger of the trace's profile (the view ray for the
+    /// mouse, the index finger for the glove) and the default finger radius; no mirror, no
+    /// refinement. `nendo replay` of the trace then needs only `--out`.
+    ///
+    /// # Errors
+    /// Never for the shipped parameters; a bad parameter is reported as the scene's error.
+    pub fn scene(&self) -> Result<Scene, SceneError> {
+        let mut scene = Scene::primitive(self.primitive, &self.params)?;
+        scene.regulation = Some(Regulation::default());
+        scene.finger = Some(finger_name(FingerModel::for_profile_name(
+            self.trace.header.profile.as_deref(),
+        )));
+        scene.finger_radius = Some(DEFAULT_FINGER_RADIUS);
+        Ok(scene)
     }
 }
 
@@ -728,6 +748,7 @@ pub fn mouse_sphere() -> Result<Trace, HandError> {
             world_from_tracker: WorldFromTracker::default(),
             hand: HandSize::default(),
             joints,
+            scene: None,
         },
         frames,
     })
@@ -740,7 +761,7 @@ pub fn mouse_sphere() -> Result<Trace, HandError> {
 pub fn shipped() -> Result<Vec<Shipped>, HandError> {
     let sphere = PrimitiveParams::default();
     let (pot, _) = tube_pot()?;
-    Ok(vec![
+    let mut shipped = vec![
         Shipped {
             name: "sphere-push-pull",
             about: "push 0.6 at the north pole, then grip and pull 0.6 at the equator (glove + tracker, 120 Hz)",
@@ -769,7 +790,16 @@ pub fn shipped() -> Result<Vec<Shipped>, HandError> {
             params: sphere,
             trace: mouse_sphere()?,
         },
-    ])
+    ];
+    // Every header names the scene it was made on.
+    for s in &mut shipped {
+        let scene = s
+            .scene()
+            .and_then(|scene| scene.to_text())
+            .map_err(|e| HandError::Model(format!("{}: {e}", s.name)))?;
+        s.trace.header.scene = Some(scene);
+    }
+    Ok(shipped)
 }
 
 #[cfg(test)]

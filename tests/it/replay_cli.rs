@@ -171,6 +171,8 @@ fn bad_input_is_reported_and_nothing_is_written() {
         text.replacen(" ok* ok* 0 P ", " ok* ok* 0 P nan ", 3),
     )
     .unwrap();
+    let no_scene = dir.join("no-scene.trace");
+    std::fs::write(&no_scene, with_scene(&text, "none")).unwrap();
     for (args, says) in [
         (
             vec![
@@ -192,7 +194,7 @@ fn bad_input_is_reported_and_nothing_is_written() {
                 "--out",
                 s(&out),
             ],
-            "line 7",
+            "line 8",
         ),
         (
             vec![
@@ -206,7 +208,7 @@ fn bad_input_is_reported_and_nothing_is_written() {
             "none.trace",
         ),
         (
-            vec!["replay", &shipped("sphere-push-pull"), "--out", s(&out)],
+            vec!["replay", s(&no_scene), "--out", s(&out)],
             "give --primitive or --model",
         ),
         (
@@ -330,5 +332,477 @@ fn the_windows_hand_loop_and_nendo_replay_give_the_same_surface() {
     assert_eq!(doc.model().regulation, replayed.regulation);
     // The model file keeps every bit of the control points.
     assert_eq!(window.nodes(), replayed.surface.nodes());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Self-contained traces (issue 17): the header's scene.
+
+/// Runs `nendo replay` and returns the bytes written, asserting success.
+fn replay_bytes(args: &[&str], out: &Path) -> Vec<u8> {
+    let mut all = vec!["replay"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--out", s(out)]);
+    let o = nendo(&all);
+    assert!(
+        o.status.success(),
+        "{all:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    std::fs::read(out).unwrap()
+}
+
+/// Runs `nendo replay` expecting a failure that says `says` and writes nothing.
+fn replay_fails(args: &[&str], out: &Path, says: &str) {
+    let mut all = vec!["replay"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--out", s(out)]);
+    let o = nendo(&all);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{all:?}: {err}");
+    assert!(err.contains(says), "{all:?}: {err}");
+    assert!(!out.exists(), "{all:?} wrote a file");
+}
+
+/// The trace's text with its scene line replaced.
+fn with_scene(text: &str, scene: &str) -> String {
+    text.lines()
+        .map(|l| {
+            if l.starts_with("scene ") {
+                format!("scene {scene}\n")
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect()
+}
+
+fn scene_line(text: &str) -> &str {
+    text.lines()
+        .find_map(|l| l.strip_prefix("scene "))
+        .expect("a scene line")
+}
+
+#[test]
+fn every_shipped_trace_replays_by_itself_as_with_the_arguments_it_names() {
+    use nendo::hand::scene::Scene;
+    let dir = temp_dir("self-contained");
+    // What each shipped trace was replayed with before it carried its scene (README, "start
+    // from"): the same bytes without them.
+    let before: &[(&str, &[&str])] = &[
+        ("sphere-push-pull", &["--primitive", "sphere"]),
+        ("plane-groove", &["--primitive", "plane"]),
+        ("tube-pot", &["--primitive", "tube"]),
+        ("mouse-sphere", &["--primitive", "sphere"]),
+    ];
+    let traces = Path::new(env!("CARGO_MANIFEST_DIR")).join("devices/traces");
+    let mut names: Vec<String> = std::fs::read_dir(&traces)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "trace"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    for (name, _) in before {
+        assert!(names.iter().any(|n| n == name), "{name} is shipped");
+    }
+    for name in &names {
+        let path = shipped(name);
+        let t = Trace::read(Path::new(&path)).unwrap();
+        let scene = Scene::of_trace(&t.header)
+            .unwrap()
+            .unwrap_or_else(|| panic!("{name} names its scene"));
+        let named = scene
+            .arguments()
+            .unwrap_or_else(|| panic!("{name}: a scene the command line can name"));
+        let alone = replay_bytes(&[&path], &dir.join(format!("{name}-alone.json")));
+        let mut explicit: Vec<&str> = vec![&path];
+        explicit.extend(named.iter().map(String::as_str));
+        let given = replay_bytes(&explicit, &dir.join(format!("{name}-given.json")));
+        assert!(alone == given, "{name}: {named:?}");
+        if let Some((_, old)) = before.iter().find(|(n, _)| n == name) {
+            let mut args: Vec<&str> = vec![&path];
+            args.extend_from_slice(old);
+            let old = replay_bytes(&args, &dir.join(format!("{name}-old.json")));
+            assert!(alone == old, "{name}: {named:?}");
+        }
+    }
+    // The names the header gives, written out.
+    let t = Trace::read(Path::new(&shipped("tube-pot"))).unwrap();
+    assert_eq!(
+        Scene::of_trace(&t.header)
+            .unwrap()
+            .unwrap()
+            .arguments()
+            .unwrap()
+            .join(" "),
+        "--primitive tube --patches 16x8 --radius 2 --height 4 --regulation exact --finger index --finger-radius 1"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A profile replaying `trace` 40 times faster than recorded.
+fn replay_profile(dir: &Path, trace: &str) -> std::path::PathBuf {
+    let profile = dir.join("replay-profile.json");
+    let json = serde_json::json!({
+        "format": "nendo-device-profile",
+        "version": 1,
+        "name": "replay-for-test",
+        "input": {"replay": {"trace": trace, "speed": 40.0}},
+    });
+    std::fs::write(&profile, json.to_string()).unwrap();
+    profile
+}
+
+fn record(args: &[&str]) {
+    let mut all = vec!["record", "--seconds", "30"];
+    all.extend_from_slice(args);
+    let o = nendo(&all);
+    assert!(
+        o.status.success(),
+        "{all:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+#[test]
+fn a_trace_recorded_against_a_model_replays_to_the_same_surface() {
+    use nendo::hand::scene::{Scene, Start};
+    let dir = temp_dir("recorded-on-a-model");
+    // The start model: the sphere after the mouse trace — no primitive.
+    let start = dir.join("start.json");
+    replay_bytes(&[&shipped("mouse-sphere")], &start);
+    let start_model = Model::read(&start).unwrap().model;
+    let profile = replay_profile(&dir, &shipped("sphere-push-pull"));
+    // Embedded (the default) and by reference.
+    let embedded = dir.join("embedded.trace");
+    record(&[
+        "--profile",
+        s(&profile),
+        "--model",
+        s(&start),
+        "--finger-radius",
+        "0.8",
+        "--out",
+        s(&embedded),
+    ]);
+    let referenced = dir.join("referenced.trace");
+    record(&[
+        "--profile",
+        s(&profile),
+        "--model",
+        s(&start),
+        "--reference",
+        "--finger-radius",
+        "0.8",
+        "--out",
+        s(&referenced),
+    ]);
+    let t = Trace::read(&embedded).unwrap();
+    let scene = Scene::of_trace(&t.header).unwrap().unwrap();
+    assert_eq!(scene.start, Start::Model(Box::new(start_model.clone())));
+    assert_eq!(scene.finger_radius, Some(0.8));
+    let r = Trace::read(&referenced).unwrap();
+    let Some(Start::ModelFile { path, sha256 }) =
+        Scene::of_trace(&r.header).unwrap().map(|s| s.start)
+    else {
+        panic!("a model named by reference")
+    };
+    assert_eq!(path, Path::new("start.json"), "relative to the trace");
+    assert_eq!(sha256.len(), 64);
+    // The frames are the source trace's.
+    let source = Trace::read(Path::new(&shipped("sphere-push-pull"))).unwrap();
+    assert_eq!(t.frames, source.frames);
+
+    let want = replay_bytes(
+        &[
+            &shipped("sphere-push-pull"),
+            "--model",
+            s(&start),
+            "--finger-radius",
+            "0.8",
+        ],
+        &dir.join("want.json"),
+    );
+    assert_ne!(
+        Model::from_json_str(std::str::from_utf8(&want).unwrap())
+            .unwrap()
+            .model,
+        start_model,
+        "the trace moves the surface"
+    );
+    assert!(replay_bytes(&[s(&embedded)], &dir.join("embedded.json")) == want);
+    // Replayed from elsewhere: the reference is found beside the trace.
+    let o = crate::support::nendo()
+        .current_dir(std::env::temp_dir())
+        .args([
+            "replay",
+            s(&referenced),
+            "--out",
+            s(&dir.join("referenced.json")),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(std::fs::read(dir.join("referenced.json")).unwrap() == want);
+
+    // A changed model file is refused, naming both hashes; nothing is written.
+    let changed = Model::new(
+        Primitive::Sphere
+            .build(&PrimitiveParams::default())
+            .unwrap(),
+    );
+    changed.write(&start).unwrap();
+    let now = nendo::hand::scene::sha256_hex(&std::fs::read(&start).unwrap());
+    let out = dir.join("stale.json");
+    replay_fails(&[s(&referenced)], &out, &sha256);
+    replay_fails(&[s(&referenced)], &out, &now);
+    // The embedded model does not depend on the file.
+    assert!(replay_bytes(&[s(&embedded)], &dir.join("embedded-again.json")) == want);
+    // Without --primitive or --model the recording says it has no scene, and replay asks.
+    let bare = dir.join("bare.trace");
+    let plain = dir.join("plain-profile");
+    std::fs::create_dir_all(&plain).unwrap();
+    let v1 = dir.join("v1.trace");
+    std::fs::write(
+        &v1,
+        std::fs::read_to_string(shipped("plane-groove"))
+            .unwrap()
+            .replacen("nendo-hand-trace 2", "nendo-hand-trace 1", 1)
+            .lines()
+            .filter(|l| !l.starts_with("scene "))
+            .map(|l| format!("{l}\n"))
+            .collect::<String>(),
+    )
+    .unwrap();
+    record(&[
+        "--profile",
+        s(&replay_profile(&plain, s(&v1))),
+        "--out",
+        s(&bare),
+    ]);
+    assert!(
+        std::fs::read_to_string(&bare)
+            .unwrap()
+            .contains("\nscene none\n")
+    );
+    replay_fails(
+        &[s(&bare)],
+        &dir.join("bare.json"),
+        "give --primitive or --model",
+    );
+    // Settings without a start surface are refused.
+    let o = nendo(&[
+        "record",
+        "--profile",
+        s(&profile),
+        "--finger-radius",
+        "2",
+        "--out",
+        s(&bare),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("give --primitive or --model"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn an_old_version_trace_still_reads() {
+    let dir = temp_dir("version-1");
+    let text = std::fs::read_to_string(shipped("sphere-push-pull")).unwrap();
+    assert!(text.starts_with("nendo-hand-trace 2\n"));
+    let old: String = text
+        .replacen("nendo-hand-trace 2", "nendo-hand-trace 1", 1)
+        .lines()
+        .filter(|l| !l.starts_with("scene "))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let v1 = dir.join("v1.trace");
+    std::fs::write(&v1, &old).unwrap();
+    let t = Trace::read(&v1).unwrap();
+    assert_eq!(t.header.scene, None);
+    assert_eq!(
+        t.frames,
+        Trace::read(Path::new(&shipped("sphere-push-pull")))
+            .unwrap()
+            .frames
+    );
+    let from_old = replay_bytes(&[s(&v1), "--primitive", "sphere"], &dir.join("old.json"));
+    let from_new = replay_bytes(&[&shipped("sphere-push-pull")], &dir.join("new.json"));
+    assert!(from_old == from_new);
+    replay_fails(
+        &[s(&v1)],
+        &dir.join("none.json"),
+        "give --primitive or --model",
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_bad_scene_is_a_clear_error() {
+    let dir = temp_dir("bad-scene");
+    let text = std::fs::read_to_string(shipped("plane-groove")).unwrap();
+    let scene = scene_line(&text).to_string();
+    let line = text.lines().position(|l| l.starts_with("scene ")).unwrap() + 1;
+    let out = dir.join("out.json");
+    for (k, (bad, says)) in [
+        (
+            scene.replace("\"finger_radius\":1.0", "\"finger_radius\":NaN"),
+            format!(
+                "trace line {line}: scene: not well-formed JSON: expected value at line 1 column"
+            ),
+        ),
+        (
+            scene.replace("\"finger_radius\":1.0", "\"finger_radius\":-1.0"),
+            "the trace's scene: finger_radius: -1 is not a positive number".to_string(),
+        ),
+        (
+            scene.replace(
+                "\"patches\":[10,10]",
+                "\"patches\":[10,10],\"radius\":1e999",
+            ),
+            "primitive.radius: a number is out of range".to_string(),
+        ),
+        (
+            scene.replace("\"name\":\"plane\"", "\"name\":\"cube\""),
+            "unknown primitive \"cube\"".to_string(),
+        ),
+        (
+            scene.replace("\"patches\":[10,10]", "\"patches\":[0,10]"),
+            "primitive plane".to_string(),
+        ),
+        (
+            scene.replace("\"finger\":\"index\"", "\"finger\":\"toe\""),
+            "finger: unknown finger \"toe\"".to_string(),
+        ),
+        (
+            scene.replace("\"regulation\":\"exact\"", "\"regulation\":\"c7\""),
+            "c7".to_string(),
+        ),
+        (
+            scene.replace(
+                "\"auto_refine\":false",
+                "\"auto_refine\":false,\"mirror\":\"q\"",
+            ),
+            "\"q\"".to_string(),
+        ),
+        (
+            format!(
+                "{{\"model_file\":{{\"path\":\"m.json\",\"sha256\":\"{}\"}}}}",
+                "0".repeat(63)
+            ),
+            "not a SHA-256".to_string(),
+        ),
+        (
+            "{\"finger\":\"index\"}".to_string(),
+            "exactly one start surface".to_string(),
+        ),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        assert_ne!(bad, scene, "case {k} changes the scene");
+        let path = dir.join(format!("bad-{k}.trace"));
+        std::fs::write(&path, with_scene(&text, &bad)).unwrap();
+        replay_fails(&[s(&path)], &out, &says);
+        // The error names the trace.
+        let o = nendo(&["replay", s(&path), "--out", s(&out)]);
+        assert!(String::from_utf8_lossy(&o.stderr).contains(&format!("bad-{k}.trace")));
+    }
+    // A named model file that is not there is named.
+    let path = dir.join("missing.trace");
+    std::fs::write(
+        &path,
+        with_scene(
+            &text,
+            &format!(
+                "{{\"model_file\":{{\"path\":\"m.json\",\"sha256\":\"{}\"}}}}",
+                "0".repeat(64)
+            ),
+        ),
+    )
+    .unwrap();
+    replay_fails(&[s(&path)], &out, &dir.join("m.json").display().to_string());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn command_line_options_override_the_header() {
+    let dir = temp_dir("override");
+    let groove = shipped("plane-groove");
+    let run = |args: &[&str], name: &str| replay_bytes(args, &dir.join(name));
+    let model = |b: &[u8]| {
+        Model::from_json_str(std::str::from_utf8(b).unwrap())
+            .unwrap()
+            .model
+    };
+    let base = run(&[&groove], "base.json");
+    // Settings: the command line's instead of the header's, the rest from the header.
+    let wide = run(&[&groove, "--finger-radius", "1.5"], "wide.json");
+    assert!(wide != base);
+    assert!(
+        wide == run(
+            &[&groove, "--primitive", "plane", "--finger-radius", "1.5"],
+            "wide-old.json"
+        )
+    );
+    let g1 = run(&[&groove, "--regulation", "g1"], "g1.json");
+    assert_eq!(model(&g1).regulation, Regulation::G1);
+    let middle = run(&[&groove, "--finger", "middle"], "middle.json");
+    assert!(middle != base);
+    // The primitive's shape alone changes the header's primitive's parameters.
+    let fine = run(&[&groove, "--patches", "20x20"], "fine.json");
+    assert_eq!(model(&fine).surface.patch_count(), 400);
+    assert!(
+        fine == run(
+            &[&groove, "--primitive", "plane", "--patches", "20x20"],
+            "fine-old.json"
+        )
+    );
+    // Another start surface.
+    let other = run(&[&groove, "--primitive", "cylinder"], "cylinder.json");
+    assert_eq!(
+        model(&other).surface.topology(),
+        nendo::surface::Topology::Cylinder
+    );
+
+    // Mirror and auto-refine from the header, and switched off from the command line.
+    let sphere_trace = shipped("sphere-push-pull");
+    let text = std::fs::read_to_string(&sphere_trace).unwrap();
+    let scene = scene_line(&text).to_string();
+    let mirrored = dir.join("mirrored.trace");
+    std::fs::write(
+        &mirrored,
+        with_scene(
+            &text,
+            &scene.replace(
+                "\"auto_refine\":false",
+                "\"mirror\":\"y\",\"auto_refine\":false",
+            ),
+        ),
+    )
+    .unwrap();
+    let refined = dir.join("refined.trace");
+    std::fs::write(
+        &refined,
+        with_scene(
+            &text,
+            &scene.replace("\"auto_refine\":false", "\"auto_refine\":true"),
+        ),
+    )
+    .unwrap();
+    let plain = run(&[&sphere_trace], "plain.json");
+    let m = run(&[s(&mirrored)], "m.json");
+    assert!(m != plain);
+    assert!(m == run(&[&sphere_trace, "--mirror", "y"], "m-old.json"));
+    assert!(plain == run(&[s(&mirrored), "--mirror", "none"], "m-none.json"));
+    let r = run(&[s(&refined)], "r.json");
+    assert!(r != plain);
+    assert!(r == run(&[&sphere_trace, "--auto-refine"], "r-old.json"));
+    assert!(plain == run(&[s(&refined), "--no-auto-refine"], "r-off.json"));
+    let out = dir.join("clash.json");
+    replay_fails(&[s(&mirrored), "--auto-refine"], &out, "--mirror none");
+    replay_fails(&[s(&refined), "--mirror", "y"], &out, "--no-auto-refine");
+    // A model start refuses a primitive's shape.
     std::fs::remove_dir_all(&dir).unwrap();
 }

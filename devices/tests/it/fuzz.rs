@@ -131,6 +131,9 @@ proptest! {
     fn trace_reader_never_panics(lines in prop::collection::vec(
         prop_oneof![
             Just("nendo-hand-trace 1".to_string()),
+            Just("nendo-hand-trace 2".to_string()),
+            Just("scene {\"primitive\":{\"name\":\"plane\"}}".to_string()),
+            Just("scene none".to_string()),
             Just("frames".to_string()),
             Just("joints index_mcp index_pip".to_string()),
             Just("end 1".to_string()),

@@ -6,8 +6,8 @@ use rand_chacha::ChaCha8Rng;
 
 use nendo_devices::trace::{TraceWriter, quantize_frame};
 use nendo_devices::{
-    DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, Trace,
-    TraceHeader, TrackerPose,
+    DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SceneText, SourceState, Timestamp,
+    Trace, TraceHeader, TrackerPose,
 };
 
 fn random_frames(seed: u64, n: usize, joints: &[Joint]) -> Vec<HandFrame> {
@@ -145,7 +145,12 @@ fn malformed_traces_report_the_line() {
         v[i] = new;
         v.join("\n")
     };
-    assert_eq!(error_line("nendo-hand-trace 2\nframes\nend 0\n").0, 1);
+    assert_eq!(error_line("nendo-hand-trace 3\nframes\nend 0\n").0, 1);
+    assert!(
+        error_line("nendo-hand-trace 0\nframes\nend 0\n")
+            .1
+            .contains("reads versions 1 to 2")
+    );
     assert_eq!(error_line("hello\n").0, 1);
     // The first frame line with a number (values only come with an `ok` source).
     let numbered = (frames_at + 1..lines.len())
@@ -182,6 +187,73 @@ fn malformed_traces_report_the_line() {
         13
     );
     assert!(error_line(&backwards).1.contains("backwards"));
+}
+
+/// Version 2 carries the scene as opaque one-line JSON, exactly as written; version 1 (no
+/// scene line) still reads, with no scene, and writes back as version 2.
+#[test]
+fn the_scene_is_carried_as_its_text_and_version_1_still_reads() {
+    let json = r#"{"primitive":{"name":"sphere","radius":3.0},"x":[1e-7, 0.1, "é\n"]}"#;
+    let with_scene = TraceHeader {
+        scene: Some(SceneText::new(json).unwrap()),
+        ..header()
+    };
+    let trace = Trace {
+        header: with_scene.clone(),
+        frames: random_frames(9, 5, &with_scene.joints),
+    };
+    let text = trace.to_text();
+    assert!(text.starts_with("nendo-hand-trace 2\n"), "{text}");
+    assert!(
+        text.contains(&format!("\nscene {json}\nframes\n")),
+        "{text}"
+    );
+    let back = Trace::parse(&text).unwrap();
+    assert_eq!(
+        back.header.scene.as_ref().map(SceneText::as_str),
+        Some(json)
+    );
+    assert_eq!(back.to_text(), text);
+    // No scene: the trace says so.
+    let none = Trace {
+        header: header(),
+        frames: Vec::new(),
+    }
+    .to_text();
+    assert!(none.contains("\nscene none\nframes\n"), "{none}");
+    assert_eq!(Trace::parse(&none).unwrap().header.scene, None);
+    // A version-1 trace reads, without a scene, and writes back as version 2.
+    let v1 = "nendo-hand-trace 1\nprofile p\njoints index_mcp\nframes\n0 none ok* 0 P - J 0.250000\nend 1\n";
+    let t = Trace::parse(v1).unwrap();
+    assert_eq!(t.header.scene, None);
+    assert_eq!(t.frames.len(), 1);
+    let written = t.to_text();
+    assert!(written.starts_with("nendo-hand-trace 2\n"), "{written}");
+    assert!(written.contains("\nscene none\nframes\n0 none ok* 0 P - J 0.250000\n"));
+    assert_eq!(Trace::parse(&written).unwrap(), t);
+    // A version-1 trace cannot carry a scene; a scene that is not a JSON object is refused
+    // with its line.
+    let (line, message) = error_line("nendo-hand-trace 1\nscene {}\nframes\nend 0\n");
+    assert_eq!(line, 2);
+    assert!(message.contains("needs trace version 2"), "{message}");
+    for (scene, says) in [
+        ("{\"radius\": NaN}", "not well-formed JSON"),
+        ("{\"radius\": 1", "not well-formed JSON"),
+        ("[1, 2]", "a JSON object"),
+        ("3", "a JSON object"),
+        ("{} {}", "not well-formed JSON"),
+    ] {
+        let (line, message) = error_line(&format!(
+            "nendo-hand-trace 2\njoints\nscene {scene}\nframes\nend 0\n"
+        ));
+        assert_eq!(line, 3, "{scene}");
+        assert!(message.contains(says), "{scene}: {message}");
+    }
+    assert!(SceneText::new("{\"a\":\n1}").is_err());
+    assert_eq!(
+        SceneText::new(" {\"a\": 1} ").unwrap().as_str(),
+        "{\"a\": 1}"
+    );
 }
 
 #[test]

@@ -33,7 +33,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::hand::{Digit, FingerModel, Hand, HandLoop, HandOptions, Probe, Touch};
+use crate::hand::{FingerModel, Fingers, Hand, HandLoop, HandOptions, Probe, Touch};
 use crate::model::Model;
 use crate::surface::grid::MAX_PATCHES;
 use crate::surface::{Grid, Op, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
@@ -72,8 +72,9 @@ pub struct Args {
     /// transform; default: the trace's header.
     #[arg(long)]
     pub profile: Option<String>,
-    /// The touching finger: thumb, index, middle, ring, pinky, or ray (the mouse's view ray);
-    /// default: ray for mouse traces, index otherwise.
+    /// The touching fingers: `all` (the five fingers), a comma-separated list of thumb, index,
+    /// middle, ring, pinky, palm and all (`all,palm`: the whole hand), or ray (the mouse's
+    /// view ray); default: ray for mouse traces, all otherwise.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_finger))]
     pub finger: Option<FingerModel>,
     /// Finger radius r_f in sides (the fingertip capsule's and the shape function's).
@@ -92,11 +93,12 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-fn parse_finger(s: &str) -> Result<FingerModel, super::arg_error::ArgError> {
+/// `--finger`: `ray`, or a list of fingers and the palm ([`Fingers`]).
+pub(crate) fn parse_finger(s: &str) -> Result<FingerModel, super::arg_error::ArgError> {
     if s == "ray" {
         return Ok(FingerModel::Ray);
     }
-    s.parse::<Digit>()
+    s.parse::<Fingers>()
         .map(FingerModel::Hand)
         .map_err(super::arg_error::ArgError::Finger)
 }
@@ -343,6 +345,7 @@ fn replay(args: &Args) -> anyhow::Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::hand::Digit;
 
     #[test]
     fn a_path_is_named_once() {
@@ -360,12 +363,25 @@ mod tests {
         assert_eq!(parse_finger("ray").ok(), Some(FingerModel::Ray));
         assert_eq!(
             parse_finger("middle").ok(),
-            Some(FingerModel::Hand(Digit::Middle))
+            Some(FingerModel::digit(Digit::Middle))
+        );
+        assert_eq!(
+            parse_finger("all,palm").ok(),
+            Some(FingerModel::Hand(
+                Fingers::ALL.with(crate::hand::Part::Palm)
+            ))
+        );
+        assert_eq!(
+            parse_finger("thumb,index").ok().map(|f| match f {
+                FingerModel::Hand(f) => f.to_string(),
+                FingerModel::Ray => String::new(),
+            }),
+            Some("thumb,index".to_owned())
         );
         let toe = parse_finger("toe").map(|_| ()).unwrap_err().to_string();
         assert_eq!(
             toe,
-            "unknown finger \"toe\": expected thumb, index, middle, ring or pinky, or ray"
+            "unknown finger \"toe\": expected thumb, index, middle, ring, pinky, palm or all (a comma-separated list), or ray"
         );
         assert_eq!(parse_counts("40x40").ok(), Some((40, 40)));
         assert!(parse_counts("40").is_err());

@@ -483,19 +483,34 @@ pub fn thumb_to(hand: &Hand, angles: &JointAngles, target: DVec3) -> ([(Joint, f
     (out, best_miss)
 }
 
-/// The pointing pose's thumb closed on the index fingertip: the pinch of the scripted glove
-/// ([`thumb_to`] the index tip of [`POINTING`], half a centimetre short of it along the
-/// thumb's approach, so the tips meet without passing).
+/// The pinch of the scripted glove: the pointing pose with the index curled (its MCP and PIP,
+/// searched on a grid of 0.3 to 1.2 rad) and the thumb closed on the index fingertip
+/// ([`thumb_to`] the index tip, half a centimetre short of it along the thumb's approach, so
+/// the tips meet without passing) — the index and thumb angles of the curl that lets the
+/// thumb come closest.
 #[must_use]
-pub fn pinching(hand: &Hand) -> [(Joint, f64); 4] {
-    let mut angles = JointAngles::new();
-    for (j, a) in POINTING {
-        let _ = angles.set(j, a);
+pub fn pinching(hand: &Hand) -> Vec<(Joint, f64)> {
+    let mut best: Option<(f64, Vec<(Joint, f64)>)> = None;
+    for mcp in [0.3, 0.6, 0.9, 1.2] {
+        for pip in [0.3, 0.6, 0.9, 1.2] {
+            let mut angles = JointAngles::new();
+            for (j, a) in POINTING {
+                let _ = angles.set(j, a);
+            }
+            let _ = angles.set(Joint::IndexMcp, mcp);
+            let _ = angles.set(Joint::IndexPip, pip);
+            let index = hand.local_finger(Digit::Index, Some(&angles)).tip();
+            let thumb = hand.local_finger(Digit::Thumb, Some(&angles)).tip();
+            let toward = (index - thumb).try_normalize().unwrap_or(DVec3::ZERO);
+            let (joints, miss) = thumb_to(hand, &angles, index - 0.005 * toward);
+            if best.as_ref().is_none_or(|(m, _)| miss < *m) {
+                let mut all = vec![(Joint::IndexMcp, mcp), (Joint::IndexPip, pip)];
+                all.extend(joints);
+                best = Some((miss, all));
+            }
+        }
     }
-    let index = hand.local_finger(Digit::Index, Some(&angles)).tip();
-    let thumb = hand.local_finger(Digit::Thumb, Some(&angles)).tip();
-    let toward = (index - thumb).try_normalize().unwrap_or(DVec3::ZERO);
-    thumb_to(hand, &angles, index - 0.005 * toward).0
+    best.map(|(_, j)| j).unwrap_or_default()
 }
 
 /// Pinch and pull on the paper's sphere: the index fingertip comes to rest just outside the
@@ -513,10 +528,14 @@ pub fn sphere_pinch_pull() -> Result<Trace, HandError> {
         .copied()
         .collect();
     let pinch = pinching(c.hand());
+    // The index curled for the pinch from the start; the thumb closes on it at the clay.
+    let (curl, thumb): (Vec<_>, Vec<_>) =
+        pinch.iter().partition(|(j, _)| !THUMB_JOINTS.contains(j));
+    c.set_angles(&curl);
     c.place(DVec3::new(4.5, 0.0, 0.0), inward, DVec3::Z);
     c.hold(6);
     c.move_to(DVec3::new(3.04, 0.0, 0.0), inward, 60);
-    c.bend_to(&pinch, 30);
+    c.bend_to(&thumb, 30);
     c.hold(10);
     let out = c.shifted(c.pose(), DVec3::new(1.0, 0.0, 0.0));
     c.move_pose_to(out, 90);

@@ -122,7 +122,8 @@ impl HandDriver {
         self.recorded = false;
     }
 
-    /// Draws the hand: palm, fingers as joint chains, the active fingertip's capsule.
+    /// Draws the hand: palm, fingers as joint chains, the capsule of every pressing part (the
+    /// fingers and palm in the loop's set), those in the clay highlighted.
     pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
         let Some(pose) = self.hand_loop.pose() else {
             return;
@@ -151,8 +152,11 @@ impl HandDriver {
                 spheres.push(sphere(*p, joint_radius, [0.92, 0.9, 0.88, 1.0]));
             }
         }
-        if let Some(tip) = self.hand_loop.fingertip() {
-            let colour = if touching {
+        // Every pressing part's capsule: orange while that part is in the clay (or holds it),
+        // blue otherwise — which fingers touch.
+        let in_clay = self.hand_loop.touching();
+        for (part, tip) in self.hand_loop.fingertips() {
+            let colour = if in_clay.contains(*part) {
                 [1.0, 0.35, 0.15, 0.35]
             } else {
                 [0.4, 0.65, 1.0, 0.3]

@@ -299,6 +299,19 @@ pub struct LiveInput {
     contacts: u64,
 }
 
+/// The fingers a replayed trace presses with: those its scene names, else those of the
+/// profile it was recorded with (the view ray for the mouse, every finger for a glove) — as
+/// `nendo replay` takes them.
+#[must_use]
+pub fn trace_finger(header: &nendo_devices::TraceHeader) -> FingerModel {
+    Scene::of_trace(header)
+        .ok()
+        .flatten()
+        .and_then(|scene| scene.finger)
+        .and_then(|f| crate::cli::replay::parse_finger(&f).ok())
+        .unwrap_or_else(|| FingerModel::for_profile_name(header.profile.as_deref()))
+}
+
 /// `stem-2.trace`, `stem-3.trace`, …: the first name beside `path` that is free.
 #[must_use]
 pub fn fresh_name(path: &Path) -> PathBuf {
@@ -680,7 +693,7 @@ impl LiveInput {
     ) -> Option<(HandDriver, FingerModel, f64)> {
         let (driver, finger, radius) = match stream.source_header() {
             Some(h) => {
-                let finger = FingerModel::for_profile_name(h.profile.as_deref());
+                let finger = trace_finger(h);
                 let radius = self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS);
                 (
                     HandDriver::new(h.hand, h.world_from_tracker, finger, radius),

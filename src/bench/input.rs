@@ -14,15 +14,21 @@
 //!   Target: median ≤ 1 ms, far inside a 120–150 Hz device period (6.7–8.3 ms). Each run
 //!   starts with an untimed press elsewhere on the sphere, so that the caches are as warm as
 //!   in a running session.
+//! - **Every finger:** each gesture runs twice in the same run, with the index finger alone
+//!   (the one-finger baseline) and with all five fingers active (`--finger all`, the gloves'
+//!   default: every fingertip probed every frame, every one that reaches the clay pressing,
+//!   all of a frame one envelope regulated once); a fourth gesture lays a flat hand on the
+//!   sphere so that several fingertips press at once. "most parts" is the largest number of
+//!   fingertips in the clay at once.
 
 use glam::DVec3;
 use std::time::Instant;
 
 use super::{Table, median};
 use crate::hand::script::Choreography;
-use crate::hand::{Hand, HandError, HandOptions, Session};
+use crate::hand::{Digit, FingerModel, Fingers, Hand, HandError, HandOptions, Session};
 use crate::surface::{Primitive, PrimitiveParams, Regulation};
-use nendo_devices::{Trace, buttons};
+use nendo_devices::{Joint, Trace, buttons};
 
 /// The scripted gestures of the latency measurement on a sphere of radius 3.
 ///
@@ -59,6 +65,20 @@ pub fn gestures() -> Result<Vec<(&'static str, Trace)>, HandError> {
     c.press(0).hold(4);
     c.move_to(on(-40.0, 200.0, 4.0), inward(-40.0, 200.0), 20);
     out.push(("pull 0.4", c.finish("bench")?));
+
+    // A flat hand pointing at the centre, the index fingertip 0.4 in: the middle and ring
+    // fingertips go deeper, the others touch or not as the sphere's curve puts them.
+    let mut c = Choreography::new(Choreography::WORLD, 120.0)?;
+    let flat: Vec<(Joint, f64)> = crate::hand::script::CYBERGLOVE_18_JOINTS
+        .iter()
+        .map(|&j| (j, 0.0))
+        .collect();
+    c.set_angles(&flat);
+    c.place(on(40.0, -30.0, 4.0), inward(40.0, -30.0), DVec3::Z);
+    c.move_to(on(40.0, -30.0, 2.6), inward(40.0, -30.0), 60);
+    c.hold(30);
+    c.move_to(on(40.0, -30.0, 4.0), inward(40.0, -30.0), 30);
+    out.push(("flat hand 0.4", c.finish("bench")?));
     Ok(out)
 }
 
@@ -73,23 +93,24 @@ fn warm_up() -> Result<Trace, HandError> {
     c.finish("bench")
 }
 
-/// Per-frame latencies (ns) of a trace fed to a fresh session on `grid` (after a warm-up
-/// press elsewhere): every frame, and the frames that changed the surface.
+/// Per-frame latencies (ns) of a trace fed to a fresh session on `grid` with these fingers
+/// (after a warm-up press elsewhere): every frame, the frames that changed the surface, and
+/// the most parts in the clay at once.
 fn latencies(
     grid: &crate::surface::Grid,
     trace: &Trace,
-) -> Result<(Vec<f64>, Vec<f64>), HandError> {
+    finger: FingerModel,
+) -> Result<(Vec<f64>, Vec<f64>, usize), HandError> {
     let hand = Hand::new(trace.header.hand, trace.header.world_from_tracker)?;
-    let mut session = Session::new(
-        grid.clone(),
-        Regulation::default(),
-        hand,
-        HandOptions::default(),
-    )?;
+    let options = HandOptions {
+        finger,
+        ..HandOptions::default()
+    };
+    let mut session = Session::new(grid.clone(), Regulation::default(), hand, options)?;
     for frame in &warm_up()?.frames {
         session.feed(frame);
     }
-    let (mut all, mut changed) = (Vec::new(), Vec::new());
+    let (mut all, mut changed, mut most) = (Vec::new(), Vec::new(), 0);
     for frame in &trace.frames {
         let start = Instant::now();
         let out = session.feed(std::hint::black_box(frame));
@@ -98,8 +119,17 @@ fn latencies(
         if !out.changed.is_empty() {
             changed.push(ns);
         }
+        most = most.max(session.hand_loop().touching().parts().count());
     }
-    Ok((all, changed))
+    Ok((all, changed, most))
+}
+
+/// The finger sets the latency table compares.
+fn finger_sets() -> [(&'static str, FingerModel); 2] {
+    [
+        ("index", FingerModel::digit(Digit::Index)),
+        ("all five", FingerModel::Hand(Fingers::ALL)),
+    ]
 }
 
 fn percentile(v: &mut [f64], q: f64) -> f64 {
@@ -124,6 +154,8 @@ pub fn latency_table(repeats: usize) -> Result<String, HandError> {
         .map_err(|e| HandError::Model(e.to_string()))?;
     let mut t = Table::new(&[
         "gesture",
+        "fingers",
+        "most parts",
         "frames",
         "changed",
         "median (µs)",
@@ -132,43 +164,52 @@ pub fn latency_table(repeats: usize) -> Result<String, HandError> {
         "all: median (µs)",
         "all: max (µs)",
     ]);
-    let (mut pooled, mut pooled_all) = (Vec::new(), Vec::new());
-    for (name, trace) in gestures()? {
-        let (mut all, mut changed) = (Vec::new(), Vec::new());
-        for _ in 0..repeats.max(1) {
-            let (a, c) = latencies(&grid, &trace)?;
-            all.extend(a);
-            changed.extend(c);
+    let gestures = gestures()?;
+    for (set, finger) in finger_sets() {
+        let (mut pooled, mut pooled_all) = (Vec::new(), Vec::new());
+        for (name, trace) in &gestures {
+            let (mut all, mut changed, mut most) = (Vec::new(), Vec::new(), 0);
+            for _ in 0..repeats.max(1) {
+                let (a, c, m) = latencies(&grid, trace, finger)?;
+                all.extend(a);
+                changed.extend(c);
+                most = most.max(m);
+            }
+            pooled.extend_from_slice(&changed);
+            pooled_all.extend_from_slice(&all);
+            let us = |x: f64| format!("{:.1}", x / 1e3);
+            t.row(vec![
+                name.to_string(),
+                set.to_string(),
+                most.to_string(),
+                trace.frames.len().to_string(),
+                (changed.len() / repeats.max(1)).to_string(),
+                us(median(&mut changed.clone())),
+                us(percentile(&mut changed.clone(), 0.9)),
+                us(percentile(&mut changed, 1.0)),
+                us(median(&mut all.clone())),
+                us(percentile(&mut all, 1.0)),
+            ]);
         }
-        pooled.extend_from_slice(&changed);
-        pooled_all.extend_from_slice(&all);
         let us = |x: f64| format!("{:.1}", x / 1e3);
         t.row(vec![
-            name.to_string(),
-            trace.frames.len().to_string(),
-            (changed.len() / repeats.max(1)).to_string(),
-            us(median(&mut changed.clone())),
-            us(percentile(&mut changed.clone(), 0.9)),
-            us(percentile(&mut changed, 1.0)),
-            us(median(&mut all.clone())),
-            us(percentile(&mut all, 1.0)),
+            "all gestures".into(),
+            set.to_string(),
+            String::new(),
+            String::new(),
+            String::new(),
+            us(median(&mut pooled.clone())),
+            us(percentile(&mut pooled.clone(), 0.9)),
+            us(percentile(&mut pooled, 1.0)),
+            us(median(&mut pooled_all.clone())),
+            us(percentile(&mut pooled_all, 1.0)),
         ]);
     }
-    let us = |x: f64| format!("{:.1}", x / 1e3);
-    t.row(vec![
-        "all gestures".into(),
-        String::new(),
-        String::new(),
-        us(median(&mut pooled.clone())),
-        us(percentile(&mut pooled.clone(), 0.9)),
-        us(percentile(&mut pooled, 1.0)),
-        us(median(&mut pooled_all.clone())),
-        us(percentile(&mut pooled_all, 1.0)),
-    ]);
     Ok(format!(
         "Device sample -> regulated surface on a 1 600-patch sphere (40 x 40, radius 3), regulation {}, \
-         finger radius 1; per frame, {} run(s) of each gesture.\n\"changed\": frames that changed the \
-         surface (per run). Target: median <= 1 ms (a 120-150 Hz device period is 6.7-8.3 ms).\n{}",
+         finger radius 1; per frame, {} run(s) of each gesture, with the index finger alone and with all \
+         five fingers.\n\"changed\": frames that changed the surface (per run); \"most parts\": the most \
+         fingertips in the clay at once. Target: median <= 1 ms (a 120-150 Hz device period is 6.7-8.3 ms).\n{}",
         Regulation::default(),
         repeats.max(1),
         t.render()
@@ -215,13 +256,18 @@ mod tests {
             })
             .unwrap();
         for (name, trace) in gestures().unwrap() {
-            let (all, changed) = latencies(&grid, &trace).unwrap();
-            assert_eq!(all.len(), trace.frames.len());
-            assert!(
-                changed.len() > 10,
-                "{name}: {} frames changed the surface",
-                changed.len()
-            );
+            for (set, finger) in finger_sets() {
+                let (all, changed, most) = latencies(&grid, &trace, finger).unwrap();
+                assert_eq!(all.len(), trace.frames.len());
+                assert!(
+                    changed.len() > 10,
+                    "{name}, {set}: {} frames changed the surface",
+                    changed.len()
+                );
+                if name.starts_with("flat") && set == "all five" {
+                    assert!(most >= 3, "{name}: {most} fingertips pressed at once");
+                }
+            }
         }
     }
 }

@@ -46,7 +46,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::hand::scene::{Scene, Start};
-use crate::hand::{Digit, FingerModel, Hand, HandLoop, HandOptions, Probe, Touch};
+use crate::hand::{FingerModel, Fingers, Hand, HandLoop, HandOptions, Probe, Touch};
 use crate::model::Model;
 use crate::surface::grid::MAX_PATCHES;
 use crate::surface::{Grid, Op, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
@@ -87,8 +87,9 @@ pub struct Args {
     /// transform; default: the trace's header.
     #[arg(long)]
     pub profile: Option<String>,
-    /// The touching finger: thumb, index, middle, ring, pinky, or ray (the mouse's view ray);
-    /// default: the trace's scene's, else ray for mouse traces, index otherwise.
+    /// The touching fingers: `all` (the five fingers), a comma-separated list of thumb, index,
+    /// middle, ring, pinky, palm and all (`all,palm`: the whole hand), or ray (the mouse's
+    /// view ray); default: the trace's scene's, else ray for mouse traces, all otherwise.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_finger))]
     pub finger: Option<FingerModel>,
     /// Finger radius r_f in sides (the fingertip capsule's and the shape function's; default:
@@ -130,11 +131,11 @@ fn parse_mirror(s: &str) -> Result<Mirror, crate::surface::UnknownName> {
 }
 
 /// `--finger`'s parser, shared with `nendo record` and with the `finger` of a trace's scene.
-pub(super) fn parse_finger(s: &str) -> Result<FingerModel, super::arg_error::ArgError> {
+pub(crate) fn parse_finger(s: &str) -> Result<FingerModel, super::arg_error::ArgError> {
     if s == "ray" {
         return Ok(FingerModel::Ray);
     }
-    s.parse::<Digit>()
+    s.parse::<Fingers>()
         .map(FingerModel::Hand)
         .map_err(super::arg_error::ArgError::Finger)
 }
@@ -527,6 +528,7 @@ fn replay(args: &Args) -> anyhow::Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::hand::Digit;
 
     #[test]
     fn a_path_is_named_once() {
@@ -544,12 +546,25 @@ mod tests {
         assert_eq!(parse_finger("ray").ok(), Some(FingerModel::Ray));
         assert_eq!(
             parse_finger("middle").ok(),
-            Some(FingerModel::Hand(Digit::Middle))
+            Some(FingerModel::digit(Digit::Middle))
+        );
+        assert_eq!(
+            parse_finger("all,palm").ok(),
+            Some(FingerModel::Hand(
+                Fingers::ALL.with(crate::hand::Part::Palm)
+            ))
+        );
+        assert_eq!(
+            parse_finger("thumb,index").ok().map(|f| match f {
+                FingerModel::Hand(f) => f.to_string(),
+                FingerModel::Ray => String::new(),
+            }),
+            Some("thumb,index".to_owned())
         );
         let toe = parse_finger("toe").map(|_| ()).unwrap_err().to_string();
         assert_eq!(
             toe,
-            "unknown finger \"toe\": expected thumb, index, middle, ring or pinky, or ray"
+            "unknown finger \"toe\": expected thumb, index, middle, ring, pinky, palm or all (a comma-separated list), or ray"
         );
         assert_eq!(parse_counts("40x40").ok(), Some((40, 40)));
         assert!(parse_counts("40").is_err());

@@ -165,6 +165,17 @@ impl HandPose {
     }
 }
 
+/// The palm of a placed hand, in world units ([`Hand::palm`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Palm {
+    /// The centre of the palm's face.
+    pub centre: DVec3,
+    /// The unit normal out of the palm (away from the back of the hand).
+    pub normal: DVec3,
+    /// Half the palm's width.
+    pub half_width: f64,
+}
+
 /// The kinematic hand of a profile: its sizes and the tracker-to-world transform.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hand {
@@ -354,6 +365,19 @@ impl Hand {
             orientation: r * pose.orientation,
             scale: c,
             fingers,
+        }
+    }
+
+    /// The palm as a contact shape, in the world: the centre of the palm's face, under the
+    /// sensor (`(0, 0, −T)` in the sensor frame, `T = 0.3·W` the palm's thickness), its
+    /// outward normal (`−Z`, away from the back of the hand), and its half-width `W/2`.
+    #[must_use]
+    pub fn palm(&self, pose: &HandPose) -> Palm {
+        let t = PALM_THICKNESS * self.size.palm_width;
+        Palm {
+            centre: pose.sensor + pose.orientation * DVec3::new(0.0, 0.0, -t) * pose.scale,
+            normal: pose.orientation * DVec3::NEG_Z,
+            half_width: 0.5 * self.size.palm_width * pose.scale,
         }
     }
 

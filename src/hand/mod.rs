@@ -10,29 +10,45 @@
 //!
 //! | module | what it is |
 //! |---|---|
-//! | [`kinematics`] | [`Hand`]: bend angles → joint positions of each [`Digit`], lengths from the profile, placed in the world by the tracker pose |
+//! | [`kinematics`] | [`Hand`]: bend angles → joint positions of each [`Digit`], lengths from the profile, placed in the world by the tracker pose; the [`Palm`] |
 //! | [`contact`] | [`Probe`]: where a line along the finger meets the surface (patch boxes, then exact ray picking of [`crate::mesh`]); [`Fingertip`], the capsule of radius `r_f` around the finger's axis |
-//! | [`session`] | [`HandLoop`]: frames → contact → the surface deformed; [`Session`]: the loop with its own grid, for replay |
-//! | [`press`] | the operation of one contact: its finger [`Placement`]s applied together, as an envelope, to the surface before the contact — re-exported from the geometry crate's engine, [`crate::surface::envelope`] (the hand only builds placements) |
+//! | [`session`] | [`HandLoop`]: frames → contact of every pressing [`Part`] → the surface deformed, pinches held; [`Session`]: the loop with its own grid, for replay |
+//! | [`press`] | the operation of one contact: every part's finger [`Placement`]s applied together, as an envelope, to the surface before the contact — re-exported from the geometry crate's engine, [`crate::surface::envelope`] (the hand only builds placements) |
 //! | [`mouse`] | [`MouseFinger`]: the mouse as a hand — the view ray is the finger; click depth and drag give push, pull and draw-a-line |
 //! //! | [`scene`] | [`Scene`](scene::Scene): the surface a recorded session started from and its settings, the `scene` line of a trace header (`nendo replay TRACE` needs nothing else) |
 //! | [`script`] | scripted hand motions written as real traces (inverse kinematics for a wanted fingertip), and the generators of the traces shipped in `devices/traces/` |
 //!
 //! ## Contact, in short (the rules are in [`session`])
 //!
-//! - The active finger (the index by default) ends in a capsule of radius `r_f` around its
-//!   axis; `r_f` is also the shape function's finger radius, so the capsule is exactly the
-//!   reach of the operation.
-//! - The surface is searched along the finger's axis. When the axis crosses the surface at
-//!   `S` before the fingertip `E`, the penetration is `p = (E − S)·d̂`, `d̂` the finger's
-//!   direction, and a contact starts: a push with `M = p·d̂` at `S` (seed 002 §5.1).
-//! - While the finger stays in the clay and moves across its axis, the contact grows into a
-//!   draw-a-line stroke through the fingertip's path (§5.2), each segment with its own depth.
+//! - **The clay never moves farther than the finger penetrated it, whatever the finger's
+//!   angle: a finger lying on the clay presses with its side, a tip pokes with its tip.**
+//!   The surface is searched along the finger's axis; when the axis crosses the surface at
+//!   `S` before the fingertip `E`, the clay is pressed along `m̂`, the surface normal at `S`
+//!   turned to the finger's side, by `h`, the depth of `E` past the surface along `m̂`: a push
+//!   ending at the fingertip with `M = h·m̂` (seed 002 §5.1). A tip poking straight in presses
+//!   along the finger; a finger lying on the clay presses into the surface by how deep its
+//!   tip is — not along the finger, which at a shallow angle `θ` would shove the clay
+//!   sideways by `h / sin θ`. A flat hand 0.05 side into the plane moves no control point
+//!   more than 1.5 × 0.05 at any angle from 3° to 90° (tests/it/hand_contact.rs). The mouse's
+//!   ray is the exception: its depth is chosen along the ray, and it presses along it.
+//! - **Every finger presses, and the palm.** Each part of the hand in the set
+//!   ([`Fingers`]; `--finger all`, the default for gloves, is the five fingers; `palm` adds
+//!   the palm as a wide capsule under the palm's centre) ends in a capsule — radius `r_f`
+//!   for a fingertip (also the shape function's finger radius, so the capsule is exactly the
+//!   reach of the operation), half the palm's width for the palm. Every part that reaches
+//!   the surface in a frame contributes, by the rule above; all of one frame are one
+//!   operation (their displacement fields combined as an envelope), regulated once.
+//! - While a part stays in the clay and moves across, its contact grows into a draw-a-line
+//!   stroke through its path (§5.2), each segment with its own depth.
 //! - Every frame the contact is recomputed from the surface as it was before it, each sample
-//!   moving by the strongest of the contact's placements: only what the finger adds is
-//!   applied, and clay the finger already pressed is not pressed again.
+//!   moving by the strongest of the contact's placements: only what the hand adds is
+//!   applied, and clay already pressed is not pressed again.
 //! - While the grip is held (the glove's switch; the right mouse button) the clay sticks to
-//!   the fingertip: withdrawing pulls, moving draws a ridge.
+//!   the fingertips: withdrawing pulls, moving draws a ridge.
+//! - **Pinch to grab.** Thumb and index tips meeting (closer than 0.4 side) on the clay from
+//!   the same side take hold of it at the pinch point and, while they stay together, move it
+//!   with the hand (the surface's exact `move`, one undo step); a wall pinched from both
+//!   sides is pressed on both sides instead.
 //!
 //! The whole loop is a pure function of the frames, the starting surface and the options:
 //! replaying a trace twice gives bit-identical surfaces.
@@ -46,12 +62,12 @@ pub mod script;
 pub mod session;
 
 pub use contact::{AxisHit, Fingertip, Probe};
-pub use kinematics::{Digit, FingerChain, Hand, HandPose};
+pub use kinematics::{Digit, FingerChain, Hand, HandPose, Palm};
 pub use mouse::MouseFinger;
 pub use press::Placement;
 pub use session::{
-    Activation, DEFAULT_FINGER_RADIUS, FingerModel, FrameOutcome, HandLoop, HandOptions, LoopStats,
-    Session, Touch,
+    Activation, DEFAULT_FINGER_RADIUS, DEFAULT_PINCH_DISTANCE, FingerModel, Fingers, FrameOutcome,
+    HandLoop, HandOptions, LoopStats, Part, Session, Touch,
 };
 
 /// What can go wrong in the hand loop.

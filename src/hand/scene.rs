@@ -192,7 +192,7 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
 pub fn finger_name(finger: FingerModel) -> String {
     match finger {
         FingerModel::Ray => "ray".into(),
-        FingerModel::Hand(d) => d.name().into(),
+        FingerModel::Hand(fingers) => fingers.to_string(),
     }
 }
 

@@ -24,11 +24,12 @@ use nendo_devices::{
 };
 use std::f64::consts::{FRAC_PI_2, TAU};
 
+use super::DEFAULT_FINGER_RADIUS;
 use super::HandError;
 use super::kinematics::{Digit, Hand};
 use super::mouse::MouseFinger;
 use super::scene::{Scene, SceneError, finger_name};
-use super::{DEFAULT_FINGER_RADIUS, FingerModel};
+use super::session::{FingerModel, Fingers, Part};
 use crate::surface::{Grid, Primitive, PrimitiveParams, Regulation};
 
 /// The joints of the CyberGlove II with 18 sensors, in its sensor order (the columns of the
@@ -426,6 +427,152 @@ impl Gesture {
     }
 }
 
+/// The thumb joints a scripted pinch bends.
+pub const THUMB_JOINTS: [Joint; 4] = [
+    Joint::ThumbRoll,
+    Joint::ThumbMcp,
+    Joint::ThumbIp,
+    Joint::ThumbIndexAbduction,
+];
+
+/// The thumb angles ([`THUMB_JOINTS`]) that bring the thumb's tip nearest `target` (a point in
+/// the hand's sensor frame, metres), the other joints as in `angles`; and how far from
+/// `target` the tip then is (metres). Each angle within [−0.3, 1.5] rad (inside a
+/// CyberGlove's default range). A coarse grid of 9⁴ poses, then coordinate descent with
+/// halving steps: deterministic.
+#[must_use]
+pub fn thumb_to(hand: &Hand, angles: &JointAngles, target: DVec3) -> ([(Joint, f64); 4], f64) {
+    let (lo, hi) = (-0.3, 1.5);
+    let miss = |x: &[f64; 4]| {
+        let mut a = *angles;
+        for (j, v) in THUMB_JOINTS.iter().zip(x) {
+            // In range by construction.
+            let _ = a.set(*j, *v);
+        }
+        (hand.local_finger(Digit::Thumb, Some(&a)).tip() - target).length()
+    };
+    let mut best = [0.0; 4];
+    let mut best_miss = f64::INFINITY;
+    let step = (hi - lo) / 8.0;
+    for k in 0..9usize.pow(4) {
+        let x = [0, 1, 2, 3].map(|i| lo + step * ((k / 9usize.pow(i)) % 9) as f64);
+        let m = miss(&x);
+        if m < best_miss {
+            (best, best_miss) = (x, m);
+        }
+    }
+    let mut h = step / 2.0;
+    while h > 1e-5 {
+        let mut improved = false;
+        for i in 0..4 {
+            for sign in [-1.0, 1.0] {
+                let mut x = best;
+                x[i] = (x[i] + sign * h).clamp(lo, hi);
+                let m = miss(&x);
+                if m < best_miss {
+                    (best, best_miss) = (x, m);
+                    improved = true;
+                }
+            }
+        }
+        if !improved {
+            h /= 2.0;
+        }
+    }
+    let mut out = [(Joint::ThumbRoll, 0.0); 4];
+    for (o, (j, v)) in out.iter_mut().zip(THUMB_JOINTS.iter().zip(best)) {
+        *o = (*j, v);
+    }
+    (out, best_miss)
+}
+
+/// The pinch of the scripted glove: the pointing pose with the index curled (its MCP and PIP,
+/// searched on a grid of 0.3 to 1.2 rad) and the thumb closed on the index fingertip
+/// ([`thumb_to`] the index tip, half a centimetre short of it along the thumb's approach, so
+/// the tips meet without passing) — the index and thumb angles of the curl that lets the
+/// thumb come closest.
+#[must_use]
+pub fn pinching(hand: &Hand) -> Vec<(Joint, f64)> {
+    let mut best: Option<(f64, Vec<(Joint, f64)>)> = None;
+    for mcp in [0.3, 0.6, 0.9, 1.2] {
+        for pip in [0.3, 0.6, 0.9, 1.2] {
+            let mut angles = JointAngles::new();
+            for (j, a) in POINTING {
+                let _ = angles.set(j, a);
+            }
+            let _ = angles.set(Joint::IndexMcp, mcp);
+            let _ = angles.set(Joint::IndexPip, pip);
+            let index = hand.local_finger(Digit::Index, Some(&angles)).tip();
+            let thumb = hand.local_finger(Digit::Thumb, Some(&angles)).tip();
+            let toward = (index - thumb).try_normalize().unwrap_or(DVec3::ZERO);
+            let (joints, miss) = thumb_to(hand, &angles, index - 0.005 * toward);
+            if best.as_ref().is_none_or(|(m, _)| miss < *m) {
+                let mut all = vec![(Joint::IndexMcp, mcp), (Joint::IndexPip, pip)];
+                all.extend(joints);
+                best = Some((miss, all));
+            }
+        }
+    }
+    best.map(|(_, j)| j).unwrap_or_default()
+}
+
+/// Pinch and pull on the paper's sphere: the index fingertip comes to rest just outside the
+/// equator at longitude 0 (pointing at the centre), the thumb closes on it ([`pinching`]),
+/// the hand pulls 1 side straight out, then the thumb opens and the hand leaves. 120 Hz.
+///
+/// # Errors
+/// Never for these fixed motions.
+pub fn sphere_pinch_pull() -> Result<Trace, HandError> {
+    let mut c = Choreography::new(Choreography::WORLD, 120.0)?;
+    let inward = -DVec3::X;
+    let open: Vec<(Joint, f64)> = POINTING
+        .iter()
+        .filter(|(j, _)| THUMB_JOINTS.contains(j))
+        .copied()
+        .collect();
+    let pinch = pinching(c.hand());
+    // The index curled for the pinch from the start; the thumb closes on it at the clay.
+    let (curl, thumb): (Vec<_>, Vec<_>) =
+        pinch.iter().partition(|(j, _)| !THUMB_JOINTS.contains(j));
+    c.set_angles(&curl);
+    c.place(DVec3::new(4.5, 0.0, 0.0), inward, DVec3::Z);
+    c.hold(6);
+    c.move_to(DVec3::new(3.04, 0.0, 0.0), inward, 60);
+    c.bend_to(&thumb, 30);
+    c.hold(10);
+    let out = c.shifted(c.pose(), DVec3::new(1.0, 0.0, 0.0));
+    c.move_pose_to(out, 90);
+    c.hold(10);
+    c.bend_to(&open, 30);
+    let away = c.shifted(c.pose(), DVec3::new(1.5, 0.0, 0.0));
+    c.move_pose_to(away, 30);
+    c.finish(GLOVE_PROFILE)
+}
+
+/// A flat hand (every joint straight) laid palm down on the default plane: the palm's face
+/// comes down from 0.5 above to `depth` below the plane at (0, 0), the fingers along +x,
+/// holds, and lifts. The fingers stay above the clay (their axes 0.255 side over the palm's
+/// face, level with it); only the palm presses. 120 Hz.
+///
+/// # Errors
+/// Never for these fixed motions.
+pub fn plane_palm(depth: f64) -> Result<Trace, HandError> {
+    let mut c = Choreography::new(Choreography::WORLD, 120.0)?;
+    let flat: Vec<(Joint, f64)> = CYBERGLOVE_18_JOINTS.iter().map(|&j| (j, 0.0)).collect();
+    c.set_angles(&flat);
+    c.place(DVec3::new(1.0, 0.0, 1.0), DVec3::X, DVec3::Z);
+    let hand = *c.hand();
+    let palm = hand.palm(&hand.pose(&c.pose(), Some(c.angles()))).centre;
+    let lower = |z: f64| c.shifted(c.pose(), DVec3::new(-palm.x, -palm.y, z - palm.z));
+    let (above, pressed) = (lower(0.5), lower(-depth));
+    c.set_pose(above);
+    c.hold(6);
+    c.move_pose_to(pressed, 60);
+    c.hold(20);
+    c.move_pose_to(above, 40);
+    c.finish(GLOVE_PROFILE)
+}
+
 /// A trace shipped in `devices/traces/`, with the surface it was made for.
 #[derive(Debug, Clone)]
 pub struct Shipped {
@@ -437,6 +584,9 @@ pub struct Shipped {
     pub primitive: Primitive,
     /// Its parameters.
     pub params: PrimitiveParams,
+    /// The parts of the hand it was made for (`--finger`): the index alone for the traces
+    /// made before the whole hand pressed, the ray for the mouse.
+    pub finger: FingerModel,
     /// The frames.
     pub trace: Trace,
 }
@@ -451,18 +601,16 @@ impl Shipped {
     }
 
     /// The scene the trace's header carries: the primitive with every parameter it is built
-    /// from, the default regulation, the finger of the trace's profile (the view ray for the
-    /// mouse, the index finger for the glove) and the default finger radius; no mirror, no
-    /// refinement. `nendo replay` of the trace then needs only `--out`.
+    /// from, the default regulation, the fingers it was made for ([`Shipped::finger`]: the view
+    /// ray for the mouse; the index finger, every finger, the palm or a pinch's two fingers for
+    /// the glove) and the default finger radius; no mirror, no refinement. `nendo replay` of the trace then needs only `--out`.
     ///
     /// # Errors
     /// Never for the shipped parameters; a bad parameter is reported as the scene's error.
     pub fn scene(&self) -> Result<Scene, SceneError> {
         let mut scene = Scene::primitive(self.primitive, &self.params)?;
         scene.regulation = Some(Regulation::default());
-        scene.finger = Some(finger_name(FingerModel::for_profile_name(
-            self.trace.header.profile.as_deref(),
-        )));
+        scene.finger = Some(finger_name(self.finger));
         scene.finger_radius = Some(DEFAULT_FINGER_RADIUS);
         Ok(scene)
     }
@@ -617,8 +765,8 @@ fn enter(c: &mut Choreography, inside: bool, z: f64, clear: f64, phi: f64) {
 
 /// Shapes the paper's test tube (128 patches: 16 around × 8 along, radius 2, walls 4 high,
 /// the closed bottom a hemisphere) into a pot (Fig. 15): pushes from inside widen the belly
-/// in passes, pushes from outside pull in the neck, a stroke drawn around the neck smooths
-/// it, and pushes from inside flare the lip. 60 Hz. Returns the trace and the number of
+/// in passes, pushes from inside flare the lip, pushes from outside pull in the neck, and a
+/// stroke drawn around the neck smooths it. 60 Hz. Returns the trace and the number of
 /// gestures (pushes and strokes).
 ///
 /// # Errors
@@ -644,6 +792,11 @@ pub fn tube_pot() -> Result<(Trace, usize), HandError> {
     ] {
         ring(&mut c, z, r, 1.2, true, 16, phase, &mut ops);
     }
+    // The lip, from inside, while the wall above the belly is still straight: pressed along
+    // the wall's normal (the contact rule), a push on the straight wall flares it outward and
+    // leaves the rim at its height; pressed after the neck, on the wall sloping out from the
+    // neck, the normal would carry the rim down below the lip's height.
+    ring(&mut c, 5.85, 2.45, 1.2, true, 16, 0.0, &mut ops);
     // The neck, from outside: two passes, then a stroke drawn once around.
     enter(&mut c, false, 5.0, 2.9, 0.0);
     for (z, r, phase) in [
@@ -662,9 +815,6 @@ pub fn tube_pot() -> Result<(Trace, usize), HandError> {
     });
     c.move_to(neck(0.0, 2.9), -radial(0.0), 8);
     ops += 1;
-    // The lip, from inside.
-    enter(&mut c, true, 5.85, 0.9, 0.0);
-    ring(&mut c, 5.85, 1.95, 0.9, true, 16, 0.0, &mut ops);
     let (tip, axis) = c.fingertip();
     c.move_to(DVec3::new(tip.x, tip.y, 9.0), axis, 30);
     Ok((c.finish(GLOVE_PROFILE)?, ops))
@@ -767,6 +917,7 @@ pub fn shipped() -> Result<Vec<Shipped>, HandError> {
             about: "push 0.6 at the north pole, then grip and pull 0.6 at the equator (glove + tracker, 120 Hz)",
             primitive: Primitive::Sphere,
             params: sphere,
+            finger: FingerModel::digit(Digit::Index),
             trace: sphere_push_pull()?,
         },
         Shipped {
@@ -774,6 +925,7 @@ pub fn shipped() -> Result<Vec<Shipped>, HandError> {
             about: "a groove 0.3 deep drawn 7 side across the plane; the finger curls in and straightens out (glove + tracker, 120 Hz)",
             primitive: Primitive::Plane,
             params: PrimitiveParams::default(),
+            finger: FingerModel::digit(Digit::Index),
             trace: plane_groove()?,
         },
         Shipped {
@@ -781,6 +933,7 @@ pub fn shipped() -> Result<Vec<Shipped>, HandError> {
             about: "the test tube shaped into a pot: belly pushed out from inside, neck pushed in and stroked, lip flared (glove + tracker, 60 Hz)",
             primitive: Primitive::Tube,
             params: PrimitiveParams::default(),
+            finger: FingerModel::digit(Digit::Index),
             trace: pot,
         },
         Shipped {
@@ -788,7 +941,25 @@ pub fn shipped() -> Result<Vec<Shipped>, HandError> {
             about: "mouse: click push, drag groove, right-click pull, wheel-deepened press on the sphere (60 Hz)",
             primitive: Primitive::Sphere,
             params: sphere,
+            finger: FingerModel::Ray,
             trace: mouse_sphere()?,
+        },
+        Shipped {
+            name: "sphere-pinch-pull",
+            about: "thumb and index pinch the sphere's clay at the equator and pull a nose 1 side out (glove + tracker, 120 Hz)",
+            primitive: Primitive::Sphere,
+            params: sphere,
+            // The pinch's two fingers: curled, the others would brush the sphere on the way in.
+            finger: FingerModel::Hand(Fingers::THUMB_AND_INDEX),
+            trace: sphere_pinch_pull()?,
+        },
+        Shipped {
+            name: "plane-palm",
+            about: "a flat hand laid palm down 0.1 into the plane and lifted (glove + tracker, 120 Hz)",
+            primitive: Primitive::Plane,
+            params: PrimitiveParams::default(),
+            finger: FingerModel::Hand(Fingers::ALL.with(Part::Palm)),
+            trace: plane_palm(0.1)?,
         },
     ];
     // Every header names the scene it was made on.

@@ -2,9 +2,12 @@
 //! rays, and the loop's contact rules on scripted motions, with fixed seeds.
 
 use glam::DVec3;
-use nendo::hand::script::Choreography;
-use nendo::hand::{Hand, HandOptions, Probe, Session, Touch};
-use nendo::surface::{Grid, Primitive, PrimitiveParams, Regulation};
+use nendo::hand::script::{self, Choreography};
+use nendo::hand::{
+    DEFAULT_PINCH_DISTANCE, Digit, FingerModel, Fingers, Hand, HandOptions, Part, Probe, Session,
+    Touch,
+};
+use nendo::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, continuity};
 use nendo_devices::{HandSize, Joint, Trace, buttons};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -270,3 +273,249 @@ fn a_fast_stroke_leaves_no_gaps_and_the_finger_bend_alone_can_press() {
         .dot(fingertip.axis);
     assert!(miss.abs() < 2e-3, "{miss}");
 }
+
+/// A flat hand (every joint straight) lowered onto the default plane at `degrees` to it, its
+/// index fingertip `depth` into the clay at (0.3, 0.2), and held: the trace.
+fn flat_hand_at(degrees: f64, depth: f64) -> Trace {
+    let a = degrees.to_radians();
+    let axis = DVec3::new(a.cos(), 0.0, -a.sin());
+    // The back of the hand up, square to the finger.
+    let up = DVec3::new(a.sin(), 0.0, a.cos());
+    let tip = DVec3::new(0.3, 0.2, -depth);
+    let mut c = Choreography::new(Choreography::WORLD, 120.0).unwrap();
+    let flat: Vec<(Joint, f64)> = Joint::ALL.iter().map(|&j| (j, 0.0)).collect();
+    c.set_angles(&flat);
+    c.place(tip + 0.4 * up, axis, up);
+    c.move_to(tip, axis, 30).hold(20);
+    c.finish("test").unwrap()
+}
+
+/// Issue 16: the clay never moves farther than the finger penetrated it, whatever the finger's
+/// angle. A flat hand 0.05 side into the plane at 3° to 90°: no control point moves more than
+/// 1.5 × 0.05 (before the rule, the push depth was measured along the finger: 1.35 side at
+/// 3°, 0.42 at 10°, 0.105 at 30°), the clay is pressed (down, not sideways) and meets the
+/// fingertip.
+#[test]
+fn a_flat_hand_at_any_angle_moves_the_clay_no_farther_than_it_went_in() {
+    let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+    let depth = 0.05;
+    let mut figures = Vec::new();
+    for degrees in [3.0, 10.0, 30.0, 60.0, 90.0] {
+        let t = flat_hand_at(degrees, depth);
+        let mut s = session(&plane, Regulation::default());
+        feed(&mut s, &t);
+        let tip = s.hand_loop().fingertip().unwrap().tip;
+        assert!(
+            (tip - DVec3::new(0.3, 0.2, -depth)).length() < 1e-4,
+            "{degrees}°: the fingertip is where it was put: {tip}"
+        );
+        let (mut largest, mut sideways) = (0.0f64, 0.0f64);
+        for (a, b) in plane.nodes().iter().zip(s.grid().nodes()) {
+            let d = *b - *a;
+            largest = largest.max(d.length());
+            sideways = sideways.max(d.truncate().length());
+        }
+        figures.push((degrees, largest, sideways));
+        assert!(
+            largest <= 1.5 * depth,
+            "{degrees}°: a control point moved {largest} for a penetration of {depth}"
+        );
+        assert!(
+            largest >= 0.5 * depth,
+            "{degrees}°: the clay was pressed ({largest})"
+        );
+        // Under the fingertip the clay went down to it.
+        let z = 10.0
+            - Probe::new()
+                .first_crossing(s.grid(), DVec3::new(0.3, 0.2, 10.0), -DVec3::Z, 20.0)
+                .unwrap()
+                .t;
+        assert!(
+            (z + depth).abs() < 2e-3,
+            "{degrees}°: the clay under the fingertip is at {z}"
+        );
+        assert_eq!(s.hand_loop().stats().contacts, 1, "{degrees}°");
+    }
+    eprintln!(
+        "flat hand 0.05 into the plane: (angle°, largest move, largest sideways move) {figures:?}"
+    );
+}
+
+fn session_with(start: &Grid, finger: FingerModel) -> Session {
+    let hand = Hand::new(HandSize::default(), Choreography::WORLD).unwrap();
+    let options = HandOptions {
+        finger,
+        ..HandOptions::default()
+    };
+    Session::new(start.clone(), Regulation::default(), hand, options).unwrap()
+}
+
+/// The largest control-point move and the largest G1 angle of a result.
+fn largest_move_and_g1(before: &Grid, after: &Grid) -> (f64, f64) {
+    let largest = before
+        .nodes()
+        .iter()
+        .zip(after.nodes())
+        .map(|(a, b)| (*b - *a).length())
+        .fold(0.0f64, f64::max);
+    (largest, continuity::report(after, 17).g1_max_deg)
+}
+
+/// Issue 17: the contact rule holds for every finger at once. A flat hand with all five
+/// fingers pressing, lowered onto the plane at 3° to 90° (the index 0.05 in, the others as
+/// deep as the hand's shape puts them): no control point moves more than 1.5 × the deepest
+/// fingertip's penetration (read off the fingertips' heights: the plane is z = 0), all of it
+/// one contact, regulated (G1).
+#[test]
+fn a_flat_hand_with_every_finger_moves_the_clay_no_farther_than_its_deepest_finger() {
+    let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+    for degrees in [3.0, 10.0, 30.0, 60.0, 90.0] {
+        let t = flat_hand_at(degrees, 0.05);
+        let mut s = session_with(&plane, FingerModel::Hand(Fingers::ALL));
+        let mut touching = Fingers::one(Part::Palm);
+        for f in &t.frames {
+            s.feed(f);
+            touching = s.hand_loop().touching();
+        }
+        let tips = s.hand_loop().fingertips().to_vec();
+        assert_eq!(tips.len(), 5, "{degrees}°");
+        let deepest = tips.iter().map(|(_, f)| -f.tip.z).fold(0.0f64, f64::max);
+        let (largest, g1) = largest_move_and_g1(&plane, s.grid());
+        assert!(
+            largest <= 1.5 * deepest,
+            "{degrees}°: a control point moved {largest}, the deepest fingertip is {deepest} in"
+        );
+        assert!(g1 < 0.01, "{degrees}°: G1 {g1}°");
+        assert_eq!(s.hand_loop().stats().contacts, 1, "{degrees}°");
+        // Every fingertip below the plane is in the contact.
+        for (part, f) in &tips {
+            assert_eq!(
+                touching.contains(*part),
+                f.tip.z < -1e-3,
+                "{degrees}°: {} at z = {}",
+                part.name(),
+                f.tip.z
+            );
+        }
+    }
+}
+
+/// The palm presses as a flat contact shape: laid 0.1 into the plane, the clay under its
+/// centre goes down to it, no control point moves more than 1.5 × 0.1, the fingers (level,
+/// above the clay) do not press, and the surface stays G1.
+#[test]
+fn the_palm_laid_on_the_plane_presses_as_deep_as_it_went() {
+    let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+    let depth = 0.1;
+    let t = script::plane_palm(depth).unwrap();
+    let mut s = session_with(&plane, FingerModel::Hand(Fingers::ALL.with(Part::Palm)));
+    let mut deepest_touch = Fingers::one(Part::Palm);
+    let mut palm_at = DVec3::ZERO;
+    for (k, f) in t.frames.iter().enumerate() {
+        s.feed(f);
+        if k == 6 + 60 + 10 {
+            deepest_touch = s.hand_loop().touching();
+            palm_at = s
+                .hand_loop()
+                .fingertips()
+                .iter()
+                .find(|(p, _)| *p == Part::Palm)
+                .unwrap()
+                .1
+                .tip;
+        }
+    }
+    assert!(
+        (palm_at - DVec3::new(0.0, 0.0, -depth)).length() < 1e-3,
+        "{palm_at}"
+    );
+    assert_eq!(deepest_touch, Fingers::one(Part::Palm));
+    let z = 10.0
+        - Probe::new()
+            .first_crossing(s.grid(), DVec3::new(0.0, 0.0, 10.0), -DVec3::Z, 20.0)
+            .unwrap()
+            .t;
+    assert!((z + depth).abs() < 5e-3, "under the palm: {z}");
+    let (largest, g1) = largest_move_and_g1(&plane, s.grid());
+    assert!(
+        largest <= 1.5 * depth && largest >= 0.5 * depth,
+        "{largest}"
+    );
+    assert!(g1 < 0.01, "G1 {g1}°");
+    let st = *s.hand_loop().stats();
+    assert_eq!((st.contacts, st.pushes), (1, 1), "{st:?}");
+}
+
+/// Pinch to grab: the thumb closes on the index fingertip resting just outside the sphere;
+/// together they take hold of the clay (one `move`, not a press) and pull it out with the
+/// hand: the held point lands where the pinch went, 1 side out, exactly; opening the thumb
+/// lets go.
+#[test]
+fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
+    let sphere = Primitive::Sphere
+        .build(&PrimitiveParams::default())
+        .unwrap();
+    let hand = Hand::new(HandSize::default(), Choreography::WORLD).unwrap();
+    let pinch = script::pinching(&hand);
+    let mut angles = nendo_devices::JointAngles::new();
+    for (j, a) in script::POINTING.iter().chain(&pinch) {
+        angles.set(*j, *a).unwrap();
+    }
+    let gap = (hand.local_finger(Digit::Thumb, Some(&angles)).tip()
+        - hand.local_finger(Digit::Index, Some(&angles)).tip())
+    .length()
+        * hand.scale();
+    assert!(gap < 0.5 * DEFAULT_PINCH_DISTANCE, "the tips meet: {gap}");
+
+    let t = script::sphere_pinch_pull().unwrap();
+    let mut s = session_with(&sphere, FingerModel::Hand(PINCH_FINGERS)).logging_contacts();
+    let mut held = 0;
+    // The surface when the pinch lets go (the fingertips may brush the clay after it).
+    let mut released = None;
+    for f in &t.frames {
+        let out = s.feed(f);
+        if out.touch == Touch::Holding {
+            held += 1;
+        } else if held > 0 && released.is_none() {
+            released = Some(s.grid().clone());
+        }
+    }
+    s.finish();
+    assert!(held > 90, "held for {held} frames");
+    let st = *s.hand_loop().stats();
+    assert_eq!(st.holds, 1, "{st:?}");
+    let contacts = s.contacts().unwrap();
+    let moves: Vec<_> = contacts
+        .iter()
+        .filter(|ops| matches!(ops.as_slice(), [Op::Move { .. }]))
+        .collect();
+    assert_eq!(moves.len(), 1, "one pinch, one move: {contacts:?}");
+    let Some(Op::Move { at, to, .. }) = moves[0].first() else {
+        panic!("the pinch is a move: {contacts:?}");
+    };
+    // The scripted pinch pulls about 1 side outward (+x) from where it took hold; its
+    // fingertips brush the clay on the way in, so the hold is near, not on, the first sphere.
+    let pull = *to - *at;
+    assert!((0.8..1.3).contains(&pull.length()), "{at} → {to}");
+    assert!(
+        pull.normalize().dot(DVec3::X) > 15f64.to_radians().cos(),
+        "{at} → {to}"
+    );
+    assert!(
+        (at.length() - 3.0).abs() < 0.6,
+        "held near the sphere: {at}"
+    );
+    // The surface follows the pinch out to where it let go (within 0.1 side: the hand's
+    // move is regulated with the brushing contacts of the same frames, not exact).
+    let released = released.expect("the pinch let go");
+    let hit = Probe::new()
+        .first_crossing(&released, *to + 2.0 * DVec3::X, -DVec3::X, 4.0)
+        .unwrap();
+    assert!((hit.point - *to).length() < 0.1, "{} vs {to}", hit.point);
+    let (_, g1) = largest_move_and_g1(&sphere, s.grid());
+    assert!(g1 < 0.01, "G1 {g1}°");
+}
+
+/// The fingers the shipped pinch is made with (its scene names them): thumb and index; the
+/// other three, curled out of the way, would brush the sphere on the way in.
+const PINCH_FINGERS: Fingers = Fingers::THUMB_AND_INDEX;

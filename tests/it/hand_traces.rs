@@ -61,7 +61,9 @@ fn the_shipped_traces_are_what_the_generators_write() {
             "sphere-push-pull",
             "plane-groove",
             "tube-pot",
-            "mouse-sphere"
+            "mouse-sphere",
+            "sphere-pinch-pull",
+            "plane-palm"
         ]
     );
     for s in shipped {
@@ -83,6 +85,8 @@ fn glove_traces_carry_the_profiles_glove_columns_and_a_steady_rate() {
         ("sphere-push-pull", 120.0),
         ("plane-groove", 120.0),
         ("tube-pot", 60.0),
+        ("sphere-pinch-pull", 120.0),
+        ("plane-palm", 120.0),
     ] {
         let (t, _) = shipped_file(name);
         assert_eq!(t.header.profile.as_deref(), Some(script::GLOVE_PROFILE));

@@ -304,7 +304,7 @@ fn a_missing_model_or_trace_is_named_once() {
 fn the_windows_hand_loop_and_nendo_replay_give_the_same_surface() {
     use nendo::app::document::Document;
     use nendo::app::hand_input::HandDriver;
-    use nendo::hand::{DEFAULT_FINGER_RADIUS, FingerModel};
+    use nendo::hand::DEFAULT_FINGER_RADIUS;
 
     let dir = temp_dir("window-vs-replay");
     let out = dir.join("replayed.json");
@@ -316,10 +316,11 @@ fn the_windows_hand_loop_and_nendo_replay_give_the_same_surface() {
     let trace = Trace::read(Path::new(&path)).unwrap();
     let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
     let mut doc = Document::new(Model::new(plane.clone()));
+    // The finger the trace's scene names, as the window's replay takes it.
     let mut driver = HandDriver::new(
         trace.header.hand,
         trace.header.world_from_tracker,
-        FingerModel::for_profile_name(trace.header.profile.as_deref()),
+        nendo::app::live::trace_finger(&trace.header),
         DEFAULT_FINGER_RADIUS,
     )
     .unwrap();
@@ -481,6 +482,8 @@ fn a_trace_recorded_against_a_model_replays_to_the_same_surface() {
         s(&profile),
         "--model",
         s(&start),
+        "--finger",
+        "index",
         "--finger-radius",
         "0.8",
         "--out",
@@ -493,6 +496,8 @@ fn a_trace_recorded_against_a_model_replays_to_the_same_surface() {
         "--model",
         s(&start),
         "--reference",
+        "--finger",
+        "index",
         "--finger-radius",
         "0.8",
         "--out",
@@ -627,7 +632,10 @@ fn an_old_version_trace_still_reads() {
             .unwrap()
             .frames
     );
-    let from_old = replay_bytes(&[s(&v1), "--primitive", "sphere"], &dir.join("old.json"));
+    let from_old = replay_bytes(
+        &[s(&v1), "--primitive", "sphere", "--finger", "index"],
+        &dir.join("old.json"),
+    );
     let from_new = replay_bytes(&[&shipped("sphere-push-pull")], &dir.join("new.json"));
     assert!(from_old == from_new);
     replay_fails(

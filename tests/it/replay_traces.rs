@@ -2,7 +2,9 @@
 //! by how much, and how continuous it stayed.
 
 use glam::DVec3;
-use nendo::hand::{FingerModel, Hand, HandOptions, LoopStats, Probe, Session};
+use nendo::hand::{
+    Digit, FingerModel, Fingers, Hand, HandOptions, LoopStats, Part, Probe, Session,
+};
 use nendo::surface::{Grid, Primitive, PrimitiveParams, Regulation, continuity};
 use nendo_devices::Trace;
 use std::path::Path;
@@ -15,8 +17,22 @@ fn trace(name: &str) -> Trace {
 }
 
 fn replay(trace: &Trace, start: &Grid, regulation: Regulation) -> (Grid, LoopStats) {
+    // The shipped glove traces before the whole hand were scripted for the index finger alone
+    // (their scene says so); the mouse's is a ray.
+    let finger = match FingerModel::for_profile_name(trace.header.profile.as_deref()) {
+        FingerModel::Ray => FingerModel::Ray,
+        FingerModel::Hand(_) => FingerModel::digit(Digit::Index),
+    };
+    replay_with(trace, start, regulation, finger)
+}
+
+fn replay_with(
+    trace: &Trace,
+    start: &Grid,
+    regulation: Regulation,
+    finger: FingerModel,
+) -> (Grid, LoopStats) {
     let hand = Hand::new(trace.header.hand, trace.header.world_from_tracker).unwrap();
-    let finger = FingerModel::for_profile_name(trace.header.profile.as_deref());
     let options = HandOptions {
         finger,
         ..HandOptions::default()
@@ -243,3 +259,73 @@ fn a_replay_is_a_pure_function_of_trace_surface_and_options() {
     assert_eq!(a.nodes(), b.nodes());
     assert_eq!(a, b);
 }
+
+#[test]
+fn sphere_pinch_pull_draws_a_nose_out_with_one_move() {
+    let sphere = build(Primitive::Sphere);
+    let (g, st) = replay_with(
+        &trace("sphere-pinch-pull"),
+        &sphere,
+        Regulation::default(),
+        FingerModel::Hand(PINCH_FINGERS),
+    );
+    assert!(finite(&g));
+    // One hold (the pinch); the approach also brushes the clay with the two fingertips.
+    assert_eq!(st.holds, 1, "{st:?}");
+    // The clay at the equator, longitude 0, came out toward where the pinch went (1 side).
+    let out = 10.0 - along(&g, DVec3::new(10.0, 0.0, 0.0), -DVec3::X);
+    assert!(out > 3.3 && out < 4.05, "the nose reaches x = {out}");
+    // The far side and the bottom did not move (the approach brushes the top).
+    for d in [DVec3::X, DVec3::Z] {
+        assert_eq!(along(&g, -10.0 * d, d), along(&sphere, -10.0 * d, d), "{d}");
+    }
+    assert_g1("pinch", &g);
+}
+
+#[test]
+fn plane_palm_presses_as_deep_as_the_palm_went() {
+    let plane = build(Primitive::Plane);
+    let (g, st) = replay_with(
+        &trace("plane-palm"),
+        &plane,
+        Regulation::default(),
+        FingerModel::Hand(Fingers::ALL.with(Part::Palm)),
+    );
+    assert!(finite(&g));
+    assert_eq!((st.contacts, st.pushes), (1, 1), "{st:?}");
+    let z = |x: f64, y: f64| 10.0 - along(&g, DVec3::new(x, y, 10.0), -DVec3::Z);
+    assert!(
+        (z(0.0, 0.0) + 0.1).abs() < 5e-3,
+        "under the palm: {}",
+        z(0.0, 0.0)
+    );
+    let largest = plane
+        .nodes()
+        .iter()
+        .zip(g.nodes())
+        .map(|(a, b)| (*b - *a).length())
+        .fold(0.0f64, f64::max);
+    assert!(largest <= 0.15, "a control point moved {largest}");
+    assert_eq!(z(4.0, 4.0), 0.0);
+    assert_g1("palm", &g);
+}
+
+/// G1 ≤ 0.01° after every shipped trace, replayed with the fingers it was made for.
+#[test]
+fn every_shipped_trace_leaves_the_surface_g1() {
+    for s in nendo::hand::script::shipped().unwrap() {
+        let (g, _) = replay_with(
+            &trace(s.name),
+            &s.grid().unwrap(),
+            Regulation::default(),
+            s.finger,
+        );
+        let c = continuity::report(&g, 17);
+        assert!(c.g1_max_deg <= 0.01, "{}: G1 {}°", s.name, c.g1_max_deg);
+        assert!(c.g0_gap < 1e-9, "{}: G0 {}", s.name, c.g0_gap);
+    }
+}
+
+/// The fingers the shipped pinch is made with (its scene names them): thumb and index; the
+/// other three, curled out of the way, would brush the sphere on the way in.
+const PINCH_FINGERS: Fingers = Fingers::THUMB_AND_INDEX;

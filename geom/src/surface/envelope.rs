@@ -8,7 +8,8 @@
 //! shape-function operations the placements stand for. Nothing outside this crate needs the
 //! control-point storage or the regulation internals to deform a grid.
 //!
-//! Limits: a contact's placements share one finger radius and capsule length; the engine keeps
+//! Limits: the placements of one stroke share one finger radius and capsule length (several
+//! strokes — several fingers, the palm — each have their own, see [`Stroke`]); the engine keeps
 //! its own unregulated net, so a contact must be applied to the grid it was begun on (a grid
 //! of another size starts a new contact).
 //!
@@ -17,6 +18,10 @@
 //! `T_0`, `M = D_0·d̂_0`); every later one is a draw-a-line segment (§5.2) from the previous
 //! pressed tip to `T_j`, its finger centre-line `L_f = D_j·d̂_j` and stroke `M_f = T_j − T_{j−1}`
 //! — the paper's polyline, one segment at a time, each with its own `L_f`.
+//!
+//! A contact of the whole hand is several such polylines at once, one [`Stroke`] per finger
+//! (and the palm) that touched: each starts with its own push, and all their placements join
+//! the one envelope below — one displacement field, regulated once.
 //!
 //! The paper's shape functions are displacement fields: a sample within `r_f` of a finger
 //! moves by `(1 − r²/r_f²)·M` wherever it already is. Applied one after another, two
@@ -81,6 +86,28 @@ pub fn describe(placements: &[Placement], radius: f64) -> Vec<Op> {
     ops
 }
 
+/// The placements of one finger (or the palm) during a contact: a push at the first, a
+/// draw-a-line segment to each later one, with the finger's radius `r_f` and capsule length.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stroke<'a> {
+    /// The placements, in the order the finger made them.
+    pub placements: &'a [Placement],
+    /// The finger radius `r_f` of the shape functions.
+    pub radius: f64,
+    /// How far behind the pressed tips the finger reaches (see [`Presser::apply`]).
+    pub length: f64,
+}
+
+/// A placement with its stroke's settings, as the engine keeps them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Seg {
+    placement: Placement,
+    /// The first placement of its stroke: a push (else a segment from the one before).
+    start: bool,
+    radius: f64,
+    length: f64,
+}
+
 /// A placement's finger and the segment of pressed tips it sweeps (one point for the push).
 #[derive(Debug, Clone)]
 struct Reach {
@@ -88,20 +115,23 @@ struct Reach {
     from: DVec3,
     to: DVec3,
     dir: DVec3,
+    /// How far behind the tips the finger reaches.
+    length: f64,
     /// Holds every point within the finger radius of the capsule (tips to `length` behind).
     bounds: Aabb,
 }
 
 impl Reach {
-    /// Whether the finger, `length` long, may move something in the box.
-    fn may_touch(&self, b: &Aabb, length: f64) -> bool {
+    /// Whether the finger may move something in the box.
+    fn may_touch(&self, b: &Aabb) -> bool {
         let overlap = self.bounds.min.cmple(b.max).all() && b.min.cmple(self.bounds.max).all();
-        overlap && self.finger.may_touch(b, length)
+        overlap && self.finger.may_touch(b, self.length)
     }
 
     /// The flow of the finger at `x`, zero when `x` is more than `length` behind the tips
     /// along the finger (out of the capsule's reach).
-    fn flow(&self, x: DVec3, length: f64) -> DVec3 {
+    fn flow(&self, x: DVec3) -> DVec3 {
+        let length = self.length;
         let e = self.to - self.from;
         let t = if e.length_squared() > 0.0 {
             ((x - self.from).dot(e) / e.length_squared()).clamp(0.0, 1.0)
@@ -133,7 +163,9 @@ pub struct Presser {
     /// Per patch: whether the envelope moves it.
     deformed: Vec<bool>,
     /// The placements of the last application.
-    applied: Vec<Placement>,
+    applied: Vec<Seg>,
+    /// The placements of this application.
+    pending: Vec<Seg>,
     fingers: Vec<Reach>,
     old: Vec<Reach>,
     area: Vec<usize>,
@@ -202,10 +234,53 @@ impl Presser {
         length: f64,
         regulation: Regulation,
     ) -> Result<&[usize], SurfaceError> {
+        let stroke = Stroke {
+            placements,
+            radius,
+            length,
+        };
+        self.apply_strokes(reference, grid, &[stroke], regulation)
+    }
+
+    /// [`Presser::apply`] for several strokes at once — every finger (and the palm) of a
+    /// contact of the whole hand, each with its own radius and length: the envelope of all
+    /// their placements, regulated once. One stroke is exactly [`Presser::apply`].
+    ///
+    /// # Errors
+    /// As [`Presser::apply`].
+    pub fn apply_strokes(
+        &mut self,
+        reference: &Grid,
+        grid: &mut Grid,
+        strokes: &[Stroke<'_>],
+        regulation: Regulation,
+    ) -> Result<&[usize], SurfaceError> {
         self.changed.clear();
         if self.unregulated.len() != reference.nodes().len() {
             self.begin(reference);
         }
+        let mut pending = std::mem::take(&mut self.pending);
+        pending.clear();
+        for s in strokes {
+            pending.extend(s.placements.iter().enumerate().map(|(j, &placement)| Seg {
+                placement,
+                start: j == 0,
+                radius: s.radius,
+                length: s.length,
+            }));
+        }
+        let result = self.apply_segs(reference, grid, &pending, regulation);
+        self.pending = pending;
+        result.map(|()| &self.changed[..])
+    }
+
+    fn apply_segs(
+        &mut self,
+        reference: &Grid,
+        grid: &mut Grid,
+        placements: &[Seg],
+        regulation: Regulation,
+    ) -> Result<(), SurfaceError> {
         // The first placement that differs from the last application: every segment from
         // there on changed (a segment also depends on the placement before it).
         let first = placements
@@ -214,13 +289,13 @@ impl Presser {
             .position(|(a, b)| a != b)
             .unwrap_or(placements.len().min(self.applied.len()));
         if first == placements.len() && first == self.applied.len() {
-            return Ok(&self.changed);
+            return Ok(());
         }
         // The fingers before `first` are those of the last application.
         self.old.clear();
         self.old
             .extend(self.fingers.drain(first.min(self.fingers.len())..));
-        if let Err(e) = reaches(placements, first, radius, length, &mut self.fingers) {
+        if let Err(e) = reaches(placements, first, &mut self.fingers) {
             self.fingers.append(&mut self.old);
             return Err(e);
         }
@@ -237,10 +312,7 @@ impl Presser {
         for f in self.fingers[first..].iter().chain(&self.old) {
             let start = self.area.len();
             reference.hierarchy().query(
-                &|b| {
-                    f.may_touch(b, length)
-                        || plane.is_some_and(|pl| f.may_touch(&pl.reflect_box(b), length))
-                },
+                &|b| f.may_touch(b) || plane.is_some_and(|pl| f.may_touch(&pl.reflect_box(b))),
                 &mut self.area,
             );
             let mut keep = start;
@@ -273,10 +345,10 @@ impl Presser {
             self.near.clear();
             let mirrored = plane.map(|pl| pl.reflect_box(&bounds));
             self.near.extend((0..self.fingers.len()).filter(|&k| {
-                self.fingers[k].may_touch(&bounds, length)
+                self.fingers[k].may_touch(&bounds)
                     || mirrored
                         .as_ref()
-                        .is_some_and(|b| self.fingers[k].may_touch(b, length))
+                        .is_some_and(|b| self.fingers[k].may_touch(b))
             }));
             let points = reference.patch_at(p);
             let r = samples(&points);
@@ -286,14 +358,14 @@ impl Presser {
                 let mut best = DVec3::ZERO;
                 let mut best_sq = 0.0;
                 for &f in &self.near {
-                    let flow = self.fingers[f].flow(*x, length);
+                    let flow = self.fingers[f].flow(*x);
                     let sq = flow.length_squared();
                     if sq > best_sq {
                         best = flow;
                         best_sq = sq;
                     }
                     if let Some(pl) = plane {
-                        let flow = pl.reflect(self.fingers[f].flow(pl.reflect(*x), length));
+                        let flow = pl.reflect(self.fingers[f].flow(pl.reflect(*x)));
                         let sq = flow.length_squared();
                         if sq > best_sq {
                             best = flow;
@@ -461,7 +533,7 @@ impl Presser {
         grid.refit(&self.changed, &mut self.scratch);
         self.applied.clear();
         self.applied.extend_from_slice(placements);
-        Ok(&self.changed)
+        Ok(())
     }
 
     fn next_stamp(&mut self, grid: &Grid) {
@@ -481,19 +553,22 @@ impl Presser {
     }
 }
 
-/// Appends the fingers of `placements[first..]` (see [`describe`]) to `out`; on an error
-/// `out` keeps only the fingers before `first`.
-fn reaches(
-    placements: &[Placement],
-    first: usize,
-    radius: f64,
-    length: f64,
-    out: &mut Vec<Reach>,
-) -> Result<(), SurfaceError> {
+/// Appends the fingers of `placements[first..]` (see [`describe`]; a placement that starts a
+/// stroke is a push) to `out`; on an error `out` keeps only the fingers before `first`.
+fn reaches(placements: &[Seg], first: usize, out: &mut Vec<Reach>) -> Result<(), SurfaceError> {
     for j in first..placements.len() {
-        let p = placements[j];
-        let from = if j == 0 { p.tip } else { placements[j - 1].tip };
-        let op = if j == 0 {
+        let Seg {
+            placement: p,
+            start,
+            radius,
+            length,
+        } = placements[j];
+        let from = if start || j == 0 {
+            p.tip
+        } else {
+            placements[j - 1].placement.tip
+        };
+        let op = if start || j == 0 {
             Op::Push {
                 at: p.tip - p.depth * p.dir,
                 dir: p.dir,
@@ -522,6 +597,7 @@ fn reaches(
                     from,
                     to: p.tip,
                     dir: p.dir,
+                    length,
                     bounds,
                 });
             }
@@ -649,6 +725,69 @@ mod tests {
             .unwrap();
         assert_eq!(grid.nodes(), once.nodes());
         assert_eq!(grid, once);
+    }
+
+    #[test]
+    fn strokes_far_apart_are_each_their_own_push_and_one_stroke_is_apply() {
+        // Two fingers pressing the 16 × 8 sphere far apart (opposite sides, no shared group):
+        // together, one application, exactly each push applied on its own, one after the other;
+        // a palm-sized radius for the second.
+        let sphere = Primitive::Sphere
+            .build(&PrimitiveParams {
+                patches: Some((16, 8)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap();
+        let on = |d: DVec3| 3.0 * d.normalize();
+        let a = DVec3::new(1.0, 0.3, 0.2);
+        let b = DVec3::new(-1.0, -0.2, -0.1);
+        let pa = [Placement {
+            tip: on(a) - 0.3 * a.normalize(),
+            dir: -a.normalize(),
+            depth: 0.3,
+        }];
+        let pb = [Placement {
+            tip: on(b) + 0.2 * b.normalize(),
+            dir: b.normalize(),
+            depth: 0.2,
+        }];
+        for reg in Regulation::ALL {
+            let strokes = [
+                Stroke {
+                    placements: &pa,
+                    radius: 0.8,
+                    length: 2.0,
+                },
+                Stroke {
+                    placements: &pb,
+                    radius: 1.2,
+                    length: 2.0,
+                },
+            ];
+            let mut together = sphere.clone();
+            Presser::default()
+                .apply_strokes(&sphere, &mut together, &strokes, reg)
+                .unwrap();
+            let mut apart = sphere.clone();
+            Sculptor::new()
+                .apply(&mut apart, &describe(&pa, 0.8)[0], reg)
+                .unwrap();
+            Sculptor::new()
+                .apply(&mut apart, &describe(&pb, 1.2)[0], reg)
+                .unwrap();
+            for (x, y) in together.nodes().iter().zip(apart.nodes()) {
+                assert!((*x - *y).length() < 1e-12, "{reg}: {x} vs {y}");
+            }
+            let mut one = sphere.clone();
+            Presser::default()
+                .apply_strokes(&sphere, &mut one, &strokes[..1], reg)
+                .unwrap();
+            let mut plain = sphere.clone();
+            Presser::default()
+                .apply(&sphere, &mut plain, &pa, 0.8, 2.0, reg)
+                .unwrap();
+            assert_eq!(one, plain, "{reg}");
+        }
     }
 
     #[test]

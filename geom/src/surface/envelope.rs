@@ -747,8 +747,8 @@ mod tests {
             depth: 0.3,
         }];
         let pb = [Placement {
-            tip: on(b) + 0.2 * b.normalize(),
-            dir: b.normalize(),
+            tip: on(b) - 0.2 * b.normalize(),
+            dir: -b.normalize(),
             depth: 0.2,
         }];
         for reg in Regulation::ALL {

@@ -1425,10 +1425,7 @@ mod tests {
         let _ = crate::cli::replay::run(crate::cli::replay::Args {
             trace: trace_path,
             primitive: None,
-            patches: None,
-            radius: None,
-            height: None,
-            minor_radius: None,
+            shape: crate::cli::primitive_args::ShapeArgs::default(),
             model: None,
             regulation: None,
             profile: None,

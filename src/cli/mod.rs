@@ -13,6 +13,7 @@ pub mod export;
 pub mod figure;
 pub mod morph;
 pub mod output;
+pub mod primitive_args;
 pub mod record;
 pub mod refine;
 #[cfg(feature = "gui")]

@@ -30,10 +30,11 @@ use clap::Args as ClapArgs;
 use nendo_devices::profile::{self, Input};
 use nendo_devices::{HandStream, SceneText, SourceState, StreamOptions, TraceWriter};
 
-use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
+use super::arg_error::{parse_primitive, parse_regulation};
+use super::primitive_args::ShapeArgs;
 use crate::hand::scene::{Scene, Start, sha256_hex};
 use crate::model::Model;
-use crate::surface::{Plane, Primitive, PrimitiveParams, Regulation};
+use crate::surface::{Plane, Primitive, Regulation};
 
 /// Arguments of `nendo record`.
 #[derive(Debug, ClapArgs)]
@@ -60,18 +61,9 @@ pub struct Args {
     /// tube).
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_primitive), conflicts_with = "model")]
     pub primitive: Option<Primitive>,
-    /// Patch counts `MxN` of the primitive.
-    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_counts))]
-    pub patches: Option<(usize, usize)>,
-    /// Radius R of the primitive (major radius of a torus).
-    #[arg(long)]
-    pub radius: Option<f64>,
-    /// Height H (cylinder; the walls of the tube).
-    #[arg(long)]
-    pub height: Option<f64>,
-    /// Minor radius r of a torus.
-    #[arg(long)]
-    pub minor_radius: Option<f64>,
+    /// The primitive's shape.
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// The scene's start surface: this model file, embedded in the trace.
     #[arg(long)]
     pub model: Option<PathBuf>,
@@ -121,10 +113,7 @@ fn reference_path(model: &Path, out: &Path) -> anyhow::Result<PathBuf> {
 /// The scene the options name, checked (the model read, the primitive's parameters
 /// resolved); `None` without `--primitive` or `--model`.
 fn scene(args: &Args) -> anyhow::Result<Option<SceneText>> {
-    let shape = args.patches.is_some()
-        || args.radius.is_some()
-        || args.height.is_some()
-        || args.minor_radius.is_some();
+    let shape = args.shape.given();
     let settings = args.regulation.is_some()
         || args.finger.is_some()
         || args.finger_radius.is_some()
@@ -133,9 +122,7 @@ fn scene(args: &Args) -> anyhow::Result<Option<SceneText>> {
     let mut scene = match (&args.model, args.primitive) {
         (Some(path), _) => {
             if shape {
-                anyhow::bail!(
-                    "--patches, --radius, --height and --minor-radius shape a primitive; they do not apply to --model"
-                );
+                return Err(ShapeArgs::not_for_a_model());
             }
             let bytes =
                 std::fs::read(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
@@ -154,12 +141,7 @@ fn scene(args: &Args) -> anyhow::Result<Option<SceneText>> {
             })
         }
         (None, Some(p)) => {
-            let params = PrimitiveParams {
-                patches: args.patches,
-                radius: args.radius,
-                height: args.height,
-                minor_radius: args.minor_radius,
-            };
+            let params = args.shape.params();
             Scene::primitive(p, &params)?
         }
         (None, None) => {

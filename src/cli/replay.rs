@@ -39,7 +39,8 @@
 //! `x = 0` (`y = 0`, `z = 0`), keeping a symmetric model exactly symmetric; a model that is not
 //! symmetric about the plane is refused (exit status 1).
 
-use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
+use super::arg_error::{parse_primitive, parse_regulation};
+use super::primitive_args::ShapeArgs;
 use clap::Args as ClapArgs;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -64,18 +65,9 @@ pub struct Args {
     /// trace's scene).
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_primitive), conflicts_with = "model")]
     pub primitive: Option<Primitive>,
-    /// Patch counts `MxN` of the primitive.
-    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_counts))]
-    pub patches: Option<(usize, usize)>,
-    /// Radius R of the primitive (major radius of a torus).
-    #[arg(long)]
-    pub radius: Option<f64>,
-    /// Height H (cylinder; the walls of the tube).
-    #[arg(long)]
-    pub height: Option<f64>,
-    /// Minor radius r of a torus.
-    #[arg(long)]
-    pub minor_radius: Option<f64>,
+    /// The primitive's shape.
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// Start from this model file instead of a primitive (default: the trace's scene).
     #[arg(long)]
     pub model: Option<PathBuf>,
@@ -266,30 +258,17 @@ fn setup(args: &Args, trace: &Trace) -> anyhow::Result<Setup> {
     };
     let scene = Scene::of_trace(&trace.header).map_err(|e| in_trace(&e))?;
     let mut from_scene = Vec::new();
-    let shape_args = args.patches.is_some()
-        || args.radius.is_some()
-        || args.height.is_some()
-        || args.minor_radius.is_some();
-    let given = PrimitiveParams {
-        patches: args.patches,
-        radius: args.radius,
-        height: args.height,
-        minor_radius: args.minor_radius,
-    };
+    let shape_args = args.shape.given();
+    let given = args.shape.params();
     let build = |p: Primitive, params: &PrimitiveParams| -> anyhow::Result<Model> {
         Ok(Model::new(
             p.build(params).map_err(|e| anyhow::anyhow!("{p}: {e}"))?,
         ))
     };
-    let no_shape = || {
-        anyhow::anyhow!(
-            "--patches, --radius, --height and --minor-radius shape a primitive; they do not apply to --model"
-        )
-    };
     let mut model = match (&args.model, args.primitive, &scene) {
         (Some(path), _, _) => {
             if shape_args {
-                return Err(no_shape());
+                return Err(ShapeArgs::not_for_a_model());
             }
             Model::read(path).map_err(|e| naming(path, &e))?.model
         }
@@ -528,6 +507,7 @@ fn replay(args: &Args) -> anyhow::Result<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cli::arg_error::parse_counts;
     use crate::hand::Digit;
 
     #[test]

@@ -23,7 +23,8 @@
 //! symmetric model exactly symmetric; a model that is not symmetric about the plane is
 //! refused.
 
-use super::arg_error::{parse_counts, parse_primitive, parse_regulation};
+use super::arg_error::{parse_primitive, parse_regulation};
+use super::primitive_args::ShapeArgs;
 use clap::Args as ClapArgs;
 use std::io::Read;
 use std::path::PathBuf;
@@ -32,7 +33,7 @@ use std::time::Instant;
 
 use crate::model::{Model, ops};
 use crate::surface::grid::MAX_PATCHES;
-use crate::surface::{Plane, Primitive, PrimitiveParams, Regulation, Sculptor, Symmetry, refine};
+use crate::surface::{Plane, Primitive, Regulation, Sculptor, Symmetry, refine};
 
 /// Arguments of `nendo sculpt`.
 #[derive(Debug, ClapArgs)]
@@ -40,18 +41,9 @@ pub struct Args {
     /// Start from a primitive: plane, cylinder, hemisphere, sphere, torus or tube.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_primitive), conflicts_with = "model")]
     pub primitive: Option<Primitive>,
-    /// Patch counts `MxN` (M along u — around a closed direction —, N along v).
-    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_counts))]
-    pub patches: Option<(usize, usize)>,
-    /// Radius R in sides (major radius of a torus).
-    #[arg(long)]
-    pub radius: Option<f64>,
-    /// Height H in sides (cylinder; the walls of the tube).
-    #[arg(long)]
-    pub height: Option<f64>,
-    /// Minor radius r of a torus.
-    #[arg(long)]
-    pub minor_radius: Option<f64>,
+    /// The primitive's shape.
+    #[command(flatten)]
+    pub shape: ShapeArgs,
     /// Start from this model file instead of a primitive.
     #[arg(long)]
     pub model: Option<PathBuf>,
@@ -99,28 +91,18 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 fn sculpt(args: &Args) -> anyhow::Result<String> {
-    let shape_args = args.patches.is_some()
-        || args.radius.is_some()
-        || args.height.is_some()
-        || args.minor_radius.is_some();
+    let shape_args = args.shape.given();
     let mut model = match (&args.model, args.primitive) {
         (Some(path), _) => {
             if shape_args {
-                anyhow::bail!(
-                    "--patches, --radius, --height and --minor-radius shape a primitive; they do not apply to --model"
-                );
+                return Err(ShapeArgs::not_for_a_model());
             }
             Model::read(path)
                 .map_err(|e| anyhow::anyhow!(e.in_file(path)))?
                 .model
         }
         (None, Some(p)) => {
-            let params = PrimitiveParams {
-                patches: args.patches,
-                radius: args.radius,
-                height: args.height,
-                minor_radius: args.minor_radius,
-            };
+            let params = args.shape.params();
             Model::new(p.build(&params).map_err(|e| anyhow::anyhow!("{p}: {e}"))?)
         }
         (None, None) => anyhow::bail!("give --primitive or --model"),
@@ -229,7 +211,7 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::cli::arg_error::parse_counts;
 
     #[test]
     fn counts_parse() {

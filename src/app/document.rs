@@ -300,10 +300,10 @@ impl Document {
     ///
     /// `prepare` sees the rewound surface and gives the finer grid to move onto, if any, and
     /// the mirror map to apply `op` with (`None`: one-sided).
-    pub fn reapply_stroke(
+    pub fn reapply_stroke<'m>(
         &mut self,
         op: Option<&Op>,
-        prepare: impl FnOnce(&Grid) -> (Option<Grid>, Option<Symmetry>),
+        prepare: impl FnOnce(&Grid) -> (Option<Grid>, Option<&'m Symmetry>),
     ) -> Option<Option<Result<Touched, SurfaceError>>> {
         let recorded = self.stroke?;
         let restored = self.history.rewind(&mut self.model);
@@ -320,7 +320,7 @@ impl Document {
             self.history.rebase_open(&self.model);
             change = SurfaceChange::Everything;
         }
-        let result = op.map(|op| self.apply_unnoted(op, mirror.as_ref()));
+        let result = op.map(|op| self.apply_unnoted(op, mirror));
         if let (Some(Ok(touched)), SurfaceChange::Patches(p)) = (&result, &mut change) {
             p.extend_from_slice(&touched.patches);
             p.sort_unstable();
@@ -338,10 +338,10 @@ impl Document {
     /// [`Document::reapply_stroke`]: a finer grid to move onto first (the undo step and a
     /// cancel still lead back to the model the stroke began with) and the mirror map. `None`
     /// when no stroke is in progress (nothing done).
-    pub fn add_to_stroke(
+    pub fn add_to_stroke<'m>(
         &mut self,
         op: &Op,
-        prepare: impl FnOnce(&Grid) -> (Option<Grid>, Option<Symmetry>),
+        prepare: impl FnOnce(&Grid) -> (Option<Grid>, Option<&'m Symmetry>),
     ) -> Option<Result<Touched, SurfaceError>> {
         self.stroke?;
         let (finer, mirror) = prepare(&self.model.surface);
@@ -351,7 +351,7 @@ impl Document {
             self.history.rebase_open(&self.model);
             change = SurfaceChange::Everything;
         }
-        let result = self.apply_unnoted(op, mirror.as_ref());
+        let result = self.apply_unnoted(op, mirror);
         if let (Ok(touched), SurfaceChange::Patches(p)) = (&result, &mut change) {
             p.extend_from_slice(&touched.patches);
         }

@@ -137,7 +137,7 @@ impl LiveStroke {
 
     /// What a frame works on, given the surface it starts from: the finer grid to move onto
     /// when auto-refine asks for one, and the mirror map to apply `op` with.
-    fn prepare(&mut self, grid: &Grid, op: Option<&Op>) -> (Option<Grid>, Option<Symmetry>) {
+    fn prepare(&mut self, grid: &Grid, op: Option<&Op>) -> (Option<Grid>, Option<&Symmetry>) {
         let finer = match op.filter(|_| self.auto_refine) {
             None => None,
             Some(op) => match &self.mirror {
@@ -160,7 +160,7 @@ impl LiveStroke {
                     .and_then(|f| f.refinement.apply(grid).ok()),
             },
         };
-        (finer, self.mirror.clone())
+        (finer, self.mirror.as_ref())
     }
 
     /// Shows the dabs of a smoothing stroke: those not taken yet are applied one after another

@@ -66,7 +66,6 @@ use glam::{DVec2, DVec3};
 use serde::Deserialize;
 use serde::de::IgnoredAny;
 use serde_json::{Value, json};
-use std::io::{self, BufRead, Write};
 use std::process::ExitCode;
 
 /// Arguments of `nendo curve`.
@@ -79,59 +78,7 @@ pub struct Args {
 
 /// Runs `nendo curve`.
 pub fn run(args: Args) -> ExitCode {
-    if !args.batch {
-        eprintln!(
-            "nendo curve: only --batch mode exists: JSON Lines requests on stdin (see `nendo curve --help` and the module docs)"
-        );
-        return ExitCode::from(2);
-    }
-    let stdin = io::stdin();
-    let stdout = io::stdout();
-    let mut out = io::BufWriter::new(stdout.lock());
-    match answer_lines(stdin.lock(), &mut out) {
-        Ok(0) => ExitCode::SUCCESS,
-        Ok(_) => ExitCode::from(1),
-        // A closed pipe ends the command quietly (see `super::output`).
-        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => {
-            ExitCode::from(super::output::BROKEN_PIPE_EXIT)
-        }
-        Err(e) => {
-            eprintln!("nendo curve: {e}");
-            ExitCode::from(2)
-        }
-    }
-}
-
-/// Answers every request line of `input` on `output`; returns how many lines failed.
-///
-/// # Errors
-/// Reading the input or writing the output failed.
-pub fn answer_lines(input: impl BufRead, mut output: impl Write) -> io::Result<usize> {
-    let mut failed = 0;
-    for line in input.lines() {
-        let line = match line {
-            Ok(l) => l,
-            Err(e) if e.kind() == io::ErrorKind::InvalidData => {
-                failed += 1;
-                writeln!(output, "{}", json!({ "error": "line is not valid UTF-8" }))?;
-                continue;
-            }
-            Err(e) => return Err(e),
-        };
-        if line.trim().is_empty() {
-            continue;
-        }
-        let reply = match answer(&line) {
-            Ok(v) => v,
-            Err(e) => {
-                failed += 1;
-                json!({ "error": e.to_string() })
-            }
-        };
-        writeln!(output, "{reply}")?;
-        output.flush()?;
-    }
-    Ok(failed)
+    super::json_lines::run("curve", args.batch, answer)
 }
 
 /// Why one request line cannot be answered.
@@ -614,7 +561,8 @@ mod tests {
     fn a_failing_line_does_not_stop_the_batch() {
         let input = "{\"op\":\"split\",\"curve\":{\"bezier\":[[0,0],[1,1],[2,0]]},\"u\":0.5}\nnot json\n\n{\"op\":\"nope\"}\n";
         let mut out = Vec::new();
-        let failed = answer_lines(input.as_bytes(), &mut out).expect("io");
+        let failed =
+            super::super::json_lines::answer_lines(input.as_bytes(), &mut out, answer).expect("io");
         assert_eq!(failed, 2);
         let text = String::from_utf8(out).expect("utf-8");
         let lines: Vec<&str> = text.lines().collect();

@@ -11,6 +11,7 @@ pub mod devices;
 pub mod emulate;
 pub mod export;
 pub mod figure;
+pub mod json_lines;
 pub mod morph;
 pub mod output;
 pub mod primitive_args;

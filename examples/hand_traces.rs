@@ -5,7 +5,7 @@
 //! ```
 //!
 //! Each trace is a scripted hand motion (`nendo::hand::script`) written through the real trace
-//! writer of `nendo-devices`; the generators are deterministic, and `tests/hand_traces.rs`
+//! writer of `nendo-devices`; the generators are deterministic, and `tests/it/hand_traces.rs`
 //! checks that the shipped files are what they write.
 
 use std::path::PathBuf;

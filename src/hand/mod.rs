@@ -15,7 +15,7 @@
 //! | [`session`] | [`HandLoop`]: frames → contact of every pressing [`Part`] → the surface deformed, pinches held; [`Session`]: the loop with its own grid, for replay |
 //! | [`press`] | the operation of one contact: every part's finger [`Placement`]s applied together, as an envelope, to the surface before the contact — re-exported from the geometry crate's engine, [`crate::surface::envelope`] (the hand only builds placements) |
 //! | [`mouse`] | [`MouseFinger`]: the mouse as a hand — the view ray is the finger; click depth and drag give push, pull and draw-a-line |
-//! //! | [`scene`] | [`Scene`](scene::Scene): the surface a recorded session started from and its settings, the `scene` line of a trace header (`nendo replay TRACE` needs nothing else) |
+//! | [`scene`] | [`Scene`](scene::Scene): the surface a recorded session started from and its settings, the `scene` line of a trace header (`nendo replay TRACE` needs nothing else) |
 //! | [`script`] | scripted hand motions written as real traces (inverse kinematics for a wanted fingertip), and the generators of the traces shipped in `devices/traces/` |
 //!
 //! ## Contact, in short (the rules are in [`session`])
@@ -46,9 +46,10 @@
 //! - While the grip is held (the glove's switch; the right mouse button) the clay sticks to
 //!   the fingertips: withdrawing pulls, moving draws a ridge.
 //! - **Pinch to grab.** Thumb and index tips meeting (closer than 0.4 side) on the clay from
-//!   the same side take hold of it at the pinch point and, while they stay together, move it
-//!   with the hand (the surface's exact `move`, one undo step); a wall pinched from both
-//!   sides is pressed on both sides instead.
+//!   the same side take hold of the clay nearest the pinch point and, while they stay
+//!   together, move it with the pinch point (the surface's exact `move`, live from the surface
+//!   before the pinch, one undo step: after letting go the surface passes through the last
+//!   target to rounding); a wall pinched from both sides is pressed on both sides instead.
 //!
 //! The whole loop is a pure function of the frames, the starting surface and the options:
 //! replaying a trace twice gives bit-identical surfaces.

@@ -516,36 +516,161 @@ pub fn pinching(hand: &Hand) -> Vec<(Joint, f64)> {
     best.map(|(_, j)| j).unwrap_or_default()
 }
 
-/// Pinch and pull on the paper's sphere: the index fingertip comes to rest just outside the
-/// equator at longitude 0 (pointing at the centre), the thumb closes on it ([`pinching`]),
-/// the hand pulls 1 side straight out, then the thumb opens and the hand leaves. 120 Hz.
+/// The pinch of [`pinching`] opened: the index uncurled by `open` radians at its MCP and PIP,
+/// and the thumb ([`thumb_to`]) at the point mirror of the opened index tip through the closed
+/// pinch point (midway between the closed tips), so that the pinch point stays where it is
+/// when the two fingers open or close together. The index and thumb angles.
+#[must_use]
+pub fn pinch_opened(hand: &Hand, pinch: &[(Joint, f64)], open: f64) -> Vec<(Joint, f64)> {
+    let mut angles = JointAngles::new();
+    for &(j, a) in POINTING.iter().chain(pinch) {
+        let _ = angles.set(j, a);
+    }
+    let closed_mid = 0.5
+        * (hand.local_finger(Digit::Index, Some(&angles)).tip()
+            + hand.local_finger(Digit::Thumb, Some(&angles)).tip());
+    let mut out = Vec::new();
+    for j in [Joint::IndexMcp, Joint::IndexPip] {
+        let a = angles.get(j).unwrap_or(0.0) - open;
+        let _ = angles.set(j, a);
+        out.push((j, a));
+    }
+    let index = hand.local_finger(Digit::Index, Some(&angles)).tip();
+    let (thumb, _) = thumb_to(hand, &angles, 2.0 * closed_mid - index);
+    out.extend(thumb);
+    out
+}
+
+/// The tracker pose that puts the pinch of `angles` (the point midway between the thumb and
+/// index tips) at `at`, the line from the index tip to the thumb tip along `across`, and the
+/// two fingers' mean direction as near `into` as that allows (its part square to `across`):
+/// the fingertips side by side on the clay, pointing into it. `None` when the directions are
+/// zero or parallel.
+#[must_use]
+pub fn pinch_pose(
+    hand: &Hand,
+    angles: &JointAngles,
+    at: DVec3,
+    into: DVec3,
+    across: DVec3,
+) -> Option<TrackerPose> {
+    // Any pose, then the rotation R taking its (tip line, mean direction) to (across, into).
+    let start =
+        hand.pose_for_fingertip(Digit::Index, Some(angles), DVec3::ZERO, DVec3::X, DVec3::Z)?;
+    let placed = hand.pose(&start, Some(angles));
+    let (index, thumb) = (placed.finger(Digit::Index), placed.finger(Digit::Thumb));
+    let mid = 0.5 * (index.tip() + thumb.tip());
+    let from = frame_of(
+        thumb.tip() - index.tip(),
+        index.direction() + thumb.direction(),
+    )?;
+    let to = frame_of(across, into)?;
+    let r = to * from.transpose();
+    let back = placed.orientation * DVec3::Z;
+    hand.pose_for_fingertip(
+        Digit::Index,
+        Some(angles),
+        at + r * (index.tip() - mid),
+        r * index.direction(),
+        r * back,
+    )
+}
+
+/// The rotation whose columns are `x̂`, `ŷ = ẑ × x̂`, `ẑ` (`ẑ` the part of `z` square to `x`).
+fn frame_of(x: DVec3, z: DVec3) -> Option<glam::DMat3> {
+    let x = x.try_normalize()?;
+    let z = (z - z.dot(x) * x).try_normalize()?;
+    Some(glam::DMat3::from_cols(x, z.cross(x), z))
+}
+
+/// How far outside the sphere the scripted pinch closes (side): the tips stay out of the clay
+/// all the way in (at least 0.02 side off it while the fingers close).
+const PINCH_GAP: f64 = 0.08;
+
+/// How far the scripted pinch opens (radians off the index's curl, [`pinch_opened`]): the tips
+/// 0.98 side apart.
+const PINCH_OPEN: f64 = 0.25;
+
+/// Pinch and pull on the paper's sphere, the way a hand pulls a nose out of a ball: the hand
+/// comes in along −x with thumb and index open ([`pinch_opened`]: the tips 0.98 side apart,
+/// thumb above index, side by side on the sphere, [`pinch_pose`]), stops with the pinch point
+/// 0.08 side outside the equator at longitude 0, closes both fingers ([`pinching`]; the pinch
+/// point stays put, the tips end 0.1 side apart and take hold of the clay as they pass within
+/// the pinch distance), pulls 1 side straight out along +x, opens the fingers again (letting
+/// go) and leaves along +x. Neither fingertip's capsule axis reaches the clay: nothing
+/// presses, the pinch's `move` is the only operation. 120 Hz.
 ///
 /// # Errors
 /// Never for these fixed motions.
 pub fn sphere_pinch_pull() -> Result<Trace, HandError> {
     let mut c = Choreography::new(Choreography::WORLD, 120.0)?;
-    let inward = -DVec3::X;
-    let open: Vec<(Joint, f64)> = POINTING
-        .iter()
-        .filter(|(j, _)| THUMB_JOINTS.contains(j))
-        .copied()
-        .collect();
-    let pinch = pinching(c.hand());
-    // The index curled for the pinch from the start; the thumb closes on it at the clay.
-    let (curl, thumb): (Vec<_>, Vec<_>) =
-        pinch.iter().partition(|(j, _)| !THUMB_JOINTS.contains(j));
-    c.set_angles(&curl);
-    c.place(DVec3::new(4.5, 0.0, 0.0), inward, DVec3::Z);
+    let hand = *c.hand();
+    let closed = pinching(&hand);
+    let open = pinch_opened(&hand, &closed, PINCH_OPEN);
+    c.set_angles(&open);
+    let at = DVec3::new(3.0 + PINCH_GAP, 0.0, 0.0);
+    let Some(grab) = pinch_pose(&hand, c.angles(), at, -DVec3::X, DVec3::Z) else {
+        return Err(HandError::Model("no hand pose pinches the sphere".into()));
+    };
+    c.set_pose(c.shifted(grab, DVec3::new(1.5, 0.0, 0.0)));
     c.hold(6);
-    c.move_to(DVec3::new(3.04, 0.0, 0.0), inward, 60);
-    c.bend_to(&thumb, 30);
+    c.move_pose_to(grab, 60);
+    c.bend_to(&closed, 30);
     c.hold(10);
-    let out = c.shifted(c.pose(), DVec3::new(1.0, 0.0, 0.0));
-    c.move_pose_to(out, 90);
+    let pulled = c.shifted(grab, DVec3::new(1.0, 0.0, 0.0));
+    c.move_pose_to(pulled, 90);
     c.hold(10);
     c.bend_to(&open, 30);
-    let away = c.shifted(c.pose(), DVec3::new(1.5, 0.0, 0.0));
+    let away = c.shifted(pulled, DVec3::new(1.5, 0.0, 0.0));
     c.move_pose_to(away, 30);
+    c.finish(GLOVE_PROFILE)
+}
+
+/// The index fingertip of the rim pinch: inside the tube, 0.15 side past its wall at x = 2,
+/// 1.6 below the rim.
+pub const RIM_INDEX: DVec3 = DVec3::new(2.15, 0.0, 4.4);
+/// The thumb tip of the rim pinch: outside the tube, 0.15 side past the wall, 1 side above the
+/// index's press and 0.3 to its side (−y).
+pub const RIM_THUMB: DVec3 = DVec3::new(1.85, -0.3, 5.4);
+
+/// A two-finger pinch of the paper's test tube's wall near its rim (the tube is one sheet of
+/// clay: radius 2, its rim at z = 6): the hand comes down over the rim with the index inside
+/// the tube (pointing down, leaning 30° out toward the wall), the thumb open outside, 0.4 side
+/// in from where it will press; it moves out until the index tip is 0.15 side past the wall
+/// ([`RIM_INDEX`]: pressing it out), the thumb closes on the outside until its tip is 0.15
+/// side past the wall ([`RIM_THUMB`]: pressing it in), holds, opens, and the hand moves back
+/// in and rises out of the tube. Both tips press the one wall from its two sides, at spots
+/// along it, as fingers side by side do a sheet (on one sheet two tips at the same spot
+/// from both sides would have to pass through each other); their tips never come within the
+/// pinch distance, so nothing is held. One contact of both fingers. 60 Hz.
+///
+/// # Errors
+/// Never for these fixed motions.
+pub fn tube_rim_pinch() -> Result<Trace, HandError> {
+    let mut c = Choreography::new(Choreography::WORLD, 60.0)?;
+    let hand = *c.hand();
+    let lean = 30f64.to_radians();
+    let (s, k) = (lean.sin(), lean.cos());
+    let axis = DVec3::new(s * k, s * s, -k);
+    // The back of the hand toward −y: the thumb reaches over the rim to the outside.
+    c.place(RIM_INDEX, axis, DVec3::new(-0.55, -0.83, 0.0));
+    let press = c.pose();
+    let placed = hand.pose(&press, Some(c.angles()));
+    let local = |w: DVec3| placed.orientation.inverse() * (w - placed.sensor) / placed.scale;
+    let (squeeze, _) = thumb_to(&hand, c.angles(), local(RIM_THUMB));
+    let (open, _) = thumb_to(&hand, c.angles(), local(DVec3::new(2.5, -0.3, 5.8)));
+    c.set_angles(&open);
+    let inside = c.shifted(press, DVec3::new(-0.4, 0.0, 0.0));
+    let above = c.shifted(inside, DVec3::new(0.0, 0.0, 2.5));
+    c.set_pose(above);
+    c.hold(6);
+    c.move_pose_to(inside, 48);
+    c.move_pose_to(press, 24);
+    c.bend_to(&squeeze, 24);
+    c.hold(12);
+    c.bend_to(&open, 24);
+    c.move_pose_to(inside, 24);
+    c.move_pose_to(above, 36);
     c.finish(GLOVE_PROFILE)
 }
 
@@ -952,6 +1077,14 @@ pub fn shipped() -> Result<Vec<Shipped>, HandError> {
             // The pinch's two fingers: curled, the others would brush the sphere on the way in.
             finger: FingerModel::Hand(Fingers::THUMB_AND_INDEX),
             trace: sphere_pinch_pull()?,
+        },
+        Shipped {
+            name: "tube-rim-pinch",
+            about: "thumb outside and index inside press the tube's wall near the rim from both sides (glove + tracker, 60 Hz)",
+            primitive: Primitive::Tube,
+            params: PrimitiveParams::default(),
+            finger: FingerModel::Hand(Fingers::THUMB_AND_INDEX),
+            trace: tube_rim_pinch()?,
         },
         Shipped {
             name: "plane-palm",

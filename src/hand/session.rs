@@ -83,9 +83,9 @@
 //! 9. **Pinch to grab.** With thumb and index both in the set (a glove; never the mouse), when
 //!    their fingertips come closer than [`HandOptions::pinch_distance`] (0.4 side by default)
 //!    *on the same side of the clay* (the segment between the tips does not cross the
-//!    surface) and the line through the pinch point `P` (midway between the tips) along the
-//!    two fingers' mean direction meets the surface at `S` within `r_f` of `P`, they take hold
-//!    of the clay at `S` instead of pressing (a press in progress ends first). While the tips
+//!    surface) and the surface point `S` nearest the pinch point `P` (midway between the tips,
+//!    [`crate::surface::nearest`]) is within `r_f` of `P`, they take hold of the clay at `S`
+//!    instead of pressing (a press in progress ends first). While the tips
 //!    stay within 1.5 × the pinch distance, every frame the surface is the surface before the
 //!    pinch moved by `{"op":"move","at":S,"to":S + (P − P₀),"radius":r_f}` ([`Op::Move`],
 //!    [`crate::surface::grab`]: the held point lands exactly on the target), `P₀` the pinch
@@ -1067,7 +1067,7 @@ impl HandLoop {
         }
         // Both tips on the same side of the clay (the segment between them does not cross it:
         // a wall pinched from both sides is pressed, not held), the pinch point within a
-        // finger radius of the surface along the two fingers' mean direction.
+        // finger radius of the surface: the clay nearest it is taken hold of.
         if self
             .probe
             .first_crossing(grid, thumb.tip, index.tip - thumb.tip, gap)
@@ -1075,13 +1075,8 @@ impl HandLoop {
         {
             return false;
         }
-        let Some(axis) = (thumb.axis + index.axis).try_normalize() else {
-            return false;
-        };
-        let r = o.finger_radius;
-        let Some(hit) = self
-            .probe
-            .first_crossing(grid, mid - r * axis, axis, 2.0 * r)
+        let Some(hit) = crate::surface::nearest(grid, mid)
+            .filter(|s| (s.point - mid).length() <= o.finger_radius)
         else {
             return false;
         };

@@ -446,10 +446,13 @@ fn the_palm_laid_on_the_plane_presses_as_deep_as_it_went() {
     assert_eq!((st.contacts, st.pushes), (1, 1), "{st:?}");
 }
 
-/// Pinch to grab: the thumb closes on the index fingertip resting just outside the sphere;
-/// together they take hold of the clay (one `move`, not a press) and pull it out with the
-/// hand: the held point lands where the pinch went, 1 side out, exactly; opening the thumb
-/// lets go.
+/// Pinch to grab: thumb and index, open, come in beside the sphere and close on it; together
+/// they take hold of the clay (one `move`, no press: the fingertips never reach into the clay)
+/// and pull it out with the hand, 1 side along +x; opening the fingers lets go. While held,
+/// the clay point taken hold of follows the pinch point; after letting go the surface passes
+/// through the last target exactly (the `move` operation lands to rounding), and the one
+/// operation the loop commits gives the same surface when applied to the sphere (one undo
+/// step).
 #[test]
 fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
     let sphere = Primitive::Sphere
@@ -470,10 +473,15 @@ fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
     let t = script::sphere_pinch_pull().unwrap();
     let mut s = session_with(&sphere, FingerModel::Hand(PINCH_FINGERS)).logging_contacts();
     let mut held = 0;
-    // The surface when the pinch lets go (the fingertips may brush the clay after it).
+    // The surface when the pinch lets go.
     let mut released = None;
     for f in &t.frames {
         let out = s.feed(f);
+        assert!(
+            matches!(out.touch, Touch::Free | Touch::Holding),
+            "nothing presses: {:?}",
+            out.touch
+        );
         if out.touch == Touch::Holding {
             held += 1;
         } else if held > 0 && released.is_none() {
@@ -483,35 +491,46 @@ fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
     s.finish();
     assert!(held > 90, "held for {held} frames");
     let st = *s.hand_loop().stats();
-    assert_eq!(st.holds, 1, "{st:?}");
+    assert_eq!(
+        (st.contacts, st.holds, st.operations()),
+        (1, 1, 1),
+        "one contact, the hold: {st:?}"
+    );
     let contacts = s.contacts().unwrap();
-    let moves: Vec<_> = contacts
-        .iter()
-        .filter(|ops| matches!(ops.as_slice(), [Op::Move { .. }]))
-        .collect();
-    assert_eq!(moves.len(), 1, "one pinch, one move: {contacts:?}");
-    let Some(Op::Move { at, to, .. }) = moves[0].first() else {
+    let [ops] = contacts else {
+        panic!("one operation: {contacts:?}");
+    };
+    let [Op::Move { at, to, radius }] = ops.as_slice() else {
         panic!("the pinch is a move: {contacts:?}");
     };
-    // The scripted pinch pulls about 1 side outward (+x) from where it took hold; its
-    // fingertips brush the clay on the way in, so the hold is near, not on, the first sphere.
+    // Taken hold of on the untouched sphere (within its arc error), pulled 1 side along +x: the
+    // pinch point drifts by hundredths while the fingers close and open.
+    assert!((at.length() - 3.0).abs() < 1e-4, "held on the sphere: {at}");
     let pull = *to - *at;
-    assert!((0.8..1.3).contains(&pull.length()), "{at} → {to}");
-    assert!(
-        pull.normalize().dot(DVec3::X) > 15f64.to_radians().cos(),
-        "{at} → {to}"
-    );
-    assert!(
-        (at.length() - 3.0).abs() < 0.6,
-        "held near the sphere: {at}"
-    );
-    // The surface follows the pinch out to where it let go (within 0.1 side: the hand's
-    // move is regulated with the brushing contacts of the same frames, not exact).
+    assert!((pull - DVec3::X).length() < 0.02, "{at} → {to}");
+    // The surface passes through the target exactly, when letting go and at the end.
     let released = released.expect("the pinch let go");
-    let hit = Probe::new()
-        .first_crossing(&released, *to + 2.0 * DVec3::X, -DVec3::X, 4.0)
+    for (when, g) in [("released", &released), ("end", s.grid())] {
+        let miss = (nendo::surface::nearest(g, *to).unwrap().point - *to).length();
+        assert!(
+            miss < 1e-9 * 3.0,
+            "{when}: the surface misses the target by {miss}"
+        );
+    }
+    // The one operation committed is the whole pinch.
+    let mut replayed = sphere.clone();
+    nendo::surface::Sculptor::new()
+        .apply(
+            &mut replayed,
+            &Op::Move {
+                at: *at,
+                to: *to,
+                radius: *radius,
+            },
+            Regulation::default(),
+        )
         .unwrap();
-    assert!((hit.point - *to).length() < 0.1, "{} vs {to}", hit.point);
+    assert_eq!(&replayed, s.grid());
     let (_, g1) = largest_move_and_g1(&sphere, s.grid());
     assert!(g1 < 0.01, "G1 {g1}°");
 }

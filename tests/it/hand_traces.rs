@@ -63,6 +63,7 @@ fn the_shipped_traces_are_what_the_generators_write() {
             "tube-pot",
             "mouse-sphere",
             "sphere-pinch-pull",
+            "tube-rim-pinch",
             "plane-palm"
         ]
     );
@@ -86,6 +87,7 @@ fn glove_traces_carry_the_profiles_glove_columns_and_a_steady_rate() {
         ("plane-groove", 120.0),
         ("tube-pot", 60.0),
         ("sphere-pinch-pull", 120.0),
+        ("tube-rim-pinch", 60.0),
         ("plane-palm", 120.0),
     ] {
         let (t, _) = shipped_file(name);

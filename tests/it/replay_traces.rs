@@ -270,16 +270,88 @@ fn sphere_pinch_pull_draws_a_nose_out_with_one_move() {
         FingerModel::Hand(PINCH_FINGERS),
     );
     assert!(finite(&g));
-    // One hold (the pinch); the approach also brushes the clay with the two fingertips.
-    assert_eq!(st.holds, 1, "{st:?}");
-    // The clay at the equator, longitude 0, came out toward where the pinch went (1 side).
+    // One contact, the hold: the fingertips never press.
+    assert_eq!(
+        (st.contacts, st.holds, st.operations()),
+        (1, 1, 1),
+        "{st:?}"
+    );
+    // The clay at the equator, longitude 0, came out with the pinch, 1 side.
     let out = 10.0 - along(&g, DVec3::new(10.0, 0.0, 0.0), -DVec3::X);
-    assert!(out > 3.3 && out < 4.05, "the nose reaches x = {out}");
-    // The far side and the bottom did not move (the approach brushes the top).
-    for d in [DVec3::X, DVec3::Z] {
-        assert_eq!(along(&g, -10.0 * d, d), along(&sphere, -10.0 * d, d), "{d}");
+    assert!((out - 4.0).abs() < 0.02, "the nose reaches x = {out}");
+    eprintln!("sphere pinch pull: the nose reaches x = {out}");
+    // Only the patches next to longitude 0 moved (columns 0, 1, 6, 7 of the 8 × 4 sphere);
+    // the far side, the top and the bottom did not.
+    let m = sphere.patches_u();
+    for p in 0..m * sphere.patches_v() {
+        let moved = sphere
+            .patch_node_ids(p % m, p / m)
+            .iter()
+            .any(|&id| sphere.nodes()[id] != g.nodes()[id]);
+        assert_eq!(moved, [0, 1, 6, 7].contains(&(p % m)), "patch {p}");
+    }
+    for d in [DVec3::X, DVec3::Z, -DVec3::Z] {
+        let (now, before) = (along(&g, -10.0 * d, d), along(&sphere, -10.0 * d, d));
+        assert!((now - before).abs() < 1e-12, "{d}: {now} vs {before}");
     }
     assert_g1("pinch", &g);
+}
+
+/// Issue 17: "pinching a thin wall between thumb and index from both sides presses both
+/// sides". The tube's wall is one sheet; the thumb presses it in from outside, the index out
+/// from inside, 0.15 side each, at spots 1 side apart along it: the wall near the thumb moves
+/// in (toward the index), the wall near the index moves out (toward the thumb), each as far
+/// as its finger went within 0.02 side; one contact, nothing held, the far side and the
+/// bottom untouched.
+#[test]
+fn tube_rim_pinch_presses_both_sides_of_the_wall_toward_each_other() {
+    use nendo::hand::script::{RIM_INDEX, RIM_THUMB};
+    let tube = build(Primitive::Tube);
+    let (g, st) = replay_with(
+        &trace("tube-rim-pinch"),
+        &tube,
+        Regulation::default(),
+        FingerModel::Hand(PINCH_FINGERS),
+    );
+    assert!(finite(&g));
+    assert_eq!(
+        (st.contacts, st.holds, st.operations()),
+        (1, 0, 1),
+        "{st:?}"
+    );
+    // The wall's distance from the axis at azimuth φ, height z.
+    let radius = |g: &Grid, phi: f64, z: f64| {
+        along(
+            g,
+            DVec3::new(0.0, 0.0, z),
+            DVec3::new(phi.cos(), phi.sin(), 0.0),
+        )
+    };
+    let thumb_phi = RIM_THUMB.y.atan2(RIM_THUMB.x);
+    let mut figures = Vec::new();
+    for dz in [-0.1, 0.0, 0.1] {
+        for dphi in [-0.05, 0.0, 0.05] {
+            assert!((radius(&tube, thumb_phi + dphi, RIM_THUMB.z + dz) - 2.0).abs() < 1e-6);
+            let outer = radius(&g, thumb_phi + dphi, RIM_THUMB.z + dz);
+            let inner = radius(&g, dphi, RIM_INDEX.z + dz);
+            figures.push((outer, inner));
+            assert!(
+                (1.85 - 0.02..2.0 - 0.08).contains(&outer),
+                "near the thumb the wall moves in: r = {outer}"
+            );
+            assert!(
+                (2.0 + 0.08..2.15 + 0.02).contains(&inner),
+                "near the index the wall moves out: r = {inner}"
+            );
+        }
+    }
+    // The far side and the bottom did not move.
+    let pi = std::f64::consts::PI;
+    assert_eq!(radius(&g, pi, 4.5), radius(&tube, pi, 4.5));
+    let bottom = |g: &Grid| along(g, DVec3::new(0.0, 0.0, -5.0), DVec3::Z);
+    assert_eq!(bottom(&g), bottom(&tube));
+    assert_g1("rim pinch", &g);
+    eprintln!("tube rim pinch, wall radius (near the thumb, near the index): {figures:?}");
 }
 
 #[test]

@@ -167,6 +167,13 @@ const PRODUCT_WEIGHTS: [[f64; 3]; 4] = [
     [1.0 / 10.0, 2.0 / 5.0, 1.0],
 ];
 
+/// `C(2, j) C(2, k) / C(4, j + k)`: the weight of `B²_j B²_k = w B⁴_(j+k)`.
+const QUADRATIC_WEIGHTS: [[f64; 3]; 3] = [
+    [1.0, 1.0 / 2.0, 1.0 / 6.0],
+    [1.0 / 2.0, 2.0 / 3.0, 1.0 / 2.0],
+    [1.0 / 6.0, 1.0 / 2.0, 1.0],
+];
+
 /// Whether the edge between patches `a` and `b` (`b` after `a` along u when `along_u`, else
 /// along v) is **proved** G1 within [`G1_TOLERANCE_DEG`] at every point of the edge, from its
 /// 12 control points alone (no sampling); `false` means "not proved" (the caller then measures
@@ -206,10 +213,20 @@ const PRODUCT_WEIGHTS: [[f64; 3]; 4] = [
 /// by `10⁻¹³ max|d_k| max|a_k|` (a few units in the last place of each difference, product
 /// and sum; `|N_i| ≤ max|d| max|a|` since the weights of each `N_i` sum to one).
 ///
-/// Edges where a side has no tangent plane somewhere (at a pole `d_0 = 0`, so `N_0 = 0`), or
-/// where the ratio varies along the edge (the paper's construction), or that simply crease,
-/// are not certified; then [`verify`] measures them as before, so the certificate can only
-/// accept what is provably G1 along the whole edge — more than the three sampled points.
+/// **A row collapsed to a point** (a meridian edge at a pole: `d_0 = e_0 = 0` exactly, so
+/// `N_0 = 0` and step 2 fails as it stands): then `D_a`, `D_b` and `R` all carry a factor `t`,
+/// since `B³_j(t) = t · (3/j) B²_(j−1)(t)`, so `D_a = t D̃_a` with
+/// `D̃_a = 3 Σ_(j=0..2) B²_j (3/(j+1)) d_(j+1)`, and likewise `R̃` with `(3/(j+1)) r_(j+1)`
+/// (at the end row: `B³_j = (1 − t) (3/(3−j)) B²_j`, the factor `1 − t`). The factor cancels
+/// from the bound, which is taken with the quadratics `D̃_a`, `R̃` and
+/// `Ñ = D̃_a × E = 9 Σ_(i=0..4) B⁴_i Ñ_i`, `Ñ_i = Σ_(j+k=i) C(2,j) C(2,k) / C(4,i) · d̃_j × a_k`:
+/// it holds for every `t` in `(0, 1]`, and at the pole for the limits of both normals along
+/// the edge (which [`Patch::normal`] returns there).
+///
+/// Edges where a side has no tangent plane somewhere, or where the ratio varies along the
+/// edge (the paper's construction), or that simply crease, are not certified; then [`verify`]
+/// measures them as before, so the certificate can only accept what is provably G1 along the
+/// whole edge — more than the three sampled points.
 fn certified_g1(
     nodes: &[DVec3],
     shape: &Shape,
@@ -237,23 +254,56 @@ fn certified_g1(
     if !(lambda > 0.0 && lambda.is_finite()) {
         return false;
     }
-    let mut r_max = 0.0f64;
-    let mut d_max = 0.0f64;
-    for k in 0..4 {
-        let ld = d[k].length();
-        let r = (e[k] - d[k] * lambda).length() + 1e-15 * (e[k].length() + lambda * ld);
-        r_max = r_max.max(r);
-        d_max = d_max.max(ld);
-    }
+    // Per row: the residual's length, raised by the rounding of its computation.
+    let r: [f64; 4] = std::array::from_fn(|k| {
+        (e[k] - d[k] * lambda).length() + 1e-15 * (e[k].length() + lambda * d[k].length())
+    });
     let along: [DVec3; 3] = std::array::from_fn(|k| x[k + 1] - x[k]);
-    let a_max = along.iter().map(|v| v.length()).fold(0.0f64, f64::max);
+    // A row collapsed to a point (a pole: both differences exactly zero) takes out a factor
+    // `t` (`1 − t` at the end) of `D_a`, `D_b` and `R`: the quadratics left
+    // (`B³_j = t · 3/j · B²_(j−1)`, `B³_j = (1 − t) · 3/(3−j) · B²_j`) take their place.
+    let collapsed = |k: usize| d[k] == DVec3::ZERO && e[k] == DVec3::ZERO;
+    match (collapsed(0), collapsed(3)) {
+        (false, false) => bound_holds(&d, &r, &along, &PRODUCT_WEIGHTS, lambda),
+        (true, false) => {
+            let s = |j: usize| 3.0 / (j + 1) as f64;
+            let dt: [DVec3; 3] = std::array::from_fn(|j| d[j + 1] * s(j));
+            let rt: [f64; 3] = std::array::from_fn(|j| r[j + 1] * s(j));
+            bound_holds(&dt, &rt, &along, &QUADRATIC_WEIGHTS, lambda)
+        }
+        (false, true) => {
+            let s = |j: usize| 3.0 / (3 - j) as f64;
+            let dt: [DVec3; 3] = std::array::from_fn(|j| d[j] * s(j));
+            let rt: [f64; 3] = std::array::from_fn(|j| r[j] * s(j));
+            bound_holds(&dt, &rt, &along, &QUADRATIC_WEIGHTS, lambda)
+        }
+        (true, true) => false,
+    }
+}
+
+/// Steps 2 and 3 of `certified_g1` for a cross derivative with the `L` control vectors
+/// `d` (degree `L − 1`), residual bounds `r` and ratio `λ`, along an edge with the
+/// differences `along`: `N_i = Σ_(j+k=i) weights[j][k] d_j × a_k`, `c = min ŵ·N_i` (less the
+/// rounding allowance), and `max r · max |a| ≤ ½ tol · λ c`.
+#[inline(always)]
+fn bound_holds<const L: usize>(
+    d: &[DVec3; L],
+    r: &[f64; L],
+    along: &[DVec3; 3],
+    weights: &[[f64; 3]; L],
+    lambda: f64,
+) -> bool {
+    let r_max = r.iter().fold(0.0f64, |acc, &x| acc.max(x));
+    let d_max = d.iter().fold(0.0f64, |acc, x| acc.max(x.length()));
+    let a_max = along.iter().fold(0.0f64, |acc, v| acc.max(v.length()));
     let mut n = [DVec3::ZERO; 6];
     for (j, dj) in d.iter().enumerate() {
         for (k, ak) in along.iter().enumerate() {
-            n[j + k] += dj.cross(*ak) * PRODUCT_WEIGHTS[j][k];
+            n[j + k] += dj.cross(*ak) * weights[j][k];
         }
     }
-    let Some(w) = (n[0] + n[1] + n[2] + n[3] + n[4] + n[5]).try_normalize() else {
+    let n = &n[..L + 2];
+    let Some(w) = n.iter().copied().sum::<DVec3>().try_normalize() else {
         return false;
     };
     let c = n.iter().map(|ni| w.dot(*ni)).fold(f64::INFINITY, f64::min) - 1e-13 * d_max * a_max;
@@ -1091,11 +1141,12 @@ mod tests {
     /// the normals measured densely along the edge (65 points, both sides) agree within the
     /// tolerance, and so do the three sampled points of `verify`; wherever they differ beyond
     /// it, the certificate does not hold. After the exact regulation (group by group or
-    /// coupled) every edge away from a pole is certified.
+    /// coupled) every edge is certified, the meridians at the poles included.
     #[test]
     fn the_certificate_agrees_with_the_sampled_normals() {
         let mut certified_total = 0;
         let mut creased_total = 0;
+        let mut pole_edges = 0;
         for (pi, primitive) in Primitive::ALL.into_iter().enumerate() {
             for (mi, method) in (0..5).enumerate() {
                 let mut r = lcg(1000 + 37 * pi as u64 + mi as u64);
@@ -1143,8 +1194,11 @@ mod tests {
                         creased_total += 1;
                         assert!(!certified, "{what}");
                     }
-                    if regulation == Regulation::Exact && !at_pole(&grid, a, b) {
+                    if regulation == Regulation::Exact {
                         assert!(certified, "{what}: dense {dense}");
+                        if at_pole(&grid, a, b) && along_u {
+                            pole_edges += 1;
+                        }
                     }
                 });
             }
@@ -1152,6 +1206,8 @@ mod tests {
         // Both kinds were met.
         assert!(certified_total > 1000, "{certified_total}");
         assert!(creased_total > 100, "{creased_total}");
+        // Meridian edges at a pole (a collapsed row) were met and certified.
+        assert!(pole_edges > 50, "{pole_edges}");
     }
 
     /// An exactly regulated grid whose one node is then moved off by a tiny amount: the crease
@@ -1159,45 +1215,49 @@ mod tests {
     /// it; a change well inside the tolerance is accepted.
     #[test]
     fn a_tiny_g1_break_is_still_refused() {
-        let mut grid = Primitive::Plane
-            .build(&PrimitiveParams::default())
-            .expect("plane");
-        // Patch (5, 4)'s point (1, 1): next to its corner (5, 4), inside the dent.
-        let (iu, iv) = (5, 4);
-        let push = Op::Push {
-            at: grid.eval(iu, iv, 0.3, 0.6),
-            dir: -DVec3::Z,
-            depth: 0.4,
-            radius: 1.25,
-        };
-        let touched = Sculptor::new()
-            .apply(&mut grid, &push, Regulation::Exact)
-            .expect("an exact push");
-        assert!(touched.patches.contains(&(iv * grid.patches_u() + iu)));
-        let id = grid.shape().local_id(iu, iv, 1, 1);
-        let old = grid.nodes()[id];
-        let m = grid.patches_u();
-        let left = iv * m + iu - 1;
-        let me = iv * m + iu;
-        for (offset, refused) in [(1e-5, true), (1e-6, true), (1e-12, false)] {
-            let mut g = grid.clone();
-            g.nodes_mut()[id] = old + DVec3::new(0.3, -0.5, 1.0) * offset;
-            let angle = dense_angle(&g, left, me, true);
-            let certified = certified_g1(g.nodes(), &g.shape(), m, left, me, true);
-            let got = verify(&mut g, &touched.patches, Regulation::Exact, &[(id, old)]);
-            if refused {
-                assert!(
-                    angle > G1_TOLERANCE_DEG && angle < 1e-2,
-                    "{offset}: {angle}"
-                );
-                assert!(!certified, "{offset}");
-                assert!(
-                    matches!(got, Err(SurfaceError::NotG1 { .. })),
-                    "{offset}: {got:?}"
-                );
-            } else {
-                assert!(angle < G1_TOLERANCE_DEG, "{offset}: {angle}");
-                got.expect("a change within the tolerance");
+        // On the plane: patch (5, 4)'s point (1, 1), next to its corner (5, 4), inside the
+        // dent; on the sphere: patch (1, 3)'s point (1, 2), on the ring around the north pole,
+        // next to the meridian between patches 0 and 1.
+        for (primitive, (iu, iv), (i, j)) in [
+            (Primitive::Plane, (5, 4), (1, 1)),
+            (Primitive::Sphere, (1, 3), (1, 2)),
+        ] {
+            let mut grid = primitive
+                .build(&PrimitiveParams::default())
+                .expect("primitive");
+            let push = Op::Push {
+                at: grid.eval(iu, iv, 0.3, 0.6),
+                dir: -grid.normal(iu, iv, 0.3, 0.6).expect("a normal"),
+                depth: 0.4,
+                radius: 1.25,
+            };
+            let touched = Sculptor::new()
+                .apply(&mut grid, &push, Regulation::Exact)
+                .expect("an exact push");
+            let m = grid.patches_u();
+            let me = iv * m + iu;
+            let left = iv * m + iu - 1;
+            assert!(touched.patches.contains(&me));
+            let id = grid.shape().local_id(iu, iv, i, j);
+            let old = grid.nodes()[id];
+            for (offset, refused) in [(1e-5, true), (1e-6, true), (1e-12, false)] {
+                let what = format!("{primitive} {offset}");
+                let mut g = grid.clone();
+                g.nodes_mut()[id] = old + DVec3::new(0.3, -0.5, 1.0) * offset;
+                let angle = dense_angle(&g, left, me, true);
+                let certified = certified_g1(g.nodes(), &g.shape(), m, left, me, true);
+                let got = verify(&mut g, &touched.patches, Regulation::Exact, &[(id, old)]);
+                if refused {
+                    assert!(angle > G1_TOLERANCE_DEG && angle < 1e-2, "{what}: {angle}");
+                    assert!(!certified, "{what}");
+                    assert!(
+                        matches!(got, Err(SurfaceError::NotG1 { .. })),
+                        "{what}: {got:?}"
+                    );
+                } else {
+                    assert!(angle < G1_TOLERANCE_DEG, "{what}: {angle}");
+                    got.expect("a change within the tolerance");
+                }
             }
         }
     }

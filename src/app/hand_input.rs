@@ -6,6 +6,16 @@
 //! is one undoable edit, and its operations go into the document's recording. Before anything
 //! else edits the surface (a mouse tool, undo, opening a file), [`HandDriver::end_contact`]
 //! closes the contact in progress, as the hand loop requires.
+//!
+//! **Symmetry.** With the window's symmetry on, the mouse hand presses every contact together
+//! with its mirror image across the plane, as one operation ([`HandDriver::set_mirror`]): the
+//! hand loop's envelope takes in the mirrored fingers, and the touched control points and their
+//! partners are made exactly symmetric after the regulation
+//! ([`crate::surface::Presser::set_mirror`]); a pinch moves the clay with its mirror image
+//! ([`crate::surface::Sculptor::apply_mirrored`]). The mirror is taken up only between
+//! contacts: a contact keeps the mirror map it began with. Device sessions (a glove, a replayed
+//! trace) stay one-sided: their traces record a scene without a mirror, and `nendo replay`
+//! must give the window's surface bit for bit.
 
 use glam::DVec3;
 use nendo_devices::profile::MouseProfile;
@@ -17,7 +27,7 @@ use crate::hand::{FingerModel, Hand, HandError, HandLoop, HandOptions, MouseFing
 use crate::mesh::Ray;
 use crate::model::Model;
 use crate::render::{LineBatch, Rgba, SphereInstance};
-use crate::surface::SurfaceError;
+use crate::surface::{SurfaceError, Symmetry};
 
 /// A hand loop feeding a document.
 #[derive(Debug, Clone)]
@@ -78,6 +88,14 @@ impl HandDriver {
     #[must_use]
     pub fn hand_loop(&self) -> &HandLoop {
         &self.hand_loop
+    }
+
+    /// Presses the next contacts together with their mirror images (`None`: one-sided). Taken
+    /// up only between contacts: a contact in progress keeps the mirror it began with.
+    pub fn set_mirror(&mut self, mirror: Option<&Symmetry>) {
+        if self.hand_loop.touch() == Touch::Free && self.hand_loop.mirror() != mirror {
+            self.hand_loop.set_mirror(mirror.cloned());
+        }
     }
 
     /// Feeds one frame: the hand moves, and deforms the document's surface where it touches.
@@ -247,6 +265,11 @@ impl MouseHandTool {
         self.finger.set_click_depth(depth);
     }
 
+    /// Presses the next contacts with their mirror images ([`HandDriver::set_mirror`]).
+    pub fn set_mirror(&mut self, mirror: Option<&Symmetry>) {
+        self.driver.set_mirror(mirror);
+    }
+
     /// The cursor's view ray with the left (`left`) and right (`right`) buttons as held.
     ///
     /// # Errors
@@ -335,6 +358,8 @@ pub struct MouseHand {
     last_ray: Option<Ray>,
     /// The press grips and pulls (Shift, or "ridges", at the press).
     pull: bool,
+    /// The mirror the next contact presses with ([`MouseHand::set_mirror`]).
+    mirror: Option<Symmetry>,
 }
 
 impl MouseHand {
@@ -361,6 +386,14 @@ impl MouseHand {
         self.hand.as_ref().is_some_and(MouseHandTool::is_pressed)
     }
 
+    /// The mirror the next contacts press with (`None`: one-sided); a contact in progress keeps
+    /// its own ([`HandDriver::set_mirror`]).
+    pub fn set_mirror(&mut self, mirror: Option<&Symmetry>) {
+        if self.mirror.as_ref() != mirror {
+            self.mirror = mirror.cloned();
+        }
+    }
+
     /// A press starts: it pulls when `pull`, else pushes.
     pub fn press(&mut self, pull: bool) {
         self.pull = pull;
@@ -381,7 +414,8 @@ impl MouseHand {
 
     /// Feeds the hand the view ray `ray` (left button held or not; hovering, the fingertip sits
     /// `hover` along the ray), making the hand first for `radius` and click `depth` when it is
-    /// missing or stale (not held, another radius).
+    /// missing or stale (not held, another radius). A contact begun here presses with the mirror
+    /// last set ([`MouseHand::set_mirror`]).
     ///
     /// # Errors
     /// [`HandError`] when the hand refuses the settings or the ray; a refused hand is dropped.
@@ -409,6 +443,7 @@ impl MouseHand {
         };
         if !hand.is_pressed() {
             hand.set_click_depth(depth);
+            hand.set_mirror(self.mirror.as_ref());
         }
         if left {
             hand.event(doc, &ray, !self.pull, self.pull)

@@ -537,7 +537,7 @@ fn symmetry_ui(ui: &mut Ui, mirror: &MirrorToggle) -> Vec<Command> {
         }
         None => {
             response.on_hover_text(
-                "Every stroke is applied together with its mirror image across the plane, as one operation (X). The plane is drawn in the view. Not the Hand tool.",
+                "Every stroke is applied together with its mirror image across the plane, as one operation (X). The plane is drawn in the view. The Hand tool's contacts too; not a glove session or a replayed trace.",
             );
         }
     }

@@ -1,10 +1,11 @@
 //! The window's symmetry: the toggle (X), whether the model allows it, and how a mirrored
 //! stroke is refined.
 //!
-//! With symmetry on, every window stroke (Push, Pull, Draw a line, Move, Smooth; not the Hand
-//! tool, whose contacts run through the hand loop) is applied together with its mirror image
-//! across the plane `x = 0` as one operation ([`crate::surface::Sculptor::apply_mirrored`], as
-//! `nendo sculpt --mirror x`). The toggle is offered only when the model is symmetric about
+//! With symmetry on, every window stroke (Push, Pull, Draw a line, Move, Smooth) is applied
+//! together with its mirror image across the plane `x = 0` as one operation
+//! ([`crate::surface::Sculptor::apply_mirrored`], as `nendo sculpt --mirror x`), and so is every
+//! contact of the Hand tool (the hand loop's envelope with the mirrored fingers, see
+//! [`super::hand_input`]). The toggle is offered only when the model is symmetric about
 //! the plane ([`Symmetry::of`]: every control point's mirror image is a control point, to
 //! [`crate::surface::mirror::SYMMETRY_TOLERANCE`], and the grid spacing mirrors); it is on by
 //! default then, and otherwise disabled with the reason ([`MirrorError`]).

@@ -22,10 +22,34 @@
 //! (egui times clicks by the pass), and letters typed right after the click that focuses a text
 //! field reach the field. Only the last pass of a frame is drawn.
 //!
-//! Limit: events are timed when winit delivers them, not when the X server saw them; after a
-//! slow frame the queued events come in a burst, so two clicks 80 ms apart that straddle a
-//! frame are stamped a frame apart and, past egui's 0.3 s, are not a double click (measured
-//! under Xvfb at `NENDO_FRAME_DELAY_MS=250`).
+//! **Timing error.** An event is timed when winit delivers it, not when the X server saw it
+//! (winit does not pass the server's event times on). While a frame draws, the event loop reads
+//! nothing: an event that came then is delivered after the frame, late by up to the frame's
+//! length, so two clicks 80 ms apart that straddle a 250 ms frame are delivered a frame apart.
+//! The lateness is bounded, though. winit's loop runs in iterations: `new_events`, every
+//! pending event (the queue is read until empty), the redraw, `about_to_wait`, then a wait that
+//! ends at once when anything is pending. An event delivered in iteration `j` therefore came
+//! after iteration `j − 1` had read the queue empty, which was after that iteration began at
+//! `N_{j−1}`; and if the loop waited idle before `j`, the event itself ended the wait (an event
+//! that came earlier would have left nothing to wait for). Either way it came no earlier than
+//!
+//! ```text
+//! lo_j = N_j − B_{j−1},   B_{j−1} = the busy time of iteration j − 1 (new_events to about_to_wait)
+//! ```
+//!
+//! (the idle wait is not counted; the few microseconds the system takes to wake the loop are
+//! neglected). Each queued event keeps its `lo`. A pass timed `T` whose button event came no
+//! earlier than `lo` is run with egui's click limits widened by its slack `s = T − lo`:
+//! `max_double_click_delay = 0.3 + s` and `max_click_duration = 0.8 + s`. egui then counts the
+//! second click of a pair as a double click when `T₂ − T₁ < 0.3 + T₂ − lo₂`, that is when
+//! `lo₂ − T₁ < 0.3`. Since the first click came at `a₁ ≤ T₁` and the second at `a₂ ≥ lo₂`, every
+//! pair truly less than 0.3 s apart (`a₂ − a₁ < 0.3`) counts, whatever the frames did (and a
+//! press and its release a frame apart stay a click). The price: a pair up to `0.3 + s₁ + s₂`
+//! apart may count as well — under Xvfb at `NENDO_FRAME_DELAY_MS=250` on a loaded machine
+//! (frames of ≈ 0.45 s), clicks 0.6 s apart did; when frames are fast, `s` is a few
+//! milliseconds and egui's limit is as it was. Widening by the time between two frames' input
+//! stamps would bound the error too, but it counts the idle wait between frames: after a pause,
+//! clicks seconds apart would count.
 //!
 //! Test aid: `NENDO_FRAME_DELAY_MS=250` makes every frame sleep that long after presenting
 //! (`.ci/checks/window-live.sh` uses it to check the above at 4 frames per second).
@@ -80,8 +104,44 @@ struct Gfx {
     cursor: Vec2,
     /// The window title last set.
     title: String,
-    /// When each event queued in egui's input arrived, seconds on [`WindowApp::clock`].
-    event_times: Vec<f64>,
+    /// When each event queued in egui's input arrived, and the earliest it can have
+    /// happened (see the module docs).
+    arrivals: Vec<Arrival>,
+}
+
+/// When a queued input event was delivered, and the earliest it can have happened: seconds
+/// on [`WindowApp`]'s clock (see the module docs, "Timing error").
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Arrival {
+    /// When winit delivered the event.
+    pub at: f64,
+    /// No earlier than this did the event happen (`lo` in the module docs).
+    pub earliest: f64,
+}
+
+/// One egui pass of queued input: its events, the time it is run at, and its slack — how
+/// much earlier than that time its pointer press or release may have happened (0 without
+/// one).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputPass {
+    /// The events.
+    pub events: Vec<egui::Event>,
+    /// The pass's time, seconds.
+    pub time: f64,
+    /// `T − lo` of its button event (see the module docs).
+    pub slack: f64,
+}
+
+impl InputPass {
+    /// egui's input options for this pass: `base`'s click limits widened by the slack.
+    #[must_use]
+    pub fn input_options(&self, base: egui::InputOptions) -> egui::InputOptions {
+        egui::InputOptions {
+            max_double_click_delay: base.max_double_click_delay + self.slack,
+            max_click_duration: base.max_click_duration + self.slack,
+            ..base
+        }
+    }
 }
 
 /// The window application.
@@ -95,6 +155,14 @@ pub struct WindowApp {
     clock: Instant,
     /// `NENDO_FRAME_DELAY_MS`: a sleep after each frame (a test aid).
     frame_delay: Option<Duration>,
+    /// egui's input options as made (the click limits each pass widens).
+    base_input: egui::InputOptions,
+    /// When the event loop's current iteration began (`N_j`), on `clock`.
+    iteration_start: f64,
+    /// How long the last finished iteration was busy (`B_{j−1}`), seconds.
+    last_busy: f64,
+    /// The earliest an event delivered in this iteration can have happened (`lo_j`).
+    earliest: f64,
 }
 
 /// Whether the window position `cursor` (physical pixels) is over egui's UI: over a window or
@@ -119,36 +187,48 @@ pub fn over_ui(ctx: &egui::Context, cursor: Vec2, view: (Vec2, Vec2)) -> bool {
 /// The environment variable that slows every frame down (a test aid, see the module docs).
 pub const FRAME_DELAY_ENV: &str = "NENDO_FRAME_DELAY_MS";
 
-/// Splits the events queued since the last frame (`events`, each with the time it arrived)
-/// into egui passes: a pass ends before a second pointer press or release, and before a key or
+/// Splits the events queued since the last frame (`events`, each with its [`Arrival`]) into
+/// egui passes: a pass ends before a second pointer press or release, and before a key or
 /// text event that follows a press or release (the click may move the keyboard focus, which
-/// takes a pass). Each pass is timed by its last event.
+/// takes a pass). Each pass is timed by its last event, the last pass by `now`; its slack is
+/// its time less the earliest its button event can have happened.
 #[must_use]
-pub fn input_passes(
-    events: Vec<egui::Event>,
-    times: &[f64],
-    now: f64,
-) -> Vec<(Vec<egui::Event>, f64)> {
-    let mut passes: Vec<(Vec<egui::Event>, f64)> = Vec::new();
+pub fn input_passes(events: Vec<egui::Event>, arrivals: &[Arrival], now: f64) -> Vec<InputPass> {
+    let mut passes = Vec::new();
     let mut current: Vec<egui::Event> = Vec::new();
     let mut time = now;
-    let mut has_button = false;
+    // The earliest the current pass's button event can have happened.
+    let mut button: Option<f64> = None;
+    let slack = |time: f64, button: Option<f64>| button.map_or(0.0, |lo| (time - lo).max(0.0));
     for (k, event) in events.into_iter().enumerate() {
-        let at = times.get(k).copied().unwrap_or(now);
+        let arrival = arrivals.get(k).copied().unwrap_or(Arrival {
+            at: now,
+            earliest: now,
+        });
         let is_button = matches!(event, egui::Event::PointerButton { .. });
         let is_typing = matches!(
             event,
             egui::Event::Key { .. } | egui::Event::Text(_) | egui::Event::Paste(_)
         );
-        if has_button && (is_button || is_typing) {
-            passes.push((std::mem::take(&mut current), time));
-            has_button = false;
+        if button.is_some() && (is_button || is_typing) {
+            passes.push(InputPass {
+                events: std::mem::take(&mut current),
+                time,
+                slack: slack(time, button),
+            });
+            button = None;
         }
-        has_button |= is_button;
-        time = at;
+        if is_button {
+            button = Some(arrival.earliest);
+        }
+        time = arrival.at;
         current.push(event);
     }
-    passes.push((current, now));
+    passes.push(InputPass {
+        events: current,
+        time: now,
+        slack: slack(now, button),
+    });
     passes
 }
 
@@ -156,10 +236,12 @@ impl WindowApp {
     /// A window for `modeller`.
     #[must_use]
     pub fn new(modeller: Modeller) -> Self {
+        let egui_ctx = egui::Context::default();
+        let base_input = egui_ctx.options(|o| o.input_options);
         Self {
             modeller,
             gfx: None,
-            egui_ctx: egui::Context::default(),
+            egui_ctx,
             error: None,
             next_redraw: None,
             clock: Instant::now(),
@@ -168,6 +250,10 @@ impl WindowApp {
                 .and_then(|v| v.trim().parse::<u64>().ok())
                 .filter(|ms| *ms > 0)
                 .map(Duration::from_millis),
+            base_input,
+            iteration_start: 0.0,
+            last_busy: 0.0,
+            earliest: 0.0,
         }
     }
 
@@ -260,7 +346,7 @@ impl WindowApp {
             viewport: (Vec2::ZERO, Vec2::ONE),
             cursor: Vec2::ZERO,
             title: String::new(),
-            event_times: Vec::new(),
+            arrivals: Vec::new(),
         })
     }
 
@@ -287,21 +373,28 @@ impl WindowApp {
 
         let mut raw = gfx.egui_state.take_egui_input(&gfx.window);
         let now_s = self.clock.elapsed().as_secs_f64();
-        let times = std::mem::take(&mut gfx.event_times);
-        let mut passes = input_passes(std::mem::take(&mut raw.events), &times, now_s);
+        let arrivals = std::mem::take(&mut gfx.arrivals);
+        let mut passes = input_passes(std::mem::take(&mut raw.events), &arrivals, now_s);
         let mut view_rect = egui::Rect::NOTHING;
         let modeller = &mut self.modeller;
-        let last = passes.pop().unwrap_or((Vec::new(), now_s));
-        for (events, time) in passes {
+        let base = self.base_input;
+        let last = passes.pop().unwrap_or(InputPass {
+            events: Vec::new(),
+            time: now_s,
+            slack: 0.0,
+        });
+        for pass in passes {
             // An earlier pass: its effects count, its drawing does not.
-            let pass = egui::RawInput {
-                events,
-                time: Some(time),
+            self.egui_ctx
+                .options_mut(|o| o.input_options = pass.input_options(base));
+            let input = egui::RawInput {
+                events: pass.events,
+                time: Some(pass.time),
                 hovered_files: Vec::new(),
                 dropped_files: Vec::new(),
                 ..raw.clone()
             };
-            let out = self.egui_ctx.run_ui(pass, |ui| {
+            let out = self.egui_ctx.run_ui(input, |ui| {
                 let _ = modeller.ui(ui);
             });
             gfx.egui_state
@@ -313,8 +406,10 @@ impl WindowApp {
                 &out.textures_delta,
             );
         }
-        raw.events = last.0;
-        raw.time = Some(now_s);
+        self.egui_ctx
+            .options_mut(|o| o.input_options = last.input_options(base));
+        raw.events = last.events;
+        raw.time = Some(last.time);
         let full = self.egui_ctx.run_ui(raw, |ui| view_rect = modeller.ui(ui));
         gfx.egui_state
             .handle_platform_output(&gfx.window, full.platform_output);
@@ -500,11 +595,14 @@ impl ApplicationHandler for WindowApp {
         let Some(gfx) = self.gfx.as_mut() else { return };
         let queued = gfx.egui_state.egui_input().events.len();
         let response = gfx.egui_state.on_window_event(&gfx.window, &event);
-        let arrived = self.clock.elapsed().as_secs_f64();
+        let arrival = Arrival {
+            at: self.clock.elapsed().as_secs_f64(),
+            earliest: self.earliest,
+        };
         let now_queued = gfx.egui_state.egui_input().events.len();
-        gfx.event_times.truncate(queued);
-        gfx.event_times.resize(queued, arrived);
-        gfx.event_times.resize(now_queued, arrived);
+        gfx.arrivals.truncate(queued);
+        gfx.arrivals.resize(queued, arrival);
+        gfx.arrivals.resize(now_queued, arrival);
         // egui-winit asks for a repaint on every RedrawRequested; following it would redraw
         // forever. Redraws are scheduled from egui's repaint delay instead (see `redraw`).
         if response.repaint && !matches!(event, WindowEvent::RedrawRequested) {
@@ -579,7 +677,16 @@ impl ApplicationHandler for WindowApp {
         }
     }
 
+    fn new_events(&mut self, _event_loop: &ActiveEventLoop, _cause: winit::event::StartCause) {
+        // An event delivered in this iteration came after the last one read the queue empty:
+        // no earlier than that iteration's start (see the module docs, "Timing error").
+        let now = self.clock.elapsed().as_secs_f64();
+        self.iteration_start = now;
+        self.earliest = now - self.last_busy;
+    }
+
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        self.last_busy = (self.clock.elapsed().as_secs_f64() - self.iteration_start).max(0.0);
         let Some(gfx) = &self.gfx else { return };
         match self.next_redraw {
             Some(t) if t <= Instant::now() => {
@@ -606,6 +713,45 @@ mod tests {
         }
     }
 
+    /// Arrivals delivered at `times`, each no earlier than it was delivered (no slack).
+    fn on_time(times: &[f64]) -> Vec<Arrival> {
+        times
+            .iter()
+            .map(|&t| Arrival { at: t, earliest: t })
+            .collect()
+    }
+
+    /// Runs frames of queued input through one egui context as the window does (each pass
+    /// with its widened click limits, or egui's own limits when `widen` is false); true when
+    /// any pass saw a double click.
+    fn double_clicked(frames: Vec<(Vec<egui::Event>, Vec<Arrival>, f64)>, widen: bool) -> bool {
+        let ctx = egui::Context::default();
+        let base = ctx.options(|o| o.input_options);
+        let mut double = false;
+        for (events, arrivals, now) in frames {
+            for pass in input_passes(events, &arrivals, now) {
+                let options = if widen {
+                    pass.input_options(base)
+                } else {
+                    base
+                };
+                ctx.options_mut(|o| o.input_options = options);
+                let raw = egui::RawInput {
+                    events: pass.events,
+                    time: Some(pass.time),
+                    ..egui::RawInput::default()
+                };
+                let _ = ctx.run_ui(raw, |ui| {
+                    double |= ui.input(|i| {
+                        i.pointer
+                            .button_double_clicked(egui::PointerButton::Primary)
+                    });
+                });
+            }
+        }
+        double
+    }
+
     /// Two clicks 80 ms apart queued during one slow frame are two passes timed 80 ms apart,
     /// and egui counts the second as a double click; text typed after a click gets its own pass.
     #[test]
@@ -617,38 +763,66 @@ mod tests {
             button(false),
             egui::Event::Text("ab".into()),
         ];
-        let times = [1.00, 1.01, 1.09, 1.10, 1.15];
-        let passes = input_passes(events, &times, 1.3);
-        let shape: Vec<usize> = passes.iter().map(|(e, _)| e.len()).collect();
+        let times = on_time(&[1.00, 1.01, 1.09, 1.10, 1.15]);
+        let passes = input_passes(events.clone(), &times, 1.3);
+        let shape: Vec<usize> = passes.iter().map(|p| p.events.len()).collect();
         assert_eq!(shape, vec![1, 1, 1, 1, 1]);
-        assert_eq!(passes[1].1, 1.01);
-        assert_eq!(passes[3].1, 1.10);
-
-        let ctx = egui::Context::default();
-        let mut double = false;
-        for (events, time) in passes {
-            let raw = egui::RawInput {
-                events,
-                time: Some(time),
-                ..egui::RawInput::default()
-            };
-            let _ = ctx.run_ui(raw, |ui| {
-                double |= ui.input(|i| {
-                    i.pointer
-                        .button_double_clicked(egui::PointerButton::Primary)
-                });
-            });
-        }
-        assert!(double, "the second click is a double click");
+        assert_eq!(passes[1].time, 1.01);
+        assert_eq!(passes[3].time, 1.10);
+        assert!(passes.iter().all(|p| p.slack == 0.0), "no slack");
+        assert!(
+            double_clicked(
+                vec![(events[..4].to_vec(), times[..4].to_vec(), 1.3)],
+                false
+            ),
+            "the second click is a double click"
+        );
 
         // Moves and a single click stay in one pass.
         let moved = egui::Event::PointerMoved(egui::pos2(1.0, 1.0));
         let passes = input_passes(
             vec![moved.clone(), button(true), moved, button(false)],
-            &[0.0; 4],
+            &on_time(&[0.0; 4]),
             1.0,
         );
         assert_eq!(passes.len(), 2);
+    }
+
+    /// Two clicks 80 ms apart that straddle a slow frame: the first is delivered and drawn at
+    /// once, the second comes while that frame draws (0.33 s) and is delivered after it. Timed
+    /// by delivery they are 0.315 s apart, past egui's 0.3 s; with the slack of the second
+    /// (it came no earlier than the iteration that drew the frame began) it is a double click.
+    /// Two clicks 0.6 s apart with fast frames stay two clicks.
+    #[test]
+    fn a_double_click_that_straddles_a_slow_frame_counts() {
+        let click = || vec![button(true), button(false)];
+        // Iteration j − 1 begins at 0.99, delivers the first click, draws until 1.32.
+        let first = (click(), on_time(&[1.00, 1.01]), 1.02);
+        // Iteration j begins at 1.32: lo = 1.32 − 0.33.
+        let late = |at: f64| Arrival { at, earliest: 0.99 };
+        let second = (click(), vec![late(1.325), late(1.33)], 1.335);
+        let passes = input_passes(second.0.clone(), &second.1, second.2);
+        assert!((passes[1].slack - 0.345).abs() < 1e-9, "{passes:?}");
+        assert!(
+            !double_clicked(vec![first.clone(), second.clone()], false),
+            "egui alone, timed by delivery: two clicks"
+        );
+        assert!(
+            double_clicked(vec![first, second], true),
+            "with the slack: a double click"
+        );
+
+        // Fast frames (busy 5 ms), the clicks 0.6 s apart: the slack is a few milliseconds.
+        let first = (click(), on_time(&[1.00, 1.01]), 1.012);
+        let prompt = |at: f64| Arrival {
+            at,
+            earliest: at - 0.006,
+        };
+        let second = (click(), vec![prompt(1.60), prompt(1.61)], 1.612);
+        assert!(
+            !double_clicked(vec![first, second], true),
+            "0.6 s apart is two clicks"
+        );
     }
 
     /// Issue 16 item 8: the pointer over the 3D view in the last frame, then moved onto a

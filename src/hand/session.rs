@@ -590,6 +590,12 @@ impl HandLoop {
         self.presser.set_mirror(symmetry);
     }
 
+    /// The mirror set by [`HandLoop::set_mirror`].
+    #[must_use]
+    pub fn mirror(&self) -> Option<&crate::surface::Symmetry> {
+        self.presser.mirror()
+    }
+
     /// A loop for this hand.
     ///
     /// # Errors
@@ -1046,7 +1052,12 @@ impl HandLoop {
                     to,
                     radius: o.finger_radius,
                 };
-                match self.sculptor.apply(&mut moved, &op, regulation) {
+                // With a mirror, the move and its mirror image as one operation.
+                let applied = match self.presser.mirror().filter(|s| s.fits(&moved)) {
+                    Some(s) => self.sculptor.apply_mirrored(&mut moved, &op, regulation, s),
+                    None => self.sculptor.apply(&mut moved, &op, regulation),
+                };
+                match applied {
                     Ok(_) => {
                         out.changed = changed_patches(grid, &moved);
                         self.stats.patch_updates += out.changed.len() as u64;

@@ -535,6 +535,55 @@ fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
     assert!(g1 < 0.01, "G1 {g1}°");
 }
 
+/// The pinch with a mirror (x = 0): the hold moves the clay together with its mirror image as
+/// one operation, so the sphere stays symmetric to 1e-12 relative and is drawn out on both
+/// sides, to the pinch's target and to its mirror image.
+#[test]
+fn a_mirrored_pinch_pulls_both_sides() {
+    use nendo::surface::{Plane, Symmetry, symmetry_error};
+    let sphere = Primitive::Sphere
+        .build(&PrimitiveParams::default())
+        .unwrap();
+    let t = script::sphere_pinch_pull().unwrap();
+    let mut s = session_with(&sphere, FingerModel::Hand(PINCH_FINGERS)).logging_contacts();
+    s.set_mirror(Some(Symmetry::of(&sphere, Plane::X).unwrap()));
+    let mut held = 0;
+    let mut released = None;
+    for f in &t.frames {
+        let out = s.feed(f);
+        if out.touch == Touch::Holding {
+            held += 1;
+        } else if held > 0 && released.is_none() {
+            released = Some(s.grid().clone());
+        }
+    }
+    s.finish();
+    assert!(held > 90, "held for {held} frames");
+    let asym = symmetry_error(s.grid(), Plane::X).relative;
+    assert!(asym < 1e-12, "asymmetry {asym:e}");
+    let contacts = s.contacts().unwrap();
+    let Some(Op::Move { to, .. }) = contacts
+        .iter()
+        .find_map(|ops| matches!(ops.as_slice(), [Op::Move { .. }]).then(|| ops[0].clone()))
+    else {
+        panic!("the pinch is a move: {contacts:?}");
+    };
+    let released = released.expect("the pinch let go");
+    let asym = symmetry_error(&released, Plane::X).relative;
+    assert!(asym < 1e-12, "asymmetry when the pinch lets go {asym:e}");
+    for target in [to, Plane::X.reflect(to)] {
+        let outward = DVec3::new(target.x.signum(), 0.0, 0.0);
+        let hit = Probe::new()
+            .first_crossing(&released, target + 2.0 * outward, -outward, 4.0)
+            .unwrap();
+        assert!(
+            (hit.point - target).length() < 0.1,
+            "{} vs {target}",
+            hit.point
+        );
+    }
+}
+
 /// The fingers the shipped pinch is made with (its scene names them): thumb and index; the
 /// other three, curled out of the way, would brush the sphere on the way in.
 const PINCH_FINGERS: Fingers = Fingers::THUMB_AND_INDEX;

@@ -408,11 +408,23 @@ impl Coupled {
     /// Regulates `groups` (each with at least two patches) together: the G1 net nearest to the
     /// present one in `∫|ΔS|²` over every patch around them, every other node fixed. `false`
     /// (and nothing written) if the normal matrix is not numerically positive definite.
-    pub(crate) fn regulate(&mut self, grid: &mut Grid, groups: &[Group]) -> bool {
+    ///
+    /// The unknowns are ordered row by row from the vertex `origin` on (`(k − k₀) mod V_u`
+    /// within `(q − q₀) mod V_v`): on a closed grid, an origin just past the set's widest gap
+    /// keeps a set that straddles the seam from spanning the whole ring in the envelope.
+    pub(crate) fn regulate(
+        &mut self,
+        grid: &mut Grid,
+        groups: &[Group],
+        origin: (usize, usize),
+    ) -> bool {
         let (m, n) = (grid.patches_u(), grid.patches_v());
         let (vu, vv) = (grid.vertices_u(), grid.vertices_v());
         let topology = grid.topology();
-        let key = |g: &Group| g.vertex.1 * vu + g.vertex.0;
+        let vkey = move |k: usize, q: usize| {
+            ((q + vv - origin.1 % vv) % vv) * vu + (k + vu - origin.0 % vu) % vu
+        };
+        let key = move |g: &Group| vkey(g.vertex.0, g.vertex.1);
         self.groups.clear();
         self.groups.extend_from_slice(groups);
         self.groups.sort_unstable_by_key(key);
@@ -446,9 +458,9 @@ impl Coupled {
             if grid.is_pole_line(q) {
                 return None;
             }
-            let want = q * vu + k;
+            let want = vkey(k, q);
             groups_ref
-                .binary_search_by_key(&want, |g| g.vertex.1 * vu + g.vertex.0)
+                .binary_search_by_key(&want, key)
                 .ok()
                 .map(|i| i as u32)
         };

@@ -148,8 +148,8 @@ pub(crate) struct Projections {
     groups: Vec<Group>,
     /// Each connected set's range in `groups` (see [`components`]).
     ranges: Vec<std::ops::Range<usize>>,
-    /// Per group in `groups`: its connected set, then scratch for the search.
-    labels: Vec<usize>,
+    /// Scratch for [`components`] and [`widest_gap_end`].
+    scratch: Scratch,
     /// Whether [`Regulation::Exact`] projects each connected set of groups together in the
     /// surface metric ([`exact::Coupled`], the default) instead of group by group.
     pub(crate) coupled: bool,
@@ -162,10 +162,40 @@ impl Default for Projections {
             solver: exact::Coupled::default(),
             groups: Vec::new(),
             ranges: Vec::new(),
-            labels: Vec::new(),
+            scratch: Scratch::default(),
             coupled: true,
         }
     }
+}
+
+/// The first occupied index after the longest cyclic run of unoccupied ones among `0..len`
+/// (0 when every index or none is occupied): where a set on a closed grid line begins.
+fn widest_gap_end(
+    len: usize,
+    occupied: impl Iterator<Item = usize>,
+    seen: &mut Vec<bool>,
+) -> usize {
+    seen.clear();
+    seen.resize(len, false);
+    for i in occupied {
+        seen[i % len.max(1)] = true;
+    }
+    let Some(first) = seen.iter().position(|&x| x) else {
+        return 0;
+    };
+    let (mut best, mut best_len, mut run) = (0, 0, 0);
+    for step in 1..=len {
+        let i = (first + step) % len;
+        if seen[i] {
+            if run > best_len {
+                (best, best_len) = (i, run);
+            }
+            run = 0;
+        } else {
+            run += 1;
+        }
+    }
+    best
 }
 
 /// Orders `groups` by connected set — two groups are connected when they are corners of one
@@ -174,9 +204,16 @@ impl Default for Projections {
 fn components(
     grid: &Grid,
     groups: &mut [Group],
-    labels: &mut Vec<usize>,
+    scratch: &mut Scratch,
     ranges: &mut Vec<std::ops::Range<usize>>,
 ) {
+    let Scratch {
+        labels,
+        stack,
+        order,
+        sorted,
+        ..
+    } = scratch;
     let vu = grid.vertices_u();
     let topology = grid.topology();
     let key = |g: &Group| g.vertex.1 * vu + g.vertex.0;
@@ -184,7 +221,7 @@ fn components(
     let count = groups.len();
     labels.clear();
     labels.resize(count, usize::MAX);
-    let mut stack = Vec::new();
+    stack.clear();
     let mut sets = 0;
     for seed in 0..count {
         if labels[seed] != usize::MAX {
@@ -216,10 +253,12 @@ fn components(
         sets += 1;
     }
     // Stable by set: the vertex order within each set is kept.
-    let mut order: Vec<usize> = (0..count).collect();
+    order.clear();
+    order.extend(0..count);
     order.sort_by_key(|&i| labels[i]);
-    let sorted: Vec<Group> = order.iter().map(|&i| groups[i]).collect();
-    groups.copy_from_slice(&sorted);
+    sorted.clear();
+    sorted.extend(order.iter().map(|&i| groups[i]));
+    groups.copy_from_slice(sorted);
     ranges.clear();
     let mut start = 0;
     for i in 1..=count {
@@ -228,6 +267,18 @@ fn components(
             start = i;
         }
     }
+}
+
+/// Buffers of the connected-set search, kept between operations.
+#[derive(Debug, Clone, Default)]
+struct Scratch {
+    /// Per group: its connected set.
+    labels: Vec<usize>,
+    stack: Vec<usize>,
+    order: Vec<usize>,
+    sorted: Vec<Group>,
+    /// Per vertex along a grid line: whether a group of the set lies on it.
+    seen: Vec<bool>,
 }
 
 /// The ratios' bits and the slots that exist.
@@ -312,10 +363,15 @@ pub(crate) fn regulate(
         count += projections.groups.len();
         let mut groups = std::mem::take(&mut projections.groups);
         let mut ranges = std::mem::take(&mut projections.ranges);
-        components(grid, &mut groups, &mut projections.labels, &mut ranges);
+        components(grid, &mut groups, &mut projections.scratch, &mut ranges);
         for range in ranges.iter().cloned() {
             let set = &groups[range];
-            if !projections.solver.regulate(grid, set) {
+            let seen = &mut projections.scratch.seen;
+            let origin = (
+                widest_gap_end(grid.vertices_u(), set.iter().map(|g| g.vertex.0), seen),
+                widest_gap_end(grid.vertices_v(), set.iter().map(|g| g.vertex.1), seen),
+            );
+            if !projections.solver.regulate(grid, set, origin) {
                 // A set too large to factor in time, or (not expected: the normal matrix is
                 // positive definite) a failed factorisation: group by group.
                 for g in set {

@@ -151,11 +151,14 @@ impl Reach {
 ///
 /// The surface during a contact is a pure function of the placements: every patch moved by
 /// `reference + ΔP` (the Bernstein inverse of its envelope flows) into an *unregulated* net,
-/// and every control-point group with a moved patch around it regulated from that net (groups
-/// are disjoint and each is regulated from its own points only); the other groups keep the
-/// reference. When placements change, only the patches the changed placements reach (before
-/// or after the change) are recomputed, and only the groups at their corners: the cost of a
-/// frame follows what the finger did in it, not the length of the stroke so far.
+/// and every control-point group with a moved patch around it regulated from that net; the
+/// other groups keep the reference. When placements change, only the patches the changed
+/// placements reach (before or after the change) are recomputed, and the groups at their
+/// corners re-regulated — with the paper's methods and group by group, a group depends on its
+/// own points only, so the cost of a frame follows what the finger did in it; with the
+/// default exact regulation, whose solve couples the groups, every touched group connected to
+/// those is re-regulated too ([`Presser::couple_components`]), so a continuous stroke costs
+/// each frame what it has touched so far.
 #[derive(Debug, Clone, Default)]
 pub struct Presser {
     /// The contact's net before regulation.
@@ -174,6 +177,9 @@ pub struct Presser {
     stamp: u32,
     near: Vec<usize>,
     regulate: Vec<(usize, usize)>,
+    /// Vertices whose touched neighbours join the coupled solve (see
+    /// [`Presser::couple_components`]).
+    queue: Vec<(usize, usize)>,
     poles: Vec<PoleEnd>,
     changed: Vec<usize>,
     scratch: Vec<usize>,
@@ -408,6 +414,7 @@ impl Presser {
         // when a patch around them moved.
         let (vu, vv) = (grid.vertices_u(), grid.vertices_v());
         self.regulate.clear();
+        self.queue.clear();
         self.poles.clear();
         let mut pole_rows = [false; 2];
         for i in 0..self.area.len() {
@@ -451,7 +458,11 @@ impl Presser {
                 if moved {
                     self.regulate.push((k, q));
                 }
+                self.queue.push((k, q));
             }
+        }
+        if regulation == Regulation::Exact && self.projections.coupled {
+            self.couple_components(grid, stamp);
         }
         for (row, end) in [(0, PoleEnd::Start), (1, PoleEnd::End)] {
             if !pole_rows[row] {
@@ -534,6 +545,82 @@ impl Presser {
         self.applied.clear();
         self.applied.extend_from_slice(placements);
         Ok(())
+    }
+
+    /// The coupled projection ([`regulate::exact`]) makes a group's regulated points a
+    /// function of the unregulated net of every group in its *connected touched set* (groups
+    /// with a moved patch around them, linked when they are corners of one patch), not of its
+    /// own patches alone. So a frame re-regulates, besides the groups at the corners of the
+    /// patches it reaches (`queue` on entry, already reset to the unregulated net), every
+    /// touched group connected to them: their points go back to the unregulated net and their
+    /// patches join the changed ones. A group outside these sets has the same connected set,
+    /// with the same unregulated net, as when it was last regulated, and keeps its points —
+    /// the frame-by-frame result is the contact applied at once.
+    fn couple_components(&mut self, grid: &mut Grid, stamp: u32) {
+        let (m, n) = (grid.patches_u(), grid.patches_v());
+        let (vu, vv) = (grid.vertices_u(), grid.vertices_v());
+        let topology = grid.topology();
+        let around = |k: usize, q: usize| {
+            let mut out = [None; 4];
+            for (slot, (eu, ev)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
+                let pu = wrap(k as isize - eu, m, topology.closed_u());
+                let pv = wrap(q as isize - ev, n, topology.closed_v());
+                if let (Some(pu), Some(pv)) = (pu, pv) {
+                    out[slot] = Some(pv * m + pu);
+                }
+            }
+            out
+        };
+        let mut next = 0;
+        while next < self.queue.len() {
+            let (k, q) = self.queue[next];
+            next += 1;
+            for (dk, dq) in [
+                (-1, -1),
+                (0, -1),
+                (1, -1),
+                (-1, 0),
+                (1, 0),
+                (-1, 1),
+                (0, 1),
+                (1, 1),
+            ] {
+                let Some(k2) = wrap(k as isize + dk, vu, topology.closed_u()) else {
+                    continue;
+                };
+                let Some(q2) = wrap(q as isize + dq, vv, topology.closed_v()) else {
+                    continue;
+                };
+                if grid.is_pole_line(q2) {
+                    continue;
+                }
+                let v = q2 * vu + k2;
+                if self.vertex_mark[v] == stamp {
+                    continue;
+                }
+                let patches = around(k2, q2);
+                if !patches.iter().flatten().any(|&p| self.deformed[p]) {
+                    continue;
+                }
+                self.vertex_mark[v] = stamp;
+                let Some(group) = grid.group(k2, q2) else {
+                    continue;
+                };
+                let nodes = grid.nodes_mut();
+                for id in group.nodes.iter().flatten().flatten() {
+                    self.saved_grid.push((*id, nodes[*id]));
+                    nodes[*id] = self.unregulated[*id];
+                }
+                for p in patches.into_iter().flatten() {
+                    if self.patch_mark[p] != stamp {
+                        self.patch_mark[p] = stamp;
+                        self.changed.push(p);
+                    }
+                }
+                self.regulate.push((k2, q2));
+                self.queue.push((k2, q2));
+            }
+        }
     }
 
     fn next_stamp(&mut self, grid: &Grid) {
@@ -725,6 +812,57 @@ mod tests {
             .unwrap();
         assert_eq!(grid.nodes(), once.nodes());
         assert_eq!(grid, once);
+    }
+
+    #[test]
+    fn joining_and_splitting_coupled_sets_frame_by_frame_equals_applying_at_once() {
+        // Two dents far apart (two sets of groups solved on their own), a broad third push
+        // that joins them into one set, then the third taken away again (the sets split, and
+        // the groups only the third touched go back to the reference): after every frame the
+        // grid is exactly the contact applied at once.
+        let plane = Primitive::Plane
+            .build(&PrimitiveParams {
+                patches: Some((10, 10)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap();
+        let push = |x: f64, y: f64, depth: f64| {
+            [Placement {
+                tip: DVec3::new(x, y, -depth),
+                dir: -DVec3::Z,
+                depth,
+            }]
+        };
+        let (a, b, c) = (
+            push(-2.6, 0.3, 0.3),
+            push(2.4, -0.2, 0.25),
+            push(0.1, 0.2, 0.2),
+        );
+        let stroke = |placements, radius| Stroke {
+            placements,
+            radius,
+            length: 2.0,
+        };
+        let (a, b, c) = (&a[..], &b[..], &c[..]);
+        let frames = [
+            vec![stroke(a, 1.0)],
+            vec![stroke(a, 1.0), stroke(b, 1.0)],
+            vec![stroke(a, 1.0), stroke(b, 1.0), stroke(c, 2.2)],
+            vec![stroke(a, 1.0), stroke(b, 1.0)],
+        ];
+        let mut grid = plane.clone();
+        let mut presser = Presser::default();
+        presser.begin(&plane);
+        for (f, strokes) in frames.iter().enumerate() {
+            presser
+                .apply_strokes(&plane, &mut grid, strokes, Regulation::default())
+                .unwrap();
+            let mut once = plane.clone();
+            Presser::default()
+                .apply_strokes(&plane, &mut once, strokes, Regulation::default())
+                .unwrap();
+            assert_eq!(grid, once, "frame {f}");
+        }
     }
 
     #[test]

@@ -22,40 +22,50 @@
 //! P(s, t) = P_O + s̃ a + t̃ b + s̃ t̃ c,   s̃ ∈ {−1, 0, ρ_u},  t̃ ∈ {−1, 0, ρ_v}
 //! ```
 //!
-//! with four free vectors `P_O, a, b, c`. The regulated group is the member of that family
-//! nearest to the unregulated points **in the surface's own metric**: it minimises
-//! `∫ |S_regulated − S_unregulated|²` over the (up to four) patches around the vertex, which
-//! for the group's nodes is the quadratic form of the Bernstein Gram matrix
-//! `M[(i,j),(k,l)] = m_ik m_jl`, `m_ik = ∫₀¹ B_i³ B_k³ = C(3,i) C(3,k) / (7 C(6,i+k))`
-//! (`1/7`, `1/14`, `3/35` for the vertex row and its neighbour). The result is a fixed linear
-//! map of the group's nine points ([`Projection`]: a 4 × 4 solve, done once per spacing and
-//! boundary shape and reused), so regulating a group is one 9 × 9 matrix–vector product. The
-//! constraints of different groups share no point, so each group is projected on its own;
-//! the metric's coupling between neighbouring groups through a shared patch is left out
-//! (block-diagonal), which keeps the projection local. Groups cut by an open boundary use the
-//! offsets and patches that exist.
+//! with four free vectors `P_O, a, b, c`. The regulated net is the member of that family
+//! nearest to the unregulated net **in the surface's own metric** — the coupled projection
+//! below, the default. The constraints of different groups share no point, so each group
+//! *could* be projected on its own (the former default, [`Projection`], kept as the fallback
+//! and for comparison: [`super::exact_group_by_group`]); the metric couples them.
 //!
-//! *Measured choice* (`nendo bench regulation`, the paper's experiment): the plain
-//! least-squares fit in control-point space with `P_O` kept deviated on average 0.024 side
-//! from the ideal dent (0.026 for the paper's construction); weighting by the Gram matrix and
-//! letting `P_O` move brought it to 0.017 side, with G1 exact either way.
-//!
-//! ## The coupled projection ([`Coupled`], opt-in: `Sculptor::with_coupled_exact`)
-//! The same family, but every touched group at once and the metric whole: among all nets
-//! whose touched groups are bilinear lattices (4 free vectors `θ_g` each) and whose other
-//! nodes stay, the one nearest to the unregulated net in `Σ_p ∫|ΔS_p|²` over every patch
-//! around the touched groups (the touched patches and one ring: nothing else can move).
-//! Per patch the metric is `δᵀ (m ⊗ m) δ` over its 16 nodes, `m` the full 4 × 4 Bernstein
-//! Gram matrix `m_ik = C(3,i) C(3,k) / (7 C(6,i+k))`, so neighbouring groups couple through
-//! the patches they share (the block-diagonal form above drops exactly these terms and the
-//! nodes of the patch's far corners). A node of group `g` at offsets `(s̃, t̃)` is
+//! ## The coupled projection ([`Coupled`], the default)
+//! Every touched group at once and the metric whole: among all nets whose touched groups are
+//! bilinear lattices (4 free vectors `θ_g` each) and whose other nodes stay, the one nearest
+//! to the unregulated net in `Σ_p ∫|ΔS_p|²` over every patch around the touched groups (the
+//! touched patches and one ring: nothing else can move). Per patch the metric is
+//! `δᵀ (m ⊗ m) δ` over its 16 nodes, `m` the full 4 × 4 Bernstein Gram matrix
+//! `m_ik = ∫₀¹ B_i³ B_k³ = C(3,i) C(3,k) / (7 C(6,i+k))`, so neighbouring groups couple
+//! through the patches they share. A node of group `g` at offsets `(s̃, t̃)` is
 //! `φ(s̃, t̃)·θ_g`, `φ = (1, s̃, t̃, s̃ t̃)`, so the normal equations
 //! `Σ_p Φ_pᵀ (m ⊗ m) Φ_p θ = Σ_p Φ_pᵀ (m ⊗ m) x_p` are a sparse SPD system with one 4 × 4
 //! block per pair of groups sharing a patch (each block a Kronecker product of two 2 × 2
-//! one-dimensional blocks), the same for the three coordinates. It is solved by a Cholesky
-//! factorisation in skyline storage, the groups ordered by grid vertex (row by row), so the
-//! envelope is about one grid row of groups wide. The G1 conditions hold by construction, as
-//! above; poles are regulated first (as above) and their rings are fixed nodes of the solve.
+//! one-dimensional blocks), the same for the three coordinates. The system splits into the
+//! **connected sets** of touched groups (two groups connected when they are corners of one
+//! patch; [`super::regulate`] orders them so); each set is solved on its own by a Cholesky
+//! factorisation in skyline storage, its groups ordered by grid vertex (row by row), so the
+//! envelope is about one grid row of groups wide. The G1 conditions hold by construction
+//! (any `θ` is a G1 net); poles are regulated first (below) and their rings are fixed nodes
+//! of the solve.
+//!
+//! The former group-by-group projection is the same least squares with the metric made
+//! block-diagonal: each group alone, its neighbours held, over its four patches (for its
+//! nodes `M[(i,j),(k,l)] = m_ik m_jl` with `i, k ∈ {0, 1}`: `1/7`, `1/14`, `3/35`), a fixed
+//! 9 × 9 map per spacing and boundary shape. It stays 1.17 × farther from the ideal dent than
+//! the coupled solve (below) and is used only for a set whose factorisation would cost more
+//! than [`Coupled::MOST_WORK`] (hundreds of groups across: a palm on a finely refined grid,
+//! [`super::regulate_all`] on a large grid) or fail.
+//!
+//! **Frame by frame** (the hand's [`crate::surface::Presser`], which grows a contact frame by
+//! frame and must equal the contact applied at once): a group's coupled solution is a
+//! function of the unregulated net of its whole connected set (the inverse of the normal
+//! matrix is dense there), so a frame re-regulates, besides the groups at the corners of the
+//! patches it reaches, every touched group connected to them, from the contact's unregulated
+//! net. A set the frame does not reach has the same groups and the same unregulated net as
+//! when it was last solved, and keeps its points: the result is the contact at once, bit for
+//! bit (the system of one set does not depend on the others). The price: a frame solves and
+//! verifies the whole connected part of the contact it reaches — a long continuous stroke
+//! costs each frame what the stroke so far touched (a one-shot operation, and the window's
+//! live stroke, which re-applies its operation each frame, are unaffected).
 //!
 //! Measured (`nendo bench regulation`, fixed region: every sample within 2 r_f of the push,
 //! 40 × 40 per patch, pooled over the 5 positions; mean / max distance from the ideal, side,
@@ -87,32 +97,15 @@
 //!
 //! Cost (`nendo bench sculpt`, 10 × 10): dominated not by the projection but by the G1 check
 //! of [`crate::surface::verify`] (normals at 3 points of every shared edge of the touched
-//! patches and their ring). Thread CPU time per push on a loaded 2-core machine: unregulated
-//! 5.3 µs, the paper's g1 12.7 µs, exact 42.7 µs, coupled 50.7 µs; 40 × 40 / 10 × 10: 1.01 and
-//! 1.02. The target of 20 µs is not met: about 30 µs of the exact figure is that check,
-//! which the paper's methods skip. The coupled solve keeps its factor
-//! per shape of the solve ([`Coupled`]'s factor cache): the normal matrix depends only on which
-//! groups are corners of which patches and on their ratios and slots, not on the displacement
-//! or on where on the grid they are, so a push repeated, or shifted by whole patches over a
-//! uniform region, only assembles its right-hand side.
-//!
-//! **Why the coupled projection is not the default.** The hand's
-//! [`crate::surface::Presser`] grows a contact frame by frame and re-regulates only the groups
-//! at the corners of the patches a new frame reaches, from the contact's unregulated net; its
-//! contract (the test `growing_a_stroke_frame_by_frame_equals_applying_it_at_once`, which
-//! fails with the coupled projection as the default) is that the result is the same as the
-//! contact applied at once. That holds when a group's regulated points are a function of the
-//! unregulated points *of its own patches* — the group-by-group projection. The coupled
-//! solution of a group is a function of the unregulated net of every group in its connected
-//! touched set (the inverse of the normal matrix is dense there, its entries decaying with
-//! distance but not zero), so a group regulated in an earlier frame keeps a value computed
-//! without the later frames' neighbours. Compatible rules would be: (a) re-solve every group
-//! with a deformed patch around it, from the unregulated net, in every frame — exact, but a
-//! frame then costs what the whole stroke so far touched; or (b) a local rule — each group
-//! from a coupled solve over a fixed window of groups around it, re-regulating every group
-//! whose window a frame reaches — a solve per group of about 9 × the unknowns. Neither is
-//! done; the coupled projection stays opt-in (`Sculptor::with_coupled_exact`, one-shot
-//! operations).
+//! patches and their ring). Thread CPU time per push (`nendo bench sculpt`, loaded 2-core
+//! machine, noisy by ±10 %): plane 10 × 10, group by group 32 µs, coupled 37–41 µs
+//! (40 × 40 / 10 × 10: 1.00); sphere 32 × 16, 79 and 108 µs; the 40 × 40 sphere refined × 2
+//! (a push over some 120 groups), 0.53 and 0.86 ms. The coupled solve keeps its factor per
+//! shape of the solve
+//! ([`Coupled`]'s factor cache): the normal matrix depends only on which groups are corners
+//! of which patches and on their ratios and slots, not on the displacement or on where on the
+//! grid they are, so a push repeated, or shifted by whole patches over a uniform region, only
+//! assembles its right-hand side.
 //!
 //! Every regulated state satisfies the constraints with the same ratios, so they never drift:
 //! G1 holds to rounding (≈10⁻¹²°) along every edge, whatever was touched before.
@@ -410,14 +403,32 @@ impl FactorCache {
 }
 
 impl Coupled {
+    /// The largest factorisation done, in `Σ_r w_r²` over the skyline rows of width `w_r`
+    /// (about twice its multiply–adds): 2²⁴, some 10 ms. A connected set whose envelope is
+    /// wider — hundreds of groups across, e.g. a palm on a finely refined grid, or
+    /// [`super::regulate_all`] on a large grid — is regulated group by group instead.
+    const MOST_WORK: usize = 1 << 24;
+
     /// Regulates `groups` (each with at least two patches) together: the G1 net nearest to the
     /// present one in `∫|ΔS|²` over every patch around them, every other node fixed. `false`
     /// (and nothing written) if the normal matrix is not numerically positive definite.
-    pub(crate) fn regulate(&mut self, grid: &mut Grid, groups: &[Group]) -> bool {
+    ///
+    /// The unknowns are ordered row by row from the vertex `origin` on (`(k − k₀) mod V_u`
+    /// within `(q − q₀) mod V_v`): on a closed grid, an origin just past the set's widest gap
+    /// keeps a set that straddles the seam from spanning the whole ring in the envelope.
+    pub(crate) fn regulate(
+        &mut self,
+        grid: &mut Grid,
+        groups: &[Group],
+        origin: (usize, usize),
+    ) -> bool {
         let (m, n) = (grid.patches_u(), grid.patches_v());
         let (vu, vv) = (grid.vertices_u(), grid.vertices_v());
         let topology = grid.topology();
-        let key = |g: &Group| g.vertex.1 * vu + g.vertex.0;
+        let vkey = move |k: usize, q: usize| {
+            ((q + vv - origin.1 % vv) % vv) * vu + (k + vu - origin.0 % vu) % vu
+        };
+        let key = move |g: &Group| vkey(g.vertex.0, g.vertex.1);
         self.groups.clear();
         self.groups.extend_from_slice(groups);
         self.groups.sort_unstable_by_key(key);
@@ -451,9 +462,9 @@ impl Coupled {
             if grid.is_pole_line(q) {
                 return None;
             }
-            let want = q * vu + k;
+            let want = vkey(k, q);
             groups_ref
-                .binary_search_by_key(&want, |g| g.vertex.1 * vu + g.vertex.0)
+                .binary_search_by_key(&want, key)
                 .ok()
                 .map(|i| i as u32)
         };
@@ -487,11 +498,16 @@ impl Coupled {
             self.first.clear();
             self.start.clear();
             let mut len = 0;
+            let mut work = 0usize;
             for r in 0..rows {
                 let f = 4 * self.first_group[r / 4];
                 self.first.push(f);
                 self.start.push(len);
                 len += r + 1 - f;
+                work = work.saturating_add((r + 1 - f) * (r + 1 - f));
+            }
+            if work > Self::MOST_WORK {
+                return false;
             }
             self.data.clear();
             self.data.resize(len, 0.0);

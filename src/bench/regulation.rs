@@ -22,10 +22,11 @@
 //! - **fixed region** ([`fixed_region_table`]): mean and max distance from the ideal over every
 //!   sample whose starting position lies within 2 r_f of the push point, whatever moved, so that
 //!   a method that moves more samples is not flattered; per depth, pooled over the 5 positions.
-//!   Next to `none`, `g1`, `exact` and the opt-in coupled `exact`
-//!   ([`Sculptor::with_coupled_exact`]) stands the **floor**: the least-squares G1 fit of the
+//!   Next to `none`, `g1`, `exact` (the coupled projection, the default) and `exact` group by
+//!   group ([`crate::surface::Sculptor::with_group_by_group_exact`]) stands the **floor**: the
+//!   least-squares G1 fit of the
 //!   ideal samples on the same grid, every group free ([`g1_fit`]). The targets checked for
-//!   the coupled projection: mean ≤ max(1.25 × none, 1.1 × floor), max ≤ none max + 0.01.
+//!   the default `exact`: mean ≤ max(1.25 × none, 1.1 × floor), max ≤ none max + 0.01.
 //!   The same table on the plane refined ×2 and ×4 ([`crate::surface::refine::uniform`], the
 //!   same surface on a finer grid, `40 / K` samples per patch so the samples sit at the same points):
 //!   adding a grid is one line of [`report_text`].

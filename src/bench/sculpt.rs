@@ -10,8 +10,8 @@
 //! medians over batches of the mean time per operation, in **CPU time of the measuring
 //! thread** on Linux (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`), so that other processes on a
 //! shared machine do not inflate them; elsewhere in wall time ([`super::Stopwatch`]). The last
-//! column is the exact regulation's opt-in coupled projection
-//! ([`crate::surface::Sculptor::with_coupled_exact`]).
+//! column is the exact regulation projecting group by group, for comparison with the default
+//! coupled projection ([`crate::surface::Sculptor::with_group_by_group_exact`]).
 //!
 //! **Refinement** ([`refinement_report`], issue 13): the time of uniform refinement ×2 of the
 //! 40 × 40 plane and a 40 × 40 sphere (radius 3) — every patch split into 2 × 2, ratios
@@ -152,7 +152,7 @@ pub fn time_push(
     time_push_with(case, regulation, calls_per_batch, Sculptor::new())
 }
 
-/// [`time_push`] with a given sculptor (e.g. [`Sculptor::with_coupled_exact`]).
+/// [`time_push`] with a given sculptor (e.g. [`Sculptor::with_group_by_group_exact`]).
 #[must_use]
 pub fn time_push_with(
     case: &Case,
@@ -245,7 +245,7 @@ pub fn report(scale: f64) -> String {
     for r in methods {
         header.push(format!("{r} (µs)"));
     }
-    header.push("exact coupled (µs)".into());
+    header.push("exact group by group (µs)".into());
     let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
     let mut t = Table::new(&header_refs);
     let mut medians: Vec<Vec<f64>> = Vec::new();
@@ -264,7 +264,7 @@ pub fn report(scale: f64) -> String {
             &case,
             Regulation::Exact,
             calls,
-            Sculptor::with_coupled_exact(),
+            Sculptor::with_group_by_group_exact(),
         );
         times.push(ns);
         row.push(examined.to_string());

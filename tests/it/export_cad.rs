@@ -737,8 +737,8 @@ fn sculpted(primitive: Primitive, seed: u64) -> Model {
     Model::new(grid)
 }
 
-/// A plane whose control points have random magnitudes from 1e-300 to 1e49 (the coordinate
-/// limit is 1e50) and signs: every real's text must read back to the same bits.
+/// A plane whose control points have random magnitudes from 1e-300 to 1e29 (the coordinate
+/// limit is 1e30) and signs: every real's text must read back to the same bits.
 fn wild_plane(seed: u64) -> Model {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let (m, n) = (3, 2);
@@ -746,7 +746,7 @@ fn wild_plane(seed: u64) -> Model {
         .map(|_| {
             DVec3::from_array(std::array::from_fn(|_| {
                 let mantissa: f64 = rng.gen_range(-1.0..1.0);
-                let exponent = rng.gen_range(-300..49);
+                let exponent = rng.gen_range(-300..29);
                 if rng.gen_bool(0.1) {
                     0.0
                 } else {

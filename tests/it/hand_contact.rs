@@ -271,7 +271,10 @@ fn a_fast_stroke_leaves_no_gaps_and_the_finger_bend_alone_can_press() {
             .unwrap()
             .point)
         .dot(fingertip.axis);
-    assert!(miss.abs() < 2e-3, "{miss}");
+    // The finger went 0.25 in. The exact regulation keeps the surface change over the
+    // patches least (an L2 fit, not an interpolation), so the bottom of the dent may lie a
+    // little off the fingertip: within a tenth of the depth.
+    assert!(miss.abs() < 0.025, "{miss}");
 }
 
 /// A flat hand (every joint straight) lowered onto the default plane at `degrees` to it, its

@@ -52,17 +52,19 @@ use super::smooth::{EnergyDrop, HALVINGS, energy_of, patch_energy, thin_plate_ma
 use super::topology::wrap;
 use std::collections::HashMap;
 
-/// The largest absolute value a control-point coordinate may take (10⁵⁰).
+/// The largest absolute value a control-point coordinate may take (10³⁰).
 ///
-/// Every product the pipeline forms stays finite below it: the mesher's and the measures'
-/// normals are cross products of derivative differences (coordinates² · small constants,
-/// ≈ 10¹⁰²) whose squared lengths reach ≈ 10²⁰⁵; the pole regulation's plane fit sums outer
-/// products of ring offsets (≈ 10¹⁰¹) and its eigen solve squares those (≈ 10²⁰³); all far
-/// below `f64::MAX` ≈ 1.8 · 10³⁰⁸. A limit of 10¹⁵⁴ or more would let the fourth powers
-/// overflow. Operations whose result would exceed it are refused
+/// Every surface point is a convex combination of control points, so the whole surface lies
+/// within it, and every mesh a surface is written as (OBJ, STL and GLB are made from the
+/// tessellation's `f32` vertices, whose largest value is ≈ 3.4 · 10³⁸) stays finite, with eight
+/// orders of magnitude to spare for scaling on export. Every product the geometry forms in
+/// `f64` stays finite far below `f64::MAX` ≈ 1.8 · 10³⁰⁸: the mesher's and the measures'
+/// normals are cross products of derivative differences (≈ 10⁶² · small constants) whose
+/// squared lengths reach ≈ 10¹²⁵; the pole regulation's plane fit and its eigen solve square
+/// ring offsets' outer products (≈ 10¹²³). Operations whose result would exceed it are refused
 /// ([`SurfaceError::OutOfRange`]); grids read from files beyond it are refused by
 /// [`Grid::from_net`] / [`Grid::from_patches`].
-pub const COORDINATE_LIMIT: f64 = 1e50;
+pub const COORDINATE_LIMIT: f64 = 1e30;
 
 /// The largest crease (degrees) [`Regulation::Exact`] may leave along an edge of a touched
 /// patch: exact regulation holds G1 to rounding (≈ 10⁻¹²°), so anything above 10⁻⁶° means the
@@ -489,18 +491,15 @@ impl Sculptor {
         Self::default()
     }
 
-    /// A sculptor whose [`Regulation::Exact`] projects all the groups a stroke touched
-    /// together, nearest to the unregulated net in `∫|ΔS|²` over every patch around them
-    /// (the coupled projection of [`super::regulate::exact`]), instead of group by group.
-    /// Not the default: a stroke grown frame by frame (the hand's [`super::Presser`]) would no
-    /// longer equal the stroke applied at once, since a group's result then depends on its
-    /// neighbours' (the rule and the alternatives: [`super::regulate::exact`]'s module docs);
-    /// it also costs about 1.2× the group-by-group projection per stroke.
-    /// `nendo bench regulation` and `nendo bench sculpt` measure it.
+    /// A sculptor whose [`Regulation::Exact`] projects group by group, each group nearest to
+    /// the unregulated net in its own control points, instead of the default coupled
+    /// projection (every connected set of touched groups together, nearest in `∫|ΔS|²` over
+    /// the patches around them: [`super::regulate::exact`]). Kept for comparison:
+    /// `nendo bench regulation` and `nendo bench sculpt` measure it next to the default.
     #[must_use]
-    pub fn with_coupled_exact() -> Self {
+    pub fn with_group_by_group_exact() -> Self {
         let mut s = Self::default();
-        s.projections.coupled = true;
+        s.projections.coupled = false;
         s
     }
 
@@ -1154,7 +1153,7 @@ mod tests {
                     .build(&PrimitiveParams::default())
                     .expect("primitive");
                 let (regulation, mut sculptor) = match method {
-                    4 => (Regulation::Exact, Sculptor::with_coupled_exact()),
+                    4 => (Regulation::Exact, Sculptor::with_group_by_group_exact()),
                     k => (Regulation::ALL[k], Sculptor::new()),
                 };
                 for _ in 0..6 {

@@ -907,7 +907,7 @@ mod tests {
                 .apply(&mut unreg, &op, Regulation::None)
                 .unwrap();
             let mut got = base.clone();
-            let t = Sculptor::with_coupled_exact()
+            let t = Sculptor::new()
                 .apply(&mut got, &op, Regulation::Exact)
                 .unwrap();
             assert!(t.deformed == touched.deformed && t.deformed > 0, "{prim}");
@@ -978,7 +978,7 @@ mod tests {
             depth,
             radius: 1.1,
         };
-        let mut warm = Sculptor::with_coupled_exact();
+        let mut warm = Sculptor::new();
         let mut scratch = base.clone();
         warm.apply(&mut scratch, &push(-1.7, 0.4, 0.3), Regulation::Exact)
             .unwrap();
@@ -987,7 +987,7 @@ mod tests {
             let mut reused = base.clone();
             warm.apply(&mut reused, &op, Regulation::Exact).unwrap();
             let mut fresh = base.clone();
-            Sculptor::with_coupled_exact()
+            Sculptor::new()
                 .apply(&mut fresh, &op, Regulation::Exact)
                 .unwrap();
             for (a, b) in reused.nodes().iter().zip(fresh.nodes()) {

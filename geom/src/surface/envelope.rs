@@ -831,6 +831,98 @@ mod tests {
     }
 
     #[test]
+    fn several_strokes_grown_frame_by_frame_equal_them_applied_at_once() {
+        // Three fingers on the 16 × 8 sphere, near each other (shared patches and groups),
+        // each growing its own stroke and deepening its live placement frame by frame, one of
+        // them joining late; with and without a mirror. Every frame keeps the fingers that did
+        // not change (and their flows): the result must be exactly that of a fresh presser
+        // given the final strokes at once.
+        let sphere = Primitive::Sphere
+            .build(&PrimitiveParams {
+                patches: Some((16, 8)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap();
+        let on = |lon: f64, lat: f64| {
+            DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()) * 3.0
+        };
+        for mirror in [None, Some(super::super::mirror::Plane::Y)] {
+            let symmetry = mirror.map(|pl| Symmetry::of(&sphere, pl).unwrap());
+            let mut presser = Presser::default();
+            presser.set_mirror(symmetry.clone());
+            presser.begin(&sphere);
+            let mut grid = sphere.clone();
+            let mut tracks: Vec<Vec<Placement>> = vec![Vec::new(), Vec::new(), Vec::new()];
+            for k in 0..24 {
+                for (f, t) in tracks.iter_mut().enumerate() {
+                    if f == 2 && k < 9 {
+                        continue;
+                    }
+                    let (lon, lat) = (0.3 + 0.04 * k as f64, 0.2 + 0.35 * f as f64);
+                    let dir = -on(lon, lat).normalize();
+                    let depth = 0.15 + 0.02 * ((k + f) % 5) as f64;
+                    let next = Placement {
+                        tip: on(lon, lat) + depth * dir,
+                        dir,
+                        depth,
+                    };
+                    // Every other frame the live placement deepens instead of a new one.
+                    if k % 2 == 1 && !t.is_empty() {
+                        let last = t.len() - 1;
+                        t[last].depth += 0.03;
+                        let d = t[last].dir;
+                        t[last].tip += 0.03 * d;
+                    } else {
+                        // Every third frame the live placement also moves before the next
+                        // one starts (as a merged straight run does): the new segment's start
+                        // changed too.
+                        if k % 3 == 2 && !t.is_empty() {
+                            let last = t.len() - 1;
+                            t[last].tip += 0.05 * DVec3::Z;
+                        }
+                        // Now and then an earlier placement moves alone: the segment after it
+                        // changes with it though its own placement does not.
+                        if k % 4 == 0 && t.len() >= 3 {
+                            let mid = t.len() - 2;
+                            t[mid].tip -= 0.04 * DVec3::Z;
+                        }
+                        t.push(next);
+                    }
+                }
+                let strokes: Vec<Stroke<'_>> = tracks
+                    .iter()
+                    .filter(|t| !t.is_empty())
+                    .enumerate()
+                    .map(|(f, t)| Stroke {
+                        placements: t,
+                        radius: 0.7 + 0.1 * f as f64,
+                        length: 2.0,
+                    })
+                    .collect();
+                presser
+                    .apply_strokes(&sphere, &mut grid, &strokes, Regulation::default())
+                    .unwrap();
+            }
+            let strokes: Vec<Stroke<'_>> = tracks
+                .iter()
+                .enumerate()
+                .map(|(f, t)| Stroke {
+                    placements: t,
+                    radius: 0.7 + 0.1 * f as f64,
+                    length: 2.0,
+                })
+                .collect();
+            let mut once = sphere.clone();
+            let mut fresh = Presser::default();
+            fresh.set_mirror(symmetry);
+            fresh
+                .apply_strokes(&sphere, &mut once, &strokes, Regulation::default())
+                .unwrap();
+            assert_eq!(grid.nodes(), once.nodes(), "mirror {mirror:?}");
+        }
+    }
+
+    #[test]
     fn strokes_far_apart_are_each_their_own_push_and_one_stroke_is_apply() {
         // Two fingers pressing the 16 × 8 sphere far apart (opposite sides, no shared group):
         // together, one application, exactly each push applied on its own, one after the other;

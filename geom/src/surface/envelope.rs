@@ -119,13 +119,50 @@ struct Reach {
     length: f64,
     /// Holds every point within the finger radius of the capsule (tips to `length` behind).
     bounds: Aabb,
+    /// Its flows on the patches it was asked about (see [`Memo`]).
+    memo: Memo,
+}
+
+/// What a finger did to the patches of the reference it was asked about, kept while the
+/// finger stays in the contact (a placement that does not change keeps its finger, and the
+/// reference does not change during a contact): per patch, whether the finger may touch it,
+/// and if so its flows at the patch's 16 reference samples (then, with a mirror, the mirrored
+/// finger's). A frame that recomputes a patch reads the flows of the fingers it kept instead
+/// of evaluating them again: the same numbers, so the same envelope. A clone starts empty.
+#[derive(Debug, Default)]
+struct Memo {
+    /// `(patch, offset of its flows in `flows`)`, [`Memo::NONE`] for a patch not touched.
+    patches: Vec<(usize, usize)>,
+    flows: Vec<DVec3>,
+}
+
+impl Memo {
+    const NONE: usize = usize::MAX;
+
+    fn find(&self, patch: usize) -> Option<usize> {
+        self.patches
+            .iter()
+            .find(|(q, _)| *q == patch)
+            .map(|&(_, at)| at)
+    }
+}
+
+impl Clone for Memo {
+    /// Empty: a cache, not part of the finger.
+    fn clone(&self) -> Self {
+        Memo::default()
+    }
 }
 
 impl Reach {
     /// Whether the finger may move something in the box.
     fn may_touch(&self, b: &Aabb) -> bool {
-        let overlap = self.bounds.min.cmple(b.max).all() && b.min.cmple(self.bounds.max).all();
-        overlap && self.finger.may_touch(b, self.length)
+        self.overlaps(b) && self.finger.may_touch(b, self.length)
+    }
+
+    /// Whether the box meets the finger's bounds (the cheap first half of `may_touch`).
+    fn overlaps(&self, b: &Aabb) -> bool {
+        self.bounds.min.cmple(b.max).all() && b.min.cmple(self.bounds.max).all()
     }
 
     /// The flow of the finger at `x`, zero when `x` is more than `length` behind the tips
@@ -169,13 +206,20 @@ pub struct Presser {
     applied: Vec<Seg>,
     /// The placements of this application.
     pending: Vec<Seg>,
+    /// The fingers of the last application, one per placement.
     fingers: Vec<Reach>,
-    old: Vec<Reach>,
+    /// The fingers of this application (swapped into `fingers` when it is accepted).
+    next: Vec<Reach>,
+    /// Per finger of this application: whether it is new (not one of the last application's).
+    fresh: Vec<bool>,
+    /// Per finger of the last application: whether this application keeps it.
+    kept: Vec<bool>,
     area: Vec<usize>,
     patch_mark: Vec<u32>,
     vertex_mark: Vec<u32>,
     stamp: u32,
-    near: Vec<usize>,
+    /// The fingers near the patch at hand, with the offset of their flows there.
+    near: Vec<(usize, usize)>,
     regulate: Vec<(usize, usize)>,
     /// Vertices whose touched neighbours join the coupled solve (see
     /// [`Presser::couple_components`]).
@@ -201,6 +245,10 @@ impl Presser {
     /// the ones the symmetry was made for.
     pub fn set_mirror(&mut self, symmetry: Option<Symmetry>) {
         self.mirror = symmetry;
+        // The fingers' memos hold the flows of the mirror they were made with.
+        for f in &mut self.fingers {
+            f.memo = Memo::default();
+        }
     }
 
     /// The mirror set by [`Presser::set_mirror`].
@@ -287,23 +335,43 @@ impl Presser {
         placements: &[Seg],
         regulation: Regulation,
     ) -> Result<(), SurfaceError> {
-        // The first placement that differs from the last application: every segment from
-        // there on changed (a segment also depends on the placement before it).
-        let first = placements
-            .iter()
-            .zip(&self.applied)
-            .position(|(a, b)| a != b)
-            .unwrap_or(placements.len().min(self.applied.len()));
-        if first == placements.len() && first == self.applied.len() {
+        if placements == &self.applied[..] {
             return Ok(());
         }
-        // The fingers before `first` are those of the last application.
-        self.old.clear();
-        self.old
-            .extend(self.fingers.drain(first.min(self.fingers.len())..));
-        if let Err(e) = reaches(placements, first, &mut self.fingers) {
-            self.fingers.append(&mut self.old);
-            return Err(e);
+        // Which fingers changed. A placement's finger depends on the placement and, within a
+        // stroke, on the one before it; strokes are matched by their order (a contact's parts
+        // keep theirs), placements within a stroke by their position. A finger whose
+        // placement and predecessor are those of the last application is that application's
+        // finger, and every patch it alone reaches keeps its flows: only the patches a new
+        // finger or a dropped one reaches are recomputed (the fingers stay in the order of
+        // the placements, so the envelope's choice between equal flows does not change).
+        self.next.clear();
+        self.fresh.clear();
+        self.kept.clear();
+        self.kept.resize(self.applied.len(), false);
+        let (mut j, mut i) = (0, 0);
+        while j < placements.len() {
+            let end = stroke_end(placements, j);
+            let old_end = stroke_end(&self.applied, i);
+            for k in 0..end - j {
+                let same = i + k < old_end
+                    && placements[j + k] == self.applied[i + k]
+                    && (k == 0 || placements[j + k - 1] == self.applied[i + k - 1]);
+                if same {
+                    self.kept[i + k] = true;
+                    // The finger with its memo (the last application's list keeps the finger,
+                    // for going back, without the memo: a cache).
+                    let kept = &mut self.fingers[i + k];
+                    let mut f = kept.clone();
+                    f.memo = std::mem::take(&mut kept.memo);
+                    self.next.push(f);
+                } else {
+                    self.next.push(reach(placements, j + k)?);
+                }
+                self.fresh.push(!same);
+            }
+            j = end;
+            i = old_end;
         }
         self.next_stamp(grid);
         let stamp = self.stamp;
@@ -315,7 +383,9 @@ impl Presser {
             .as_ref()
             .filter(|s| s.fits(reference))
             .map(Symmetry::plane);
-        for f in self.fingers[first..].iter().chain(&self.old) {
+        let new = self.next.iter().zip(&self.fresh).filter(|(_, f)| **f);
+        let dropped = self.fingers.iter().zip(&self.kept).filter(|(_, k)| !**k);
+        for (f, _) in new.chain(dropped) {
             let start = self.area.len();
             reference.hierarchy().query(
                 &|b| f.may_touch(b) || plane.is_some_and(|pl| f.may_touch(&pl.reflect_box(b))),
@@ -348,30 +418,62 @@ impl Presser {
         }
         for &p in &self.area {
             let bounds = reference.patch_bounds(p);
-            self.near.clear();
             let mirrored = plane.map(|pl| pl.reflect_box(&bounds));
-            self.near.extend((0..self.fingers.len()).filter(|&k| {
-                self.fingers[k].may_touch(&bounds)
-                    || mirrored
-                        .as_ref()
-                        .is_some_and(|b| self.fingers[k].may_touch(b))
-            }));
             let points = reference.patch_at(p);
             let r = samples(&points);
+            // The fingers that may touch the patch, each with its flows there (from its memo,
+            // or evaluated now and kept).
+            self.near.clear();
+            for (k, f) in self.next.iter_mut().enumerate() {
+                if !(f.overlaps(&bounds) || mirrored.as_ref().is_some_and(|b| f.overlaps(b))) {
+                    continue;
+                }
+                let at = match f.memo.find(p) {
+                    Some(at) => at,
+                    None => {
+                        let touches = f.may_touch(&bounds)
+                            || mirrored.as_ref().is_some_and(|b| f.may_touch(b));
+                        let at = if touches {
+                            let at = f.memo.flows.len();
+                            for x in &r {
+                                let flow = f.flow(*x);
+                                f.memo.flows.push(flow);
+                            }
+                            if let Some(pl) = plane {
+                                for x in &r {
+                                    let flow = pl.reflect(f.flow(pl.reflect(*x)));
+                                    f.memo.flows.push(flow);
+                                }
+                            }
+                            at
+                        } else {
+                            Memo::NONE
+                        };
+                        f.memo.patches.push((p, at));
+                        at
+                    }
+                };
+                if at != Memo::NONE {
+                    self.near.push((k, at));
+                }
+            }
+            // Every sample follows the strongest flow, the first of equals in the fingers'
+            // order (a finger's own flow before its mirror image's).
             let mut flows = [DVec3::ZERO; 16];
             let mut any = false;
-            for (k, x) in r.iter().enumerate() {
+            for (k, flow_k) in flows.iter_mut().enumerate() {
                 let mut best = DVec3::ZERO;
                 let mut best_sq = 0.0;
-                for &f in &self.near {
-                    let flow = self.fingers[f].flow(*x);
+                for &(f, at) in &self.near {
+                    let memo = &self.next[f].memo.flows;
+                    let flow = memo[at + k];
                     let sq = flow.length_squared();
                     if sq > best_sq {
                         best = flow;
                         best_sq = sq;
                     }
-                    if let Some(pl) = plane {
-                        let flow = pl.reflect(self.fingers[f].flow(pl.reflect(*x)));
+                    if plane.is_some() {
+                        let flow = memo[at + 16 + k];
                         let sq = flow.length_squared();
                         if sq > best_sq {
                             best = flow;
@@ -379,7 +481,7 @@ impl Presser {
                         }
                     }
                 }
-                flows[k] = best;
+                *flow_k = best;
                 any |= best_sq > 0.0;
             }
             let (iu, iv) = (p % m, p / m);
@@ -536,14 +638,13 @@ impl Presser {
             for &(p, d) in &self.saved_deformed {
                 self.deformed[p] = d;
             }
-            self.fingers.truncate(first);
-            self.fingers.append(&mut self.old);
             self.changed.clear();
             return Err(e);
         }
         grid.refit(&self.changed, &mut self.scratch);
         self.applied.clear();
         self.applied.extend_from_slice(placements);
+        std::mem::swap(&mut self.fingers, &mut self.next);
         Ok(())
     }
 
@@ -640,61 +741,63 @@ impl Presser {
     }
 }
 
-/// Appends the fingers of `placements[first..]` (see [`describe`]; a placement that starts a
-/// stroke is a push) to `out`; on an error `out` keeps only the fingers before `first`.
-fn reaches(placements: &[Seg], first: usize, out: &mut Vec<Reach>) -> Result<(), SurfaceError> {
-    for j in first..placements.len() {
-        let Seg {
-            placement: p,
-            start,
-            radius,
-            length,
-        } = placements[j];
-        let from = if start || j == 0 {
-            p.tip
-        } else {
-            placements[j - 1].placement.tip
-        };
-        let op = if start || j == 0 {
-            Op::Push {
-                at: p.tip - p.depth * p.dir,
-                dir: p.dir,
-                depth: p.depth,
-                radius,
-            }
-        } else {
-            Op::Drag {
-                path: vec![from - p.depth * p.dir, p.tip - p.depth * p.dir],
-                dir: p.dir,
-                depth: p.depth,
-                radius,
-            }
-        };
-        match op.finger() {
-            Ok(finger) => {
-                // The shape function's finger ends `|depth| − depth` past the fingertip (at it
-                // for a push; beyond it for a pull, whose finger mirrors the push).
-                let back = length * p.dir;
-                let ahead = (p.depth.abs() - p.depth) * p.dir;
-                let bounds =
-                    Aabb::of_points(&[from - back, p.tip - back, from + ahead, p.tip + ahead])
-                        .inflated(radius);
-                out.push(Reach {
-                    finger,
-                    from,
-                    to: p.tip,
-                    dir: p.dir,
-                    length,
-                    bounds,
-                });
-            }
-            Err(e) => {
-                out.truncate(first);
-                return Err(e);
-            }
-        }
+/// The end of the stroke that starts at `j` (the next placement that starts a stroke, or the
+/// end of the list); `j` itself at the end of the list.
+fn stroke_end(placements: &[Seg], j: usize) -> usize {
+    if j >= placements.len() {
+        return j;
     }
-    Ok(())
+    placements[j + 1..]
+        .iter()
+        .position(|s| s.start)
+        .map_or(placements.len(), |k| j + 1 + k)
+}
+
+/// The finger of `placements[j]` (see [`describe`]; a placement that starts a stroke is a
+/// push).
+fn reach(placements: &[Seg], j: usize) -> Result<Reach, SurfaceError> {
+    let Seg {
+        placement: p,
+        start,
+        radius,
+        length,
+    } = placements[j];
+    let from = if start || j == 0 {
+        p.tip
+    } else {
+        placements[j - 1].placement.tip
+    };
+    let op = if start || j == 0 {
+        Op::Push {
+            at: p.tip - p.depth * p.dir,
+            dir: p.dir,
+            depth: p.depth,
+            radius,
+        }
+    } else {
+        Op::Drag {
+            path: vec![from - p.depth * p.dir, p.tip - p.depth * p.dir],
+            dir: p.dir,
+            depth: p.depth,
+            radius,
+        }
+    };
+    let finger = op.finger()?;
+    // The shape function's finger ends `|depth| − depth` past the fingertip (at it for a push;
+    // beyond it for a pull, whose finger mirrors the push).
+    let back = length * p.dir;
+    let ahead = (p.depth.abs() - p.depth) * p.dir;
+    let bounds =
+        Aabb::of_points(&[from - back, p.tip - back, from + ahead, p.tip + ahead]).inflated(radius);
+    Ok(Reach {
+        finger,
+        from,
+        to: p.tip,
+        dir: p.dir,
+        length,
+        bounds,
+        memo: Memo::default(),
+    })
 }
 
 #[cfg(test)]
@@ -862,6 +965,98 @@ mod tests {
                 .apply_strokes(&plane, &mut once, strokes, Regulation::default())
                 .unwrap();
             assert_eq!(grid, once, "frame {f}");
+        }
+    }
+
+    #[test]
+    fn several_strokes_grown_frame_by_frame_equal_them_applied_at_once() {
+        // Three fingers on the 16 × 8 sphere, near each other (shared patches and groups),
+        // each growing its own stroke and deepening its live placement frame by frame, one of
+        // them joining late; with and without a mirror. Every frame keeps the fingers that did
+        // not change (and their flows): the result must be exactly that of a fresh presser
+        // given the final strokes at once.
+        let sphere = Primitive::Sphere
+            .build(&PrimitiveParams {
+                patches: Some((16, 8)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap();
+        let on = |lon: f64, lat: f64| {
+            DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()) * 3.0
+        };
+        for mirror in [None, Some(super::super::mirror::Plane::Y)] {
+            let symmetry = mirror.map(|pl| Symmetry::of(&sphere, pl).unwrap());
+            let mut presser = Presser::default();
+            presser.set_mirror(symmetry.clone());
+            presser.begin(&sphere);
+            let mut grid = sphere.clone();
+            let mut tracks: Vec<Vec<Placement>> = vec![Vec::new(), Vec::new(), Vec::new()];
+            for k in 0..24 {
+                for (f, t) in tracks.iter_mut().enumerate() {
+                    if f == 2 && k < 9 {
+                        continue;
+                    }
+                    let (lon, lat) = (0.3 + 0.04 * k as f64, 0.2 + 0.35 * f as f64);
+                    let dir = -on(lon, lat).normalize();
+                    let depth = 0.15 + 0.02 * ((k + f) % 5) as f64;
+                    let next = Placement {
+                        tip: on(lon, lat) + depth * dir,
+                        dir,
+                        depth,
+                    };
+                    // Every other frame the live placement deepens instead of a new one.
+                    if k % 2 == 1 && !t.is_empty() {
+                        let last = t.len() - 1;
+                        t[last].depth += 0.03;
+                        let d = t[last].dir;
+                        t[last].tip += 0.03 * d;
+                    } else {
+                        // Every third frame the live placement also moves before the next
+                        // one starts (as a merged straight run does): the new segment's start
+                        // changed too.
+                        if k % 3 == 2 && !t.is_empty() {
+                            let last = t.len() - 1;
+                            t[last].tip += 0.05 * DVec3::Z;
+                        }
+                        // Now and then an earlier placement moves alone: the segment after it
+                        // changes with it though its own placement does not.
+                        if k % 4 == 0 && t.len() >= 3 {
+                            let mid = t.len() - 2;
+                            t[mid].tip -= 0.04 * DVec3::Z;
+                        }
+                        t.push(next);
+                    }
+                }
+                let strokes: Vec<Stroke<'_>> = tracks
+                    .iter()
+                    .filter(|t| !t.is_empty())
+                    .enumerate()
+                    .map(|(f, t)| Stroke {
+                        placements: t,
+                        radius: 0.7 + 0.1 * f as f64,
+                        length: 2.0,
+                    })
+                    .collect();
+                presser
+                    .apply_strokes(&sphere, &mut grid, &strokes, Regulation::default())
+                    .unwrap();
+            }
+            let strokes: Vec<Stroke<'_>> = tracks
+                .iter()
+                .enumerate()
+                .map(|(f, t)| Stroke {
+                    placements: t,
+                    radius: 0.7 + 0.1 * f as f64,
+                    length: 2.0,
+                })
+                .collect();
+            let mut once = sphere.clone();
+            let mut fresh = Presser::default();
+            fresh.set_mirror(symmetry);
+            fresh
+                .apply_strokes(&sphere, &mut once, &strokes, Regulation::default())
+                .unwrap();
+            assert_eq!(grid.nodes(), once.nodes(), "mirror {mirror:?}");
         }
     }
 

@@ -40,6 +40,12 @@ pub struct Fingertip {
     pub radius: f64,
     /// How far back from the tip the capsule's axis runs (`ℓ`).
     pub length: f64,
+    /// How far behind the tip, along the axis, the part's own body reaches: for a finger
+    /// `max_k (E − p_k)·d̂` over its knuckle and two inner joints `p_k` (its length when
+    /// straight, less when curled), for the palm the capsule's length. The axis crossing the
+    /// surface farther back than this is only the straight capsule running on past a curled
+    /// finger's joints, and does not press (rule 3 of [`super::session`]).
+    pub body: f64,
 }
 
 impl Fingertip {
@@ -185,6 +191,7 @@ mod tests {
             base: DVec3::Z,
             radius: 1.0,
             length: 2.0,
+            body: 2.0,
         };
         assert_eq!(f.distance_sq(DVec3::new(0.5, 0.0, 1.5)), 0.25);
         assert_eq!(f.distance_sq(DVec3::new(0.0, 0.0, -2.0)), 4.0);

@@ -31,6 +31,9 @@
 //!   sideways by `h / sin θ`. A flat hand 0.05 side into the plane moves no control point
 //!   more than 1.5 × 0.05 at any angle from 3° to 90° (tests/it/hand_contact.rs). The mouse's
 //!   ray is the exception: its depth is chosen along the ray, and it presses along it.
+//! - **Only where the finger is.** A crossing counts only if the finger's own joints reach
+//!   back along its axis that far: a fingertip curled back out of a fist, whose straight
+//!   capsule runs on through the clay below, points out of the clay and does not press it.
 //! - **Every finger presses, and the palm.** Each part of the hand in the set
 //!   ([`Fingers`]; `--finger all`, the default for gloves, is the five fingers; `palm` adds
 //!   the palm as a wide capsule under the palm's centre) ends in a capsule — radius `r_f`

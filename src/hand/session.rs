@@ -46,6 +46,14 @@
 //!    which pressed along `d̂` would move the clay that far sideways. The clay moves by at most
 //!    `h` at the samples (the shape function's `(1 − r²/r_f²)·h`), its control points by at
 //!    most about 1.5 `h` (tests/it/hand_contact.rs, a flat hand at 3° to 90°).
+//!    **The finger's body reaches the crossing:** `S` counts only if it is no farther
+//!    behind the tip than the finger's own joints reach along the axis,
+//!    `(E − S)·d̂ ≤ max_k (E − p_k)·d̂` ([`Fingertip::body`]; the finger's length when it is
+//!    straight). The capsule is straight and `ℓ` long (at least `2·r_f`, 2 side by default),
+//!    but a curled finger is not: out of a pointing fist the ring finger's tip points back
+//!    up, 1.5 side above the plane the index presses, its joints higher still, while its
+//!    capsule runs 2 side straight down through the plane; without this test it "pressed"
+//!    the plane from below by the tip's height (a dent 2.4 deep for the index's 0.3).
 //! 4. **A contact starts** when, on the surface as it is, `h > min_depth` (pressing) — or,
 //!    with the grip held, `h ≥ −grip_distance` (the tip touching, or within a hair): the clay
 //!    sticks to it.
@@ -793,6 +801,10 @@ impl HandLoop {
                         base: chain.points[2],
                         radius: self.options.finger_radius,
                         length: self.reach_of(part),
+                        body: chain.points[..3]
+                            .iter()
+                            .map(|&p| (chain.tip() - p).dot(chain.direction()))
+                            .fold(0.0, f64::max),
                     }
                 }
                 Part::Palm => {
@@ -803,6 +815,7 @@ impl HandLoop {
                         base: palm.centre - self.reach_of(part) * palm.normal,
                         radius: self.palm_radius(),
                         length: self.reach_of(part),
+                        body: self.reach_of(part),
                     }
                 }
             };
@@ -830,19 +843,14 @@ impl HandLoop {
         Some(reach - hit.t)
     }
 
-    /// Rule 3: how the capsule ending at `tip`, pointing along `axis`, `reach` long, presses
-    /// `grid` — the direction `m̂` (the surface normal at the axis's crossing, turned to the
-    /// finger's side) and the signed depth `h` of the tip past the surface along it. `ahead`
-    /// is how far past the tip the surface may be. `None` when the axis does not reach the
-    /// surface.
-    fn press(
-        &mut self,
-        grid: &Grid,
-        tip: DVec3,
-        axis: DVec3,
-        reach: f64,
-        ahead: f64,
-    ) -> Option<Press> {
+    /// Rule 3: how the capsule of `finger` (ending at its tip, pointing along its axis, its
+    /// `length` long) presses `grid` — the direction `m̂` (the surface normal at the axis's
+    /// crossing, turned to the finger's side) and the signed depth `h` of the tip past the
+    /// surface along it. `ahead` is how far past the tip the surface may be. `None` when the
+    /// axis does not reach the surface, or meets it farther behind the tip than the finger's
+    /// `body` reaches.
+    fn press(&mut self, grid: &Grid, finger: &Fingertip, ahead: f64) -> Option<Press> {
+        let (tip, axis, reach, body) = (finger.tip, finger.axis, finger.length, finger.body);
         let hit = self
             .probe
             .first_crossing(grid, tip - reach * axis, axis, reach + ahead)?;
@@ -857,6 +865,12 @@ impl HandLoop {
         }
         let n = hit.normal.try_normalize().unwrap_or(axis);
         let dir = if n.dot(axis) < 0.0 { -n } else { n };
+        // The finger's own body reaches the crossing: past it the straight capsule runs on
+        // where a curled finger is not (a fingertip curled back out of a fist points out of
+        // the clay its capsule crosses).
+        if along_axis > body {
+            return None;
+        }
         // Below the tangent plane at the crossing: exact on a plane, the fallback elsewhere.
         let tangent_depth = along_axis * dir.dot(axis);
         // Along m̂ through the tip itself, searched a little beyond that depth either way, so
@@ -915,7 +929,7 @@ impl HandLoop {
                 let reach = finger.length;
                 if let Some(k) = c.active(part) {
                     // Rule 5: how far the part is in the clay as it was before the contact.
-                    let p0 = self.press(&c.reference, e, axis, reach, reach);
+                    let p0 = self.press(&c.reference, &finger, reach);
                     let t = &mut c.tracks[k];
                     if t.grip && !grip {
                         t.grip = false;
@@ -935,7 +949,7 @@ impl HandLoop {
                 } else {
                     // A part joining the contact (rule 4, on the surface before it).
                     let ahead = if grip { reach } else { 0.0 };
-                    let press = self.press(&c.reference, e, axis, reach, ahead);
+                    let press = self.press(&c.reference, &finger, ahead);
                     if part == primary {
                         out.penetration = press.map(|p| p.depth);
                     }
@@ -965,7 +979,7 @@ impl HandLoop {
             for &(part, finger) in &tips {
                 let reach = finger.length;
                 let ahead = if grip { reach } else { 0.0 };
-                let Some(press) = self.press(grid, finger.tip, finger.axis, reach, ahead) else {
+                let Some(press) = self.press(grid, &finger, ahead) else {
                     continue;
                 };
                 if part == primary {

@@ -590,3 +590,64 @@ fn a_mirrored_pinch_pulls_both_sides() {
 /// The fingers the shipped pinch is made with (its scene names them): thumb and index; the
 /// other three, curled out of the way, would brush the sphere on the way in.
 const PINCH_FINGERS: Fingers = Fingers::THUMB_AND_INDEX;
+
+/// The press gesture of `nendo emulate` (the index straight down 0.3 side into the plane, the
+/// other fingers curled in the pointing pose) with every finger pressing: only the index goes
+/// in, so the clay moves no farther than the index went (0.3), and at every frame a finger is
+/// in the contact only while its tip is below the plane. A curled finger's tip points back up
+/// out of the fist, 1.5 side above the plane; its capsule used to run its whole length
+/// (1.9 side) straight back from that tip, through the plane, and pressed the clay by the
+/// tip's height above it (a dent 2.4 deep).
+#[test]
+fn in_the_press_gesture_only_the_index_presses_and_no_deeper_than_it_went() {
+    let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+    for scale in [20.0, 21.5] {
+        let world = nendo_devices::WorldFromTracker {
+            translation: [0.0, 0.0, 0.0],
+            rotation_wxyz: [1.0, 0.0, 0.0, 0.0],
+            scale,
+        };
+        let t = script::Gesture::Press.trace(world, 100.0).unwrap();
+        let hand = Hand::new(HandSize::default(), world).unwrap();
+        let options = HandOptions {
+            finger: FingerModel::Hand(Fingers::ALL),
+            ..HandOptions::default()
+        };
+        let mut s = Session::new(plane.clone(), Regulation::default(), hand, options).unwrap();
+        let mut deepest = (0.0f64, Vec::new());
+        for f in &t.frames {
+            s.feed(f);
+            let tips = s.hand_loop().fingertips().to_vec();
+            let touching = s.hand_loop().touching();
+            for (part, tip) in &tips {
+                assert!(
+                    !touching.contains(*part) || tip.tip.z < 1e-3,
+                    "scale {scale}: {} presses with its tip {} above the plane",
+                    part.name(),
+                    tip.tip.z
+                );
+            }
+            let d = tips.iter().map(|(_, f)| -f.tip.z).fold(0.0f64, f64::max);
+            if d > deepest.0 {
+                deepest = (d, tips);
+            }
+        }
+        let heights: Vec<(&str, f64)> =
+            deepest.1.iter().map(|(p, f)| (p.name(), f.tip.z)).collect();
+        println!("scale {scale}: fingertip heights at the deepest frame {heights:?}");
+        let index = heights.iter().find(|(n, _)| *n == "index").unwrap().1;
+        assert!((index + 0.3).abs() < 1e-3, "scale {scale}: {heights:?}");
+        for (name, z) in &heights {
+            assert!(
+                *name == "index" || *z > index + 0.5,
+                "scale {scale}: {heights:?}"
+            );
+        }
+        let (largest, g1) = largest_move_and_g1(&plane, s.grid());
+        assert!(
+            (0.5 * 0.3..=1.5 * 0.3).contains(&largest),
+            "scale {scale}: a control point moved {largest}; fingertips at the deepest frame {heights:?}"
+        );
+        assert!(g1 < 0.01, "scale {scale}: G1 {g1}°");
+    }
+}

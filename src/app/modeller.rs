@@ -1963,11 +1963,8 @@ mod tests {
         let _ = std::fs::remove_dir_all(autosave.parent().expect("dir"));
     }
 
-    /// The Hand tool drives the mouse hand from the pointer: a press in the view pushes the
-    /// plane through the document (one undoable "hand" edit), the hand is drawn, and the wheel
-    /// while pressed goes deeper.
-    #[test]
-    fn the_hand_tool_sculpts_through_the_document() {
+    /// A modeller on the default plane, an 800 × 600 view, the Hand tool picked.
+    fn hand_tool_on_the_plane() -> Modeller {
         let mut m = Modeller::new(plane_doc(), None, false);
         m.set_viewport(Vec2::new(800.0, 600.0));
         m.refresh();
@@ -1975,6 +1972,15 @@ mod tests {
             nendo_devices::profile::MouseProfile::default(),
         ));
         assert_eq!(m.tools.active, Tool::Hand);
+        m
+    }
+
+    /// The Hand tool drives the mouse hand from the pointer: a press in the view pushes the
+    /// plane through the document (one undoable "hand" edit), the hand is drawn, and the wheel
+    /// while pressed goes deeper.
+    #[test]
+    fn the_hand_tool_sculpts_through_the_document() {
+        let mut m = hand_tool_on_the_plane();
         let centre = Vec2::new(400.0, 300.0);
         m.pointer(PointerInput::Moved(centre));
         assert_eq!(m.document().revision(), 0, "hovering does not sculpt");
@@ -2361,13 +2367,7 @@ mod tests {
     #[test]
     fn mirrored_hand_contacts_keep_the_model_symmetric() {
         use crate::surface::mirror::symmetry_error;
-        let mut m = Modeller::new(plane_doc(), None, false);
-        m.set_viewport(Vec2::new(800.0, 600.0));
-        m.refresh();
-        m.apply(Command::UseMouseHand(
-            nendo_devices::profile::MouseProfile::default(),
-        ));
-        assert_eq!(m.tools.active, Tool::Hand);
+        let mut m = hand_tool_on_the_plane();
         let (from, to) = (Vec2::new(250.0, 330.0), Vec2::new(310.0, 290.0));
         for (what, end, pull) in [
             ("click", from, false),

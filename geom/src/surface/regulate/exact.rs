@@ -314,6 +314,9 @@ const GRAM_1D: [[f64; 4]; 4] = [
 pub(crate) struct Coupled {
     /// The regulated groups, sorted by vertex key `q · V_u + k` (the unknowns' order).
     groups: Vec<Group>,
+    /// `(q · V_u + k, index in groups)` of every group, sorted: finds a corner's group by its
+    /// vertex without the modular key (a division per lookup).
+    by_vertex: Vec<(usize, u32)>,
     /// The patches around them (ids `iv · M + iu`, sorted).
     patches: Vec<usize>,
     /// Per patch: the index in `groups` of each corner `(c_u, c_v)` (`2 c_v + c_u`), if
@@ -428,15 +431,24 @@ impl Coupled {
         let vkey = move |k: usize, q: usize| {
             ((q + vv - origin.1 % vv) % vv) * vu + (k + vu - origin.0 % vu) % vu
         };
-        let key = move |g: &Group| vkey(g.vertex.0, g.vertex.1);
         self.groups.clear();
         self.groups.extend_from_slice(groups);
-        self.groups.sort_unstable_by_key(key);
-        self.groups.dedup_by_key(|g| key(g));
+        // Each key once (the modular key costs two divisions).
+        self.groups
+            .sort_by_cached_key(|g| vkey(g.vertex.0, g.vertex.1));
+        self.groups.dedup_by_key(|g| g.vertex);
         let count = self.groups.len();
         if count == 0 {
             return true;
         }
+        self.by_vertex.clear();
+        self.by_vertex.extend(
+            self.groups
+                .iter()
+                .enumerate()
+                .map(|(i, g)| (g.vertex.1 * vu + g.vertex.0, i as u32)),
+        );
+        self.by_vertex.sort_unstable();
         // The patches around the groups.
         self.patches.clear();
         for g in &self.groups {
@@ -457,23 +469,24 @@ impl Coupled {
         self.corners.clear();
         self.first_group.clear();
         self.first_group.extend(0..count);
-        let groups_ref = &self.groups;
+        let by_vertex = &self.by_vertex;
         let find = |k: usize, q: usize| -> Option<u32> {
             if grid.is_pole_line(q) {
                 return None;
             }
-            let want = vkey(k, q);
-            groups_ref
-                .binary_search_by_key(&want, key)
+            by_vertex
+                .binary_search_by_key(&(q * vu + k), |e| e.0)
                 .ok()
-                .map(|i| i as u32)
+                .map(|i| by_vertex[i].1)
         };
         for &p in &self.patches {
             let (iu, iv) = (p % m, p / m);
             let mut c = [None; 4];
             for (slot, corner) in c.iter_mut().enumerate() {
                 let (cu, cv) = (slot % 2, slot / 2);
-                *corner = find((iu + cu) % vu, (iv + cv) % vv);
+                // (iu + c_u) mod V_u without a division: iu < M ≤ V_u and c_u ≤ 1.
+                let wrap_once = |x: usize, n: usize| if x >= n { x - n } else { x };
+                *corner = find(wrap_once(iu + cu, vu), wrap_once(iv + cv, vv));
             }
             let lo = c.iter().flatten().min().copied();
             if let Some(lo) = lo {

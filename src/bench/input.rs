@@ -97,11 +97,12 @@ pub fn gestures() -> Result<Vec<(&'static str, Trace)>, HandError> {
 
 /// The glove's angles of the claw: every finger curled, the thumb rolled under the palm
 /// opposite the middle finger, so that the five fingertips lie on a ring about 1.6 side across
-/// (0.8 side from their centroid, the thumb 0.9 side from the index), level to 0.03 side across
-/// the palm, each pointing within 37° of the ring's axis (the palm's normal, −Z of the hand):
-/// on a sphere of radius 3 pressed along that axis every fingertip goes 0.3 side deep to within
-/// 0.01. Found by a search over the 15 finger joints of the 18-sensor glove (each inside the
-/// range a CyberGlove's default calibration reports); the test
+/// (0.73–0.85 side from their centroid, the thumb 0.9 side from the index), level to 0.03 side
+/// across the palm (square to its normal, −Z of the hand): on a sphere of radius 3 pressed
+/// along that normal every fingertip goes 0.3 side deep to within 0.01, each pointing within
+/// 37° of the sphere's centre. Found by an offline coordinate-descent search over the 15
+/// finger joints of the 18-sensor glove (each inside the range a CyberGlove's default
+/// calibration reports), rounded to 0.01 rad; the test
 /// `the_claw_puts_all_five_fingertips_in_the_clay` checks the outcome.
 const CLAW: [(Joint, f64); 15] = [
     (Joint::ThumbRoll, 1.02),

@@ -21,8 +21,10 @@
 //!   (the one-finger baseline) and with all five fingers active (`--finger all`, the gloves'
 //!   default: every fingertip probed every frame, every one that reaches the clay pressing,
 //!   all of a frame one envelope regulated once); a fourth gesture lays a flat hand on the
-//!   sphere so that several fingertips press at once. "most parts" is the largest number of
-//!   fingertips in the clay at once. The report ends with the two headline figures side by
+//!   sphere so that several fingertips press at once, and a fifth curls the hand into a claw
+//!   that takes all five fingertips, thumb included, 0.3 side into the sphere at once (the
+//!   palm's normal pointing at the centre, the tips on a ring level across the palm). "most
+//!   parts" is the largest number of fingertips in the clay at once. The report ends with the two headline figures side by
 //!   side: the median over every gesture's changed frames, and over all frames, for all five
 //!   fingers and for the index finger alone (same run, same preparation).
 
@@ -36,7 +38,10 @@ use crate::hand::{Digit, FingerModel, Fingers, Hand, HandError, HandOptions, Ses
 use crate::surface::{Primitive, PrimitiveParams, Regulation};
 use nendo_devices::{Joint, Trace, buttons};
 
-/// The scripted gestures of the latency measurement on a sphere of radius 3.
+/// The scripted gestures of the latency measurement on a sphere of radius 3: a press 0.5 side
+/// deep, a stroke 0.3 deep along 4 side of a parallel, a pull 0.4 with the grip (each led by
+/// the index fingertip of the pointing pose), a flat hand whose index fingertip goes 0.4 in,
+/// and a five-finger claw whose fingertips all go 0.3 in ([`CLAW`]).
 ///
 /// # Errors
 /// Never for these fixed motions.
@@ -85,7 +90,81 @@ pub fn gestures() -> Result<Vec<(&'static str, Trace)>, HandError> {
     c.hold(30);
     c.move_to(on(40.0, -30.0, 4.0), inward(40.0, -30.0), 30);
     out.push(("flat hand 0.4", c.finish("bench")?));
+
+    out.push(("five-finger claw 0.3", claw()?));
     Ok(out)
+}
+
+/// The glove's angles of the claw: every finger curled, the thumb rolled under the palm
+/// opposite the middle finger, so that the five fingertips lie on a ring about 1.6 side across
+/// (0.73–0.85 side from their centroid, the thumb 0.9 side from the index), level to 0.03 side
+/// across the palm (square to its normal, −Z of the hand): on a sphere of radius 3 pressed
+/// along that normal every fingertip goes 0.3 side deep to within 0.01, each pointing within
+/// 37° of the sphere's centre. Found by an offline coordinate-descent search over the 15
+/// finger joints of the 18-sensor glove (each inside the range a CyberGlove's default
+/// calibration reports), rounded to 0.01 rad; the test
+/// `the_claw_puts_all_five_fingertips_in_the_clay` checks the outcome.
+const CLAW: [(Joint, f64); 15] = [
+    (Joint::ThumbRoll, 1.02),
+    (Joint::ThumbMcp, 1.1),
+    (Joint::ThumbIp, 0.58),
+    (Joint::ThumbIndexAbduction, -0.3),
+    (Joint::IndexMcp, 0.22),
+    (Joint::IndexPip, 1.16),
+    (Joint::MiddleMcp, 0.2),
+    (Joint::MiddlePip, 0.6),
+    (Joint::IndexMiddleAbduction, 0.09),
+    (Joint::RingMcp, 0.2),
+    (Joint::RingPip, 0.64),
+    (Joint::MiddleRingAbduction, 0.3),
+    (Joint::PinkyMcp, 0.45),
+    (Joint::PinkyPip, 1.03),
+    (Joint::RingPinkyAbduction, 0.19),
+];
+
+/// How deep the claw's fingertips go into the sphere of radius 3 at the hold (side).
+const CLAW_DEPTH: f64 = 0.3;
+
+/// A five-finger claw on the sphere of radius 3: the hand curled as [`CLAW`], the palm's normal
+/// (−Z of the hand) pointing at the sphere's centre through the point at latitude 10°,
+/// longitude 130°, the fingertips' centroid `m` on that line. With `o_i` the offset of
+/// fingertip `i` from `m` in the hand (world units; `o_i·Ẑ` its height above `m` along the
+/// outward normal, `|o_i⊥|` its distance from the axis), the tip is `R − δ` from the centre when
+/// `m` is at `z_i = √((R − δ)² − |o_i⊥|²) − o_i·Ẑ`; the hold puts `m` at the mean of the `z_i`
+/// (`R = 3`, `δ` = [`CLAW_DEPTH`]). The hand comes down along the axis from 1 side above the
+/// hold in 60 frames, holds 30, and lifts in 30 (120 Hz).
+///
+/// # Errors
+/// Never for this fixed motion.
+fn claw() -> Result<Trace, HandError> {
+    let (lat, lon) = (10f64.to_radians(), 130f64.to_radians());
+    let out = DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin());
+    let north = DVec3::new(-lat.sin() * lon.cos(), -lat.sin() * lon.sin(), lat.cos());
+    // The hand's rotation into the world: X (along the fingers) north, Z (the back of the
+    // hand) out of the sphere.
+    let w = glam::DMat3::from_cols(north, out.cross(north), out);
+    let mut c = Choreography::new(Choreography::WORLD, 120.0)?;
+    c.set_angles(&CLAW);
+    let hand = *c.hand();
+    let tips = Digit::ALL.map(|d| hand.local_finger(d, Some(c.angles())).tip() * hand.scale());
+    let m = tips.iter().sum::<DVec3>() / 5.0;
+    let radius = 3.0 - CLAW_DEPTH;
+    let hold = tips
+        .iter()
+        .map(|&t| {
+            let o = t - m;
+            (radius * radius - o.x * o.x - o.y * o.y).max(0.0).sqrt() - o.z
+        })
+        .sum::<f64>()
+        / 5.0;
+    let index = hand.local_finger(Digit::Index, Some(c.angles()));
+    let index_at = |z: f64| z * out + w * (index.tip() * hand.scale() - m);
+    let axis = w * index.direction();
+    c.place(index_at(hold + 1.0), axis, out);
+    c.move_to(index_at(hold), axis, 60);
+    c.hold(30);
+    c.move_to(index_at(hold + 1.0), axis, 30);
+    c.finish("bench")
 }
 
 /// A press elsewhere on the sphere, fed before the timed gesture so that the loop's caches
@@ -291,7 +370,47 @@ mod tests {
                 if name.starts_with("flat") && set == "all five" {
                     assert!(most >= 3, "{name}: {most} fingertips pressed at once");
                 }
+                if name.starts_with("five-finger") {
+                    let want = if set == "all five" { 5 } else { 1 };
+                    assert_eq!(most, want, "{name}, {set}: fingertips pressed at once");
+                }
             }
         }
+    }
+
+    /// The claw's forward kinematics, frame by frame: all five fingertips (thumb included) are
+    /// 0.2–0.4 side inside the sphere of radius 3 at the deepest frame, pointing into it, and
+    /// all five are inside for a good part of the gesture.
+    #[test]
+    fn the_claw_puts_all_five_fingertips_in_the_clay() {
+        let trace = claw().unwrap();
+        let hand = Hand::new(trace.header.hand, trace.header.world_from_tracker).unwrap();
+        let mut deepest: Option<[f64; 5]> = None;
+        let mut all_in = 0;
+        for frame in &trace.frames {
+            let placed = hand.pose(&frame.pose.unwrap(), frame.joints.as_ref());
+            let depth = Digit::ALL.map(|d| 3.0 - placed.finger(d).tip().length());
+            for d in Digit::ALL {
+                let f = placed.finger(d);
+                let into = f.direction().dot(-f.tip().normalize());
+                assert!(into > 0.75, "{d} points {into} into the sphere");
+            }
+            if depth.iter().all(|&h| h > 0.0) {
+                all_in += 1;
+            }
+            let least = |h: &[f64; 5]| h.iter().copied().fold(f64::INFINITY, f64::min);
+            if deepest.is_none_or(|best| least(&depth) > least(&best)) {
+                deepest = Some(depth);
+            }
+        }
+        let deepest = deepest.unwrap();
+        for (d, h) in Digit::ALL.iter().zip(deepest) {
+            assert!((0.2..=0.4).contains(&h), "{d} is {h} side in at the hold");
+        }
+        assert!(
+            all_in * 3 >= trace.frames.len(),
+            "all five in for {all_in} of {} frames",
+            trace.frames.len()
+        );
     }
 }

@@ -95,12 +95,14 @@
 //! is no Kronecker form (quadrature inside every patch, an order of magnitude dearer to
 //! assemble) and depends on the stroke's largest displacement, so it is not adopted.
 //!
-//! Cost (`nendo bench sculpt`, thread CPU time per push, 2-core machine, one run): plane
-//! 10 × 10, coupled (the default) 24.2 µs, group by group 14.4 µs (40 × 40 / 10 × 10: 1.02);
-//! sphere 32 × 16, 70 and 39 µs. Since [`crate::surface::verify`] proves G1 algebraically per
-//! edge, the projection is the larger part: about 167 000 instructions of the 340 000 of an
-//! exact push on 10 × 10 (callgrind), against some 36 000 group by group. The target of the
-//! issue that set this (20 µs on 10 × 10) is met group by group and missed by the coupled
+//! Cost (`nendo bench sculpt`, thread CPU time per push, 2-core machine, two runs): plane
+//! 10 × 10, coupled (the default) 20.3–20.5 µs, group by group 14.2–14.3 µs (40 × 40 / 10 × 10:
+//! 1.02); sphere 32 × 16, 59 and 39 µs. Since [`crate::surface::verify`] proves G1
+//! algebraically per edge, the projection is the larger part: about 150 000 instructions of the
+//! 324 000 of an exact push on 10 × 10 (callgrind), against some 36 000 group by group. The
+//! corner lookups avoid the modular vertex key (two divisions each): with it the push took
+//! 24 µs. The target of the issue that set this (20 µs on 10 × 10) is met group by group and
+//! missed by a hair by the coupled
 //! default. The coupled solve keeps its factor per shape of the solve
 //! ([`Coupled`]'s factor cache): the normal matrix depends only on which groups are corners
 //! of which patches and on their ratios and slots, not on the displacement or on where on the

@@ -805,6 +805,16 @@ mod tests {
     use super::*;
     use crate::surface::{Primitive, PrimitiveParams, Sculptor};
 
+    /// The sphere of radius 3 with 16 × 8 patches.
+    fn sphere_16x8() -> Grid {
+        Primitive::Sphere
+            .build(&PrimitiveParams {
+                patches: Some((16, 8)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap()
+    }
+
     #[test]
     fn one_placement_is_exactly_a_push_and_a_straight_stroke_exactly_a_drag() {
         for reg in Regulation::ALL {
@@ -857,12 +867,7 @@ mod tests {
 
     #[test]
     fn growing_a_stroke_frame_by_frame_equals_applying_it_at_once() {
-        let sphere = Primitive::Sphere
-            .build(&PrimitiveParams {
-                patches: Some((16, 8)),
-                ..PrimitiveParams::default()
-            })
-            .unwrap();
+        let sphere = sphere_16x8();
         let on = |lon: f64, r: f64| DVec3::new(lon.cos() * 0.9, lon.sin() * 0.9, 0.436) * r;
         let mut placements = Vec::new();
         let mut grid = sphere.clone();
@@ -975,12 +980,7 @@ mod tests {
         // them joining late; with and without a mirror. Every frame keeps the fingers that did
         // not change (and their flows): the result must be exactly that of a fresh presser
         // given the final strokes at once.
-        let sphere = Primitive::Sphere
-            .build(&PrimitiveParams {
-                patches: Some((16, 8)),
-                ..PrimitiveParams::default()
-            })
-            .unwrap();
+        let sphere = sphere_16x8();
         let on = |lon: f64, lat: f64| {
             DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()) * 3.0
         };
@@ -1065,12 +1065,7 @@ mod tests {
         // Two fingers pressing the 16 × 8 sphere far apart (opposite sides, no shared group):
         // together, one application, exactly each push applied on its own, one after the other;
         // a palm-sized radius for the second.
-        let sphere = Primitive::Sphere
-            .build(&PrimitiveParams {
-                patches: Some((16, 8)),
-                ..PrimitiveParams::default()
-            })
-            .unwrap();
+        let sphere = sphere_16x8();
         let on = |d: DVec3| 3.0 * d.normalize();
         let a = DVec3::new(1.0, 0.3, 0.2);
         let b = DVec3::new(-1.0, -0.2, -0.1);

@@ -475,23 +475,7 @@ fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
 
     let t = script::sphere_pinch_pull().unwrap();
     let mut s = session_with(&sphere, FingerModel::Hand(PINCH_FINGERS)).logging_contacts();
-    let mut held = 0;
-    // The surface when the pinch lets go.
-    let mut released = None;
-    for f in &t.frames {
-        let out = s.feed(f);
-        assert!(
-            matches!(out.touch, Touch::Free | Touch::Holding),
-            "nothing presses: {:?}",
-            out.touch
-        );
-        if out.touch == Touch::Holding {
-            held += 1;
-        } else if held > 0 && released.is_none() {
-            released = Some(s.grid().clone());
-        }
-    }
-    s.finish();
+    let (held, released) = feed_pinch(&mut s, &t, true);
     assert!(held > 90, "held for {held} frames");
     let st = *s.hand_loop().stats();
     assert_eq!(
@@ -538,6 +522,30 @@ fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
     assert!(g1 < 0.01, "G1 {g1}°");
 }
 
+/// Feeds a pinch trace to `s` and finishes it: the frames the pinch held, and the surface
+/// when it let go. With `never_presses`, every frame must be free or holding.
+fn feed_pinch(s: &mut Session, t: &Trace, never_presses: bool) -> (usize, Option<Grid>) {
+    let mut held = 0;
+    let mut released = None;
+    for f in &t.frames {
+        let out = s.feed(f);
+        if never_presses {
+            assert!(
+                matches!(out.touch, Touch::Free | Touch::Holding),
+                "nothing presses: {:?}",
+                out.touch
+            );
+        }
+        if out.touch == Touch::Holding {
+            held += 1;
+        } else if held > 0 && released.is_none() {
+            released = Some(s.grid().clone());
+        }
+    }
+    s.finish();
+    (held, released)
+}
+
 /// The pinch with a mirror (x = 0): the hold moves the clay together with its mirror image as
 /// one operation, so the sphere stays symmetric to 1e-12 relative and is drawn out on both
 /// sides, to the pinch's target and to its mirror image.
@@ -550,17 +558,7 @@ fn a_mirrored_pinch_pulls_both_sides() {
     let t = script::sphere_pinch_pull().unwrap();
     let mut s = session_with(&sphere, FingerModel::Hand(PINCH_FINGERS)).logging_contacts();
     s.set_mirror(Some(Symmetry::of(&sphere, Plane::X).unwrap()));
-    let mut held = 0;
-    let mut released = None;
-    for f in &t.frames {
-        let out = s.feed(f);
-        if out.touch == Touch::Holding {
-            held += 1;
-        } else if held > 0 && released.is_none() {
-            released = Some(s.grid().clone());
-        }
-    }
-    s.finish();
+    let (held, released) = feed_pinch(&mut s, &t, false);
     assert!(held > 90, "held for {held} frames");
     let asym = symmetry_error(s.grid(), Plane::X).relative;
     assert!(asym < 1e-12, "asymmetry {asym:e}");

@@ -534,13 +534,8 @@ impl Presser {
                     continue;
                 }
                 self.vertex_mark[v] = stamp;
-                let Some(group) = grid.group(k, q) else {
+                if !self.unregulate_group(grid, k, q) {
                     continue;
-                };
-                let nodes = grid.nodes_mut();
-                for id in group.nodes.iter().flatten().flatten() {
-                    self.saved_grid.push((*id, nodes[*id]));
-                    nodes[*id] = self.unregulated[*id];
                 }
                 let mut moved = false;
                 for (eu, ev) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
@@ -704,13 +699,8 @@ impl Presser {
                     continue;
                 }
                 self.vertex_mark[v] = stamp;
-                let Some(group) = grid.group(k2, q2) else {
+                if !self.unregulate_group(grid, k2, q2) {
                     continue;
-                };
-                let nodes = grid.nodes_mut();
-                for id in group.nodes.iter().flatten().flatten() {
-                    self.saved_grid.push((*id, nodes[*id]));
-                    nodes[*id] = self.unregulated[*id];
                 }
                 for p in patches.into_iter().flatten() {
                     if self.patch_mark[p] != stamp {
@@ -722,6 +712,20 @@ impl Presser {
                 self.queue.push((k2, q2));
             }
         }
+    }
+
+    /// Puts the nodes of the group at vertex `(k, q)` back to the unregulated net, saving what
+    /// they held for a refusal; `false` (nothing changed) when the vertex has no group.
+    fn unregulate_group(&mut self, grid: &mut Grid, k: usize, q: usize) -> bool {
+        let Some(group) = grid.group(k, q) else {
+            return false;
+        };
+        let nodes = grid.nodes_mut();
+        for id in group.nodes.iter().flatten().flatten() {
+            self.saved_grid.push((*id, nodes[*id]));
+            nodes[*id] = self.unregulated[*id];
+        }
+        true
     }
 
     fn next_stamp(&mut self, grid: &Grid) {

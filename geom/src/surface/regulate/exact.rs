@@ -94,6 +94,23 @@
 //! per-*sample* weight `1 + 3 (1 − |ΔS| / max|ΔS|)⁴` met both targets (0.0141 / 0.1061) — it
 //! is no Kronecker form (quadrature inside every patch, an order of magnitude dearer to
 //! assemble) and depends on the stroke's largest displacement, so it is not adopted.
+//! Kronecker forms of that weight `f(x) = 1 + 3 (1 − x)⁴`, `x = |ΔS| / max|ΔS|` over the
+//! connected set (×1 / ×2 max at depth 1.5; targets 0.1619 / 0.0810; default 0.1659 / 0.0819):
+//! a bilinear weight per patch from the corner vertices' displacement (`Σ_c w_c (m_a ⊗ m_b)`,
+//! `m_a[i][k] = ∫ B¹_a B³_i B³_k`, i.e. one piecewise-bilinear weight over the grid) 0.1613 /
+//! 0.0780, meeting every ×1/×2/×4 target at r_f 1.25 (×1 by 0.0006; with `1 + 2 (1 − x)²` or
+//! `1 + (1 − x)` it misses: 0.1632, 0.1648); the bicubic interpolant of the 16 sample weights
+//! (16 terms) 0.1589 / 0.0767, meeting them too; the dense weight 0.1594 / 0.0767 (means of
+//! these stay within their targets: 0.0210–0.0212 / 0.0060–0.0061); a constant per patch
+//! 0.1648; the Gram metric plus `λ Σ_s (f − 1) |ΔS(s)|²` at the 16 samples (λ = 1–3, all or rim
+//! patches) 0.1619–0.1687 with the mean 1.05–1.4 × its target; one Lawson step (weights growing
+//! with the plain solve's change) 0.1645–0.1667. None follows the finger: at r_f 0.8, where the
+//! default meets every ×1 target (max 0.1654 at depth 1), the bilinear, bicubic and dense weights
+//! miss them (0.1734, 0.1814, 0.1798); at r_f 2.0 all miss ×1 at depth 1.5 (0.1056, 0.1046,
+//! 0.1046 against 0.1030; default 0.1074). And a metric that depends on the displacement defeats
+//! the factor cache: 200 pushes on 10 × 10 (callgrind, bilinear weight, factor keyed on the
+//! weights) cost +14.5 % instructions alternating ±0.5 at one place and +94 % when the push
+//! moves by fractions of a patch (a factorisation per push). Not adopted.
 //!
 //! Cost (`nendo bench sculpt`, thread CPU time per push, 2-core machine, two runs): plane
 //! 10 × 10, coupled (the default) 20.3–20.5 µs, group by group 14.2–14.3 µs (40 × 40 / 10 × 10:

@@ -111,6 +111,14 @@
 //! the factor cache: 200 pushes on 10 × 10 (callgrind, bilinear weight, factor keyed on the
 //! weights) cost +14.5 % instructions alternating ±0.5 at one place and +94 % when the push
 //! moves by fractions of a patch (a factorisation per push). Not adopted.
+//! Two fixed (displacement-free, cache-keeping) changes were measured too, and move the max the
+//! wrong way (×1 / ×2 max at depth 1.5): a 1-D metric weighted towards the patch edges, where the
+//! max lies, `∫ (1 + α ((1 − u)^p + u^p)) B_i B_k` (α = 1–16, p = 2 or 6), 0.1678–0.1828 /
+//! 0.0803–0.0860, and towards the middle (`1 + 16 u (1 − u)`) 0.1878 / 0.0921; and the
+//! moments of the piecewise-bilinear interpolant of the 16 samples instead of the bicubic one
+//! (no overshoot at the crease; right-hand side `(Q B₄ ⊗ Q B₄) x`, `Q_ia = ∫ B_i L_a` with the
+//! hat functions `L_a` on `{0, 1/3, 2/3, 1}`) 0.1869 / 0.0945, half-way 0.1764 / 0.0870. The
+//! plain Gram metric is a local optimum along both directions.
 //!
 //! Cost (`nendo bench sculpt`, thread CPU time per push, 2-core machine, two runs): plane
 //! 10 × 10, coupled (the default) 20.3–20.5 µs, group by group 14.2–14.3 µs (40 × 40 / 10 × 10:

@@ -19,8 +19,9 @@
 //!
 //! 5. **Verification** ([`verify`]): every control point of the touched patches must be finite
 //!    and within [`COORDINATE_LIMIT`], and under [`Regulation::Exact`] (the method that
-//!    promises G1) every edge of a touched patch must be G1 within [`G1_TOLERANCE_DEG`]. An
-//!    edge is first tried with an algebraic certificate on its 12 control points
+//!    promises G1) every edge of a touched patch must be G1 within [`G1_TOLERANCE_DEG`] — every
+//!    such edge with a control point the operation changed (the others are as they were, and
+//!    an edge creased before is not the operation's failure, below). An edge is first tried with an algebraic certificate on its 12 control points
 //!    (`certified_g1`: the rows crossing it keep one positive ratio,
 //!    `Q_k − X_k = λ (X_k − P_k)`, up to a residual whose bound on the normals' angle along
 //!    the whole edge is below the tolerance, and that side has a tangent plane all along);
@@ -40,7 +41,9 @@ use glam::DVec3;
 use super::continuity::angle_deg;
 use super::error::SurfaceError;
 use super::grab::{self, Hold};
-use super::grid::{Grid, Shape};
+use super::grid::Grid;
+#[cfg(test)]
+use super::grid::Shape;
 use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
 use super::mirror::Symmetry;
@@ -78,7 +81,8 @@ const VERIFY_SAMPLES: usize = 3;
 
 /// Checks what an operation produced on `patches` (sorted patch indices): every control point
 /// finite and within [`COORDINATE_LIMIT`]; under [`Regulation::Exact`], every shared edge of
-/// those patches G1 within [`G1_TOLERANCE_DEG`]: proved along the whole edge from its control
+/// those patches with a control point changed (one whose position differs, bit for bit, from
+/// an old position listed in `before`) G1 within [`G1_TOLERANCE_DEG`]: proved along the whole edge from its control
 /// points (`certified_g1`, which holds on every edge the exact regulation made G1 away from
 /// the poles), or else with the normals compared at both ends and the middle of the edge
 /// (points where a side has no tangent plane are skipped, as in [`super::continuity`]).
@@ -98,13 +102,61 @@ pub fn verify(
     regulation: Regulation,
     before: &[(usize, DVec3)],
 ) -> Result<(), SurfaceError> {
+    verify_marked(grid, patches, regulation, before, &mut NodeMarks::default())
+}
+
+/// Per node: a mark of the present generation (scratch of [`verify_marked`], kept between
+/// operations so that marking costs what was written, not the grid's size).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct NodeMarks {
+    marks: Vec<u32>,
+    stamp: u32,
+}
+
+impl NodeMarks {
+    /// Clears every mark (a new generation) for a grid of `len` nodes.
+    fn start(&mut self, len: usize) {
+        if self.marks.len() != len {
+            self.marks.clear();
+            self.marks.resize(len, 0);
+        }
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.marks.fill(0);
+            self.stamp = 1;
+        }
+    }
+
+    fn set(&mut self, id: usize) {
+        self.marks[id] = self.stamp;
+    }
+
+    fn get(&self, id: usize) -> bool {
+        self.marks[id] == self.stamp
+    }
+}
+
+/// [`verify`] with its node marks kept by the caller. Only the edges with a control point
+/// that differs from its old position in `before` (bit for bit) are examined: an edge whose
+/// 12 control points are all as they were is as G1 as it was, and an edge creased before the
+/// operation is not its failure (see [`verify`]), so leaving them out changes no result.
+pub(crate) fn verify_marked(
+    grid: &mut Grid,
+    patches: &[usize],
+    regulation: Regulation,
+    before: &[(usize, DVec3)],
+    marks: &mut NodeMarks,
+) -> Result<(), SurfaceError> {
     let m = grid.patches_u();
+    let shape = grid.shape();
+    let nodes = grid.nodes();
     for &p in patches {
-        let ids = grid.patch_node_ids(p % m, p / m);
+        let ids = shape.patch_ids(p % m, p / m);
         for (k, &id) in ids.iter().enumerate() {
-            let x = grid.nodes()[id];
-            // `max_element` skips NaN: test finiteness first.
-            if !x.is_finite() || x.abs().max_element() > COORDINATE_LIMIT {
+            let x = nodes[id];
+            // False for NaN as well as for infinities and points beyond the limit.
+            let within = |c: f64| c.abs() <= COORDINATE_LIMIT;
+            if !(within(x.x) && within(x.y) && within(x.z)) {
                 return Err(SurfaceError::OutOfRange {
                     patch: p,
                     point: k,
@@ -116,10 +168,26 @@ pub fn verify(
     if regulation != Regulation::Exact {
         return Ok(());
     }
+    // The nodes that differ from their old positions (a node written twice is marked when
+    // either old position differs: its first, the true old one, is among them).
+    marks.start(nodes.len());
+    for &(id, old) in before {
+        let x = nodes[id];
+        if x.x.to_bits() != old.x.to_bits()
+            || x.y.to_bits() != old.y.to_bits()
+            || x.z.to_bits() != old.z.to_bits()
+        {
+            marks.set(id);
+        }
+    }
     let mut creased = Vec::new();
-    let shape = grid.shape();
-    shared_edges(grid, patches, |a, b, along_u| {
-        if certified_g1(grid.nodes(), &shape, m, a, b, along_u) {
+    shared_edges(grid, patches, |pa, pb, along_u| {
+        let ids = shape.edge_ids(pa, pb, along_u);
+        if !ids.iter().flatten().any(|&id| marks.get(id)) {
+            return;
+        }
+        let (a, b) = (pa.1 * m + pa.0, pb.1 * m + pb.0);
+        if certified_g1_at(grid.nodes(), &ids) {
             return;
         }
         let angle = edge_angle(grid, a, b, along_u);
@@ -229,6 +297,7 @@ const QUADRATIC_WEIGHTS: [[f64; 3]; 3] = [
 /// edge (the paper's construction), or that simply crease, are not certified; then [`verify`]
 /// measures them as before, so the certificate can only accept what is provably G1 along the
 /// whole edge — more than the three sampled points.
+#[cfg(test)]
 fn certified_g1(
     nodes: &[DVec3],
     shape: &Shape,
@@ -237,18 +306,24 @@ fn certified_g1(
     b: usize,
     along_u: bool,
 ) -> bool {
-    let at = |p: usize, across: usize, k: usize| {
-        let (i, j) = if along_u { (across, k) } else { (k, across) };
-        nodes[shape.local_id(p % m, p / m, i, j)]
-    };
+    certified_g1_at(nodes, &edge_ids(shape, m, a, b, along_u))
+}
+
+#[cfg(test)]
+fn edge_ids(shape: &Shape, m: usize, a: usize, b: usize, along_u: bool) -> [[usize; 4]; 3] {
+    shape.edge_ids((a % m, a / m), (b % m, b / m), along_u)
+}
+
+/// [`certified_g1`] on the rows of [`Shape::edge_ids`].
+fn certified_g1_at(nodes: &[DVec3], ids: &[[usize; 4]; 3]) -> bool {
     let mut x = [DVec3::ZERO; 4];
     let mut d = [DVec3::ZERO; 4];
     let mut e = [DVec3::ZERO; 4];
     let (mut de, mut dd) = (0.0, 0.0);
     for k in 0..4 {
-        x[k] = at(a, 3, k);
-        d[k] = x[k] - at(a, 2, k);
-        e[k] = at(b, 1, k) - x[k];
+        x[k] = nodes[ids[1][k]];
+        d[k] = x[k] - nodes[ids[0][k]];
+        e[k] = nodes[ids[2][k]] - x[k];
         de += e[k].dot(d[k]);
         dd += d[k].length_squared();
     }
@@ -395,8 +470,13 @@ fn regular_normal((du, dv): (DVec3, DVec3), size: f64) -> Option<DVec3> {
     None
 }
 
-/// Calls `f(a, b, along_u)` once for every shared edge of the listed patches (sorted).
-fn shared_edges(grid: &Grid, patches: &[usize], mut f: impl FnMut(usize, usize, bool)) {
+/// Calls `f(a, b, along_u)` once for every shared edge of the listed patches (sorted), with
+/// the patches as `(iu, iv)`.
+fn shared_edges(
+    grid: &Grid,
+    patches: &[usize],
+    mut f: impl FnMut((usize, usize), (usize, usize), bool),
+) {
     let (m, n) = (grid.patches_u(), grid.patches_v());
     let topology = grid.topology();
     let listed = |p: usize| patches.binary_search(&p).is_ok();
@@ -405,21 +485,23 @@ fn shared_edges(grid: &Grid, patches: &[usize], mut f: impl FnMut(usize, usize, 
         // The edges on the right (u = 1) and above (v = 1) of every listed patch, and those on
         // the left and below when the neighbour there is not listed.
         if (iu + 1 < m || topology.closed_u()) && grid.u_line_shared(iu + 1) {
-            f(p, iv * m + (iu + 1) % m, true);
+            let right = if iu + 1 == m { 0 } else { iu + 1 };
+            f((iu, iv), (right, iv), true);
         }
         if (iv + 1 < n || topology.closed_v()) && grid.v_line_shared(iv + 1) {
-            f(p, ((iv + 1) % n) * m + iu, false);
+            let above = if iv + 1 == n { 0 } else { iv + 1 };
+            f((iu, iv), (iu, above), false);
         }
         if (iu > 0 || topology.closed_u()) && grid.u_line_shared(iu) {
-            let left = iv * m + (iu + m - 1) % m;
-            if !listed(left) {
-                f(left, p, true);
+            let left = if iu == 0 { m - 1 } else { iu - 1 };
+            if !listed(iv * m + left) {
+                f((left, iv), (iu, iv), true);
             }
         }
         if (iv > 0 || topology.closed_v()) && grid.v_line_shared(iv) {
-            let below = ((iv + n - 1) % n) * m + iu;
-            if !listed(below) {
-                f(below, p, false);
+            let below = if iv == 0 { n - 1 } else { iv - 1 };
+            if !listed(below * m + iu) {
+                f((iu, below), (iu, iv), false);
             }
         }
     }
@@ -455,6 +537,8 @@ pub struct Sculptor {
     scratch: Vec<usize>,
     backup: Vec<(usize, DVec3)>,
     projections: Projections,
+    /// The nodes an operation changed, for [`verify_marked`].
+    verify_marks: NodeMarks,
     /// Per node: thin-plate gradient and its bound (smoothing).
     node_grad: Vec<(DVec3, f64)>,
     last_asymmetry: f64,
@@ -823,7 +907,13 @@ impl Sculptor {
             grab::land(grid, h, symmetry);
         }
         // 5. Verification.
-        if let Err(e) = verify(grid, &changed, regulation, &self.backup) {
+        if let Err(e) = verify_marked(
+            grid,
+            &changed,
+            regulation,
+            &self.backup,
+            &mut self.verify_marks,
+        ) {
             self.restore(grid);
             return Err(e);
         }
@@ -1180,6 +1270,7 @@ mod tests {
                 let shape = grid.shape();
                 let m = grid.patches_u();
                 shared_edges(&grid, &all, |a, b, along_u| {
+                    let (a, b) = (a.1 * m + a.0, b.1 * m + b.0);
                     let certified = certified_g1(grid.nodes(), &shape, m, a, b, along_u);
                     let dense = dense_angle(&grid, a, b, along_u);
                     let sampled = edge_angle(&grid, a, b, along_u);

@@ -42,8 +42,6 @@ use super::continuity::angle_deg;
 use super::error::SurfaceError;
 use super::grab::{self, Hold};
 use super::grid::Grid;
-#[cfg(test)]
-use super::grid::Shape;
 use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
 use super::mirror::Symmetry;
@@ -187,7 +185,7 @@ pub(crate) fn verify_marked(
             return;
         }
         let (a, b) = (pa.1 * m + pa.0, pb.1 * m + pb.0);
-        if certified_g1_at(grid.nodes(), &ids) {
+        if certified_g1(grid.nodes(), &ids) {
             return;
         }
         let angle = edge_angle(grid, a, b, along_u);
@@ -246,8 +244,9 @@ const QUADRATIC_WEIGHTS: [[f64; 3]; 3] = [
 
 /// Whether the edge between patches `a` and `b` (`b` after `a` along u when `along_u`, else
 /// along v) is **proved** G1 within [`G1_TOLERANCE_DEG`] at every point of the edge, from its
-/// 12 control points alone (no sampling); `false` means "not proved" (the caller then measures
-/// the normals, [`edge_angle`]).
+/// 12 control points alone (no sampling), given by their ids `ids` (`a`'s row next to the
+/// edge, the edge, `b`'s row next to it: [`super::grid::Shape::edge_ids`]); `false` means
+/// "not proved" (the caller then measures the normals, [`edge_angle`]).
 ///
 /// Name the rows crossing the edge `k = 0..3` along it: `X_k` on the edge (shared),
 /// `d_k = X_k − P_k` with `P_k` the row of `a` next to the edge, `e_k = Q_k − X_k` with `Q_k`
@@ -297,25 +296,7 @@ const QUADRATIC_WEIGHTS: [[f64; 3]; 3] = [
 /// edge (the paper's construction), or that simply crease, are not certified; then [`verify`]
 /// measures them as before, so the certificate can only accept what is provably G1 along the
 /// whole edge — more than the three sampled points.
-#[cfg(test)]
-fn certified_g1(
-    nodes: &[DVec3],
-    shape: &Shape,
-    m: usize,
-    a: usize,
-    b: usize,
-    along_u: bool,
-) -> bool {
-    certified_g1_at(nodes, &edge_ids(shape, m, a, b, along_u))
-}
-
-#[cfg(test)]
-fn edge_ids(shape: &Shape, m: usize, a: usize, b: usize, along_u: bool) -> [[usize; 4]; 3] {
-    shape.edge_ids((a % m, a / m), (b % m, b / m), along_u)
-}
-
-/// [`certified_g1`] on the rows of [`Shape::edge_ids`].
-fn certified_g1_at(nodes: &[DVec3], ids: &[[usize; 4]; 3]) -> bool {
+fn certified_g1(nodes: &[DVec3], ids: &[[usize; 4]; 3]) -> bool {
     let mut x = [DVec3::ZERO; 4];
     let mut d = [DVec3::ZERO; 4];
     let mut e = [DVec3::ZERO; 4];
@@ -1141,7 +1122,21 @@ impl Sculptor {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::surface::grid::Shape;
     use crate::surface::{Primitive, PrimitiveParams};
+
+    /// [`certified_g1`] for the edge between patches `a` and `b` given by index.
+    fn certified_g1_between(
+        nodes: &[DVec3],
+        shape: &Shape,
+        m: usize,
+        a: usize,
+        b: usize,
+        along_u: bool,
+    ) -> bool {
+        let ids = shape.edge_ids((a % m, a / m), (b % m, b / m), along_u);
+        certified_g1(nodes, &ids)
+    }
 
     #[test]
     fn edge_normals_are_the_patch_normals() {
@@ -1271,7 +1266,7 @@ mod tests {
                 let m = grid.patches_u();
                 shared_edges(&grid, &all, |a, b, along_u| {
                     let (a, b) = (a.1 * m + a.0, b.1 * m + b.0);
-                    let certified = certified_g1(grid.nodes(), &shape, m, a, b, along_u);
+                    let certified = certified_g1_between(grid.nodes(), &shape, m, a, b, along_u);
                     let dense = dense_angle(&grid, a, b, along_u);
                     let sampled = edge_angle(&grid, a, b, along_u);
                     let what = format!("{primitive} {method}: edge {a}-{b} {along_u}");
@@ -1303,6 +1298,99 @@ mod tests {
     /// An exactly regulated grid whose one node is then moved off by a tiny amount: the crease
     /// (above the tolerance, far below a visible angle) is not certified and `verify` refuses
     /// it; a change well inside the tolerance is accepted.
+    /// The verification of every shared edge of the patches, as before edges were picked by
+    /// their changed control points: `true` when it accepts.
+    fn every_edge_accepts(grid: &mut Grid, patches: &[usize], before: &[(usize, DVec3)]) -> bool {
+        let (m, shape) = (grid.patches_u(), grid.shape());
+        let mut creased = Vec::new();
+        shared_edges(grid, patches, |a, b, along_u| {
+            let (a, b) = (a.1 * m + a.0, b.1 * m + b.0);
+            if !certified_g1_between(grid.nodes(), &shape, m, a, b, along_u) {
+                let angle = edge_angle(grid, a, b, along_u);
+                if angle.is_nan() || angle > G1_TOLERANCE_DEG {
+                    creased.push((a, b, along_u));
+                }
+            }
+        });
+        let after: Vec<DVec3> = before.iter().map(|&(id, _)| grid.nodes()[id]).collect();
+        for &(id, x) in before.iter().rev() {
+            grid.nodes_mut()[id] = x;
+        }
+        let fault = creased
+            .iter()
+            .any(|&(a, b, along_u)| edge_angle(grid, a, b, along_u) <= G1_TOLERANCE_DEG);
+        for (&(id, _), &x) in before.iter().zip(&after) {
+            grid.nodes_mut()[id] = x;
+        }
+        !fault
+    }
+
+    #[test]
+    fn only_edges_with_a_changed_point_are_examined_and_no_result_changes() {
+        // Random control points of the touched patches moved (or listed but kept), on grids
+        // with edges creased before (a g1 stroke) and G1 ones (exact): the verification of
+        // the changed edges decides as the verification of every edge of the patches.
+        let mut r = lcg(17);
+        let (mut accepted, mut refused) = (0, 0);
+        for primitive in [Primitive::Plane, Primitive::Sphere, Primitive::Torus] {
+            let mut grid = primitive
+                .build(&PrimitiveParams::default())
+                .expect("primitive");
+            let (iu, iv) = (1, grid.patches_v() / 2);
+            let at = grid.eval(iu, iv, 0.4, 0.7);
+            let dir = -grid.normal(iu, iv, 0.4, 0.7).expect("a normal");
+            let mut sculptor = Sculptor::new();
+            for (method, shift) in [(Regulation::G1, 0.0), (Regulation::Exact, 0.3)] {
+                let push = Op::Push {
+                    at: at + DVec3::splat(shift),
+                    dir,
+                    depth: 0.3,
+                    radius: 1.2,
+                };
+                sculptor.apply(&mut grid, &push, method).expect("a push");
+            }
+            let push = Op::Push {
+                at,
+                dir,
+                depth: -0.2,
+                radius: 1.3,
+            };
+            let touched = sculptor
+                .apply(&mut grid.clone(), &push, Regulation::Exact)
+                .expect("an exact push");
+            let m = grid.patches_u();
+            let mut marks = NodeMarks::default();
+            for trial in 0..60 {
+                let mut g = grid.clone();
+                let mut before = Vec::new();
+                for _ in 0..1 + trial % 3 {
+                    let p = touched.patches[(r() * touched.patches.len() as f64) as usize];
+                    let k = (r() * 16.0) as usize;
+                    let id = g.patch_node_ids(p % m, p / m)[k];
+                    before.push((id, g.nodes()[id]));
+                    let size = [0.0, 1e-13, 1e-4][trial % 3];
+                    let d = DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * size;
+                    g.nodes_mut()[id] += d;
+                }
+                let want = every_edge_accepts(&mut g, &touched.patches, &before);
+                let got = verify_marked(
+                    &mut g,
+                    &touched.patches,
+                    Regulation::Exact,
+                    &before,
+                    &mut marks,
+                );
+                assert_eq!(got.is_ok(), want, "{primitive} {trial}: {got:?}");
+                if want {
+                    accepted += 1;
+                } else {
+                    refused += 1;
+                }
+            }
+        }
+        assert!(accepted > 20 && refused > 20, "{accepted} {refused}");
+    }
+
     #[test]
     fn a_tiny_g1_break_is_still_refused() {
         // On the plane: patch (5, 4)'s point (1, 1), next to its corner (5, 4), inside the
@@ -1335,7 +1423,7 @@ mod tests {
                 let mut g = grid.clone();
                 g.nodes_mut()[id] = old + DVec3::new(0.3, -0.5, 1.0) * offset;
                 let angle = dense_angle(&g, left, me, true);
-                let certified = certified_g1(g.nodes(), &g.shape(), m, left, me, true);
+                let certified = certified_g1_between(g.nodes(), &g.shape(), m, left, me, true);
                 let got = verify(&mut g, &touched.patches, Regulation::Exact, &[(id, old)]);
                 if refused {
                     assert!(angle > G1_TOLERANCE_DEG && angle < 1e-2, "{what}: {angle}");

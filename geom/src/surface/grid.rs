@@ -742,6 +742,8 @@ impl Shape {
     /// next to the edge (local index 2 across it), the edge (`a`'s 3), `b`'s row next to it
     /// (`b`'s 1); each `[k]` for `k = 0..4` along the edge.
     #[inline]
+    // `ids[r][k]` follows the rows `r` across the edge and `k` along it.
+    #[allow(clippy::needless_range_loop)]
     pub(crate) fn edge_ids(
         &self,
         a: (usize, usize),
@@ -749,27 +751,33 @@ impl Shape {
         along_u: bool,
     ) -> [[usize; 4]; 3] {
         let wrap = |x: usize, n: usize| if x >= n { x - n } else { x };
+        let mut ids = [[0; 4]; 3];
         if along_u {
             let across = [
                 3 * a.0 + 2,
                 wrap(3 * a.0 + 3, self.la),
                 wrap(3 * b.0 + 1, self.la),
             ];
-            let rows: [(usize, usize); 4] =
-                std::array::from_fn(|k| self.row(wrap(3 * a.1 + k, self.lb)));
-            across.map(|c| rows.map(|(base, step)| base + step * c))
+            for k in 0..4 {
+                let (base, step) = self.row(wrap(3 * a.1 + k, self.lb));
+                for r in 0..3 {
+                    ids[r][k] = base + step * across[r];
+                }
+            }
         } else {
             let across = [
                 3 * a.1 + 2,
                 wrap(3 * a.1 + 3, self.lb),
                 wrap(3 * b.1 + 1, self.lb),
             ];
-            let cols: [usize; 4] = std::array::from_fn(|k| wrap(3 * a.0 + k, self.la));
-            across.map(|r| {
-                let (base, step) = self.row(r);
-                cols.map(|c| base + step * c)
-            })
+            for r in 0..3 {
+                let (base, step) = self.row(across[r]);
+                for k in 0..4 {
+                    ids[r][k] = base + step * wrap(3 * a.0 + k, self.la);
+                }
+            }
         }
+        ids
     }
 
     /// Node id of local point `(i, j)` of patch `(iu, iv)`.

@@ -95,15 +95,30 @@
 //! is no Kronecker form (quadrature inside every patch, an order of magnitude dearer to
 //! assemble) and depends on the stroke's largest displacement, so it is not adopted.
 //!
-//! Cost (`nendo bench sculpt`, thread CPU time per push, 2-core machine, two runs): plane
-//! 10 × 10, coupled (the default) 20.3–20.5 µs, group by group 14.2–14.3 µs (40 × 40 / 10 × 10:
-//! 1.02); sphere 32 × 16, 59 and 39 µs. Since [`crate::surface::verify`] proves G1
-//! algebraically per edge, the projection is the larger part: about 150 000 instructions of the
-//! 324 000 of an exact push on 10 × 10 (callgrind), against some 36 000 group by group. The
-//! corner lookups avoid the modular vertex key (two divisions each): with it the push took
-//! 24 µs. The target of the issue that set this (20 µs on 10 × 10) is met group by group and
-//! missed by a hair by the coupled
-//! default. The coupled solve keeps its factor per shape of the solve
+//! Cost (`nendo bench sculpt`, thread CPU time per push, 2-core machine, two runs, **measured
+//! on a loaded machine**, load ≈ 5, next to the previous code in the same runs): plane
+//! 10 × 10, coupled (the default) 17.5 µs in both runs, group by group 13.1 µs (40 × 40 /
+//! 10 × 10: 1.03–1.04); sphere 32 × 16, 52 and 36 µs. The previous code gave 20.8–21.2,
+//! 14.6–14.8, 61–62 and 39–40 µs in the same runs (20.3–20.5 and 14.2–14.3 µs on 10 × 10 on an
+//! idle machine).
+//! Instructions per exact push (callgrind, `Sculptor::apply_finger`): 270 000 on 10 × 10
+//! (before: 324 000), 277 000 on 40 × 40 (330 000), 811 000 on the sphere 32 × 16 (952 000).
+//! Of the 10 × 10 push the coupled projection is about 98 000 (the right-hand side 40 000, the
+//! two triangular solves with the cached factor 34 000), the setting up of the groups and
+//! their connected sets about 27 000, [`crate::surface::verify`] 67 000 (it certifies only the
+//! edges with a control point the push changed: 40 of the 60 edges of the touched patches).
+//! What made it cheaper: the right-hand side `Φ_cᵀ (m ⊗ m) x` of each patch is taken as
+//! two one-dimensional contractions, the first shared by the corners of one side and both
+//! only over the halves of the patch that hold regulated nodes (a patch of the outer ring
+//! has one or two regulated corners), instead of the full `(m ⊗ m) x` and a scatter; patch and
+//! edge node ids without a division per id; the groups sorted by key, not moved. Not adopted:
+//! assembling only the patches the finger moved (the projection of `x_before + δ` is
+//! `x_before + P δ` only when `x_before` is already in the exact family, which a model
+//! regulated by another method is not, and the hand's frame-by-frame
+//! [`crate::surface::Presser`] must reproduce the contact at once bit for bit). The corner
+//! lookups avoid the modular vertex key (two divisions each): with it the push took 24 µs.
+//! The target of the issue that set this (20 µs on 10 × 10) is met by both. The coupled
+//! solve keeps its factor per shape of the solve
 //! ([`Coupled`]'s factor cache): the normal matrix depends only on which groups are corners
 //! of which patches and on their ratios and slots, not on the displacement or on where on the
 //! grid they are, so a push repeated, or shifted by whole patches over a uniform region, only
@@ -767,18 +782,23 @@ fn skyline_solve(first: &[usize], start: &[usize], l: &[f64], b: &mut [DVec3]) {
     let rows = first.len();
     for r in 0..rows {
         let (fr, sr) = (first[r], start[r]);
-        let mut sum = b[r];
-        for k in fr..r {
-            sum -= b[k] * l[sr + k - fr];
+        // Row r of the factor: columns fr..r, then the diagonal.
+        let (row, diag) = l[sr..=sr + r - fr].split_at(r - fr);
+        let (done, rest) = b.split_at_mut(r);
+        let mut sum = rest[0];
+        for (x, &w) in done[fr..].iter().zip(row) {
+            sum -= *x * w;
         }
-        b[r] = sum / l[sr + r - fr];
+        rest[0] = sum / diag[0];
     }
     for r in (0..rows).rev() {
         let (fr, sr) = (first[r], start[r]);
-        let x = b[r] / l[sr + r - fr];
-        b[r] = x;
-        for k in fr..r {
-            b[k] -= x * l[sr + k - fr];
+        let (row, diag) = l[sr..=sr + r - fr].split_at(r - fr);
+        let (todo, rest) = b.split_at_mut(r);
+        let x = rest[0] / diag[0];
+        rest[0] = x;
+        for (y, &w) in todo[fr..].iter_mut().zip(row) {
+            *y -= x * w;
         }
     }
 }

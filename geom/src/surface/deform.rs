@@ -19,8 +19,9 @@
 //!
 //! 5. **Verification** ([`verify`]): every control point of the touched patches must be finite
 //!    and within [`COORDINATE_LIMIT`], and under [`Regulation::Exact`] (the method that
-//!    promises G1) every edge of a touched patch must be G1 within [`G1_TOLERANCE_DEG`]. An
-//!    edge is first tried with an algebraic certificate on its 12 control points
+//!    promises G1) every edge of a touched patch must be G1 within [`G1_TOLERANCE_DEG`] — every
+//!    such edge with a control point the operation changed (the others are as they were, and
+//!    an edge creased before is not the operation's failure, below). An edge is first tried with an algebraic certificate on its 12 control points
 //!    (`certified_g1`: the rows crossing it keep one positive ratio,
 //!    `Q_k − X_k = λ (X_k − P_k)`, up to a residual whose bound on the normals' angle along
 //!    the whole edge is below the tolerance, and that side has a tangent plane all along);
@@ -40,7 +41,7 @@ use glam::DVec3;
 use super::continuity::angle_deg;
 use super::error::SurfaceError;
 use super::grab::{self, Hold};
-use super::grid::{Grid, Shape};
+use super::grid::Grid;
 use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
 use super::mirror::Symmetry;
@@ -78,7 +79,8 @@ const VERIFY_SAMPLES: usize = 3;
 
 /// Checks what an operation produced on `patches` (sorted patch indices): every control point
 /// finite and within [`COORDINATE_LIMIT`]; under [`Regulation::Exact`], every shared edge of
-/// those patches G1 within [`G1_TOLERANCE_DEG`]: proved along the whole edge from its control
+/// those patches with a control point changed (one whose position differs, bit for bit, from
+/// an old position listed in `before`) G1 within [`G1_TOLERANCE_DEG`]: proved along the whole edge from its control
 /// points (`certified_g1`, which holds on every edge the exact regulation made G1 away from
 /// the poles), or else with the normals compared at both ends and the middle of the edge
 /// (points where a side has no tangent plane are skipped, as in [`super::continuity`]).
@@ -98,13 +100,61 @@ pub fn verify(
     regulation: Regulation,
     before: &[(usize, DVec3)],
 ) -> Result<(), SurfaceError> {
+    verify_marked(grid, patches, regulation, before, &mut NodeMarks::default())
+}
+
+/// Per node: a mark of the present generation (scratch of [`verify_marked`], kept between
+/// operations so that marking costs what was written, not the grid's size).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct NodeMarks {
+    marks: Vec<u32>,
+    stamp: u32,
+}
+
+impl NodeMarks {
+    /// Clears every mark (a new generation) for a grid of `len` nodes.
+    fn start(&mut self, len: usize) {
+        if self.marks.len() != len {
+            self.marks.clear();
+            self.marks.resize(len, 0);
+        }
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.marks.fill(0);
+            self.stamp = 1;
+        }
+    }
+
+    fn set(&mut self, id: usize) {
+        self.marks[id] = self.stamp;
+    }
+
+    fn get(&self, id: usize) -> bool {
+        self.marks[id] == self.stamp
+    }
+}
+
+/// [`verify`] with its node marks kept by the caller. Only the edges with a control point
+/// that differs from its old position in `before` (bit for bit) are examined: an edge whose
+/// 12 control points are all as they were is as G1 as it was, and an edge creased before the
+/// operation is not its failure (see [`verify`]), so leaving them out changes no result.
+pub(crate) fn verify_marked(
+    grid: &mut Grid,
+    patches: &[usize],
+    regulation: Regulation,
+    before: &[(usize, DVec3)],
+    marks: &mut NodeMarks,
+) -> Result<(), SurfaceError> {
     let m = grid.patches_u();
+    let shape = grid.shape();
+    let nodes = grid.nodes();
     for &p in patches {
-        let ids = grid.patch_node_ids(p % m, p / m);
+        let ids = shape.patch_ids(p % m, p / m);
         for (k, &id) in ids.iter().enumerate() {
-            let x = grid.nodes()[id];
-            // `max_element` skips NaN: test finiteness first.
-            if !x.is_finite() || x.abs().max_element() > COORDINATE_LIMIT {
+            let x = nodes[id];
+            // False for NaN as well as for infinities and points beyond the limit.
+            let within = |c: f64| c.abs() <= COORDINATE_LIMIT;
+            if !(within(x.x) && within(x.y) && within(x.z)) {
                 return Err(SurfaceError::OutOfRange {
                     patch: p,
                     point: k,
@@ -116,10 +166,26 @@ pub fn verify(
     if regulation != Regulation::Exact {
         return Ok(());
     }
+    // The nodes that differ from their old positions (a node written twice is marked when
+    // either old position differs: its first, the true old one, is among them).
+    marks.start(nodes.len());
+    for &(id, old) in before {
+        let x = nodes[id];
+        if x.x.to_bits() != old.x.to_bits()
+            || x.y.to_bits() != old.y.to_bits()
+            || x.z.to_bits() != old.z.to_bits()
+        {
+            marks.set(id);
+        }
+    }
     let mut creased = Vec::new();
-    let shape = grid.shape();
-    shared_edges(grid, patches, |a, b, along_u| {
-        if certified_g1(grid.nodes(), &shape, m, a, b, along_u) {
+    shared_edges(grid, patches, |pa, pb, along_u| {
+        let ids = shape.edge_ids(pa, pb, along_u);
+        if !ids.iter().flatten().any(|&id| marks.get(id)) {
+            return;
+        }
+        let (a, b) = (pa.1 * m + pa.0, pb.1 * m + pb.0);
+        if certified_g1(grid.nodes(), &ids) {
             return;
         }
         let angle = edge_angle(grid, a, b, along_u);
@@ -178,8 +244,9 @@ const QUADRATIC_WEIGHTS: [[f64; 3]; 3] = [
 
 /// Whether the edge between patches `a` and `b` (`b` after `a` along u when `along_u`, else
 /// along v) is **proved** G1 within [`G1_TOLERANCE_DEG`] at every point of the edge, from its
-/// 12 control points alone (no sampling); `false` means "not proved" (the caller then measures
-/// the normals, [`edge_angle`]).
+/// 12 control points alone (no sampling), given by their ids `ids` (`a`'s row next to the
+/// edge, the edge, `b`'s row next to it: [`super::grid::Shape::edge_ids`]); `false` means
+/// "not proved" (the caller then measures the normals, [`edge_angle`]).
 ///
 /// Name the rows crossing the edge `k = 0..3` along it: `X_k` on the edge (shared),
 /// `d_k = X_k − P_k` with `P_k` the row of `a` next to the edge, `e_k = Q_k − X_k` with `Q_k`
@@ -229,26 +296,15 @@ const QUADRATIC_WEIGHTS: [[f64; 3]; 3] = [
 /// edge (the paper's construction), or that simply crease, are not certified; then [`verify`]
 /// measures them as before, so the certificate can only accept what is provably G1 along the
 /// whole edge — more than the three sampled points.
-fn certified_g1(
-    nodes: &[DVec3],
-    shape: &Shape,
-    m: usize,
-    a: usize,
-    b: usize,
-    along_u: bool,
-) -> bool {
-    let at = |p: usize, across: usize, k: usize| {
-        let (i, j) = if along_u { (across, k) } else { (k, across) };
-        nodes[shape.local_id(p % m, p / m, i, j)]
-    };
+fn certified_g1(nodes: &[DVec3], ids: &[[usize; 4]; 3]) -> bool {
     let mut x = [DVec3::ZERO; 4];
     let mut d = [DVec3::ZERO; 4];
     let mut e = [DVec3::ZERO; 4];
     let (mut de, mut dd) = (0.0, 0.0);
     for k in 0..4 {
-        x[k] = at(a, 3, k);
-        d[k] = x[k] - at(a, 2, k);
-        e[k] = at(b, 1, k) - x[k];
+        x[k] = nodes[ids[1][k]];
+        d[k] = x[k] - nodes[ids[0][k]];
+        e[k] = nodes[ids[2][k]] - x[k];
         de += e[k].dot(d[k]);
         dd += d[k].length_squared();
     }
@@ -395,8 +451,13 @@ fn regular_normal((du, dv): (DVec3, DVec3), size: f64) -> Option<DVec3> {
     None
 }
 
-/// Calls `f(a, b, along_u)` once for every shared edge of the listed patches (sorted).
-fn shared_edges(grid: &Grid, patches: &[usize], mut f: impl FnMut(usize, usize, bool)) {
+/// Calls `f(a, b, along_u)` once for every shared edge of the listed patches (sorted), with
+/// the patches as `(iu, iv)`.
+fn shared_edges(
+    grid: &Grid,
+    patches: &[usize],
+    mut f: impl FnMut((usize, usize), (usize, usize), bool),
+) {
     let (m, n) = (grid.patches_u(), grid.patches_v());
     let topology = grid.topology();
     let listed = |p: usize| patches.binary_search(&p).is_ok();
@@ -405,21 +466,23 @@ fn shared_edges(grid: &Grid, patches: &[usize], mut f: impl FnMut(usize, usize, 
         // The edges on the right (u = 1) and above (v = 1) of every listed patch, and those on
         // the left and below when the neighbour there is not listed.
         if (iu + 1 < m || topology.closed_u()) && grid.u_line_shared(iu + 1) {
-            f(p, iv * m + (iu + 1) % m, true);
+            let right = if iu + 1 == m { 0 } else { iu + 1 };
+            f((iu, iv), (right, iv), true);
         }
         if (iv + 1 < n || topology.closed_v()) && grid.v_line_shared(iv + 1) {
-            f(p, ((iv + 1) % n) * m + iu, false);
+            let above = if iv + 1 == n { 0 } else { iv + 1 };
+            f((iu, iv), (iu, above), false);
         }
         if (iu > 0 || topology.closed_u()) && grid.u_line_shared(iu) {
-            let left = iv * m + (iu + m - 1) % m;
-            if !listed(left) {
-                f(left, p, true);
+            let left = if iu == 0 { m - 1 } else { iu - 1 };
+            if !listed(iv * m + left) {
+                f((left, iv), (iu, iv), true);
             }
         }
         if (iv > 0 || topology.closed_v()) && grid.v_line_shared(iv) {
-            let below = ((iv + n - 1) % n) * m + iu;
-            if !listed(below) {
-                f(below, p, false);
+            let below = if iv == 0 { n - 1 } else { iv - 1 };
+            if !listed(below * m + iu) {
+                f((iu, below), (iu, iv), false);
             }
         }
     }
@@ -455,6 +518,8 @@ pub struct Sculptor {
     scratch: Vec<usize>,
     backup: Vec<(usize, DVec3)>,
     projections: Projections,
+    /// The nodes an operation changed, for [`verify_marked`].
+    verify_marks: NodeMarks,
     /// Per node: thin-plate gradient and its bound (smoothing).
     node_grad: Vec<(DVec3, f64)>,
     last_asymmetry: f64,
@@ -823,7 +888,13 @@ impl Sculptor {
             grab::land(grid, h, symmetry);
         }
         // 5. Verification.
-        if let Err(e) = verify(grid, &changed, regulation, &self.backup) {
+        if let Err(e) = verify_marked(
+            grid,
+            &changed,
+            regulation,
+            &self.backup,
+            &mut self.verify_marks,
+        ) {
             self.restore(grid);
             return Err(e);
         }
@@ -1051,7 +1122,21 @@ impl Sculptor {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::surface::grid::Shape;
     use crate::surface::{Primitive, PrimitiveParams};
+
+    /// [`certified_g1`] for the edge between patches `a` and `b` given by index.
+    fn certified_g1_between(
+        nodes: &[DVec3],
+        shape: &Shape,
+        m: usize,
+        a: usize,
+        b: usize,
+        along_u: bool,
+    ) -> bool {
+        let ids = shape.edge_ids((a % m, a / m), (b % m, b / m), along_u);
+        certified_g1(nodes, &ids)
+    }
 
     #[test]
     fn edge_normals_are_the_patch_normals() {
@@ -1180,7 +1265,8 @@ mod tests {
                 let shape = grid.shape();
                 let m = grid.patches_u();
                 shared_edges(&grid, &all, |a, b, along_u| {
-                    let certified = certified_g1(grid.nodes(), &shape, m, a, b, along_u);
+                    let (a, b) = (a.1 * m + a.0, b.1 * m + b.0);
+                    let certified = certified_g1_between(grid.nodes(), &shape, m, a, b, along_u);
                     let dense = dense_angle(&grid, a, b, along_u);
                     let sampled = edge_angle(&grid, a, b, along_u);
                     let what = format!("{primitive} {method}: edge {a}-{b} {along_u}");
@@ -1212,6 +1298,99 @@ mod tests {
     /// An exactly regulated grid whose one node is then moved off by a tiny amount: the crease
     /// (above the tolerance, far below a visible angle) is not certified and `verify` refuses
     /// it; a change well inside the tolerance is accepted.
+    /// The verification of every shared edge of the patches, as before edges were picked by
+    /// their changed control points: `true` when it accepts.
+    fn every_edge_accepts(grid: &mut Grid, patches: &[usize], before: &[(usize, DVec3)]) -> bool {
+        let (m, shape) = (grid.patches_u(), grid.shape());
+        let mut creased = Vec::new();
+        shared_edges(grid, patches, |a, b, along_u| {
+            let (a, b) = (a.1 * m + a.0, b.1 * m + b.0);
+            if !certified_g1_between(grid.nodes(), &shape, m, a, b, along_u) {
+                let angle = edge_angle(grid, a, b, along_u);
+                if angle.is_nan() || angle > G1_TOLERANCE_DEG {
+                    creased.push((a, b, along_u));
+                }
+            }
+        });
+        let after: Vec<DVec3> = before.iter().map(|&(id, _)| grid.nodes()[id]).collect();
+        for &(id, x) in before.iter().rev() {
+            grid.nodes_mut()[id] = x;
+        }
+        let fault = creased
+            .iter()
+            .any(|&(a, b, along_u)| edge_angle(grid, a, b, along_u) <= G1_TOLERANCE_DEG);
+        for (&(id, _), &x) in before.iter().zip(&after) {
+            grid.nodes_mut()[id] = x;
+        }
+        !fault
+    }
+
+    #[test]
+    fn only_edges_with_a_changed_point_are_examined_and_no_result_changes() {
+        // Random control points of the touched patches moved (or listed but kept), on grids
+        // with edges creased before (a g1 stroke) and G1 ones (exact): the verification of
+        // the changed edges decides as the verification of every edge of the patches.
+        let mut r = lcg(17);
+        let (mut accepted, mut refused) = (0, 0);
+        for primitive in [Primitive::Plane, Primitive::Sphere, Primitive::Torus] {
+            let mut grid = primitive
+                .build(&PrimitiveParams::default())
+                .expect("primitive");
+            let (iu, iv) = (1, grid.patches_v() / 2);
+            let at = grid.eval(iu, iv, 0.4, 0.7);
+            let dir = -grid.normal(iu, iv, 0.4, 0.7).expect("a normal");
+            let mut sculptor = Sculptor::new();
+            for (method, shift) in [(Regulation::G1, 0.0), (Regulation::Exact, 0.3)] {
+                let push = Op::Push {
+                    at: at + DVec3::splat(shift),
+                    dir,
+                    depth: 0.3,
+                    radius: 1.2,
+                };
+                sculptor.apply(&mut grid, &push, method).expect("a push");
+            }
+            let push = Op::Push {
+                at,
+                dir,
+                depth: -0.2,
+                radius: 1.3,
+            };
+            let touched = sculptor
+                .apply(&mut grid.clone(), &push, Regulation::Exact)
+                .expect("an exact push");
+            let m = grid.patches_u();
+            let mut marks = NodeMarks::default();
+            for trial in 0..60 {
+                let mut g = grid.clone();
+                let mut before = Vec::new();
+                for _ in 0..1 + trial % 3 {
+                    let p = touched.patches[(r() * touched.patches.len() as f64) as usize];
+                    let k = (r() * 16.0) as usize;
+                    let id = g.patch_node_ids(p % m, p / m)[k];
+                    before.push((id, g.nodes()[id]));
+                    let size = [0.0, 1e-13, 1e-4][trial % 3];
+                    let d = DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * size;
+                    g.nodes_mut()[id] += d;
+                }
+                let want = every_edge_accepts(&mut g, &touched.patches, &before);
+                let got = verify_marked(
+                    &mut g,
+                    &touched.patches,
+                    Regulation::Exact,
+                    &before,
+                    &mut marks,
+                );
+                assert_eq!(got.is_ok(), want, "{primitive} {trial}: {got:?}");
+                if want {
+                    accepted += 1;
+                } else {
+                    refused += 1;
+                }
+            }
+        }
+        assert!(accepted > 20 && refused > 20, "{accepted} {refused}");
+    }
+
     #[test]
     fn a_tiny_g1_break_is_still_refused() {
         // On the plane: patch (5, 4)'s point (1, 1), next to its corner (5, 4), inside the
@@ -1244,7 +1423,7 @@ mod tests {
                 let mut g = grid.clone();
                 g.nodes_mut()[id] = old + DVec3::new(0.3, -0.5, 1.0) * offset;
                 let angle = dense_angle(&g, left, me, true);
-                let certified = certified_g1(g.nodes(), &g.shape(), m, left, me, true);
+                let certified = certified_g1_between(g.nodes(), &g.shape(), m, left, me, true);
                 let got = verify(&mut g, &touched.patches, Regulation::Exact, &[(id, old)]);
                 if refused {
                     assert!(angle > G1_TOLERANCE_DEG && angle < 1e-2, "{what}: {angle}");

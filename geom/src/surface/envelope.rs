@@ -4,7 +4,7 @@
 //!
 //! Public API: [`Presser::begin`] starts a contact on a reference grid, [`Presser::apply`]
 //! makes a grid the reference deformed by the envelope of a list of [`Placement`]s (refusing,
-//! and leaving the grid as it was, a result [`verify`] rejects), and [`describe`] lists the
+//! and leaving the grid as it was, a result [`super::verify`] rejects), and [`describe`] lists the
 //! shape-function operations the placements stand for. Nothing outside this crate needs the
 //! control-point storage or the regulation internals to deform a grid.
 //!
@@ -42,12 +42,13 @@
 
 use glam::DVec3;
 
+use super::deform::{NodeMarks, verify_marked};
 use super::group::PoleEnd;
 use super::inverse::{control_update, samples};
 use super::mirror::Symmetry;
 use super::regulate::{self, Projections, Regulation};
 use super::topology::wrap;
-use super::{Aabb, Finger, Grid, Op, SurfaceError, verify};
+use super::{Aabb, Finger, Grid, Op, SurfaceError};
 
 /// One placement of the finger during a contact.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -233,6 +234,8 @@ pub struct Presser {
     /// The grid's control points before this application overwrote them.
     saved_grid: Vec<(usize, DVec3)>,
     projections: Projections,
+    /// The nodes an application changed, for [`verify_marked`].
+    verify_marks: NodeMarks,
     /// Every placement pressed together with its mirror image (see [`Presser::set_mirror`]).
     mirror: Option<Symmetry>,
 }
@@ -277,7 +280,7 @@ impl Presser {
     /// # Errors
     /// [`SurfaceError::BadOp`] for a placement that makes no valid finger;
     /// [`SurfaceError::OutOfRange`] or [`SurfaceError::NotG1`] for a result the surface
-    /// refuses ([`verify`]). `grid` and the contact's state are then left as
+    /// refuses ([`super::verify`]). `grid` and the contact's state are then left as
     /// they were after the last accepted application.
     pub fn apply(
         &mut self,
@@ -621,7 +624,13 @@ impl Presser {
             self.scratch = ids;
         }
         self.changed.sort_unstable();
-        if let Err(e) = verify(grid, &self.changed, regulation, &self.saved_grid) {
+        if let Err(e) = verify_marked(
+            grid,
+            &self.changed,
+            regulation,
+            &self.saved_grid,
+            &mut self.verify_marks,
+        ) {
             // Back to the last application: the grid, the unregulated net, the fingers.
             let nodes = grid.nodes_mut();
             for &(id, x) in self.saved_grid.iter().rev() {

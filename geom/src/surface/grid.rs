@@ -311,14 +311,7 @@ impl Grid {
             iu < self.m && iv < self.n,
             "patch ({iu}, {iv}) out of range"
         );
-        let shape = self.shape();
-        let mut ids = [0; 16];
-        for i in 0..4 {
-            for j in 0..4 {
-                ids[4 * i + j] = shape.local_id(iu, iv, i, j);
-            }
-        }
-        ids
+        self.shape().patch_ids(iu, iv)
     }
 
     /// The 16 control points of patch `(iu, iv)`, `P[4*i + j]`, `i` along `u`, `j` along `v`.
@@ -692,6 +685,101 @@ impl Shape {
         start + (b - start) * self.la + a
     }
 
+    /// The node ids of patch `(iu, iv)` (`iu < M`, `iv < N`), `ids[4*i + j]` =
+    /// [`Shape::local_id`]`(iu, iv, i, j)`: the four columns and the four rows' offsets worked
+    /// out once (a pole row's nodes are all the pole).
+    #[inline]
+    pub(crate) fn patch_ids(&self, iu: usize, iv: usize) -> [usize; 16] {
+        let start = usize::from(self.topology.pole_at_start());
+        let pole_end = self.topology.pole_at_end();
+        let (a0, b0) = (3 * iu, 3 * iv);
+        let mut ids = [0; 16];
+        // Most patches: no seam crossed, no pole row; the ids are `base + j L_a + i`.
+        if a0 + 3 < self.la && b0 + 3 < self.lb && b0 >= start && !(pole_end && b0 + 4 == self.lb) {
+            let base = start + (b0 - start) * self.la + a0;
+            for i in 0..4 {
+                for j in 0..4 {
+                    ids[4 * i + j] = base + j * self.la + i;
+                }
+            }
+            return ids;
+        }
+        let wrap = |x: usize, n: usize| if x >= n { x - n } else { x };
+        let cols = [0, 1, 2, 3].map(|i| wrap(a0 + i, self.la));
+        for j in 0..4 {
+            let b = wrap(b0 + j, self.lb);
+            // The id of column 0 and whether the id follows the column.
+            let (base, step) = if start == 1 && b == 0 {
+                (0, 0)
+            } else if pole_end && b + 1 == self.lb {
+                (start + (self.lb - 1 - start) * self.la, 0)
+            } else {
+                (start + (b - start) * self.la, 1)
+            };
+            for i in 0..4 {
+                ids[4 * i + j] = base + step * cols[i];
+            }
+        }
+        ids
+    }
+
+    /// The id of column 0 of lattice row `b` (`b < L_b`) and whether the id follows the column
+    /// (a pole row is one node): the id of `(a, b)` is `base + step · a`.
+    #[inline]
+    fn row(&self, b: usize) -> (usize, usize) {
+        let start = usize::from(self.topology.pole_at_start());
+        if start == 1 && b == 0 {
+            (0, 0)
+        } else if self.topology.pole_at_end() && b + 1 == self.lb {
+            (start + (self.lb - 1 - start) * self.la, 0)
+        } else {
+            (start + (b - start) * self.la, 1)
+        }
+    }
+
+    /// The node ids of the three rows of control points along the edge between patches
+    /// `a = (iu, iv)` and `b`, `b` after `a` along u when `along_u` (else along v): `a`'s row
+    /// next to the edge (local index 2 across it), the edge (`a`'s 3), `b`'s row next to it
+    /// (`b`'s 1); each `[k]` for `k = 0..4` along the edge.
+    #[inline]
+    // `ids[r][k]` follows the rows `r` across the edge and `k` along it.
+    #[allow(clippy::needless_range_loop)]
+    pub(crate) fn edge_ids(
+        &self,
+        a: (usize, usize),
+        b: (usize, usize),
+        along_u: bool,
+    ) -> [[usize; 4]; 3] {
+        let wrap = |x: usize, n: usize| if x >= n { x - n } else { x };
+        let mut ids = [[0; 4]; 3];
+        if along_u {
+            let across = [
+                3 * a.0 + 2,
+                wrap(3 * a.0 + 3, self.la),
+                wrap(3 * b.0 + 1, self.la),
+            ];
+            for k in 0..4 {
+                let (base, step) = self.row(wrap(3 * a.1 + k, self.lb));
+                for r in 0..3 {
+                    ids[r][k] = base + step * across[r];
+                }
+            }
+        } else {
+            let across = [
+                3 * a.1 + 2,
+                wrap(3 * a.1 + 3, self.lb),
+                wrap(3 * b.1 + 1, self.lb),
+            ];
+            for r in 0..3 {
+                let (base, step) = self.row(across[r]);
+                for k in 0..4 {
+                    ids[r][k] = base + step * wrap(3 * a.0 + k, self.la);
+                }
+            }
+        }
+        ids
+    }
+
     /// Node id of local point `(i, j)` of patch `(iu, iv)`.
     #[inline]
     pub(crate) fn local_id(&self, iu: usize, iv: usize, i: usize, j: usize) -> usize {
@@ -712,6 +800,51 @@ mod tests {
     use glam::DVec3;
 
     use crate::surface::{Aabb, Primitive, PrimitiveParams};
+
+    #[test]
+    fn patch_and_edge_ids_are_the_lattice_ids() {
+        // The shortcuts of `patch_ids` and `edge_ids` against the lattice arithmetic of
+        // `node_id`, on every topology (seams, poles, open borders) and two sizes.
+        for primitive in Primitive::ALL {
+            for patches in [None, Some((6, 4))] {
+                let grid = primitive
+                    .build(&PrimitiveParams {
+                        patches,
+                        ..PrimitiveParams::default()
+                    })
+                    .unwrap();
+                let (m, n) = (grid.patches_u(), grid.patches_v());
+                let shape = grid.shape();
+                let lattice = |iu: usize, iv: usize, i: usize, j: usize| {
+                    grid.node_id((3 * iu + i) as isize, (3 * iv + j) as isize)
+                        .unwrap()
+                };
+                for iv in 0..n {
+                    for iu in 0..m {
+                        let ids = shape.patch_ids(iu, iv);
+                        for i in 0..4 {
+                            for j in 0..4 {
+                                assert_eq!(ids[4 * i + j], lattice(iu, iv, i, j), "{primitive}");
+                            }
+                        }
+                        let right = ((iu + 1) % m, iv);
+                        let above = (iu, (iv + 1) % n);
+                        let e = shape.edge_ids((iu, iv), right, true);
+                        let f = shape.edge_ids((iu, iv), above, false);
+                        for k in 0..4 {
+                            let (a, b) = (iu, iv);
+                            assert_eq!(e[0][k], lattice(a, b, 2, k), "{primitive}");
+                            assert_eq!(e[1][k], lattice(a, b, 3, k), "{primitive}");
+                            assert_eq!(e[2][k], lattice(right.0, right.1, 1, k), "{primitive}");
+                            assert_eq!(f[0][k], lattice(a, b, k, 2), "{primitive}");
+                            assert_eq!(f[1][k], lattice(a, b, k, 3), "{primitive}");
+                            assert_eq!(f[2][k], lattice(above.0, above.1, k, 1), "{primitive}");
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn set_nodes_refits_exactly_the_patches_holding_the_nodes() {

@@ -120,15 +120,30 @@
 //! hat functions `L_a` on `{0, 1/3, 2/3, 1}`) 0.1869 / 0.0945, half-way 0.1764 / 0.0870. The
 //! plain Gram metric is a local optimum along both directions.
 //!
-//! Cost (`nendo bench sculpt`, thread CPU time per push, 2-core machine, two runs): plane
-//! 10 × 10, coupled (the default) 20.3–20.5 µs, group by group 14.2–14.3 µs (40 × 40 / 10 × 10:
-//! 1.02); sphere 32 × 16, 59 and 39 µs. Since [`crate::surface::verify`] proves G1
-//! algebraically per edge, the projection is the larger part: about 150 000 instructions of the
-//! 324 000 of an exact push on 10 × 10 (callgrind), against some 36 000 group by group. The
-//! corner lookups avoid the modular vertex key (two divisions each): with it the push took
-//! 24 µs. The target of the issue that set this (20 µs on 10 × 10) is met group by group and
-//! missed by a hair by the coupled
-//! default. The coupled solve keeps its factor per shape of the solve
+//! Cost (`nendo bench sculpt`, thread CPU time per push, 2-core machine, two runs, **measured
+//! on a loaded machine**, load ≈ 5, next to the previous code in the same runs): plane
+//! 10 × 10, coupled (the default) 17.5 µs in both runs, group by group 13.1 µs (40 × 40 /
+//! 10 × 10: 1.03–1.04); sphere 32 × 16, 52 and 36 µs. The previous code gave 20.8–21.2,
+//! 14.6–14.8, 61–62 and 39–40 µs in the same runs (20.3–20.5 and 14.2–14.3 µs on 10 × 10 on an
+//! idle machine).
+//! Instructions per exact push (callgrind, `Sculptor::apply_finger`): 270 000 on 10 × 10
+//! (before: 324 000), 277 000 on 40 × 40 (330 000), 811 000 on the sphere 32 × 16 (952 000).
+//! Of the 10 × 10 push the coupled projection is about 98 000 (the right-hand side 40 000, the
+//! two triangular solves with the cached factor 34 000), the setting up of the groups and
+//! their connected sets about 27 000, [`crate::surface::verify`] 67 000 (it certifies only the
+//! edges with a control point the push changed: 40 of the 60 edges of the touched patches).
+//! What made it cheaper: the right-hand side `Φ_cᵀ (m ⊗ m) x` of each patch is taken as
+//! two one-dimensional contractions, the first shared by the corners of one side and both
+//! only over the halves of the patch that hold regulated nodes (a patch of the outer ring
+//! has one or two regulated corners), instead of the full `(m ⊗ m) x` and a scatter; patch and
+//! edge node ids without a division per id; the groups sorted by key, not moved. Not adopted:
+//! assembling only the patches the finger moved (the projection of `x_before + δ` is
+//! `x_before + P δ` only when `x_before` is already in the exact family, which a model
+//! regulated by another method is not, and the hand's frame-by-frame
+//! [`crate::surface::Presser`] must reproduce the contact at once bit for bit). The corner
+//! lookups avoid the modular vertex key (two divisions each): with it the push took 24 µs.
+//! The target of the issue that set this (20 µs on 10 × 10) is met by both. The coupled
+//! solve keeps its factor per shape of the solve
 //! ([`Coupled`]'s factor cache): the normal matrix depends only on which groups are corners
 //! of which patches and on their ratios and slots, not on the displacement or on where on the
 //! grid they are, so a push repeated, or shifted by whole patches over a uniform region, only
@@ -335,6 +350,24 @@ const GRAM_1D: [[f64; 4]; 4] = [
     [1.0 / 140.0, 1.0 / 35.0, 1.0 / 14.0, 1.0 / 7.0],
 ];
 
+/// The rows of the right-hand side's one-dimensional factors: `RHS_GRAM[0][c]` = `m_r0 + m_r1`
+/// and `RHS_GRAM[1][c]` = `m_r1` over the corner's vertex row `r0` and next row `r1`
+/// (`(0, 1)` for the corner at `c = 0`, `(3, 2)` at `c = 1`): `Σ_(i ∈ {r0, r1}) φ_α(i) m_i`
+/// with the offset `s̃` of `φ_1` taken out.
+const RHS_GRAM: [[[f64; 4]; 2]; 2] = {
+    let g = GRAM_1D;
+    let mut out = [[[0.0; 4]; 2]; 2];
+    let mut k = 0;
+    while k < 4 {
+        out[0][0][k] = g[0][k] + g[1][k];
+        out[0][1][k] = g[3][k] + g[2][k];
+        out[1][0][k] = g[1][k];
+        out[1][1][k] = g[2][k];
+        k += 1;
+    }
+    out
+};
+
 /// The coupled projection of a set of groups (see the module docs): scratch space kept
 /// between operations so that a stroke allocates nothing once the buffers have grown.
 #[derive(Debug, Clone, Default)]
@@ -439,6 +472,162 @@ impl Coupled {
     /// [`super::regulate_all`] on a large grid — is regulated group by group instead.
     const MOST_WORK: usize = 1 << 24;
 
+    fn assemble(&mut self, grid: &Grid, factor: bool) {
+        let m = grid.patches_u();
+        let shape = grid.shape();
+        let nodes = grid.nodes();
+        // Assembly, patch by patch.
+        for (pi, &p) in self.patches.iter().enumerate() {
+            let (iu, iv) = (p % m, p / m);
+            let ids = shape.patch_ids(iu, iv);
+            let corners = self.corners[pi];
+            // Node offsets s̃ (along u) and t̃ (along v) of the local rows, per corner.
+            let mut su = [[0.0f64; 4]; 4];
+            let mut tv = [[0.0f64; 4]; 4];
+            let mut offsets = [(0.0f64, 0.0f64); 4];
+            // Which halves of the patch's rows (`i < 2`, `i ≥ 2`) and columns hold regulated
+            // nodes (every other node of the patch stays: it adds nothing).
+            let (mut rows, mut cols) = ([false; 2], [false; 2]);
+            let mut x = [[DVec3::ZERO; 4]; 4];
+            for (slot, g) in corners.iter().enumerate() {
+                let Some(g) = g else { continue };
+                let (cu, cv) = (slot % 2, slot / 2);
+                let (ru, rv) = self.groups[*g as usize].ratios;
+                // Local rows of the corner: vertex row first.
+                let (iu0, iu1, off_u) = if cu == 0 { (0, 1, ru) } else { (3, 2, -1.0) };
+                let (jv0, jv1, off_v) = if cv == 0 { (0, 1, rv) } else { (3, 2, -1.0) };
+                su[slot][iu1] = off_u;
+                tv[slot][jv1] = off_v;
+                offsets[slot] = (off_u, off_v);
+                rows[cu] = true;
+                cols[cv] = true;
+                for i in [iu0, iu1] {
+                    for j in [jv0, jv1] {
+                        x[i][j] = nodes[ids[4 * i + j]];
+                    }
+                }
+            }
+            // Right-hand side, per regulated corner `(c_u, c_v)`: `Φ_cᵀ (m ⊗ m) x` with
+            // `Φ_c = φ_u ⊗ φ_v` (`φ = (1, s̃)` on the corner's two rows), i.e.
+            // `b[α][β] = s̃^α t̃^β Σ_l G_α[c_u][l] Σ_k G_β[c_v][k] x[l][k]` ([`RHS_GRAM`]), the
+            // inner sums shared by the corners of one `c_v`, over the halves that hold nodes.
+            // The present halves as one range (two halves are contiguous).
+            let halves = |h: [bool; 2]| (if h[0] { 0 } else { 2 })..(if h[1] { 4 } else { 2 });
+            let mut w = [[[DVec3::ZERO; 4]; 2]; 2];
+            for cv in 0..2 {
+                if !cols[cv] {
+                    continue;
+                }
+                for (beta, wb) in w[cv].iter_mut().enumerate() {
+                    let gv = &RHS_GRAM[beta][cv];
+                    for l in halves(rows) {
+                        let mut sum = DVec3::ZERO;
+                        for k in halves(cols) {
+                            sum += x[l][k] * gv[k];
+                        }
+                        wb[l] = sum;
+                    }
+                }
+            }
+            for (cs, gc) in corners.iter().enumerate() {
+                let Some(gc) = gc else { continue };
+                let gc = *gc as usize;
+                let (cu, cv) = (cs % 2, cs / 2);
+                let (off_u, off_v) = (offsets[cs].0, offsets[cs].1);
+                for e in 0..4 {
+                    let (alpha, beta) = (e % 2, e / 2);
+                    let gu = &RHS_GRAM[alpha][cu];
+                    let mut sum = DVec3::ZERO;
+                    for l in halves(rows) {
+                        sum += w[cv][beta][l] * gu[l];
+                    }
+                    let scale = match e {
+                        0 => 1.0,
+                        1 => off_u,
+                        2 => off_v,
+                        _ => off_u * off_v,
+                    };
+                    self.rhs[4 * gc + e] += sum * scale;
+                }
+            }
+            if !factor {
+                continue;
+            }
+            // Per corner: its local rows and columns and the basis rows φ(node) = (1, s̃).
+            let rows_u = |cu: usize| if cu == 0 { [0usize, 1] } else { [3, 2] };
+            for (cs, gc) in corners.iter().enumerate() {
+                let Some(gc) = gc else { continue };
+                let gc = *gc as usize;
+                let (cu, cv) = (cs % 2, cs / 2);
+                let (ci, cj) = (rows_u(cu), rows_u(cv));
+                // Normal-matrix blocks with every regulated corner at or before it.
+                for (ds, gd) in corners.iter().enumerate() {
+                    let Some(gd) = gd else { continue };
+                    let gd = *gd as usize;
+                    if gd > gc {
+                        continue;
+                    }
+                    let (du, dv) = (ds % 2, ds / 2);
+                    let (di, dj) = (rows_u(du), rows_u(dv));
+                    // U[α][α'] = Σ φ_α(i) m_ii' φ_α'(i'), likewise V along v.
+                    let mut uu = [[0.0f64; 2]; 2];
+                    let mut vvm = [[0.0f64; 2]; 2];
+                    for &i in &ci {
+                        let fa = [1.0, su[cs][i]];
+                        for &i2 in &di {
+                            let fb = [1.0, su[ds][i2]];
+                            let w = GRAM_1D[i][i2];
+                            for a in 0..2 {
+                                for b in 0..2 {
+                                    uu[a][b] += fa[a] * w * fb[b];
+                                }
+                            }
+                        }
+                    }
+                    for &j in &cj {
+                        let fa = [1.0, tv[cs][j]];
+                        for &j2 in &dj {
+                            let fb = [1.0, tv[ds][j2]];
+                            let w = GRAM_1D[j][j2];
+                            for a in 0..2 {
+                                for b in 0..2 {
+                                    vvm[a][b] += fa[a] * w * fb[b];
+                                }
+                            }
+                        }
+                    }
+                    // Parameter e = α + 2β: (P_O, a, b, c).
+                    for e in 0..4 {
+                        let r = 4 * gc + e;
+                        let hi = if gd == gc { e } else { 3 };
+                        for e2 in 0..=hi {
+                            let col = 4 * gd + e2;
+                            let v = uu[e % 2][e2 % 2] * vvm[e / 2][e2 / 2];
+                            self.data[self.start[r] + col - self.first[r]] += v;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn write(&self, grid: &mut Grid) {
+        // Write the regulated nodes.
+        let nodes = grid.nodes_mut();
+        for (gi, g) in self.groups.iter().enumerate() {
+            let th = &self.rhs[4 * gi..4 * gi + 4];
+            let su = [-1.0, 0.0, g.ratios.0];
+            let tv = [-1.0, 0.0, g.ratios.1];
+            for s in 0..3 {
+                for t in 0..3 {
+                    if let Some(id) = g.nodes[s][t] {
+                        nodes[id] = th[0] + th[1] * su[s] + th[2] * tv[t] + th[3] * (su[s] * tv[t]);
+                    }
+                }
+            }
+        }
+    }
+
     /// Regulates `groups` (each with at least two patches) together: the G1 net nearest to the
     /// present one in `∫|ΔS|²` over every patch around them, every other node fixed. `false`
     /// (and nothing written) if the normal matrix is not numerically positive definite.
@@ -455,14 +644,18 @@ impl Coupled {
         let (m, n) = (grid.patches_u(), grid.patches_v());
         let (vu, vv) = (grid.vertices_u(), grid.vertices_v());
         let topology = grid.topology();
-        let vkey = move |k: usize, q: usize| {
-            ((q + vv - origin.1 % vv) % vv) * vu + (k + vu - origin.0 % vu) % vu
+        // `(x − x₀) mod n` for `x < n` without a division.
+        let (o_u, o_v) = (origin.0 % vu, origin.1 % vv);
+        let vkey = move |g: &Group| {
+            let from = |x: usize, o: usize, n: usize| if x >= o { x - o } else { x + n - o };
+            from(g.vertex.1, o_v, vv) * vu + from(g.vertex.0, o_u, vu)
         };
         self.groups.clear();
         self.groups.extend_from_slice(groups);
-        // Each key once (the modular key costs two divisions).
-        self.groups
-            .sort_by_cached_key(|g| vkey(g.vertex.0, g.vertex.1));
+        // The sets come ordered by `q · V_u + k`, the same order unless they cross a seam.
+        if !self.groups.is_sorted_by_key(vkey) {
+            self.groups.sort_by_key(vkey);
+        }
         self.groups.dedup_by_key(|g| g.vertex);
         let count = self.groups.len();
         if count == 0 {
@@ -554,120 +747,7 @@ impl Coupled {
         }
         self.rhs.clear();
         self.rhs.resize(rows, DVec3::ZERO);
-        // Assembly, patch by patch.
-        for (pi, &p) in self.patches.iter().enumerate() {
-            let (iu, iv) = (p % m, p / m);
-            let ids = grid.patch_node_ids(iu, iv);
-            let corners = self.corners[pi];
-            // Node offsets s̃ (along u) and t̃ (along v) of the local rows, per corner.
-            let mut su = [[0.0f64; 4]; 4];
-            let mut tv = [[0.0f64; 4]; 4];
-            let mut x = [[DVec3::ZERO; 4]; 4];
-            for (slot, g) in corners.iter().enumerate() {
-                let Some(g) = g else { continue };
-                let (cu, cv) = (slot % 2, slot / 2);
-                let (ru, rv) = self.groups[*g as usize].ratios;
-                // Local rows of the corner: vertex row first.
-                let (iu0, iu1, off_u) = if cu == 0 { (0, 1, ru) } else { (3, 2, -1.0) };
-                let (jv0, jv1, off_v) = if cv == 0 { (0, 1, rv) } else { (3, 2, -1.0) };
-                su[slot][iu1] = off_u;
-                tv[slot][jv1] = off_v;
-                for i in [iu0, iu1] {
-                    for j in [jv0, jv1] {
-                        x[i][j] = grid.nodes()[ids[4 * i + j]];
-                    }
-                }
-            }
-            // y = (m ⊗ m) x over the regulated nodes.
-            let mut t = [[DVec3::ZERO; 4]; 4];
-            for i in 0..4 {
-                for j in 0..4 {
-                    let mut sum = DVec3::ZERO;
-                    for l in 0..4 {
-                        sum += x[i][l] * GRAM_1D[j][l];
-                    }
-                    t[i][j] = sum;
-                }
-            }
-            let mut y = [[DVec3::ZERO; 4]; 4];
-            for i in 0..4 {
-                for j in 0..4 {
-                    let mut sum = DVec3::ZERO;
-                    for l in 0..4 {
-                        sum += t[l][j] * GRAM_1D[i][l];
-                    }
-                    y[i][j] = sum;
-                }
-            }
-            // Per corner: its local rows and columns and the basis rows φ(node) = (1, s̃).
-            let rows_u = |cu: usize| if cu == 0 { [0usize, 1] } else { [3, 2] };
-            for (cs, gc) in corners.iter().enumerate() {
-                let Some(gc) = gc else { continue };
-                let gc = *gc as usize;
-                let (cu, cv) = (cs % 2, cs / 2);
-                let (ci, cj) = (rows_u(cu), rows_u(cv));
-                // Right-hand side: Φ_cᵀ y_c.
-                for &i in &ci {
-                    for &j in &cj {
-                        let (a, b) = (su[cs][i], tv[cs][j]);
-                        let w = [1.0, a, b, a * b];
-                        for (e, we) in w.iter().enumerate() {
-                            self.rhs[4 * gc + e] += y[i][j] * *we;
-                        }
-                    }
-                }
-                // Normal-matrix blocks with every regulated corner at or before it.
-                if cached.is_some() {
-                    continue;
-                }
-                for (ds, gd) in corners.iter().enumerate() {
-                    let Some(gd) = gd else { continue };
-                    let gd = *gd as usize;
-                    if gd > gc {
-                        continue;
-                    }
-                    let (du, dv) = (ds % 2, ds / 2);
-                    let (di, dj) = (rows_u(du), rows_u(dv));
-                    // U[α][α'] = Σ φ_α(i) m_ii' φ_α'(i'), likewise V along v.
-                    let mut uu = [[0.0f64; 2]; 2];
-                    let mut vvm = [[0.0f64; 2]; 2];
-                    for &i in &ci {
-                        let fa = [1.0, su[cs][i]];
-                        for &i2 in &di {
-                            let fb = [1.0, su[ds][i2]];
-                            let w = GRAM_1D[i][i2];
-                            for a in 0..2 {
-                                for b in 0..2 {
-                                    uu[a][b] += fa[a] * w * fb[b];
-                                }
-                            }
-                        }
-                    }
-                    for &j in &cj {
-                        let fa = [1.0, tv[cs][j]];
-                        for &j2 in &dj {
-                            let fb = [1.0, tv[ds][j2]];
-                            let w = GRAM_1D[j][j2];
-                            for a in 0..2 {
-                                for b in 0..2 {
-                                    vvm[a][b] += fa[a] * w * fb[b];
-                                }
-                            }
-                        }
-                    }
-                    // Parameter e = α + 2β: (P_O, a, b, c).
-                    for e in 0..4 {
-                        let r = 4 * gc + e;
-                        let hi = if gd == gc { e } else { 3 };
-                        for e2 in 0..=hi {
-                            let col = 4 * gd + e2;
-                            let v = uu[e % 2][e2 % 2] * vvm[e / 2][e2 / 2];
-                            self.data[self.start[r] + col - self.first[r]] += v;
-                        }
-                    }
-                }
-            }
-        }
+        self.assemble(grid, cached.is_none());
         match cached {
             Some(i) => {
                 let f = &self.factors.entries[i];
@@ -688,20 +768,7 @@ impl Coupled {
         if self.rhs.iter().any(|x| !x.is_finite()) {
             return false;
         }
-        // Write the regulated nodes.
-        let nodes = grid.nodes_mut();
-        for (gi, g) in self.groups.iter().enumerate() {
-            let th = &self.rhs[4 * gi..4 * gi + 4];
-            let su = [-1.0, 0.0, g.ratios.0];
-            let tv = [-1.0, 0.0, g.ratios.1];
-            for s in 0..3 {
-                for t in 0..3 {
-                    if let Some(id) = g.nodes[s][t] {
-                        nodes[id] = th[0] + th[1] * su[s] + th[2] * tv[t] + th[3] * (su[s] * tv[t]);
-                    }
-                }
-            }
-        }
+        self.write(grid);
         true
     }
 }
@@ -740,18 +807,23 @@ fn skyline_solve(first: &[usize], start: &[usize], l: &[f64], b: &mut [DVec3]) {
     let rows = first.len();
     for r in 0..rows {
         let (fr, sr) = (first[r], start[r]);
-        let mut sum = b[r];
-        for k in fr..r {
-            sum -= b[k] * l[sr + k - fr];
+        // Row r of the factor: columns fr..r, then the diagonal.
+        let (row, diag) = l[sr..=sr + r - fr].split_at(r - fr);
+        let (done, rest) = b.split_at_mut(r);
+        let mut sum = rest[0];
+        for (x, &w) in done[fr..].iter().zip(row) {
+            sum -= *x * w;
         }
-        b[r] = sum / l[sr + r - fr];
+        rest[0] = sum / diag[0];
     }
     for r in (0..rows).rev() {
         let (fr, sr) = (first[r], start[r]);
-        let x = b[r] / l[sr + r - fr];
-        b[r] = x;
-        for k in fr..r {
-            b[k] -= x * l[sr + k - fr];
+        let (row, diag) = l[sr..=sr + r - fr].split_at(r - fr);
+        let (todo, rest) = b.split_at_mut(r);
+        let x = rest[0] / diag[0];
+        rest[0] = x;
+        for (y, &w) in todo[fr..].iter_mut().zip(row) {
+            *y -= x * w;
         }
     }
 }

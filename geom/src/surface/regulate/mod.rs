@@ -211,13 +211,21 @@ fn components(
         labels,
         stack,
         order,
+        keyed,
         sorted,
         ..
     } = scratch;
     let vu = grid.vertices_u();
     let topology = grid.topology();
-    let key = |g: &Group| g.vertex.1 * vu + g.vertex.0;
-    groups.sort_unstable_by_key(key);
+    // The groups by vertex key `q · V_u + k` (sorting the keys, not the groups).
+    keyed.clear();
+    keyed.extend(
+        groups
+            .iter()
+            .enumerate()
+            .map(|(i, g)| (g.vertex.1 * vu + g.vertex.0, i)),
+    );
+    keyed.sort_unstable();
     let count = groups.len();
     labels.clear();
     labels.resize(count, usize::MAX);
@@ -230,7 +238,7 @@ fn components(
         labels[seed] = sets;
         stack.push(seed);
         while let Some(i) = stack.pop() {
-            let (k, q) = groups[i].vertex;
+            let (k, q) = groups[keyed[i].1].vertex;
             for dq in -1..=1isize {
                 for dk in -1..=1isize {
                     let Some(k2) = wrap(k as isize + dk, vu, topology.closed_u()) else {
@@ -241,7 +249,7 @@ fn components(
                         continue;
                     };
                     let want = q2 * vu + k2;
-                    if let Ok(j) = groups.binary_search_by_key(&want, key)
+                    if let Ok(j) = keyed.binary_search_by_key(&want, |e| e.0)
                         && labels[j] == usize::MAX
                     {
                         labels[j] = sets;
@@ -255,9 +263,11 @@ fn components(
     // Stable by set: the vertex order within each set is kept.
     order.clear();
     order.extend(0..count);
-    order.sort_by_key(|&i| labels[i]);
+    if sets > 1 {
+        order.sort_by_key(|&i| labels[i]);
+    }
     sorted.clear();
-    sorted.extend(order.iter().map(|&i| groups[i]));
+    sorted.extend(order.iter().map(|&i| groups[keyed[i].1]));
     groups.copy_from_slice(sorted);
     ranges.clear();
     let mut start = 0;
@@ -276,6 +286,8 @@ struct Scratch {
     labels: Vec<usize>,
     stack: Vec<usize>,
     order: Vec<usize>,
+    /// `(vertex key, index)` of every group, sorted.
+    keyed: Vec<(usize, usize)>,
     sorted: Vec<Group>,
     /// Per vertex along a grid line: whether a group of the set lies on it.
     seen: Vec<bool>,

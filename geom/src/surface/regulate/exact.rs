@@ -84,7 +84,13 @@
 //! spacing ratios (on the plane: a C1 bicubic Hermite spline, four vectors per vertex) cannot
 //! bend inside a patch, so even the least-squares fit of the ideal *itself* leaves 0.1064 D
 //! with only the touched groups free and 0.1050 D with every group free. The coupled
-//! projection (0.1104 D, 1.090 × unregulated) meets the target up to D ≈ 1.1. A numerical
+//! projection (0.1104 D, 1.090 × unregulated) meets the target up to D ≈ 1.1. Whether it
+//! is met depends on the finger against the patch, not on the depth alone (the same
+//! experiment with the radius changed; max at depth 1.25 / 1.5, limit in brackets): r_f 0.8 on
+//! 10 × 10 met (0.2068 [0.2133] / 0.2482 [0.2540]) but refined × 2 missed (0.0969 [0.0946] /
+//! 0.1162 [0.1115]); r_f 2.0 on 10 × 10 missed (0.0895 [0.0875] / 0.1074 [0.1030]) and × 2
+//! met. The floor (all groups free) meets every one of these limits, by as little as 1 %
+//! (0.1105 against 0.1115). A numerical
 //! study of other objectives within the same family (dense least squares on the plane, depth
 //! 1, touched groups free; mean / max): one more ring of free groups 0.0135 / 0.1096;
 //! collocation at the inverse's 16 samples per patch 0.0153 / 0.1192; trapezoidal 7 × 7

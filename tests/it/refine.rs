@@ -390,6 +390,19 @@ fn nendo_refine_refuses_bad_arguments_and_writes_nothing() {
         (vec!["--uniform", "0"], "at least 1"),
         (vec!["--uniform", "100"], "grid limit of 65536"),
         (vec![], "give --uniform K"),
+        // Extreme numbers are printed compactly, not as their 300-digit expansions.
+        (
+            vec!["--insert-u", "1e308"],
+            "u parameter 1e308 is outside (0, 8)",
+        ),
+        (
+            vec!["--insert-v", "-1e30"],
+            "v parameter -1e30 is outside (0, 4)",
+        ),
+        (
+            vec!["--insert-u", "1e-310"],
+            "u parameter 1e-310 is on an existing grid line",
+        ),
     ] {
         let mut all = vec!["refine", s(&input), "--out", s(&out)];
         all.extend(&args);

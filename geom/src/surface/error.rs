@@ -43,7 +43,7 @@ pub enum SurfaceError {
         patches_v: usize,
     },
     /// A shape parameter (radius, height, …) is not a positive finite number.
-    #[error("{name} must be a positive finite number, got {value}")]
+    #[error("{name} must be a positive finite number, got {}", crate::num::Compact(*.value))]
     BadParameter {
         /// Which parameter.
         name: &'static str,

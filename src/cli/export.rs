@@ -63,6 +63,12 @@ pub fn run(args: Args) -> ExitCode {
         );
         return ExitCode::from(2);
     }
+    if let Err(e) =
+        super::paths::check(&[("OUT", Some(&args.out))], &[("model", Some(&args.model))])
+    {
+        eprintln!("nendo export: {e}");
+        return ExitCode::from(2);
+    }
     if let Some(format) = CadFormat::from_path(&args.out) {
         return run_cad(&args, format);
     }

@@ -388,6 +388,14 @@ fn setup(args: &Args, trace: &Trace) -> anyhow::Result<Setup> {
 }
 
 fn replay(args: &Args) -> anyhow::Result<String> {
+    // `--out` may replace the `--model` read (a model either way), not the trace or profile.
+    super::paths::check(
+        &[("--out", Some(&args.out))],
+        &[
+            ("trace", Some(&args.trace)),
+            ("profile", args.profile.as_deref().map(Path::new)),
+        ],
+    )?;
     let trace = Trace::read(&args.trace).map_err(|e| naming(&args.trace, &e))?;
     let Setup {
         mut model,

@@ -91,6 +91,11 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 fn sculpt(args: &Args) -> anyhow::Result<String> {
+    // `--out` may replace the `--model` read (a model either way), not the operations file.
+    super::paths::check(
+        &[("--out", Some(&args.out))],
+        &[("operations file", args.ops.as_deref())],
+    )?;
     let shape_args = args.shape.given();
     let mut model = match (&args.model, args.primitive) {
         (Some(path), _) => {

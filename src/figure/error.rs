@@ -36,8 +36,10 @@ pub enum FigureError {
     #[error("{0}")]
     Format(String),
     /// A document's JSON is malformed or a member is missing, unknown, repeated or of the
-    /// wrong type (with the member's path, line and column).
-    #[error("{0}")]
+    /// wrong type (with the member's path, line and column). Transparent: the message is the
+    /// JSON error's, once (a `{0}` message with the JSON error as its source printed it twice
+    /// in a chain, `curves[0]: …: curves[0]: …`).
+    #[error(transparent)]
     Json(#[from] crate::json_doc::JsonError),
     /// A curve inside a document is malformed.
     #[error("curve {index}: {source}")]

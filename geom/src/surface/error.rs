@@ -7,7 +7,7 @@ use super::topology::Topology;
 pub enum SurfaceError {
     /// A patch count is zero, or too small for the topology (a closed direction needs at least
     /// 2 patches, 6 around a pole; a sphere needs 2 patches from pole to pole).
-    #[error("{topology} needs at least {min} patches along {direction}, got {got}")]
+    #[error("{topology} topology needs at least {min} patches along {direction}, got {got}")]
     TooFewPatches {
         /// The topology being built.
         topology: Topology,

@@ -230,8 +230,8 @@ impl AutoRefine {
         }
         if f.limited {
             eprintln!(
-                "nendo replay: frame {number}: refinement for the finger (patches of at most {:.4} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the contact goes on with these patches",
-                f.target,
+                "nendo replay: frame {number}: refinement for the finger (patches of at most {} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the contact goes on with these patches",
+                crate::num::Compact(f.target),
                 grid.patches_u(),
                 grid.patches_v()
             );

@@ -170,8 +170,8 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
             }
             if f.limited {
                 eprintln!(
-                    "nendo sculpt: {name} line {line}: refinement for the finger (patches of at most {:.4} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the operation is applied on these patches",
-                    f.target,
+                    "nendo sculpt: {name} line {line}: refinement for the finger (patches of at most {} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the operation is applied on these patches",
+                    crate::num::Compact(f.target),
                     model.surface.patches_u(),
                     model.surface.patches_v()
                 );

@@ -8,8 +8,8 @@
 //! ## Crates, and which part may use which
 //!
 //! The geometry is its own crate, [`nendo_geom`], which depends on nothing of files, devices,
-//! GPU or UI; this crate re-exports its modules as [`curve`], [`surface`] and [`mesh`] and adds
-//! what the application needs around them. The device crate, `nendo-devices` (`devices/`),
+//! GPU or UI; this crate re-exports its modules as [`curve`], [`surface`], [`mesh`] and [`num`]
+//! and adds what the application needs around them. The device crate, `nendo-devices` (`devices/`),
 //! knows nothing of geometry. The compiler holds these boundaries; inside this crate the table
 //! below does.
 //!
@@ -41,4 +41,5 @@ pub mod model;
 #[cfg(feature = "gui")]
 pub mod render;
 
+pub use nendo_geom::num;
 pub use nendo_geom::surface;

@@ -85,7 +85,7 @@ pub enum ExportJobError {
     #[error("{0}")]
     Format(ExportError),
     /// The tolerance is not a positive number.
-    #[error("the export tolerance must be a positive number, not {0}")]
+    #[error("the export tolerance must be a positive number, not {}", crate::num::Compact(*.0))]
     BadTolerance(f64),
     /// The mesh would exceed the triangle limit (counted before anything is allocated).
     #[error("cannot export: {0}; choose a coarser tolerance")]

@@ -46,7 +46,10 @@ pub enum CadError {
         curve: usize,
     },
     /// The scale is not a positive number, or it makes a coordinate overflow.
-    #[error("the scale must be a positive number that keeps coordinates finite, not {0}")]
+    #[error(
+        "the scale must be a positive number that keeps coordinates finite, not {}",
+        crate::num::Compact(*.0)
+    )]
     BadScale(f64),
 }
 

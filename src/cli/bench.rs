@@ -9,7 +9,8 @@ pub struct Args {
     /// Which suite to run.
     #[arg(value_enum)]
     pub suite: Suite,
-    /// Scale the number of cases (1.0 = the documented set-up; smaller for a quick look).
+    /// Scale the number of cases (1.0 = the documented set-up; smaller for a quick look; at
+    /// most 100).
     #[arg(long, default_value_t = 1.0)]
     pub scale: f64,
 }
@@ -35,10 +36,17 @@ pub enum Suite {
     Figures,
 }
 
+/// The largest `--scale`: a hundred times the documented set-up already runs for hours, and
+/// the case counts of a larger one overflow what can be allocated.
+pub const MAX_SCALE: f64 = 100.0;
+
 /// Runs `nendo bench`.
 pub fn run(args: Args) -> ExitCode {
-    if !(args.scale.is_finite() && args.scale > 0.0) {
-        eprintln!("nendo bench: --scale must be a positive number");
+    if !(args.scale.is_finite() && args.scale > 0.0 && args.scale <= MAX_SCALE) {
+        eprintln!(
+            "nendo bench: --scale must be a positive number of at most {MAX_SCALE}, got {}",
+            crate::num::Compact(args.scale)
+        );
         return ExitCode::from(2);
     }
     let (text, ok) = match args.suite {

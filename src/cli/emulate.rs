@@ -35,7 +35,7 @@ use nendo_devices::emulator::{
     CyberGloveModel, DeviceModel, FastrakModel, FlockModel, Glove5Model, PtyEmulator, Script,
 };
 use nendo_devices::fastrak::DataFormat;
-use nendo_devices::profile::{self, SensorCalibration};
+use nendo_devices::profile::{self, GloveProfile, SensorCalibration, TrackerProfile};
 use nendo_devices::{HandFrame, Profile, TrackerPose, buttons};
 
 use crate::hand::script::Gesture;
@@ -191,6 +191,39 @@ fn default_profile(device: EmulatedDevice, format: Option<&str>) -> &'static str
     }
 }
 
+/// Checks that `profile` has the emulated device: its tracker for a tracker, its glove for a
+/// glove, of the same protocol. Otherwise the host told to "connect with --profile P" would
+/// open a profile without that device (or read it with another protocol).
+fn check_profile_device(profile: &Profile, device: EmulatedDevice) -> anyhow::Result<()> {
+    let (fits, what) = match device {
+        EmulatedDevice::Fastrak => (
+            matches!(profile.tracker(), Some(TrackerProfile::Fastrak { .. })),
+            "a Fastrak tracker",
+        ),
+        EmulatedDevice::Flock => (
+            matches!(profile.tracker(), Some(TrackerProfile::Flock { .. })),
+            "a Flock of Birds tracker",
+        ),
+        EmulatedDevice::Cyberglove => (
+            matches!(profile.glove(), Some(GloveProfile::CyberGlove { .. })),
+            "a CyberGlove",
+        ),
+        EmulatedDevice::FiveDtGlove5 => (
+            matches!(profile.glove(), Some(GloveProfile::FiveDtGlove5 { .. })),
+            "a 5DT Data Glove 5",
+        ),
+    };
+    if fits {
+        Ok(())
+    } else {
+        anyhow::bail!(
+            "profile {} does not have {what}: give a profile with the emulated device (the default is {})",
+            profile.name,
+            default_profile(device, None)
+        )
+    }
+}
+
 fn glove_table(profile: &Profile, want: usize) -> anyhow::Result<Vec<SensorCalibration>> {
     let table = profile
         .glove()
@@ -221,6 +254,7 @@ fn emulate(args: &Args) -> anyhow::Result<String> {
         .clone()
         .unwrap_or_else(|| default_profile(args.device, format).to_string());
     let profile = profile::resolve(&name)?;
+    check_profile_device(&profile, args.device)?;
     let trace = args
         .motion
         .trace(profile.world_from_tracker, GESTURE_RATE_HZ)?;

@@ -10,6 +10,9 @@
 //! - CAD (`.step`/`.stp`, `.igs`/`.iges`): the exact patches and the curves ([`crate::cad`]),
 //!   in millimetres, `--scale` millimetres per model unit (default 1); no tessellation, so
 //!   `--tolerance` and `--max-triangles` do not apply. Z-up as the model (CAD's convention).
+//!
+//! `--tolerance` and `--scale` are checked whatever the format (a positive finite number
+//! each): a `--tolerance nan` given with a `.step` is refused, not silently ignored.
 
 use clap::Args as ClapArgs;
 use std::path::PathBuf;
@@ -46,12 +49,28 @@ pub struct Args {
 
 /// Runs `nendo export`.
 pub fn run(args: Args) -> ExitCode {
+    if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
+        eprintln!(
+            "nendo export: --tolerance must be a positive number, not {}",
+            crate::num::Compact(args.tolerance)
+        );
+        return ExitCode::from(2);
+    }
+    if !(args.scale.is_finite() && args.scale > 0.0) {
+        eprintln!(
+            "nendo export: --scale must be a positive number (millimetres per model unit), not {}",
+            crate::num::Compact(args.scale)
+        );
+        return ExitCode::from(2);
+    }
+    if let Err(e) =
+        super::paths::check(&[("OUT", Some(&args.out))], &[("model", Some(&args.model))])
+    {
+        eprintln!("nendo export: {e}");
+        return ExitCode::from(2);
+    }
     if let Some(format) = CadFormat::from_path(&args.out) {
         return run_cad(&args, format);
-    }
-    if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
-        eprintln!("nendo export: --tolerance must be a positive number");
-        return ExitCode::from(2);
     }
     let format = match MeshFormat::from_path(&args.out) {
         Ok(f) => f,
@@ -87,7 +106,7 @@ pub fn run(args: Args) -> ExitCode {
         Err(e) => {
             eprintln!(
                 "nendo export: {e}; raise --max-triangles or the --tolerance (now {})",
-                args.tolerance
+                crate::num::Compact(args.tolerance)
             );
             return ExitCode::FAILURE;
         }
@@ -104,7 +123,7 @@ pub fn run(args: Args) -> ExitCode {
         mesh.positions.len(),
         mesh.triangle_count(),
         raw.error_bound,
-        args.tolerance,
+        crate::num::Compact(args.tolerance),
         up.name().to_ascii_uppercase()
     );
     if let Err(super::output::StdoutError(e)) = super::output::println(summary) {
@@ -121,10 +140,6 @@ pub fn run(args: Args) -> ExitCode {
 
 /// `nendo export` to STEP or IGES.
 fn run_cad(args: &Args, format: CadFormat) -> ExitCode {
-    if !(args.scale.is_finite() && args.scale > 0.0) {
-        eprintln!("nendo export: --scale must be a positive number (millimetres per model unit)");
-        return ExitCode::from(2);
-    }
     if let Some(up) = args.up.filter(|&u| u != UpAxis::Z) {
         eprintln!(
             "nendo export: --up {up}: {} is written +Z up, as the model",
@@ -156,7 +171,7 @@ fn run_cad(args: &Args, format: CadFormat) -> ExitCode {
         model.surface.topology(),
         model.curves.len(),
         bytes,
-        args.scale,
+        crate::num::Compact(args.scale),
         started.elapsed().as_secs_f64() * 1e3
     );
     if let Err(super::output::StdoutError(e)) = super::output::println(summary) {

@@ -250,6 +250,22 @@ fn fit(args: &FitArgs) -> anyhow::Result<()> {
     at_most("--contour-samples", args.contour_samples, 100_000)?;
     at_most("--guard-resolution", args.guard_resolution, 1_024)?;
     at_most("--iterations", args.iterations, 100_000)?;
+    // `--out` may replace the figure read (a figure file either way); the pictures may not.
+    super::paths::check(
+        &[
+            ("--png", args.picture.png.as_deref()),
+            ("--svg", args.picture.svg.as_deref()),
+        ],
+        &[("figure", Some(&args.input))],
+    )?;
+    super::paths::check(
+        &[
+            ("--out", Some(&args.out)),
+            ("--png", args.picture.png.as_deref()),
+            ("--svg", args.picture.svg.as_deref()),
+        ],
+        &[],
+    )?;
     let mut doc = read_document(&args.input)?;
     let Some(contour) = doc.contour.clone() else {
         bail!(
@@ -287,11 +303,34 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if args.picture.png.is_none() && args.picture.svg.is_none() {
         bail!("nothing to write: give --png and/or --svg");
     }
+    super::paths::check(
+        &[
+            ("--png", args.picture.png.as_deref()),
+            ("--svg", args.picture.svg.as_deref()),
+        ],
+        &[("figure", Some(&args.figure))],
+    )?;
     let doc = read_document(&args.figure)?;
     write_pictures(&doc, &args.picture)
 }
 
 fn warp(args: &WarpArgs) -> anyhow::Result<()> {
+    // `--out` may replace the figure warped (a figure file either way), nothing else.
+    super::paths::check(
+        &[
+            ("--png", args.picture.png.as_deref()),
+            ("--svg", args.picture.svg.as_deref()),
+        ],
+        &[("figure", Some(&args.figure))],
+    )?;
+    super::paths::check(
+        &[
+            ("--out", Some(&args.out)),
+            ("--png", args.picture.png.as_deref()),
+            ("--svg", args.picture.svg.as_deref()),
+        ],
+        &[("--curves file", Some(&args.curves))],
+    )?;
     let doc = read_document(&args.figure)?;
     let text = std::fs::read_to_string(&args.curves)
         .with_context(|| format!("cannot read {}", args.curves.display()))?;

@@ -14,6 +14,7 @@ pub mod figure;
 pub mod json_lines;
 pub mod morph;
 pub mod output;
+pub mod paths;
 pub mod primitive_args;
 pub mod record;
 pub mod refine;

@@ -63,6 +63,13 @@ fn morph(args: &Args) -> anyhow::Result<()> {
     if args.frames < 2 || args.frames > 100_000 {
         bail!("--frames must be 2 to 100000, got {}", args.frames);
     }
+    // Checked before any work: `create_dir_all` would only say "File exists".
+    if args.out.exists() && !args.out.is_dir() {
+        bail!(
+            "--out {} is not a directory: give the directory the frames go in",
+            args.out.display()
+        );
+    }
     let src = read_document(&args.source)?;
     let dst = read_document(&args.destination)?;
     let options = MorphOptions {

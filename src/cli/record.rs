@@ -184,6 +184,13 @@ fn record(args: Args) -> anyhow::Result<String> {
     if !(args.seconds.is_finite() && args.seconds > 0.0 && args.seconds <= MAX_SECONDS) {
         anyhow::bail!("--seconds must be a positive number of at most {MAX_SECONDS} (a day)");
     }
+    super::paths::check(
+        &[("--out", Some(&args.out))],
+        &[
+            ("profile", Some(Path::new(&args.profile))),
+            ("--model", args.model.as_deref()),
+        ],
+    )?;
     // The scene is checked before any device opens: a bad one records nothing.
     let scene = scene(&args)?;
     let profile = profile::resolve(&args.profile)?;

@@ -83,6 +83,10 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 fn render(args: &Args) -> anyhow::Result<()> {
+    super::paths::check(
+        &[("--png", Some(&args.png))],
+        &[("model", Some(&args.model))],
+    )?;
     let loaded =
         Model::read(&args.model).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
     let model = loaded.model;

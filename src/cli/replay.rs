@@ -230,8 +230,8 @@ impl AutoRefine {
         }
         if f.limited {
             eprintln!(
-                "nendo replay: frame {number}: refinement for the finger (patches of at most {:.4} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the contact goes on with these patches",
-                f.target,
+                "nendo replay: frame {number}: refinement for the finger (patches of at most {} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the contact goes on with these patches",
+                crate::num::Compact(f.target),
                 grid.patches_u(),
                 grid.patches_v()
             );
@@ -388,6 +388,14 @@ fn setup(args: &Args, trace: &Trace) -> anyhow::Result<Setup> {
 }
 
 fn replay(args: &Args) -> anyhow::Result<String> {
+    // `--out` may replace the `--model` read (a model either way), not the trace or profile.
+    super::paths::check(
+        &[("--out", Some(&args.out))],
+        &[
+            ("trace", Some(&args.trace)),
+            ("profile", args.profile.as_deref().map(Path::new)),
+        ],
+    )?;
     let trace = Trace::read(&args.trace).map_err(|e| naming(&args.trace, &e))?;
     let Setup {
         mut model,

@@ -91,6 +91,11 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 fn sculpt(args: &Args) -> anyhow::Result<String> {
+    // `--out` may replace the `--model` read (a model either way), not the operations file.
+    super::paths::check(
+        &[("--out", Some(&args.out))],
+        &[("operations file", args.ops.as_deref())],
+    )?;
     let shape_args = args.shape.given();
     let mut model = match (&args.model, args.primitive) {
         (Some(path), _) => {
@@ -165,8 +170,8 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
             }
             if f.limited {
                 eprintln!(
-                    "nendo sculpt: {name} line {line}: refinement for the finger (patches of at most {:.4} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the operation is applied on these patches",
-                    f.target,
+                    "nendo sculpt: {name} line {line}: refinement for the finger (patches of at most {} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the operation is applied on these patches",
+                    crate::num::Compact(f.target),
                     model.surface.patches_u(),
                     model.surface.patches_v()
                 );

@@ -131,6 +131,20 @@ fn report_json(r: &ShapeFitReport, seconds: f64) -> Value {
 /// # Errors
 /// What went wrong, with the file it concerns.
 pub fn shape(args: &ShapeArgs) -> anyhow::Result<()> {
+    // `--out` may replace the shape file read (a shape file either way); the mesh and the
+    // picture may not.
+    super::paths::check(
+        &[("--mesh", Some(&args.mesh)), ("--png", args.png.as_deref())],
+        &[("shape file", Some(&args.shape))],
+    )?;
+    super::paths::check(
+        &[
+            ("--mesh", Some(&args.mesh)),
+            ("--png", args.png.as_deref()),
+            ("--out", args.out.as_deref()),
+        ],
+        &[],
+    )?;
     let format = MeshFormat::from_path(&args.mesh)?;
     if !(2..=256).contains(&args.resolution) {
         bail!("--resolution must be 2 to 256, got {}", args.resolution);
@@ -221,8 +235,10 @@ pub fn shape(args: &ShapeArgs) -> anyhow::Result<()> {
         },
     )?;
     let mesh_seconds = t.elapsed().as_secs_f64();
+    // The error's own message says what failed; its source repeats the path and the reason,
+    // so it is not chained (as `nendo export` prints it).
     save_mesh(&args.mesh, format, &mesh)
-        .with_context(|| format!("cannot write {}", args.mesh.display()))?;
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.mesh.display()))?;
     if let Some(png) = &args.png {
         draw_png(png, &mesh, &result.sections, &moved, args)?;
     }

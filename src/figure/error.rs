@@ -14,7 +14,7 @@ pub enum FigureError {
         what: String,
     },
     /// A metacircle or metaball has a negative effective radius.
-    #[error("{what} has a negative radius {radius}")]
+    #[error("{what} has a negative radius {}", crate::num::Compact(*.radius))]
     NegativeRadius {
         /// Which element.
         what: String,
@@ -22,7 +22,7 @@ pub enum FigureError {
         radius: f64,
     },
     /// The iso-curve threshold must be positive (the region outside every support has density 0).
-    #[error("the threshold must be a positive number, got {0}")]
+    #[error("the threshold must be a positive number, got {}", crate::num::Compact(*.0))]
     Threshold(f64),
     /// A closed contour needs at least three distinct vertices and a non-zero area.
     #[error("contour {what}: {reason}")]
@@ -36,8 +36,10 @@ pub enum FigureError {
     #[error("{0}")]
     Format(String),
     /// A document's JSON is malformed or a member is missing, unknown, repeated or of the
-    /// wrong type (with the member's path, line and column).
-    #[error("{0}")]
+    /// wrong type (with the member's path, line and column). Transparent: the message is the
+    /// JSON error's, once (a `{0}` message with the JSON error as its source printed it twice
+    /// in a chain, `curves[0]: …: curves[0]: …`).
+    #[error(transparent)]
     Json(#[from] crate::json_doc::JsonError),
     /// A curve inside a document is malformed.
     #[error("curve {index}: {source}")]

@@ -86,7 +86,9 @@ pub fn warp_contour(
             .sum();
         if pieces > MAX_WARPED_VERTICES as f64 {
             return Err(FigureError::Option(format!(
-                "{what}: edges divided to at most {max_edge} would make {pieces:.0} vertices (at most {MAX_WARPED_VERTICES})"
+                "{what}: edges divided to at most {} would make {:.0} vertices (at most {MAX_WARPED_VERTICES})",
+                crate::num::Compact(max_edge),
+                crate::num::Compact(pieces)
             )));
         }
     }

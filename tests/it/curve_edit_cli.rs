@@ -188,6 +188,23 @@ fn bad_lines_get_errors_and_the_rest_is_answered() {
     }
     assert!(out[2]["error"].as_str().expect("msg").contains("2D"));
     assert!(out[lines.len() - 1].get("curves").is_some());
+    // Extreme numbers in the messages are compact (before: 309 digits, or `0.000…01`).
+    let extreme = [
+        json!({"op": "refine", "curve": {"bezier": [[0, 0], [1, 1], [2, 0]]}, "mode": "curvature", "constraints": [{"u": 1e308, "point": [0, 0]}]}),
+        json!({"op": "tangent", "left": {"bezier": [[0, 0], [1, 1], [2, 1]]}, "right": {"bezier": [[1e30, 1], [3, 1], [4, 0]]}, "side": "right", "to": [3, 1.5]}),
+        json!({"op": "grab", "curve": {"bezier": [[0, 0, 0], [1e30, 2, 0], [3, 2, 1], [4, 0, 0]]}, "from": [2, 1.6, 0.5], "to": [2, 2, 1], "method": "nearest", "keep_ends": true}),
+    ];
+    let text: Vec<String> = extreme.iter().map(Value::to_string).collect();
+    let (out, code) = run(&(text.join("\n") + "\n"));
+    assert_eq!(code, 1);
+    for (v, want) in out.iter().zip([
+        "parameter 1e308 is outside",
+        "1.000000e30 from the right curve's first",
+        "e-31 while the end points are kept",
+    ]) {
+        let msg = v["error"].as_str().expect("an error");
+        assert!(msg.contains(want) && msg.len() < 200, "{msg}");
+    }
 }
 
 #[test]

@@ -450,6 +450,26 @@ fn emulate_ends_cleanly_on_sigterm_and_refuses_bad_options() {
         (&["flock", "--format", "50"][..], "36, 72 or 144"),
         (&["cyberglove", "--corrupt", "2"][..], "probability"),
         (&["5dt-glove5", "--seconds=-1"][..], "--seconds"),
+        // A profile without the emulated device: before, the emulator ran and told the host to
+        // connect with a profile that has no such tracker or glove.
+        (
+            &["fastrak", "--seconds", "0.2", "--profile", "cyberglove2-18"][..],
+            "does not have a Fastrak tracker",
+        ),
+        (
+            &["flock", "--seconds", "0.2", "--profile", "fastrak"][..],
+            "does not have a Flock of Birds tracker",
+        ),
+        (
+            &[
+                "5dt-glove5",
+                "--seconds",
+                "0.2",
+                "--profile",
+                "cyberglove2-18-fastrak",
+            ][..],
+            "does not have a 5DT Data Glove 5",
+        ),
     ] {
         let out = nendo().arg("emulate").args(args).output().unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);

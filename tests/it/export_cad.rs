@@ -855,6 +855,11 @@ fn export_command_writes_step_and_iges_and_refuses_bad_options() {
         (vec!["export", m, "x.ply"], 2),
         (vec!["export", m, "x.step", "--scale", "1e308"], 1),
         (vec!["export", "/nonexistent/model.json", "x.step"], 1),
+        // An option for the other kind of format is still checked, not silently ignored.
+        (vec!["export", m, "x.step", "--tolerance", "nan"], 2),
+        (vec!["export", m, "x.igs", "--tolerance", "-1"], 2),
+        (vec!["export", m, "x.obj", "--scale", "inf"], 2),
+        (vec!["export", m, "x.stl", "--scale", "0"], 2),
     ] {
         let o = crate::support::nendo()
             .args(&args)
@@ -867,8 +872,13 @@ fn export_command_writes_step_and_iges_and_refuses_bad_options() {
             "{args:?}: {}",
             String::from_utf8_lossy(&o.stderr)
         );
-        assert!(!o.stderr.is_empty(), "{args:?} explains itself");
-        assert!(!dir.join("x.step").exists() && !dir.join("x.igs").exists());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.is_empty(), "{args:?} explains itself");
+        // Numbers in the message are compact: `1e308`, not its 309 digits.
+        assert!(err.len() < 300, "{args:?}: {err}");
+        for name in ["x.step", "x.igs", "x.obj", "x.stl"] {
+            assert!(!dir.join(name).exists(), "{args:?} wrote {name}");
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -204,8 +204,12 @@ fn morph_cli_refuses_bad_input() {
         out.as_os_str(),
     ]);
     assert!(!o.status.success());
-    assert!(
-        String::from_utf8_lossy(&o.stderr).contains("metacircles[0].radius"),
+    // Named once: before, the JSON error was printed twice (as the message and its source).
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr)
+            .matches("metacircles[0].radius")
+            .count(),
+        1,
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );
@@ -231,6 +235,19 @@ fn morph_cli_refuses_bad_input() {
     assert!(!o.status.success());
     assert!(
         String::from_utf8_lossy(&o.stderr).contains("curves"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    // `--out` naming a file: before, "cannot create …: File exists".
+    let o = run(&[
+        horse.as_os_str(),
+        horse.as_os_str(),
+        "--out".as_ref(),
+        bare.as_os_str(),
+    ]);
+    assert!(!o.status.success());
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("is not a directory"),
         "{}",
         String::from_utf8_lossy(&o.stderr)
     );

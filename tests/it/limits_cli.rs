@@ -135,3 +135,15 @@ fn figures_and_shapes_beyond_their_counts_are_refused() {
     );
     assert!(!mesh.exists());
 }
+
+#[test]
+fn a_bench_scale_beyond_use_is_refused_compactly() {
+    // `--scale 1e308` asked for a case vector of ~1e311 entries: a capacity-overflow panic;
+    // 1e6 an allocation of 96 GB.
+    for s in ["1e308", "1e6", "101"] {
+        let r = nendo(&["bench", "closest", "--scale", s]);
+        refused(&r, "--scale must be a positive number of at most 100");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(err.len() < 200, "{err}");
+    }
+}

@@ -390,6 +390,19 @@ fn nendo_refine_refuses_bad_arguments_and_writes_nothing() {
         (vec!["--uniform", "0"], "at least 1"),
         (vec!["--uniform", "100"], "grid limit of 65536"),
         (vec![], "give --uniform K"),
+        // Extreme numbers are printed compactly, not as their 300-digit expansions.
+        (
+            vec!["--insert-u", "1e308"],
+            "u parameter 1e308 is outside (0, 8)",
+        ),
+        (
+            vec!["--insert-v", "-1e30"],
+            "v parameter -1e30 is outside (0, 4)",
+        ),
+        (
+            vec!["--insert-u", "1e-310"],
+            "u parameter 1e-310 is on an existing grid line",
+        ),
     ] {
         let mut all = vec!["refine", s(&input), "--out", s(&out)];
         all.extend(&args);
@@ -455,7 +468,7 @@ fn sculpt_auto_refine_refines_where_the_finger_goes() {
 
     // Past the grid limit: the refinement stops, says so, and the push is still applied.
     let tiny =
-        "{\"op\":\"push\",\"at\":[0.5,0.5,0],\"dir\":[0,0,-1],\"depth\":0.01,\"radius\":0.001}\n";
+        "{\"op\":\"push\",\"at\":[0.5,0.5,0],\"dir\":[0,0,-1],\"depth\":0.01,\"radius\":1e-6}\n";
     let o = run_with_input(
         &[
             "sculpt",
@@ -472,6 +485,8 @@ fn sculpt_auto_refine_refines_where_the_finger_goes() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(err.contains("stopped at the grid limit"), "{err}");
+    // The target size printed compactly (before: `0.0000`).
+    assert!(err.contains("patches of at most 5e-7 side"), "{err}");
     let g = Model::read(&fine).unwrap().model.surface;
     assert!(g.patch_count() <= MAX_PATCHES && g.patch_count() > 100);
 }

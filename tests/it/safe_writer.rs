@@ -1,6 +1,7 @@
 //! The one safe writer end to end: permissions kept, symbolic links written through, stale
 //! temporaries swept, temporaries removed on SIGTERM, non-finite meshes refused, and standard
-//! output failures reported as errors (not panics).
+//! output failures reported as errors (not panics); an output path that is an input of another
+//! kind, or another output, is refused before anything is read or written.
 
 use std::fs;
 use std::io::Write;
@@ -367,4 +368,124 @@ fn a_closed_pipe_ends_quietly() {
     assert!(stderr.is_empty(), "{stderr}");
     assert_eq!(out.status.code(), Some(141), "{:?}", out.status);
     fs::remove_dir_all(&dir).expect("clean up");
+}
+
+#[test]
+fn an_output_over_an_input_of_another_kind_or_another_output_is_refused() {
+    let dir = temp_dir("clobber");
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/");
+    let copy = |from: &str, to: &str| {
+        let p = dir.join(to);
+        fs::copy(format!("{data}{from}"), &p).expect("copy");
+        p
+    };
+    let trace = copy("devices/traces/mouse-sphere.trace", "t.trace");
+    let ops = push_ops(&dir);
+    let figure = copy("tests/data/figures/horse.json", "horse.json");
+    let shape = copy("tests/data/shapes/torso.json", "torso.json");
+    let model = dir.join("m.json");
+    succeeded(&sculpt_primitive("plane", &model));
+    let model_obj = dir.join("m.obj");
+    fs::copy(&model, &model_obj).expect("copy");
+    let (png, mesh) = (dir.join("p.png"), dir.join("s.obj"));
+    let s = |p: &Path| p.to_str().expect("utf-8").to_string();
+    let cases: [(Vec<String>, &str, Option<&Path>); 6] = [
+        // Before: the trace was replaced by the replayed model.
+        (
+            vec!["replay".into(), s(&trace), "--out".into(), s(&trace)],
+            "is the trace the command reads",
+            Some(&trace),
+        ),
+        // Before: the operations file was replaced by the sculpted model.
+        (
+            vec![
+                "sculpt".into(),
+                "--primitive".into(),
+                "plane".into(),
+                "--ops".into(),
+                s(&ops),
+                "--out".into(),
+                s(&ops),
+            ],
+            "is the operations file the command reads",
+            Some(&ops),
+        ),
+        // Before: the model was replaced by its own mesh.
+        (
+            vec!["export".into(), s(&model_obj), s(&model_obj)],
+            "is the model the command reads",
+            Some(&model_obj),
+        ),
+        // Before: the PNG was written, then silently replaced by the SVG.
+        (
+            vec![
+                "figure".into(),
+                "render".into(),
+                s(&figure),
+                "--png".into(),
+                s(&png),
+                "--svg".into(),
+                s(&png),
+            ],
+            "--png and --svg are the same file",
+            None,
+        ),
+        // Before: the shape file was replaced by the mesh.
+        (
+            vec![
+                "figure".into(),
+                "shape".into(),
+                s(&shape),
+                "--mesh".into(),
+                s(&shape),
+            ],
+            "is the shape file the command reads",
+            Some(&shape),
+        ),
+        (
+            vec![
+                "figure".into(),
+                "shape".into(),
+                s(&shape),
+                "--mesh".into(),
+                s(&mesh),
+                "--out".into(),
+                s(&mesh),
+            ],
+            "--mesh and --out are the same file",
+            Some(&shape),
+        ),
+    ];
+    for (args, says, kept) in cases {
+        let before = kept.map(|p| fs::read(p).expect("input"));
+        let out = nendo().args(&args).output().expect("run nendo");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && out.status.code() != Some(101),
+            "{args:?}: {err}"
+        );
+        assert!(err.contains(says), "{args:?}: {err}");
+        if let (Some(p), Some(b)) = (kept, before) {
+            assert_eq!(fs::read(p).expect("still there"), b, "{args:?} changed it");
+        }
+        assert!(!png.exists() && !mesh.exists(), "{args:?} wrote an output");
+    }
+    // A mesh into a missing folder: the path and the reason once each (before, both twice).
+    let lost = dir.join("nope").join("s.obj");
+    let out = nendo()
+        .args(["figure", "shape", &s(&shape), "--mesh", &s(&lost)])
+        .args(["--resolution", "8", "--iterations", "3"])
+        .output()
+        .expect("run nendo");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert_eq!(err.matches(&s(&lost)).count(), 1, "{err}");
+    assert_eq!(err.matches("No such file").count(), 1, "{err}");
+    // Writing a model over the model it read stays allowed.
+    let out = nendo()
+        .args(["sculpt", "--model", &s(&model), "--ops", &s(&ops), "--out"])
+        .arg(&model)
+        .output()
+        .expect("run nendo");
+    succeeded(&out);
 }

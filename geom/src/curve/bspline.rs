@@ -294,7 +294,11 @@ impl<P: Point> BSpline<P> {
         if !t.is_finite() || t < a || t > b {
             return Err(CurveError::OutOfDomain {
                 t,
-                range: format!("the domain [{a}, {b}]"),
+                range: format!(
+                    "the domain [{}, {}]",
+                    crate::num::Compact(a),
+                    crate::num::Compact(b)
+                ),
             });
         }
         let p = self.degree;
@@ -344,7 +348,11 @@ impl<P: Point> BSpline<P> {
         if !t.is_finite() || t <= a || t >= b {
             return Err(CurveError::OutOfDomain {
                 t,
-                range: format!("the open domain ({a}, {b})"),
+                range: format!(
+                    "the open domain ({}, {})",
+                    crate::num::Compact(a),
+                    crate::num::Compact(b)
+                ),
             });
         }
         let p = self.degree;

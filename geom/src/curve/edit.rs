@@ -98,7 +98,11 @@ pub fn in_domain<P: Point>(curve: &Curve<P>, u: f64) -> Result<f64, CurveError> 
     } else {
         Err(CurveError::OutOfDomain {
             t: u,
-            range: format!("the domain [{a}, {b}]"),
+            range: format!(
+                "the domain [{}, {}]",
+                crate::num::Compact(a),
+                crate::num::Compact(b)
+            ),
         })
     }
 }
@@ -249,7 +253,8 @@ impl<P: Point> Grab<P> {
         let movable = |k: usize| !options.keep_ends || (k != 0 && k != last);
         let refuse = || {
             CurveError::Edit(format!(
-                "no movable control point carries the point at u = {u}{}",
+                "no movable control point carries the point at u = {}{}",
+                crate::num::Compact(u),
                 if options.keep_ends {
                     " while the end points are kept"
                 } else {
@@ -436,7 +441,11 @@ pub fn split<P: Point>(curve: &Curve<P>, u: f64) -> Result<(Curve<P>, Curve<P>),
     if !(u > a && u < b) {
         return Err(CurveError::OutOfDomain {
             t: u,
-            range: format!("the open domain ({a}, {b})"),
+            range: format!(
+                "the open domain ({}, {})",
+                crate::num::Compact(a),
+                crate::num::Compact(b)
+            ),
         });
     }
     let (left, right) = match curve {
@@ -514,7 +523,7 @@ pub fn joint<P: Point>(left: &Curve<P>, right: &Curve<P>) -> Result<(P, P, P), C
     if q != r[0] {
         return Err(CurveError::Edit(format!(
             "the left curve's last control point is {:.6} from the right curve's first: not a joint",
-            (q - r[0]).length()
+            crate::num::Compact((q - r[0]).length())
         )));
     }
     Ok((l[l.len() - 2], q, r[1]))

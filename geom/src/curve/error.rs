@@ -70,7 +70,10 @@ pub enum CurveError {
     },
     /// A knot's multiplicity is above what keeps the curve connected (`p` inside the domain,
     /// `p + 1` at or outside its ends).
-    #[error("knot {value} has multiplicity {multiplicity}, more than the {max} allowed there")]
+    #[error(
+        "knot {} has multiplicity {multiplicity}, more than the {max} allowed there",
+        crate::num::Compact(*.value)
+    )]
     KnotMultiplicity {
         /// The knot value.
         value: f64,
@@ -80,7 +83,11 @@ pub enum CurveError {
         max: usize,
     },
     /// The parameter domain `[t_p, t_n]` is empty.
-    #[error("the B-spline's parameter domain [{start}, {end}] is empty")]
+    #[error(
+        "the B-spline's parameter domain [{}, {}] is empty",
+        crate::num::Compact(*.start),
+        crate::num::Compact(*.end)
+    )]
     EmptyDomain {
         /// t_p.
         start: f64,
@@ -88,7 +95,7 @@ pub enum CurveError {
         end: f64,
     },
     /// A parameter lies outside where the operation is defined.
-    #[error("parameter {t} is outside {range}")]
+    #[error("parameter {} is outside {range}", crate::num::Compact(*.t))]
     OutOfDomain {
         /// The parameter.
         t: f64,
@@ -96,7 +103,7 @@ pub enum CurveError {
         range: String,
     },
     /// A radius or distance must be non-negative (and finite).
-    #[error("{what} must be a non-negative number, got {value}")]
+    #[error("{what} must be a non-negative number, got {}", crate::num::Compact(*.value))]
     Negative {
         /// Which value.
         what: &'static str,

@@ -436,7 +436,9 @@ fn check_domains<P: Point>(original: &Curve<P>, deformed: &Curve<P>) -> Result<(
         return Err(CurveError::OutOfDomain {
             t,
             range: format!(
-                "the original curve's domain [{a}, {b}] (a deformed curve must keep it)"
+                "the original curve's domain [{}, {}] (a deformed curve must keep it)",
+                crate::num::Compact(a),
+                crate::num::Compact(b)
             ),
         });
     }

@@ -7,7 +7,7 @@ use super::topology::Topology;
 pub enum SurfaceError {
     /// A patch count is zero, or too small for the topology (a closed direction needs at least
     /// 2 patches, 6 around a pole; a sphere needs 2 patches from pole to pole).
-    #[error("{topology} needs at least {min} patches along {direction}, got {got}")]
+    #[error("{topology} topology needs at least {min} patches along {direction}, got {got}")]
     TooFewPatches {
         /// The topology being built.
         topology: Topology,
@@ -43,7 +43,7 @@ pub enum SurfaceError {
         patches_v: usize,
     },
     /// A shape parameter (radius, height, …) is not a positive finite number.
-    #[error("{name} must be a positive finite number, got {value}")]
+    #[error("{name} must be a positive finite number, got {}", crate::num::Compact(*.value))]
     BadParameter {
         /// Which parameter.
         name: &'static str,

@@ -133,7 +133,9 @@ pub enum MirrorError {
     NotSymmetric(Asymmetry),
     /// The mirror map reverses a grid line whose spacing ratio does not mirror.
     #[error(
-        "the model's grid line spacing is not symmetric about the plane {plane} (ratio {ratio} against {partner}): the regulation would break the symmetry"
+        "the model's grid line spacing is not symmetric about the plane {plane} (ratio {} against {}): the regulation would break the symmetry",
+        crate::num::Compact(*.ratio),
+        crate::num::Compact(*.partner)
     )]
     Spacing {
         /// The plane.

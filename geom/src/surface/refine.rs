@@ -102,7 +102,8 @@ pub enum RefineError {
     },
     /// A parameter that is not a finite number inside `(0, count)`.
     #[error(
-        "{direction} parameter {value} is outside (0, {count}): give a global grid parameter inside the grid"
+        "{direction} parameter {} is outside (0, {count}): give a global grid parameter inside the grid",
+        crate::num::Compact(*.value)
     )]
     OutOfRange {
         /// `"u"` or `"v"`.
@@ -114,7 +115,8 @@ pub enum RefineError {
     },
     /// A parameter on an existing grid line (an integer, within [`MIN_PIECE`]).
     #[error(
-        "{direction} parameter {value} is on an existing grid line (an integer): nothing to split there"
+        "{direction} parameter {} is on an existing grid line (an integer): nothing to split there",
+        crate::num::Compact(*.value)
     )]
     OnGridLine {
         /// `"u"` or `"v"`.
@@ -124,7 +126,9 @@ pub enum RefineError {
     },
     /// Two parameters equal or closer than [`MIN_PIECE`].
     #[error(
-        "{direction} parameters {a} and {b} are closer than {MIN_PIECE:e}: give each split once"
+        "{direction} parameters {} and {} are closer than {MIN_PIECE:e}: give each split once",
+        crate::num::Compact(*.a),
+        crate::num::Compact(*.b)
     )]
     TooClose {
         /// `"u"` or `"v"`.

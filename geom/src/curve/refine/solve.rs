@@ -97,7 +97,10 @@ fn param(model: &Model, u: f64, what: &str) -> Result<f64, CurveError> {
         Ok(u.clamp(a, b))
     } else {
         Err(err(format!(
-            "{what}: parameter {u} is outside the curve's domain [{a}, {b}]"
+            "{what}: parameter {} is outside the curve's domain [{}, {}]",
+            crate::num::Compact(u),
+            crate::num::Compact(a),
+            crate::num::Compact(b)
         )))
     }
 }

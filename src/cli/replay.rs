@@ -24,17 +24,21 @@
 //! model and the options: replaying the same trace twice writes byte-identical files. A trace
 //! of 1 000 frames or more reports its progress on standard error every tenth of the way.
 //!
-//! `--auto-refine`: before a frame that starts a contact (rule 4 of [`crate::hand::session`]:
-//! no contact in progress, the finger acting, its axis crossing the surface with the tip past
-//! it by more than the minimum depth, or within the grip distance while gripping), the grid is
-//! refined where that contact's first push reaches
-//! ([`crate::surface::refine::for_finger`] for a push at the crossing along the finger by the
-//! penetration with radius `r_f`): patches within reach are split until they are at most
-//! `r_f / 2` across. The surface does not change; the frame then runs on the finer grid. A
-//! contact that becomes a draw-a-line stroke is not refined further while it lasts (its
-//! reference surface is fixed when it starts), nor is a contact that starts on the very frame
-//! the previous one ends. A refinement stopped by the grid limit is reported on standard
-//! error, and the contact goes on.
+//! `--auto-refine`: before a frame that starts a contact, the grid is refined where that
+//! contact's first frame reaches ([`crate::surface::refine::for_finger`]): patches within
+//! reach are split until they are at most `r_f / 2` across (the palm's: half its radius). The
+//! surface does not change; the frame then runs on the finer grid. Whether the frame starts a
+//! contact, and with which pushes, is decided by the hand loop's own rules, the same code
+//! ([`crate::hand::HandLoop::starting`]): no contact in progress, the finger acting, and every
+//! part that presses by rule 4 of [`crate::hand::session`] — its axis crossing the surface no
+//! farther behind the tip than its own joints reach, its tip past the surface along `m̂` by
+//! more than the minimum depth, or within the grip distance while gripping — gives a push
+//! ending at its tip `E`, along `m̂` by that depth `h` (from `E − h·m̂`); a pinch taking hold of the clay (rule 9) is refined
+//! around the point held. A curled finger whose straight capsule runs on through the clay
+//! behind it starts nothing and refines nothing. A contact that becomes a draw-a-line stroke
+//! is not refined further while it lasts (its reference surface is fixed when it starts), nor
+//! is a contact that starts on the very frame the previous one ends. A refinement stopped by
+//! the grid limit is reported on standard error, and the contact goes on.
 //! `--mirror x|y|z` presses every contact together with its mirror image across the plane
 //! `x = 0` (`y = 0`, `z = 0`), keeping a symmetric model exactly symmetric; a model that is not
 //! symmetric about the plane is refused (exit status 1).
@@ -47,10 +51,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::hand::scene::{Scene, Start};
-use crate::hand::{FingerModel, Fingers, Hand, HandLoop, HandOptions, Probe, Touch};
+use crate::hand::{FingerModel, Fingers, Hand, HandLoop, HandOptions};
 use crate::model::Model;
 use crate::surface::grid::MAX_PATCHES;
-use crate::surface::{Grid, Op, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
+use crate::surface::{Grid, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
 use nendo_devices::{HandFrame, Trace};
 
 /// Frames from which a replay reports its progress.
@@ -171,67 +175,47 @@ struct Refused(String);
 /// The refinement of `--auto-refine` (see the module docs).
 #[derive(Debug, Default)]
 struct AutoRefine {
-    probe: Probe,
     /// Contacts refined before.
     refined: usize,
 }
 
 impl AutoRefine {
-    /// The first push of the contact `frame` would start on `grid` (rule 4), if it starts one.
-    fn starting_push(&mut self, hl: &HandLoop, frame: &HandFrame, grid: &Grid) -> Option<Op> {
-        if hl.touch() != Touch::Free {
-            return None;
-        }
-        let (_, tip) = hl.finger_of(frame)?;
-        let o = hl.options();
-        let act = o.finger.activation();
-        if act.press != 0 && frame.buttons & act.press == 0 {
-            return None;
-        }
-        let grip = frame.buttons & act.grip != 0;
-        let reach = hl.reach();
-        let ahead = if grip { reach } else { 0.0 };
-        let hit =
-            self.probe
-                .first_crossing(grid, tip.tip - reach * tip.axis, tip.axis, reach + ahead)?;
-        let p = reach - hit.t;
-        let starts = if grip {
-            p >= -o.grip_distance
-        } else {
-            p > o.min_depth
-        };
-        starts.then_some(Op::Push {
-            at: hit.point,
-            dir: tip.axis,
-            depth: p,
-            radius: o.finger_radius,
-        })
-    }
-
-    /// Refines `grid` for the contact frame `number` starts, if it starts one.
+    /// Refines `grid` for the contact frame `number` starts, if it starts one: for the
+    /// operations [`HandLoop::starting`] says its first frame stands for, decided by the
+    /// loop's own rules.
     fn before(
         &mut self,
-        hl: &HandLoop,
+        hl: &mut HandLoop,
         frame: &HandFrame,
         grid: &mut Grid,
         number: usize,
     ) -> anyhow::Result<()> {
-        let Some(op) = self.starting_push(hl, frame, grid) else {
+        let Some(ops) = hl.starting(frame, grid) else {
             return Ok(());
         };
-        let f = refine::for_finger(grid, &op)
-            .map_err(|e| anyhow::anyhow!("frame {number}: refining for the finger: {e}"))?;
-        if !f.refinement.is_empty() {
-            *grid = f
-                .refinement
-                .apply(grid)
+        let mut refined = false;
+        let mut limited = None;
+        for op in &ops {
+            let f = refine::for_finger(grid, op)
                 .map_err(|e| anyhow::anyhow!("frame {number}: refining for the finger: {e}"))?;
+            if !f.refinement.is_empty() {
+                *grid = f
+                    .refinement
+                    .apply(grid)
+                    .map_err(|e| anyhow::anyhow!("frame {number}: refining for the finger: {e}"))?;
+                refined = true;
+            }
+            if f.limited {
+                limited.get_or_insert(f.target);
+            }
+        }
+        if refined {
             self.refined += 1;
         }
-        if f.limited {
+        if let Some(target) = limited {
             eprintln!(
                 "nendo replay: frame {number}: refinement for the finger (patches of at most {} side) stopped at the grid limit of {MAX_PATCHES} patches ({} x {}); the contact goes on with these patches",
-                crate::num::Compact(f.target),
+                crate::num::Compact(target),
                 grid.patches_u(),
                 grid.patches_v()
             );
@@ -452,7 +436,7 @@ fn replay(args: &Args) -> anyhow::Result<String> {
     let mut refused = 0usize;
     for (k, frame) in trace.frames.iter().enumerate() {
         if let Some(r) = &mut refiner {
-            r.before(&hand_loop, frame, &mut grid, k + 1)?;
+            r.before(&mut hand_loop, frame, &mut grid, k + 1)?;
         }
         let out = hand_loop.frame(frame, &mut grid, regulation);
         // A refused frame leaves the surface as the contact's last accepted application; the

@@ -905,14 +905,11 @@ impl HandLoop {
             .find(|(p, _)| *p == primary)
             .or_else(|| self.tips.first())
             .map(|(_, t)| *t);
-        let act = self.options.finger.activation();
-        let Some((_, tips)) = parts.filter(|_| act.press == 0 || frame.buttons & act.press != 0)
-        else {
+        let Some(((_, tips), grip)) = parts.zip(self.acting(frame)) else {
             out.committed = self.end_contact();
             return out;
         };
         self.stats.frames_with_finger += 1;
-        let grip = frame.buttons & act.grip != 0;
 
         // Rule 9: thumb and index together on the clay hold it.
         if self.pinch(&tips, grid, regulation, &mut out) {
@@ -975,18 +972,7 @@ impl HandLoop {
         }
         if self.contact.is_none() {
             // Rule 4: a new contact?
-            let mut tracks = Vec::new();
-            for &(part, finger) in &tips {
-                let reach = finger.length;
-                let ahead = if grip { reach } else { 0.0 };
-                let Some(press) = self.press(grid, &finger, ahead) else {
-                    continue;
-                };
-                if part == primary {
-                    out.penetration = Some(press.depth);
-                }
-                tracks.extend(self.start(part, &finger, press, grip));
-            }
+            let tracks = self.new_tracks(&tips, grid, grip, &mut out.penetration);
             if tracks.is_empty() {
                 return out;
             }
@@ -1000,6 +986,102 @@ impl HandLoop {
         self.apply(grid, regulation, &mut out);
         out.touch = self.touch();
         out
+    }
+
+    /// Rule 4 for every part of a frame, on `grid` as it is: the tracks of the parts that
+    /// start a contact (none: no contact starts). Sets `penetration` to the primary part's
+    /// depth when its axis meets the surface.
+    fn new_tracks(
+        &mut self,
+        tips: &[(Part, Fingertip)],
+        grid: &Grid,
+        grip: bool,
+        penetration: &mut Option<f64>,
+    ) -> Vec<Track> {
+        let primary = Part::Digit(self.options.finger.primary());
+        let mut tracks = Vec::new();
+        for &(part, finger) in tips {
+            let reach = finger.length;
+            let ahead = if grip { reach } else { 0.0 };
+            let Some(press) = self.press(grid, &finger, ahead) else {
+                continue;
+            };
+            if part == primary {
+                *penetration = Some(press.depth);
+            }
+            tracks.extend(self.start(part, &finger, press, grip));
+        }
+        tracks
+    }
+
+    /// Rule 2: whether the finger acts in `frame` (`None`: it does not), and whether the grip
+    /// is held.
+    fn acting(&self, frame: &HandFrame) -> Option<bool> {
+        let act = self.options.finger.activation();
+        (act.press == 0 || frame.buttons & act.press != 0).then_some(frame.buttons & act.grip != 0)
+    }
+
+    /// What `frame` would start on `grid` if fed to this loop now, decided by the very rules
+    /// [`HandLoop::frame`] follows (rules 1–4 and 9, the same code) without feeding it: the
+    /// operations the new contact's first frame stands for — a pinch taking hold of the clay
+    /// (rule 9) as a `move` of its held point to itself, else the first placement of every
+    /// part that starts pressing (rule 4: only where the part's own joints reach, by `h`
+    /// along `m̂`) as a push each ([`super::press::describe`]). `None` when a contact or a
+    /// pinch is in progress, the frame has no acting finger, or nothing starts. The loop
+    /// itself is not changed. `nendo replay --auto-refine` refines the grid for these
+    /// operations before the frame.
+    pub fn starting(&mut self, frame: &HandFrame, grid: &Grid) -> Option<Vec<Op>> {
+        if self.touch() != Touch::Free {
+            return None;
+        }
+        let (_, tips) = self.parts_of(frame)?;
+        let grip = self.acting(frame)?;
+        if let Some((thumb, index)) = pinch_pair(&tips)
+            && let Some((at, _)) = self.takes_hold(&thumb, &index, grid)
+        {
+            return Some(vec![Op::Move {
+                at,
+                to: at,
+                radius: self.options.finger_radius,
+            }]);
+        }
+        let tracks = self.new_tracks(&tips, grid, grip, &mut None);
+        (!tracks.is_empty()).then(|| {
+            tracks
+                .iter()
+                .flat_map(|t| describe(&t.placements, t.radius))
+                .collect()
+        })
+    }
+
+    /// Rule 9: where thumb and index, not holding yet, take hold of `grid` — the point of the
+    /// clay held and the pinch point — or `None`: their tips closer than the pinch distance on
+    /// the same side of the clay, the clay within `r_f` of the pinch point.
+    fn takes_hold(
+        &mut self,
+        thumb: &Fingertip,
+        index: &Fingertip,
+        grid: &Grid,
+    ) -> Option<(DVec3, DVec3)> {
+        let o = self.options;
+        let gap = (thumb.tip - index.tip).length();
+        let mid = 0.5 * (thumb.tip + index.tip);
+        if gap >= o.pinch_distance {
+            return None;
+        }
+        // Both tips on the same side of the clay (the segment between them does not cross it:
+        // a wall pinched from both sides is pressed, not held), the pinch point within a
+        // finger radius of the surface: the clay nearest it is taken hold of.
+        if self
+            .probe
+            .first_crossing(grid, thumb.tip, index.tip - thumb.tip, gap)
+            .is_some()
+        {
+            return None;
+        }
+        let hit = crate::surface::nearest(grid, mid)
+            .filter(|s| (s.point - mid).length() <= o.finger_radius)?;
+        Some((hit.point, mid))
     }
 
     /// Rule 4: the track a part starts when it presses (or grips) the clay.
@@ -1042,8 +1124,7 @@ impl HandLoop {
         out: &mut FrameOutcome,
     ) -> bool {
         let o = self.options;
-        let find = |d: Digit| tips.iter().find(|(p, _)| *p == Part::Digit(d)).map(|t| t.1);
-        let (Some(thumb), Some(index)) = (find(Digit::Thumb), find(Digit::Index)) else {
+        let Some((thumb, index)) = pinch_pair(tips) else {
             if self.hold.is_some() {
                 out.committed = self.end_contact();
             }
@@ -1087,22 +1168,7 @@ impl HandLoop {
             self.hold = Some(h);
             return true;
         }
-        if gap >= o.pinch_distance {
-            return false;
-        }
-        // Both tips on the same side of the clay (the segment between them does not cross it:
-        // a wall pinched from both sides is pressed, not held), the pinch point within a
-        // finger radius of the surface: the clay nearest it is taken hold of.
-        if self
-            .probe
-            .first_crossing(grid, thumb.tip, index.tip - thumb.tip, gap)
-            .is_some()
-        {
-            return false;
-        }
-        let Some(hit) = crate::surface::nearest(grid, mid)
-            .filter(|s| (s.point - mid).length() <= o.finger_radius)
-        else {
+        let Some((at, mid)) = self.takes_hold(&thumb, &index, grid) else {
             return false;
         };
         // A press in progress ends here; the pinch holds the surface it left.
@@ -1112,9 +1178,9 @@ impl HandLoop {
         self.stats.contacts += 1;
         self.hold = Some(Box::new(Hold {
             reference: grid.clone(),
-            at: hit.point,
+            at,
             start: mid,
-            to: hit.point,
+            to: at,
         }));
         true
     }
@@ -1232,6 +1298,12 @@ fn extend(o: &HandOptions, c: &mut Track, e: DVec3, finger: DVec3, axis: DVec3, 
         c.dirty = true;
     }
     c.update_live(o.min_depth);
+}
+
+/// The thumb's and the index's capsules among a frame's parts, when both press (rule 9).
+fn pinch_pair(tips: &[(Part, Fingertip)]) -> Option<(Fingertip, Fingertip)> {
+    let find = |d: Digit| tips.iter().find(|(p, _)| *p == Part::Digit(d)).map(|t| t.1);
+    Some((find(Digit::Thumb)?, find(Digit::Index)?))
 }
 
 /// The patches whose control points differ between two grids of the same size (sorted).

@@ -4,8 +4,8 @@
 use glam::DVec3;
 use nendo::hand::script::{self, Choreography};
 use nendo::hand::{
-    DEFAULT_PINCH_DISTANCE, Digit, FingerModel, Fingers, Hand, HandOptions, Part, Probe, Session,
-    Touch,
+    DEFAULT_PINCH_DISTANCE, Digit, FingerModel, Fingers, Hand, HandLoop, HandOptions, Part, Probe,
+    Session, Touch,
 };
 use nendo::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, continuity};
 use nendo_devices::{HandSize, Joint, Trace, buttons};
@@ -648,4 +648,80 @@ fn in_the_press_gesture_only_the_index_presses_and_no_deeper_than_it_went() {
         );
         assert!(g1 < 0.01, "scale {scale}: G1 {g1}°");
     }
+}
+
+/// [`HandLoop::starting`] — what `nendo replay --auto-refine` refines for — says a frame
+/// starts a contact exactly when feeding it to the loop starts one, with the loop's own first
+/// placements (a push each, from `E − h·m̂` along `m̂`) or, for a pinch, the point held: over
+/// the shipped traces but the long pot (one finger, every finger and the palm, a pinch, the
+/// mouse's ray) and the gestures of `nendo emulate` with every finger pressing the plane.
+#[test]
+fn what_a_frame_starts_is_what_the_loop_starts() {
+    let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+    let mut cases: Vec<(String, Grid, FingerModel, Trace)> = script::shipped()
+        .unwrap()
+        .into_iter()
+        .filter(|s| s.name != "tube-pot")
+        .map(|s| (s.name.to_owned(), s.grid().unwrap(), s.finger, s.trace))
+        .collect();
+    for g in script::Gesture::ALL {
+        cases.push((
+            g.name().to_owned(),
+            plane.clone(),
+            FingerModel::Hand(Fingers::ALL),
+            g.trace(Choreography::WORLD, 120.0).unwrap(),
+        ));
+    }
+    let (mut presses, mut holds) = (0, 0);
+    for (name, mut grid, finger, trace) in cases {
+        let hand = Hand::new(trace.header.hand, trace.header.world_from_tracker).unwrap();
+        let options = HandOptions {
+            finger,
+            ..HandOptions::default()
+        };
+        let mut hl = HandLoop::new(hand, options).unwrap();
+        for (k, f) in trace.frames.iter().enumerate() {
+            let free = hl.touch() == Touch::Free;
+            let contacts = hl.stats().contacts;
+            let predicted = hl.starting(f, &grid);
+            hl.frame(f, &mut grid, Regulation::default());
+            if !free {
+                assert!(predicted.is_none(), "{name} frame {k}");
+                continue;
+            }
+            let started = hl.stats().contacts > contacts;
+            assert_eq!(predicted.is_some(), started, "{name} frame {k}");
+            let Some(ops) = predicted else {
+                continue;
+            };
+            if hl.touch() == Touch::Holding {
+                holds += 1;
+                assert!(
+                    matches!(ops[..], [Op::Move { at, to, .. }] if at == to),
+                    "{name} frame {k}: {ops:?}"
+                );
+                continue;
+            }
+            presses += 1;
+            let placements = hl.placements();
+            assert_eq!(ops.len(), placements.len(), "{name} frame {k}");
+            for (op, p) in ops.iter().zip(&placements) {
+                let Op::Push { at, dir, .. } = op else {
+                    panic!("{name} frame {k}: {op:?}");
+                };
+                // The first frame's correction (rule 7) changes the depth, not the anchor.
+                assert_eq!(*dir, p.dir, "{name} frame {k}");
+                let anchor = p.tip - p.depth * p.dir;
+                assert!(
+                    (*at - anchor).length() < 1e-9,
+                    "{name} frame {k}: {at} {anchor}"
+                );
+            }
+        }
+    }
+    // Both kinds of start were met (12 presses and 1 pinch taking hold when written).
+    assert!(
+        presses >= 8 && holds >= 1,
+        "{presses} presses, {holds} holds"
+    );
 }

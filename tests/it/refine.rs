@@ -517,3 +517,125 @@ fn replay_auto_refine_refines_before_contacts() {
     assert!(g.patch_count() > 32, "{}", g.patch_count());
     assert!(report(&g, 33).g1_max_deg <= 0.01);
 }
+
+/// A fist held over the default plane (z = 0), the back of the hand up: every finger curled
+/// (the index as far as the others), the hand lowered until the index's tip, pointing back up
+/// out of the fist, is `height` above the plane, and held. The straight capsule behind that
+/// tip runs down through the plane, but the finger's own joints do not reach it: nothing
+/// presses (rule 3 of `nendo::hand::session`).
+fn fist_over_the_plane(height: f64) -> nendo_devices::Trace {
+    use nendo::hand::script::Choreography;
+    use nendo_devices::Joint;
+    let mut c = Choreography::new(Choreography::WORLD, 120.0).unwrap();
+    c.place(DVec3::new(0.5, 0.5, 4.0), -DVec3::Z, DVec3::Y);
+    c.hold(2);
+    c.bend_to(&[(Joint::IndexMcp, 1.35), (Joint::IndexPip, 1.35)], 10);
+    let (tip, _) = c.fingertip();
+    let low = c.shifted(c.pose(), DVec3::new(0.0, 0.0, height - tip.z));
+    c.move_pose_to(low, 30);
+    c.hold(10);
+    c.finish("cyberglove2-18-fastrak").unwrap()
+}
+
+/// Replays `trace` from the default plane (every finger pressing), plain and with
+/// `--auto-refine`: the two surfaces and the auto-refined run's summary.
+fn replay_plane_both_ways(dir: &Path, trace: &nendo_devices::Trace) -> (Grid, Grid, String) {
+    let path = dir.join("t.trace");
+    trace.write(&path).unwrap();
+    let mut outs = Vec::new();
+    let mut summary = String::new();
+    for (name, auto) in [("plain.json", false), ("fine.json", true)] {
+        let out = dir.join(name);
+        let mut args = vec!["replay", s(&path), "--primitive", "plane", "--out", s(&out)];
+        if auto {
+            args.push("--auto-refine");
+        }
+        let o = nendo(&args);
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success(), "{err}");
+        if auto {
+            summary = err;
+        }
+        outs.push(Model::read(&out).unwrap().model.surface);
+    }
+    let fine = outs.pop().unwrap();
+    let plain = outs.pop().unwrap();
+    (plain, fine, summary)
+}
+
+/// The surface's height over `(x, y)` of a plane-like grid (searched straight down).
+fn height_at(g: &Grid, x: f64, y: f64) -> f64 {
+    let hit = nendo::hand::Probe::new()
+        .first_crossing(g, DVec3::new(x, y, 5.0), -DVec3::Z, 10.0)
+        .unwrap();
+    hit.point.z
+}
+
+#[test]
+fn replay_auto_refine_refines_only_for_the_contacts_the_hand_loop_starts() {
+    use nendo::hand::{FingerModel, Fingers, Hand, HandLoop, HandOptions, Part};
+    let dir = temp_dir("replay-refine-fist");
+    // The curled index: its capsule (2 side behind the tip) crosses the plane farther behind
+    // the tip than the finger's joints reach.
+    let fist = fist_over_the_plane(1.0);
+    let hand = Hand::new(fist.header.hand, fist.header.world_from_tracker).unwrap();
+    let hl = HandLoop::new(
+        hand,
+        HandOptions {
+            finger: FingerModel::Hand(Fingers::ALL),
+            ..HandOptions::default()
+        },
+    )
+    .unwrap();
+    let (_, tips) = hl.parts_of(fist.frames.last().unwrap()).unwrap();
+    let index = tips
+        .iter()
+        .find(|(p, _)| *p == Part::Digit(nendo::hand::Digit::Index))
+        .unwrap()
+        .1;
+    assert!((index.tip.z - 1.0).abs() < 1e-3, "{}", index.tip);
+    assert!(index.axis.z > 0.0, "the tip points back up: {}", index.axis);
+    let behind = index.tip.z / index.axis.z;
+    assert!(
+        index.body < behind && behind < index.length,
+        "the capsule crosses the plane {behind} behind the tip, the joints reach {}, the capsule {}",
+        index.body,
+        index.length
+    );
+    let (plain, fine, summary) = replay_plane_both_ways(&dir, &fist);
+    assert!(summary.contains(": 0 contacts"), "{summary}");
+    assert!(
+        summary.contains("refined before 0 contacts, 10 x 10 patches"),
+        "{summary}"
+    );
+    assert_eq!(plain.patch_count(), 100);
+    assert_eq!(fine, plain);
+
+    // A real press (the `press` gesture: the index straight down 0.3 side into the plane at
+    // (0.5, 0.5), the other fingers curled above it) is still refined for, and the refined
+    // replay's dent is the plain one's: its bottom at the fingertip within a tenth of the
+    // depth in both, the plane untouched beyond the finger's reach plus a patch.
+    let press = nendo::hand::script::Gesture::Press
+        .trace(nendo::hand::script::Choreography::WORLD, 120.0)
+        .unwrap();
+    let (plain, fine, summary) = replay_plane_both_ways(&dir, &press);
+    assert!(summary.contains(": 1 contacts"), "{summary}");
+    assert!(summary.contains("refined before 1 contacts"), "{summary}");
+    assert_eq!(plain.patch_count(), 100);
+    assert!(fine.patch_count() > 100, "{}", fine.patch_count());
+    for g in [&plain, &fine] {
+        let bottom = height_at(g, 0.5, 0.5);
+        assert!((bottom + 0.3).abs() < 0.03, "{bottom}");
+        for (x, y) in [
+            (-2.0, 0.5),
+            (3.0, 0.5),
+            (0.5, -2.0),
+            (0.5, 3.0),
+            (-3.0, -3.0),
+        ] {
+            assert_eq!(height_at(g, x, y), 0.0, "({x}, {y})");
+        }
+    }
+    assert!(report(&fine, 33).g1_max_deg <= 0.01);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -268,3 +268,26 @@ fn regulation_default_names_our_own_method() {
     assert!(!out.status.success());
     assert!(!dir.join("bogus.json").exists());
 }
+
+/// The window (`nendo MODEL`, no subcommand) reads its model before any window opens, so a model
+/// it cannot read fails headless, naming the file once.
+#[test]
+fn the_window_names_a_model_it_cannot_read_once() {
+    let dir = temp_dir("window-model");
+    let missing = dir.join("missing.nendo.json");
+    let bad = dir.join("bad.nendo.json");
+    std::fs::write(&bad, "{ not json").unwrap();
+    for path in [&missing, &bad] {
+        let out = nendo()
+            .arg(path)
+            .arg("--no-autosave")
+            .arg("--no-recover")
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1));
+        let err = String::from_utf8_lossy(&out.stderr);
+        let name = path.display().to_string();
+        assert!(err.starts_with(&format!("nendo: {name}: ")), "{err}");
+        assert_eq!(err.matches(&name).count(), 1, "{err}");
+    }
+}

@@ -71,10 +71,10 @@ pub struct Args {
     #[arg(long)]
     pub format: Option<String>,
     /// Stop after this many seconds (default: run until SIGINT / SIGTERM).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub seconds: Option<f64>,
     /// Flip one bit in each streamed record with this probability (0 to 1; fixed seed).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub corrupt: f64,
     /// The hand's gesture, looped: press, wave or pinch.
     #[arg(long, default_value = "press", value_parser = parse_motion)]

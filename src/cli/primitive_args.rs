@@ -14,13 +14,13 @@ pub struct ShapeArgs {
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_counts))]
     pub patches: Option<(usize, usize)>,
     /// Radius R in sides (major radius of a torus).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub radius: Option<f64>,
     /// Height H in sides (cylinder; the walls of the tube).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub height: Option<f64>,
     /// Minor radius r of a torus.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub minor_radius: Option<f64>,
 }
 

@@ -31,7 +31,7 @@ pub struct Args {
     #[arg(long)]
     pub heat: bool,
     /// Seam angle drawn red, degrees.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub heat_max: f32,
     /// Draw the control net.
     #[arg(long)]

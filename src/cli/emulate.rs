@@ -24,7 +24,6 @@
 //! (run one emulator per device: a tracker and a glove are two processes); the Flock's
 //! positions are kept within its scale, so a gesture beyond it is clipped.
 
-use std::io::Write;
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -359,11 +358,7 @@ fn emulate(args: &Args) -> anyhow::Result<String> {
     let port = user_link
         .as_ref()
         .map_or_else(|| emulator.port(), |l| l.path.display().to_string());
-    {
-        let mut out = std::io::stdout().lock();
-        writeln!(out, "{port}")?;
-        out.flush()?;
-    }
+    super::output::println(&port)?;
     eprintln!(
         "nendo emulate: {what} on {port}, motion {} (profile {}); connect with --profile {} and this port; stop with Ctrl-C",
         args.motion.name(),

@@ -337,6 +337,21 @@ fn a_full_stdout_is_an_error_not_a_panic() {
     fs::remove_dir_all(&dir).expect("clean up");
 }
 
+/// `nendo emulate` prints its port on standard output; a failure there names standard output,
+/// as every subcommand's does.
+#[test]
+fn emulate_names_standard_output_when_it_cannot_print_its_port() {
+    let out = to_dev_full(&["emulate", "fastrak", "--seconds", "5"], "");
+    failed_cleanly(&out, "emulate");
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr
+            .starts_with("nendo emulate: cannot write to standard output: No space left on device"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn a_closed_pipe_ends_quietly() {
     let dir = temp_dir("closed-pipe");

@@ -141,6 +141,7 @@ fn scene(args: &Args) -> anyhow::Result<Option<SceneText>> {
             })
         }
         (None, Some(p)) => {
+            args.shape.check_applies(p)?;
             let params = args.shape.params();
             Scene::primitive(p, &params)?
         }

@@ -291,3 +291,71 @@ fn the_window_names_a_model_it_cannot_read_once() {
         assert_eq!(err.matches(&name).count(), 1, "{err}");
     }
 }
+
+/// A size option the chosen primitive does not use is refused, naming the option, the
+/// primitives it shapes and the one chosen; nothing is written.
+#[test]
+fn a_size_option_the_primitive_does_not_use_is_refused() {
+    let dir = temp_dir("prims-unused");
+    let out_path = dir.join("o.json");
+    for (primitive, option, want) in [
+        (
+            "sphere",
+            "--height",
+            "--height applies to cylinder and tube, not sphere",
+        ),
+        (
+            "plane",
+            "--minor-radius",
+            "--minor-radius applies to torus, not plane",
+        ),
+        (
+            "plane",
+            "--radius",
+            "--radius applies to cylinder, hemisphere, sphere, torus and tube, not plane",
+        ),
+        (
+            "torus",
+            "--height",
+            "--height applies to cylinder and tube, not torus",
+        ),
+        (
+            "tube",
+            "--minor-radius",
+            "--minor-radius applies to torus, not tube",
+        ),
+    ] {
+        let out = nendo()
+            .args(["sculpt", "--primitive", primitive, option, "0.5", "--out"])
+            .arg(&out_path)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{primitive} {option}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim_end(), format!("nendo sculpt: {want}"));
+        assert!(!out_path.exists());
+    }
+    // `nendo record` refuses it before opening any device.
+    let out = nendo()
+        .args([
+            "record",
+            "--profile",
+            "fastrak",
+            "--primitive",
+            "sphere",
+            "--height",
+            "2",
+            "--out",
+        ])
+        .arg(&out_path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--height applies to cylinder and tube, not sphere"),
+        "{err}"
+    );
+    assert!(!out_path.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -95,7 +95,7 @@ pub fn run(args: Args) -> ExitCode {
     let loaded = match Model::read(&args.model) {
         Ok(l) => l,
         Err(e) => {
-            eprintln!("nendo export: {}: {e}", args.model.display());
+            eprintln!("nendo export: {}", e.in_file(&args.model));
             return ExitCode::FAILURE;
         }
     };
@@ -150,7 +150,7 @@ fn run_cad(args: &Args, format: CadFormat) -> ExitCode {
     let loaded = match Model::read(&args.model) {
         Ok(l) => l,
         Err(e) => {
-            eprintln!("nendo export: {}: {e}", args.model.display());
+            eprintln!("nendo export: {}", e.in_file(&args.model));
             return ExitCode::FAILURE;
         }
     };

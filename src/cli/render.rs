@@ -87,8 +87,7 @@ fn render(args: &Args) -> anyhow::Result<()> {
         &[("--png", Some(&args.png))],
         &[("model", Some(&args.model))],
     )?;
-    let loaded =
-        Model::read(&args.model).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+    let loaded = Model::read(&args.model).map_err(|e| anyhow::anyhow!(e.in_file(&args.model)))?;
     let model = loaded.model;
     let patches = model.surface.patches();
     let display = SurfaceDisplay::new(&patches, &Tessellation::DISPLAY);

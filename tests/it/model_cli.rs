@@ -359,3 +359,57 @@ fn a_size_option_the_primitive_does_not_use_is_refused() {
     assert!(!out_path.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `nendo render` and `nendo export` name a model they cannot read once, as `nendo check`.
+#[test]
+fn render_and_export_name_a_model_they_cannot_read_once() {
+    let dir = temp_dir("read-once");
+    let missing = dir.join("missing.json");
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, "{ not json").unwrap();
+    for path in [&missing, &bad] {
+        let name = path.display().to_string();
+        let mut runs = vec![
+            (
+                "export",
+                nendo()
+                    .arg("export")
+                    .arg(path)
+                    .arg(dir.join("o.stl"))
+                    .output()
+                    .unwrap(),
+            ),
+            (
+                "export",
+                nendo()
+                    .arg("export")
+                    .arg(path)
+                    .arg(dir.join("o.step"))
+                    .output()
+                    .unwrap(),
+            ),
+        ];
+        if cfg!(feature = "gui") {
+            runs.push((
+                "render",
+                nendo()
+                    .arg("render")
+                    .arg(path)
+                    .arg("--png")
+                    .arg(dir.join("o.png"))
+                    .output()
+                    .unwrap(),
+            ));
+        }
+        for (command, out) in runs {
+            assert_eq!(out.status.code(), Some(1), "{command}");
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                err.starts_with(&format!("nendo {command}: {name}: ")),
+                "{err}"
+            );
+            assert_eq!(err.matches(&name).count(), 1, "{err}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -91,9 +91,7 @@ pub struct WindowOptions {
 /// When the model cannot be read, or no window or GPU can be had.
 pub fn run(options: WindowOptions) -> anyhow::Result<()> {
     let doc = match &options.model {
-        Some(path) => {
-            Document::open(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
-        }
+        Some(path) => Document::open(path).map_err(|e| anyhow::anyhow!(e.in_file(path)))?,
         None => Document::new(Model::new(
             Primitive::Plane.build(&PrimitiveParams::default())?,
         )),

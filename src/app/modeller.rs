@@ -1187,7 +1187,7 @@ impl Modeller {
                 self.replace_document(doc);
                 self.set_status(format!("opened {}", path.display()), false);
             }
-            Err(e) => self.set_status(format!("cannot open {}: {e}", path.display()), true),
+            Err(e) => self.set_status(format!("cannot open {}", e.in_file(path)), true),
         }
     }
 
@@ -1656,6 +1656,29 @@ mod tests {
                 .build(&PrimitiveParams::default())
                 .expect("plane"),
         ))
+    }
+
+    #[test]
+    fn a_model_that_cannot_be_opened_is_named_once() {
+        let dir = std::env::temp_dir().join(format!("nendo-open-once-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temporary folder");
+        let missing = dir.join("missing.nendo.json");
+        let bad = dir.join("bad.nendo.json");
+        std::fs::write(&bad, "{ not json").expect("write");
+        for path in [&missing, &bad] {
+            let mut m = Modeller::new(plane_doc(), None, false);
+            m.open(path);
+            let status = m.status.as_ref().expect("a status");
+            assert!(status.error);
+            let name = path.display().to_string();
+            assert!(
+                status.text.starts_with(&format!("cannot open {name}: ")),
+                "{}",
+                status.text
+            );
+            assert_eq!(status.text.matches(&name).count(), 1, "{}", status.text);
+        }
+        std::fs::remove_dir_all(&dir).expect("clean up");
     }
 
     #[test]

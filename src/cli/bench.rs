@@ -11,7 +11,7 @@ pub struct Args {
     pub suite: Suite,
     /// Scale the number of cases (1.0 = the documented set-up; smaller for a quick look; at
     /// most 100).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub scale: f64,
 }
 

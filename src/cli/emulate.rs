@@ -24,7 +24,6 @@
 //! (run one emulator per device: a tracker and a glove are two processes); the Flock's
 //! positions are kept within its scale, so a gesture beyond it is clipped.
 
-use std::io::Write;
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -71,10 +70,10 @@ pub struct Args {
     #[arg(long)]
     pub format: Option<String>,
     /// Stop after this many seconds (default: run until SIGINT / SIGTERM).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub seconds: Option<f64>,
     /// Flip one bit in each streamed record with this probability (0 to 1; fixed seed).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub corrupt: f64,
     /// The hand's gesture, looped: press, wave or pinch.
     #[arg(long, default_value = "press", value_parser = parse_motion)]
@@ -359,11 +358,7 @@ fn emulate(args: &Args) -> anyhow::Result<String> {
     let port = user_link
         .as_ref()
         .map_or_else(|| emulator.port(), |l| l.path.display().to_string());
-    {
-        let mut out = std::io::stdout().lock();
-        writeln!(out, "{port}")?;
-        out.flush()?;
-    }
+    super::output::println(&port)?;
     eprintln!(
         "nendo emulate: {what} on {port}, motion {} (profile {}); connect with --profile {} and this port; stop with Ctrl-C",
         args.motion.name(),

@@ -32,7 +32,7 @@ pub struct Args {
     /// .stp (STEP AP214), .igs / .iges (IGES 5.3).
     pub out: PathBuf,
     /// Meshes: largest distance between the mesh and the surface, in model units (sides).
-    #[arg(long, default_value_t = Tessellation::EXPORT.tolerance)]
+    #[arg(long, default_value_t = Tessellation::EXPORT.tolerance, allow_hyphen_values = true)]
     pub tolerance: f64,
     /// Meshes: refuse meshes of more triangles than this (counted before welding, before
     /// anything is allocated; 20 million take about 1 GB at the peak of writing).
@@ -43,7 +43,7 @@ pub struct Args {
     #[arg(long)]
     pub up: Option<UpAxis>,
     /// STEP / IGES: millimetres per model unit (the files are always in millimetres).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub scale: f64,
 }
 
@@ -95,7 +95,7 @@ pub fn run(args: Args) -> ExitCode {
     let loaded = match Model::read(&args.model) {
         Ok(l) => l,
         Err(e) => {
-            eprintln!("nendo export: {}: {e}", args.model.display());
+            eprintln!("nendo export: {}", e.in_file(&args.model));
             return ExitCode::FAILURE;
         }
     };
@@ -150,7 +150,7 @@ fn run_cad(args: &Args, format: CadFormat) -> ExitCode {
     let loaded = match Model::read(&args.model) {
         Ok(l) => l,
         Err(e) => {
-            eprintln!("nendo export: {}: {e}", args.model.display());
+            eprintln!("nendo export: {}", e.in_file(&args.model));
             return ExitCode::FAILURE;
         }
     };

@@ -129,18 +129,18 @@ pub struct WarpArgs {
     #[arg(long, value_name = "OUT.json")]
     pub out: PathBuf,
     /// Beier–Neely `a` (0: points on a curve follow it exactly).
-    #[arg(long, default_value_t = WarpParams::default().a)]
+    #[arg(long, default_value_t = WarpParams::default().a, allow_hyphen_values = true)]
     pub a: f64,
     /// Beier–Neely `b` (fall-off with distance).
-    #[arg(long, default_value_t = WarpParams::default().b)]
+    #[arg(long, default_value_t = WarpParams::default().b, allow_hyphen_values = true)]
     pub b: f64,
     /// Beier–Neely `p` (weight of curve length).
-    #[arg(long, default_value_t = WarpParams::default().p)]
+    #[arg(long, default_value_t = WarpParams::default().p, allow_hyphen_values = true)]
     pub p: f64,
     /// Divide contour and polygon edges longer than this (figure units) before warping, so
     /// that they bend with the curves (default: 1/200 of the frame's diagonal; `inf`: divide
     /// none). No edge is divided when no curve moved.
-    #[arg(long, value_name = "LENGTH")]
+    #[arg(long, value_name = "LENGTH", allow_hyphen_values = true)]
     pub max_edge: Option<f64>,
     /// Pictures of the result.
     #[command(flatten)]

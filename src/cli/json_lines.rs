@@ -5,13 +5,25 @@
 //! A line that is not UTF-8 or that the command cannot answer gets `{"error":"<what is wrong>"}`
 //! and later lines are still answered; blank lines are skipped; every answer is flushed as it is
 //! written, so a caller can talk to the command line by line. The exit status is 0 when every
-//! line was answered, 1 if any line failed, 2 on an input or output error, and
-//! [`super::output::BROKEN_PIPE_EXIT`] when the reader closed the pipe.
+//! line was answered, 1 if any line failed, 2 on an input or output error (named as one of
+//! standard input or standard output), and [`super::output::BROKEN_PIPE_EXIT`] when the reader
+//! closed the pipe.
 
 use serde_json::{Value, json};
 use std::fmt::Display;
 use std::io::{self, BufRead, Write};
 use std::process::ExitCode;
+
+/// Why the loop stopped before the end of its input.
+#[derive(Debug, thiserror::Error)]
+pub enum LinesError {
+    /// Reading a request failed.
+    #[error("cannot read standard input: {0}")]
+    Read(io::Error),
+    /// Writing or flushing an answer failed.
+    #[error("cannot write to standard output: {0}")]
+    Write(io::Error),
+}
 
 /// Runs a batch subcommand `nendo COMMAND --batch` over stdin and stdout with `answer`
 /// answering each request line. Without `--batch` it says that only batch mode exists.
@@ -33,7 +45,7 @@ pub fn run<E: Display>(
         Ok(0) => ExitCode::SUCCESS,
         Ok(_) => ExitCode::from(1),
         // A closed pipe ends the command quietly (see `super::output`).
-        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => {
+        Err(LinesError::Write(e)) if e.kind() == io::ErrorKind::BrokenPipe => {
             ExitCode::from(super::output::BROKEN_PIPE_EXIT)
         }
         Err(e) => {
@@ -47,22 +59,24 @@ pub fn run<E: Display>(
 /// failed.
 ///
 /// # Errors
-/// Reading the input or writing the output failed.
+/// [`LinesError::Read`] when reading the input failed, [`LinesError::Write`] when writing the
+/// output did.
 pub fn answer_lines<E: Display>(
     input: impl BufRead,
     mut output: impl Write,
     mut answer: impl FnMut(&str) -> Result<Value, E>,
-) -> io::Result<usize> {
+) -> Result<usize, LinesError> {
     let mut failed = 0;
     for line in input.lines() {
         let line = match line {
             Ok(l) => l,
             Err(e) if e.kind() == io::ErrorKind::InvalidData => {
                 failed += 1;
-                writeln!(output, "{}", json!({ "error": "line is not valid UTF-8" }))?;
+                writeln!(output, "{}", json!({ "error": "line is not valid UTF-8" }))
+                    .map_err(LinesError::Write)?;
                 continue;
             }
-            Err(e) => return Err(e),
+            Err(e) => return Err(LinesError::Read(e)),
         };
         if line.trim().is_empty() {
             continue;
@@ -74,8 +88,9 @@ pub fn answer_lines<E: Display>(
                 json!({ "error": e.to_string() })
             }
         };
-        writeln!(output, "{reply}")?;
-        output.flush()?;
+        writeln!(output, "{reply}")
+            .and_then(|()| output.flush())
+            .map_err(LinesError::Write)?;
     }
     Ok(failed)
 }

@@ -47,7 +47,7 @@ pub struct Args {
     #[arg(long)]
     pub skeleton: bool,
     /// Matching distance in figure units (default: twice the median metacircle radius).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub match_distance: Option<f64>,
 }
 

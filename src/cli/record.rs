@@ -46,7 +46,7 @@ pub struct Args {
     #[arg(long)]
     pub out: PathBuf,
     /// How long to record, in seconds (at most a day).
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, allow_hyphen_values = true)]
     pub seconds: f64,
     /// Serial port replacing the profile's, for a profile with a single serial device.
     #[arg(long, conflicts_with_all = ["glove_port", "tracker_port"])]
@@ -77,7 +77,7 @@ pub struct Args {
     #[arg(long, value_parser = clap::builder::ValueParser::new(finger_text))]
     pub finger: Option<String>,
     /// The scene's finger radius r_f in sides.
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub finger_radius: Option<f64>,
     /// The scene's symmetry plane: x, y or z.
     #[arg(long, value_parser = clap::builder::ValueParser::new(super::sculpt::parse_plane))]
@@ -141,6 +141,7 @@ fn scene(args: &Args) -> anyhow::Result<Option<SceneText>> {
             })
         }
         (None, Some(p)) => {
+            args.shape.check_applies(p)?;
             let params = args.shape.params();
             Scene::primitive(p, &params)?
         }

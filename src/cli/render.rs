@@ -31,7 +31,7 @@ pub struct Args {
     #[arg(long)]
     pub heat: bool,
     /// Seam angle drawn red, degrees.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub heat_max: f32,
     /// Draw the control net.
     #[arg(long)]
@@ -87,8 +87,7 @@ fn render(args: &Args) -> anyhow::Result<()> {
         &[("--png", Some(&args.png))],
         &[("model", Some(&args.model))],
     )?;
-    let loaded =
-        Model::read(&args.model).map_err(|e| anyhow::anyhow!("{}: {e}", args.model.display()))?;
+    let loaded = Model::read(&args.model).map_err(|e| anyhow::anyhow!(e.in_file(&args.model)))?;
     let model = loaded.model;
     let patches = model.surface.patches();
     let display = SurfaceDisplay::new(&patches, &Tessellation::DISPLAY);

@@ -107,6 +107,7 @@ fn sculpt(args: &Args) -> anyhow::Result<String> {
                 .model
         }
         (None, Some(p)) => {
+            args.shape.check_applies(p)?;
             let params = args.shape.params();
             Model::new(p.build(&params).map_err(|e| anyhow::anyhow!("{p}: {e}"))?)
         }

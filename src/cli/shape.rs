@@ -74,21 +74,21 @@ pub struct ShapeArgs {
     #[arg(long)]
     pub refit: bool,
     /// Beier–Neely `a` of the section warp (0: points on a curve follow it exactly).
-    #[arg(long, default_value_t = WarpParams::default().a)]
+    #[arg(long, default_value_t = WarpParams::default().a, allow_hyphen_values = true)]
     pub a: f64,
     /// Beier–Neely `b` (fall-off with distance).
-    #[arg(long, default_value_t = WarpParams::default().b)]
+    #[arg(long, default_value_t = WarpParams::default().b, allow_hyphen_values = true)]
     pub b: f64,
     /// Beier–Neely `p` (weight of curve length).
-    #[arg(long, default_value_t = WarpParams::default().p)]
+    #[arg(long, default_value_t = WarpParams::default().p, allow_hyphen_values = true)]
     pub p: f64,
     /// Distance at which a lone curve's pull on a section is halved (default: no still
     /// background).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub reach: Option<f64>,
     /// Divide a moved section's contour edges longer than this before warping (default: 1/100
     /// of the contour's diagonal).
-    #[arg(long, value_name = "LENGTH")]
+    #[arg(long, value_name = "LENGTH", allow_hyphen_values = true)]
     pub max_edge: Option<f64>,
     /// Picture size in pixels, `WIDTHxHEIGHT`.
     #[arg(long, default_value = "800x800")]

@@ -147,3 +147,97 @@ fn a_bench_scale_beyond_use_is_refused_compactly() {
         assert!(err.len() < 200, "{err}");
     }
 }
+
+/// A negative number written as a separate word (`--scale -1`, `--radius -.5`) reaches the
+/// option's own range check, exactly as `--scale=-1` does, instead of clap's "unexpected
+/// argument '-1'".
+#[test]
+fn negative_numbers_reach_the_range_checks_whether_written_apart_or_with_equals() {
+    let dir = temp_dir("negative-values");
+    let model = dir.join("m.json");
+    let m = model.to_str().expect("utf-8 path");
+    let made = nendo(&["sculpt", "--primitive", "plane", "--out", m]);
+    assert!(made.status.success(), "{made:?}");
+    let stl = dir.join("m.stl");
+    let stl = stl.to_str().expect("utf-8 path");
+    let out = dir.join("o.json");
+    let o = out.to_str().expect("utf-8 path");
+    let missing = dir.join("missing.json");
+    let missing = missing.to_str().expect("utf-8 path");
+    // (arguments before the option, the option, its value, arguments after)
+    let cases: &[(&[&str], &str, &str, &[&str])] = &[
+        (&["bench", "closest"], "--scale", "-1", &[]),
+        (&["emulate", "fastrak"], "--corrupt", "-0.5", &[]),
+        (&["emulate", "fastrak"], "--seconds", "-1", &[]),
+        (&["export", m, stl], "--tolerance", "-1", &[]),
+        (&["export", m, stl], "--scale", "-2", &[]),
+        (
+            &["sculpt", "--primitive", "sphere"],
+            "--radius",
+            "-1",
+            &["--out", o],
+        ),
+        (
+            &["sculpt", "--primitive", "sphere"],
+            "--radius",
+            "-.5",
+            &["--out", o],
+        ),
+        (
+            &["sculpt", "--primitive", "sphere"],
+            "--radius",
+            "-inf",
+            &["--out", o],
+        ),
+        (
+            &["sculpt", "--primitive", "cylinder"],
+            "--height",
+            "-1",
+            &["--out", o],
+        ),
+        (
+            &["sculpt", "--primitive", "torus"],
+            "--minor-radius",
+            "-0.1",
+            &["--out", o],
+        ),
+        (
+            &["record", "--profile", "fastrak", "--out", o],
+            "--seconds",
+            "-1",
+            &[],
+        ),
+        (&["refine", m], "--insert-u", "-1", &["--out", o]),
+        (
+            &["figure", "warp", missing, "--curves", missing],
+            "--a",
+            "-1",
+            &["--out", o],
+        ),
+        (
+            &["figure", "shape", missing, "--mesh", o],
+            "--reach",
+            "-1",
+            &[],
+        ),
+        (
+            &["morph", missing, missing, "--out", o],
+            "--match-distance",
+            "-1",
+            &[],
+        ),
+    ];
+    for &(before, option, value, after) in cases {
+        let apart: Vec<&str> = [before, &[option, value], after].concat();
+        let joined = format!("{option}={value}");
+        let with_equals: Vec<&str> = [before, &[joined.as_str()], after].concat();
+        let (a, e) = (nendo(&apart), nendo(&with_equals));
+        let a_err = String::from_utf8_lossy(&a.stderr);
+        let e_err = String::from_utf8_lossy(&e.stderr);
+        assert!(!a.status.success(), "{apart:?}: {a_err}");
+        assert!(!a_err.contains("unexpected argument"), "{apart:?}: {a_err}");
+        assert_eq!(a.status.code(), e.status.code(), "{apart:?}: {a_err}");
+        assert_eq!(a_err, e_err, "{apart:?}");
+        assert!(!out.exists(), "{apart:?} wrote {o}");
+    }
+}

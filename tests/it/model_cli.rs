@@ -268,3 +268,148 @@ fn regulation_default_names_our_own_method() {
     assert!(!out.status.success());
     assert!(!dir.join("bogus.json").exists());
 }
+
+/// The window (`nendo MODEL`, no subcommand) reads its model before any window opens, so a model
+/// it cannot read fails headless, naming the file once.
+#[test]
+fn the_window_names_a_model_it_cannot_read_once() {
+    let dir = temp_dir("window-model");
+    let missing = dir.join("missing.nendo.json");
+    let bad = dir.join("bad.nendo.json");
+    std::fs::write(&bad, "{ not json").unwrap();
+    for path in [&missing, &bad] {
+        let out = nendo()
+            .arg(path)
+            .arg("--no-autosave")
+            .arg("--no-recover")
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1));
+        let err = String::from_utf8_lossy(&out.stderr);
+        let name = path.display().to_string();
+        assert!(err.starts_with(&format!("nendo: {name}: ")), "{err}");
+        assert_eq!(err.matches(&name).count(), 1, "{err}");
+    }
+}
+
+/// A size option the chosen primitive does not use is refused, naming the option, the
+/// primitives it shapes and the one chosen; nothing is written.
+#[test]
+fn a_size_option_the_primitive_does_not_use_is_refused() {
+    let dir = temp_dir("prims-unused");
+    let out_path = dir.join("o.json");
+    for (primitive, option, want) in [
+        (
+            "sphere",
+            "--height",
+            "--height applies to cylinder and tube, not sphere",
+        ),
+        (
+            "plane",
+            "--minor-radius",
+            "--minor-radius applies to torus, not plane",
+        ),
+        (
+            "plane",
+            "--radius",
+            "--radius applies to cylinder, hemisphere, sphere, torus and tube, not plane",
+        ),
+        (
+            "torus",
+            "--height",
+            "--height applies to cylinder and tube, not torus",
+        ),
+        (
+            "tube",
+            "--minor-radius",
+            "--minor-radius applies to torus, not tube",
+        ),
+    ] {
+        let out = nendo()
+            .args(["sculpt", "--primitive", primitive, option, "0.5", "--out"])
+            .arg(&out_path)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{primitive} {option}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim_end(), format!("nendo sculpt: {want}"));
+        assert!(!out_path.exists());
+    }
+    // `nendo record` refuses it before opening any device.
+    let out = nendo()
+        .args([
+            "record",
+            "--profile",
+            "fastrak",
+            "--primitive",
+            "sphere",
+            "--height",
+            "2",
+            "--out",
+        ])
+        .arg(&out_path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--height applies to cylinder and tube, not sphere"),
+        "{err}"
+    );
+    assert!(!out_path.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `nendo render` and `nendo export` name a model they cannot read once, as `nendo check`.
+#[test]
+fn render_and_export_name_a_model_they_cannot_read_once() {
+    let dir = temp_dir("read-once");
+    let missing = dir.join("missing.json");
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, "{ not json").unwrap();
+    for path in [&missing, &bad] {
+        let name = path.display().to_string();
+        let mut runs = vec![
+            (
+                "export",
+                nendo()
+                    .arg("export")
+                    .arg(path)
+                    .arg(dir.join("o.stl"))
+                    .output()
+                    .unwrap(),
+            ),
+            (
+                "export",
+                nendo()
+                    .arg("export")
+                    .arg(path)
+                    .arg(dir.join("o.step"))
+                    .output()
+                    .unwrap(),
+            ),
+        ];
+        if cfg!(feature = "gui") {
+            runs.push((
+                "render",
+                nendo()
+                    .arg("render")
+                    .arg(path)
+                    .arg("--png")
+                    .arg(dir.join("o.png"))
+                    .output()
+                    .unwrap(),
+            ));
+        }
+        for (command, out) in runs {
+            assert_eq!(out.status.code(), Some(1), "{command}");
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(
+                err.starts_with(&format!("nendo {command}: {name}: ")),
+                "{err}"
+            );
+            assert_eq!(err.matches(&name).count(), 1, "{err}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -337,6 +337,48 @@ fn a_full_stdout_is_an_error_not_a_panic() {
     fs::remove_dir_all(&dir).expect("clean up");
 }
 
+/// `nendo emulate` prints its port on standard output; a failure there names standard output,
+/// as every subcommand's does.
+#[test]
+fn emulate_names_standard_output_when_it_cannot_print_its_port() {
+    let out = to_dev_full(&["emulate", "fastrak", "--seconds", "5"], "");
+    failed_cleanly(&out, "emulate");
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr
+            .starts_with("nendo emulate: cannot write to standard output: No space left on device"),
+        "{stderr}"
+    );
+}
+
+/// The batch commands (`closest`, `curve`) name standard output when their answers cannot be
+/// written, and keep their documented status 2 for an output error.
+#[test]
+fn batch_commands_name_standard_output_when_it_is_full() {
+    for (command, request) in [
+        (
+            "closest",
+            "{\"op\":\"closest\",\"curve\":{\"bezier\":[[0,0],[1,2],[2,0]]},\"point\":[1,3]}\n",
+        ),
+        (
+            "curve",
+            "{\"op\":\"split\",\"curve\":{\"bezier\":[[0,0],[1,2],[2,0]]},\"u\":0.5}\n",
+        ),
+    ] {
+        let out = to_dev_full(&[command, "--batch"], request);
+        failed_cleanly(&out, command);
+        assert_eq!(out.status.code(), Some(2), "{command}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.starts_with(&format!(
+                "nendo {command}: cannot write to standard output: No space left on device"
+            )),
+            "{stderr}"
+        );
+    }
+}
+
 #[test]
 fn a_closed_pipe_ends_quietly() {
     let dir = temp_dir("closed-pipe");

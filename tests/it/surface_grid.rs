@@ -1,7 +1,9 @@
 //! The patch grid: topologies, counts, layout, shared control points, primitives.
 
 use glam::DVec3;
-use nendo::surface::{Grid, Ideal, Primitive, PrimitiveParams, SurfaceError, Topology};
+use nendo::surface::{
+    Grid, Ideal, Primitive, PrimitiveParams, PrimitiveSize, SurfaceError, Topology,
+};
 
 fn params(m: usize, n: usize) -> PrimitiveParams {
     PrimitiveParams {
@@ -346,5 +348,32 @@ fn tube_has_the_papers_128_patches_and_a_smooth_pole() {
             (g.nodes()[id].z - o.z).abs() < 1e-15,
             "first ring lies in the pole's tangent plane"
         );
+    }
+}
+
+/// `Primitive::uses` says which size parameters shape each primitive: changing a used one
+/// moves control points, changing an unused one leaves the built grid identical.
+#[test]
+fn uses_names_exactly_the_sizes_that_change_the_built_primitive() {
+    for p in Primitive::ALL {
+        let base = p
+            .build(&PrimitiveParams::default())
+            .expect("defaults build");
+        let d = p.defaults();
+        for size in PrimitiveSize::ALL {
+            let mut changed = PrimitiveParams::default();
+            match size {
+                PrimitiveSize::Radius => changed.radius = Some(d.radius * 1.25),
+                PrimitiveSize::Height => changed.height = Some(d.height * 1.25),
+                PrimitiveSize::MinorRadius => changed.minor_radius = Some(d.minor_radius * 0.75),
+            }
+            let other = p.build(&changed).expect("changed sizes build");
+            assert_eq!(
+                other.nodes() != base.nodes(),
+                p.uses(size),
+                "{p} {size:?}: uses says {}",
+                p.uses(size)
+            );
+        }
     }
 }

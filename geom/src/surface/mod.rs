@@ -54,7 +54,7 @@ pub use group::{Group, Pole, PoleEnd};
 pub use mirror::{Asymmetry, MirrorError, Plane, Symmetry, is_symmetric, symmetry_error};
 pub use nearest::{SurfacePoint, nearest};
 pub use patch::{Patch, PatchFrame, PatchPoints};
-pub use primitive::{Ideal, Primitive, PrimitiveParams};
+pub use primitive::{Ideal, Primitive, PrimitiveParams, PrimitiveSize};
 pub use refine::{FingerRefinement, RefineError, Refinement, for_finger};
 pub use regulate::{Regulation, regulate_all};
 pub use shape_fn::{Dirs, Finger, Op};

@@ -58,6 +58,27 @@ pub struct PrimitiveParams {
     pub minor_radius: Option<f64>,
 }
 
+/// A size parameter of [`PrimitiveParams`] (the patch counts shape every primitive; these
+/// only some, see [`Primitive::uses`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PrimitiveSize {
+    /// The radius R (the major radius of a torus).
+    Radius,
+    /// The height H.
+    Height,
+    /// The minor radius r.
+    MinorRadius,
+}
+
+impl PrimitiveSize {
+    /// Every size parameter.
+    pub const ALL: [PrimitiveSize; 3] = [
+        PrimitiveSize::Radius,
+        PrimitiveSize::Height,
+        PrimitiveSize::MinorRadius,
+    ];
+}
+
 /// Fully resolved parameters of a primitive.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Resolved {
@@ -125,6 +146,18 @@ impl Primitive {
             radius,
             height,
             minor_radius: 1.0,
+        }
+    }
+
+    /// Whether `size` shapes the primitive, as [`Primitive::build`] uses it: the radius every
+    /// primitive but the plane, the height the cylinder and the tube (its walls), the minor
+    /// radius the torus. The others are only checked, never used.
+    #[must_use]
+    pub fn uses(self, size: PrimitiveSize) -> bool {
+        match size {
+            PrimitiveSize::Radius => self != Primitive::Plane,
+            PrimitiveSize::Height => matches!(self, Primitive::Cylinder | Primitive::Tube),
+            PrimitiveSize::MinorRadius => self == Primitive::Torus,
         }
     }
 

@@ -90,7 +90,7 @@ pub struct Args {
     pub finger: Option<FingerModel>,
     /// Finger radius r_f in sides (the fingertip capsule's and the shape function's; default:
     /// the trace's scene's, else 1).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub finger_radius: Option<f64>,
     /// Before each contact, split the patches its finger reaches until they are at most half
     /// the finger radius across (the surface does not change). Not with `--mirror`. Default:
@@ -256,11 +256,15 @@ fn setup(args: &Args, trace: &Trace) -> anyhow::Result<Setup> {
             }
             Model::read(path).map_err(|e| naming(path, &e))?.model
         }
-        (None, Some(p), _) => build(p, &given)?,
+        (None, Some(p), _) => {
+            args.shape.check_applies(p)?;
+            build(p, &given)?
+        }
         (None, None, Some(scene)) => {
             from_scene.push("start surface");
             match &scene.start {
                 Start::Primitive { primitive, params } => {
+                    args.shape.check_applies(*primitive)?;
                     // The command line's parameters over the scene's.
                     let params = PrimitiveParams {
                         patches: given.patches.or(params.patches),

@@ -357,6 +357,27 @@ fn a_size_option_the_primitive_does_not_use_is_refused() {
         "{err}"
     );
     assert!(!out_path.exists());
+    // `nendo replay` too, whether the primitive comes from the command line or from the
+    // trace's scene (a sphere).
+    let trace = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("devices/traces/sphere-push-pull.trace");
+    for extra in [
+        &["--primitive", "plane", "--radius", "2"][..],
+        &["--height", "2"][..],
+    ] {
+        let out = nendo()
+            .arg("replay")
+            .arg(&trace)
+            .args(extra)
+            .arg("--out")
+            .arg(&out_path)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{extra:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(" applies to "), "{extra:?}: {err}");
+        assert!(!out_path.exists());
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

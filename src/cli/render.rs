@@ -83,6 +83,12 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 fn render(args: &Args) -> anyhow::Result<()> {
+    if !(args.heat_max.is_finite() && args.heat_max > 0.0) {
+        anyhow::bail!(
+            "--heat-max must be a positive angle in degrees, not {}",
+            crate::num::Compact(f64::from(args.heat_max))
+        );
+    }
     super::paths::check(
         &[("--png", Some(&args.png))],
         &[("model", Some(&args.model))],

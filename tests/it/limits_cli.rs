@@ -148,6 +148,25 @@ fn a_bench_scale_beyond_use_is_refused_compactly() {
     }
 }
 
+/// `nendo render --heat-max` is an angle: zero, negative or not a number is refused before any
+/// work, not drawn as a meaningless colour scale.
+#[test]
+fn a_heat_scale_that_is_no_positive_angle_is_refused() {
+    let dir = temp_dir("heat-max");
+    let model = dir.join("m.json");
+    let m = model.to_str().expect("utf-8 path");
+    let made = nendo(&["sculpt", "--primitive", "plane", "--out", m]);
+    assert!(made.status.success(), "{made:?}");
+    let png = dir.join("m.png");
+    let png = png.to_str().expect("utf-8 path");
+    for v in ["0", "-1", "NaN", "inf", "1e308"] {
+        let r = nendo(&["render", m, "--png", png, "--heat", "--heat-max", v]);
+        refused(&r, "--heat-max must be a positive angle in degrees");
+    }
+    assert!(!dir.join("m.png").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A negative number written as a separate word (`--scale -1`, `--radius -.5`) reaches the
 /// option's own range check, exactly as `--scale=-1` does, instead of clap's "unexpected
 /// argument '-1'".

@@ -244,28 +244,30 @@ pub(crate) fn at_most(name: &str, value: usize, max: usize) -> anyhow::Result<()
     Ok(())
 }
 
+/// The outputs of a figure subcommand against its inputs ([`super::paths::check`]): `--out`
+/// (a figure file) may replace the figure read, the pictures may not; no output may replace
+/// another or one of the `others` inputs.
+fn check_outputs(
+    picture: &PictureArgs,
+    figure: &Path,
+    out: Option<&Path>,
+    others: &[(&'static str, Option<&Path>)],
+) -> Result<(), super::paths::PathClash> {
+    let pictures = [
+        ("--png", picture.png.as_deref()),
+        ("--svg", picture.svg.as_deref()),
+    ];
+    super::paths::check(&pictures, &[("figure", Some(figure))])?;
+    super::paths::check(&[("--out", out), pictures[0], pictures[1]], others)
+}
+
 fn fit(args: &FitArgs) -> anyhow::Result<()> {
     at_most("--circles", args.circles, 5_000)?;
     at_most("--seed-resolution", args.seed_resolution, 2_048)?;
     at_most("--contour-samples", args.contour_samples, 100_000)?;
     at_most("--guard-resolution", args.guard_resolution, 1_024)?;
     at_most("--iterations", args.iterations, 100_000)?;
-    // `--out` may replace the figure read (a figure file either way); the pictures may not.
-    super::paths::check(
-        &[
-            ("--png", args.picture.png.as_deref()),
-            ("--svg", args.picture.svg.as_deref()),
-        ],
-        &[("figure", Some(&args.input))],
-    )?;
-    super::paths::check(
-        &[
-            ("--out", Some(&args.out)),
-            ("--png", args.picture.png.as_deref()),
-            ("--svg", args.picture.svg.as_deref()),
-        ],
-        &[],
-    )?;
+    check_outputs(&args.picture, &args.input, Some(&args.out), &[])?;
     let mut doc = read_document(&args.input)?;
     let Some(contour) = doc.contour.clone() else {
         bail!(
@@ -303,32 +305,16 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if args.picture.png.is_none() && args.picture.svg.is_none() {
         bail!("nothing to write: give --png and/or --svg");
     }
-    super::paths::check(
-        &[
-            ("--png", args.picture.png.as_deref()),
-            ("--svg", args.picture.svg.as_deref()),
-        ],
-        &[("figure", Some(&args.figure))],
-    )?;
+    check_outputs(&args.picture, &args.figure, None, &[])?;
     let doc = read_document(&args.figure)?;
     write_pictures(&doc, &args.picture)
 }
 
 fn warp(args: &WarpArgs) -> anyhow::Result<()> {
-    // `--out` may replace the figure warped (a figure file either way), nothing else.
-    super::paths::check(
-        &[
-            ("--png", args.picture.png.as_deref()),
-            ("--svg", args.picture.svg.as_deref()),
-        ],
-        &[("figure", Some(&args.figure))],
-    )?;
-    super::paths::check(
-        &[
-            ("--out", Some(&args.out)),
-            ("--png", args.picture.png.as_deref()),
-            ("--svg", args.picture.svg.as_deref()),
-        ],
+    check_outputs(
+        &args.picture,
+        &args.figure,
+        Some(&args.out),
         &[("--curves file", Some(&args.curves))],
     )?;
     let doc = read_document(&args.figure)?;

@@ -2,7 +2,7 @@
 //! to the surface as it was before the contact. The engine lives in the geometry crate
 //! ([`crate::surface::envelope`]); this module re-exports it under the hand's paths.
 
-pub use crate::surface::envelope::{Placement, Presser, Stroke, describe};
+pub use crate::surface::{Placement, Presser, Stroke, describe};
 
 #[cfg(test)]
 mod tests {

@@ -93,7 +93,7 @@ pub enum SurfaceError {
     #[error("invalid operation: {0}")]
     BadOp(String),
     /// An operation would move a control point to a coordinate that is not finite or beyond
-    /// [`crate::surface::deform::COORDINATE_LIMIT`] (the grid is then left as it was), or a
+    /// [`crate::surface::COORDINATE_LIMIT`] (the grid is then left as it was), or a
     /// net read has one beyond it.
     #[error(
         "patch {patch}, control point {point}: coordinate not finite or beyond the coordinate limit {limit:e}; refused"
@@ -103,11 +103,11 @@ pub enum SurfaceError {
         patch: usize,
         /// Its control point index `4 * i + j`.
         point: usize,
-        /// The limit, [`crate::surface::deform::COORDINATE_LIMIT`].
+        /// The limit, [`crate::surface::COORDINATE_LIMIT`].
         limit: f64,
     },
     /// The regulation could not bring the touched edges to G1 within
-    /// [`crate::surface::deform::G1_TOLERANCE_DEG`]; the grid is left as it was.
+    /// [`crate::surface::G1_TOLERANCE_DEG`]; the grid is left as it was.
     #[error(
         "regulation {regulation} could not keep the surface G1: the edge between patches {patch} and {other} creases by {angle_deg:.3e} degrees (tolerance {tolerance_deg:e}); refused"
     )]
@@ -120,7 +120,7 @@ pub enum SurfaceError {
         other: usize,
         /// The largest angle between the normals of the two sides found along it (degrees).
         angle_deg: f64,
-        /// The tolerance, [`crate::surface::deform::G1_TOLERANCE_DEG`].
+        /// The tolerance, [`crate::surface::G1_TOLERANCE_DEG`].
         tolerance_deg: f64,
     },
     /// The grids compared by a measure do not have the same topology and patch counts.

@@ -6,7 +6,7 @@
 //!
 //! 1. **spreads** the movement `δ₀ = T − S*` with the shape functions' falloff: every sample
 //!    within `r_f` of `S*` moves by `(1 − r²/r_f²)·δ₀` (a ball-shaped finger), through the
-//!    Bernstein inverse and the regulation like any operation ([`super::deform`]);
+//!    Bernstein inverse and the regulation like any operation ([`super::engine`]);
 //! 2. **lands exactly**: the regulation leaves a residual `δ = T − S(u*, v*)`. The control
 //!    points of patch `p` belong to the (up to four) groups at its corners ([`super::group`];
 //!    at a pole, to the pole group: the pole and its whole first ring) — group `g` owns the

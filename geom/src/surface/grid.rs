@@ -119,7 +119,7 @@ impl Grid {
     /// # Errors
     /// Bad counts (see [`Grid::check_counts`]), a net of the wrong length
     /// ([`SurfaceError::WrongCount`]), a non-finite coordinate ([`SurfaceError::NotFinite`],
-    /// with the node index in `patch`) or one beyond [`super::deform::COORDINATE_LIMIT`]
+    /// with the node index in `patch`) or one beyond [`super::limits::COORDINATE_LIMIT`]
     /// ([`SurfaceError::OutOfRange`], node index in `patch`).
     pub fn from_net(
         topology: Topology,
@@ -144,12 +144,12 @@ impl Grid {
         }
         if let Some(bad) = nodes
             .iter()
-            .position(|p| p.abs().max_element() > super::deform::COORDINATE_LIMIT)
+            .position(|p| p.abs().max_element() > super::limits::COORDINATE_LIMIT)
         {
             return Err(SurfaceError::OutOfRange {
                 patch: bad,
                 point: 0,
-                limit: super::deform::COORDINATE_LIMIT,
+                limit: super::limits::COORDINATE_LIMIT,
             });
         }
         let (la, lb) = lattice_dims(topology, m, n);
@@ -550,11 +550,11 @@ impl Grid {
                     point: 0,
                 });
             }
-            if x.abs().max_element() > super::deform::COORDINATE_LIMIT {
+            if x.abs().max_element() > super::limits::COORDINATE_LIMIT {
                 return Err(SurfaceError::OutOfRange {
                     patch: id,
                     point: 0,
-                    limit: super::deform::COORDINATE_LIMIT,
+                    limit: super::limits::COORDINATE_LIMIT,
                 });
             }
         }

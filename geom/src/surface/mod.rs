@@ -10,11 +10,14 @@
 //!   point; [`grab`]: the exact landing of a move; [`smooth`]: the thin-plate energy a
 //!   smoothing stroke lowers; [`mirror`]: symmetry about `x = 0`, `y = 0` or `z = 0`.
 //! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]).
-//! - [`deform()`] / [`Sculptor`] ([`mod@deform`]): finger → reachable patches → Bernstein
-//!   inverse ([`inverse`]) → [`Regulation`] ([`regulate`]), returning what was [`Touched`].
-//! - [`Presser`] ([`envelope`]): the envelope of several finger [`Placement`]s (one contact
-//!   of the hand) applied incrementally as one displacement field, through the same inverse,
-//!   regulation and [`verify`] as [`deform()`]; the hand (`nendo::hand`) only builds placements.
+//! - The deformation engine ([`engine`]): one pipeline — displacement field → reachable
+//!   patches → envelope flows → Bernstein inverse ([`inverse`]) → [`Regulation`]
+//!   ([`regulate`]) → mirror → [`verify()`] or an exact rollback — with two drivers:
+//!   [`deform()`] / [`Sculptor`] apply one operation, returning what was [`Touched`];
+//!   [`Presser`] applies the envelope of several finger [`Placement`]s (one contact of the
+//!   hand) incrementally; the hand (`nendo::hand`) only builds placements.
+//! - [`limits`]: how large a coordinate may grow ([`COORDINATE_LIMIT`]) and how much crease
+//!   the exact regulation may leave ([`G1_TOLERANCE_DEG`]).
 //! - [`Grid::patches_where`]: the patches whose boxes a geometric test accepts (contact queries).
 //! - [`refine`]: more patches, the same surface (de Casteljau splits of whole patch columns /
 //!   rows, uniform ×K, and the refinement a finger needs), spacing ratios carried over.
@@ -24,14 +27,14 @@
 
 pub mod bounds;
 pub mod continuity;
-pub mod deform;
 pub mod deviation;
-pub mod envelope;
+pub mod engine;
 pub mod error;
 pub mod grab;
 pub mod grid;
 pub mod group;
 pub mod inverse;
+pub mod limits;
 pub mod mirror;
 pub mod nearest;
 pub mod patch;
@@ -42,15 +45,16 @@ pub mod regulate;
 pub mod shape_fn;
 pub mod smooth;
 pub mod topology;
+pub mod verify;
 
 pub use bounds::Aabb;
 pub use continuity::{ContinuityReport, PoleReport};
-pub use deform::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, Sculptor, Touched, deform, verify};
-pub use envelope::{Placement, Presser};
+pub use engine::{Placement, Presser, Sculptor, Stroke, Touched, deform, describe};
 pub use error::{SurfaceError, UnknownName};
 pub use grab::Hold;
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
+pub use limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG};
 pub use mirror::{Asymmetry, MirrorError, Plane, Symmetry, is_symmetric, symmetry_error};
 pub use nearest::{SurfacePoint, nearest};
 pub use patch::{Patch, PatchFrame, PatchPoints};
@@ -60,3 +64,4 @@ pub use regulate::{Regulation, regulate_all};
 pub use shape_fn::{Dirs, Finger, Op};
 pub use smooth::{EnergyDrop, thin_plate_energy};
 pub use topology::Topology;
+pub use verify::verify;

@@ -36,6 +36,7 @@
 
 use glam::DVec3;
 
+use super::engine::Marks;
 use super::grid::Grid;
 use super::patch::PatchPoints;
 
@@ -150,6 +151,96 @@ impl EnergyDrop {
             (self.before - self.after) / self.before
         } else {
             0.0
+        }
+    }
+}
+
+/// One damped thin-plate step over the control points within `radius` of the centres (the
+/// stroke's point and, with a mirror, its mirror image): every node `x` moves by
+/// `−½ · step · f(x) · g / d`, with `g = ∂E/∂x` the thin-plate gradient summed over the
+/// patches holding it, `d = Σ |H_a|₁` the bound of its rows (so `step ≤ 1` cannot overshoot
+/// along any one node), and `f(x) = max(0, 1 − |x − c|²/r²)` the falloff from the nearest
+/// centre. Keeps its scratch between steps.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ThinPlateStep {
+    nodes: Marks,
+    /// Per node: thin-plate gradient and its bound.
+    grad: Vec<(DVec3, f64)>,
+    /// The patches within reach of the last step.
+    pub(crate) candidates: Vec<usize>,
+}
+
+impl ThinPlateStep {
+    /// The per-patch control-point updates of one step, into `updates` (patches whose
+    /// update is all zero are left out).
+    // The slot loops index the patch's points, ids and the matrix rows together.
+    #[allow(clippy::needless_range_loop)]
+    pub(crate) fn updates(
+        &mut self,
+        grid: &Grid,
+        h: &[[f64; 16]; 16],
+        centres: &[DVec3],
+        radius: f64,
+        step: f64,
+        updates: &mut Vec<(usize, [DVec3; 16])>,
+    ) {
+        self.candidates.clear();
+        grid.hierarchy().query(
+            &|b| {
+                centres.iter().any(|c| {
+                    let d = (b.min - *c).max(*c - b.max).max(DVec3::ZERO);
+                    d.length() <= radius
+                })
+            },
+            &mut self.candidates,
+        );
+        self.candidates.sort_unstable();
+        let len = grid.nodes().len();
+        if self.grad.len() != len {
+            self.grad = vec![(DVec3::ZERO, 0.0); len];
+        }
+        self.nodes.start(len);
+        let m = grid.patches_u();
+        let row_abs: [f64; 16] = std::array::from_fn(|a| h[a].iter().map(|x| x.abs()).sum());
+        // Gradient and bound per node over every patch holding it (all are candidates: a
+        // node within reach lies in the box of every patch holding it).
+        for &p in &self.candidates {
+            let ids = grid.patch_node_ids(p % m, p / m);
+            let x = grid.patch_at(p);
+            for a in 0..16 {
+                let mut y = DVec3::ZERO;
+                for b in 0..16 {
+                    y += x[b] * h[a][b];
+                }
+                let id = ids[a];
+                if self.nodes.mark(id) {
+                    self.grad[id] = (DVec3::ZERO, 0.0);
+                }
+                self.grad[id].0 += 2.0 * y;
+                self.grad[id].1 += row_abs[a];
+            }
+        }
+        let r2 = radius * radius;
+        let nodes = grid.nodes();
+        let delta_of = |id: usize, grad: &[(DVec3, f64)]| {
+            let f = centres
+                .iter()
+                .map(|c| 1.0 - (nodes[id] - *c).length_squared() / r2)
+                .fold(0.0f64, f64::max);
+            let (g, d) = grad[id];
+            if f > 0.0 && d > 0.0 {
+                g * (-0.5 * step * f / d)
+            } else {
+                DVec3::ZERO
+            }
+        };
+        updates.clear();
+        for &p in &self.candidates {
+            let ids = grid.patch_node_ids(p % m, p / m);
+            let delta: [DVec3; 16] = std::array::from_fn(|a| delta_of(ids[a], &self.grad));
+            if delta.iter().any(|d| *d != DVec3::ZERO) {
+                updates.push((p, delta));
+            }
         }
     }
 }

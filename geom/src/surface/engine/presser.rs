@@ -4,7 +4,7 @@
 //!
 //! Public API: [`Presser::begin`] starts a contact on a reference grid, [`Presser::apply`]
 //! makes a grid the reference deformed by the envelope of a list of [`Placement`]s (refusing,
-//! and leaving the grid as it was, a result [`super::verify`] rejects), and [`describe`] lists the
+//! and leaving the grid as it was, a result [`crate::surface::verify()`] rejects), and [`describe`] lists the
 //! shape-function operations the placements stand for. Nothing outside this crate needs the
 //! control-point storage or the regulation internals to deform a grid.
 //!
@@ -28,13 +28,15 @@
 //! overlapping placements press the clay between them twice — a stroke drawn frame by frame
 //! would cut a groove twice as deep as the finger went, since the clay behind the moving
 //! finger is pressed again by every later frame. Here every sample of the surface before the
-//! contact moves by the **strongest** of the placements' flows, `F = argmax_j |F_j|`: the
+//! contact moves by the **strongest** of the placements' flows, `F = argmax_j |F_j|` (the mean of
+//! the equally strongest: the engine's one envelope rule, [`super::field`]): the
 //! envelope of the finger's passage. Within one draw-a-line of constant `d̂` and depth that is
 //! exactly the surface module's own rule for a polyline (the distance to the union of the swept
 //! strips, so the joints are not pressed twice), and a contact of one placement is exactly a
 //! push.
 //!
-//! The contact is applied like [`crate::surface::deform()`] applies one operation — reachable
+//! The contact is applied like [`crate::surface::deform()`] applies one operation, through the
+//! same [`super::field::displace`] and [`super::commit::Commit`] — reachable
 //! patches from the box pyramid, 16 samples and flows per patch, the Bernstein inverse
 //! `ΔP = B₄⁻¹ F B₄⁻ᵀ`, the pole moved by its own sample's flow, regulation of the groups around
 //! the moved patches — with the envelope of several fingers in place of one, and
@@ -42,13 +44,17 @@
 
 use glam::DVec3;
 
-use super::deform::{NodeMarks, verify_marked};
-use super::group::PoleEnd;
-use super::inverse::{control_update, samples};
-use super::mirror::Symmetry;
-use super::regulate::{self, Projections, Regulation};
-use super::topology::wrap;
-use super::{Aabb, Finger, Grid, Op, SurfaceError};
+use super::commit::Commit;
+use super::field::{DisplacementField, Envelope, displace};
+use super::marks::Marks;
+use crate::surface::bounds::Aabb;
+use crate::surface::error::SurfaceError;
+use crate::surface::grid::Grid;
+use crate::surface::group::PoleEnd;
+use crate::surface::mirror::{Plane, Symmetry};
+use crate::surface::regulate::Regulation;
+use crate::surface::shape_fn::{Finger, Op};
+use crate::surface::topology::wrap;
 
 /// One placement of the finger during a contact.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -216,9 +222,8 @@ pub struct Presser {
     /// Per finger of the last application: whether this application keeps it.
     kept: Vec<bool>,
     area: Vec<usize>,
-    patch_mark: Vec<u32>,
-    vertex_mark: Vec<u32>,
-    stamp: u32,
+    area_marks: Marks,
+    vertex_marks: Marks,
     /// The fingers near the patch at hand, with the offset of their flows there.
     near: Vec<(usize, usize)>,
     regulate: Vec<(usize, usize)>,
@@ -226,16 +231,13 @@ pub struct Presser {
     /// [`Presser::couple_components`]).
     queue: Vec<(usize, usize)>,
     poles: Vec<PoleEnd>,
+    /// The patches the last application changed.
     changed: Vec<usize>,
-    scratch: Vec<usize>,
     /// The unregulated net and `deformed` flags of the area before this application.
     saved_unregulated: Vec<(usize, DVec3)>,
     saved_deformed: Vec<(usize, bool)>,
-    /// The grid's control points before this application overwrote them.
-    saved_grid: Vec<(usize, DVec3)>,
-    projections: Projections,
-    /// The nodes an application changed, for [`verify_marked`].
-    verify_marks: NodeMarks,
+    /// Regulation, mirror, verification or rollback of each application.
+    commit: Commit,
     /// Every placement pressed together with its mirror image (see [`Presser::set_mirror`]).
     mirror: Option<Symmetry>,
 }
@@ -245,7 +247,7 @@ impl Presser {
     /// (`None`: no mirror): the mirrored fingers join the envelope (each sample follows the
     /// strongest flow of all), and after the regulation the touched control points and their
     /// partners are made exactly symmetric ([`Symmetry::enforce`]). The grids applied must be
-    /// the ones the symmetry was made for.
+    /// the ones the symmetry was made for: [`Presser::apply`] refuses others.
     pub fn set_mirror(&mut self, symmetry: Option<Symmetry>) {
         self.mirror = symmetry;
         // The fingers' memos hold the flows of the mirror they were made with.
@@ -278,7 +280,8 @@ impl Presser {
     /// control points changed, sorted.
     ///
     /// # Errors
-    /// [`SurfaceError::BadOp`] for a placement that makes no valid finger;
+    /// [`SurfaceError::BadOp`] for a placement that makes no valid finger, or a mirror
+    /// ([`Presser::set_mirror`]) made for a grid of other patch counts;
     /// [`SurfaceError::OutOfRange`] or [`SurfaceError::NotG1`] for a result the surface
     /// refuses ([`super::verify`]). `grid` and the contact's state are then left as
     /// they were after the last accepted application.
@@ -315,6 +318,13 @@ impl Presser {
         self.changed.clear();
         if self.unregulated.len() != reference.nodes().len() {
             self.begin(reference);
+        }
+        if let Some(s) = &self.mirror
+            && !(s.fits(reference) && s.fits(grid))
+        {
+            return Err(SurfaceError::BadOp(
+                "the mirror map was made for a grid of other patch counts".to_string(),
+            ));
         }
         let mut pending = std::mem::take(&mut self.pending);
         pending.clear();
@@ -376,16 +386,14 @@ impl Presser {
             j = end;
             i = old_end;
         }
-        self.next_stamp(grid);
-        let stamp = self.stamp;
+        self.commit.begin(grid);
+        self.vertex_marks
+            .start(grid.vertices_u() * grid.vertices_v());
 
         // 1. The patches the changed placements reach, before and after the change.
         self.area.clear();
-        let plane = self
-            .mirror
-            .as_ref()
-            .filter(|s| s.fits(reference))
-            .map(Symmetry::plane);
+        self.area_marks.start(reference.patch_count());
+        let plane = self.mirror.as_ref().map(Symmetry::plane);
         let new = self.next.iter().zip(&self.fresh).filter(|(_, f)| **f);
         let dropped = self.fingers.iter().zip(&self.kept).filter(|(_, k)| !**k);
         for (f, _) in new.chain(dropped) {
@@ -397,8 +405,7 @@ impl Presser {
             let mut keep = start;
             for k in start..self.area.len() {
                 let p = self.area[k];
-                if self.patch_mark[p] != stamp {
-                    self.patch_mark[p] = stamp;
+                if self.area_marks.mark(p) {
                     self.area[keep] = p;
                     keep += 1;
                 }
@@ -412,108 +419,36 @@ impl Presser {
         let topology = grid.topology();
         self.saved_unregulated.clear();
         self.saved_deformed.clear();
-        self.saved_grid.clear();
         for &p in &self.area {
             self.saved_deformed.push((p, self.deformed[p]));
             for id in grid.patch_node_ids(p % m, p / m) {
                 self.saved_unregulated.push((id, self.unregulated[id]));
             }
         }
-        for &p in &self.area {
-            let bounds = reference.patch_bounds(p);
-            let mirrored = plane.map(|pl| pl.reflect_box(&bounds));
-            let points = reference.patch_at(p);
-            let r = samples(&points);
-            // The fingers that may touch the patch, each with its flows there (from its memo,
-            // or evaluated now and kept).
-            self.near.clear();
-            for (k, f) in self.next.iter_mut().enumerate() {
-                if !(f.overlaps(&bounds) || mirrored.as_ref().is_some_and(|b| f.overlaps(b))) {
-                    continue;
-                }
-                let at = match f.memo.find(p) {
-                    Some(at) => at,
-                    None => {
-                        let touches = f.may_touch(&bounds)
-                            || mirrored.as_ref().is_some_and(|b| f.may_touch(b));
-                        let at = if touches {
-                            let at = f.memo.flows.len();
-                            for x in &r {
-                                let flow = f.flow(*x);
-                                f.memo.flows.push(flow);
-                            }
-                            if let Some(pl) = plane {
-                                for x in &r {
-                                    let flow = pl.reflect(f.flow(pl.reflect(*x)));
-                                    f.memo.flows.push(flow);
-                                }
-                            }
-                            at
-                        } else {
-                            Memo::NONE
-                        };
-                        f.memo.patches.push((p, at));
-                        at
-                    }
-                };
-                if at != Memo::NONE {
-                    self.near.push((k, at));
-                }
-            }
-            // Every sample follows the strongest flow, the first of equals in the fingers'
-            // order (a finger's own flow before its mirror image's).
-            let mut flows = [DVec3::ZERO; 16];
-            let mut any = false;
-            for (k, flow_k) in flows.iter_mut().enumerate() {
-                let mut best = DVec3::ZERO;
-                let mut best_sq = 0.0;
-                for &(f, at) in &self.near {
-                    let memo = &self.next[f].memo.flows;
-                    let flow = memo[at + k];
-                    let sq = flow.length_squared();
-                    if sq > best_sq {
-                        best = flow;
-                        best_sq = sq;
-                    }
-                    if plane.is_some() {
-                        let flow = memo[at + 16 + k];
-                        let sq = flow.length_squared();
-                        if sq > best_sq {
-                            best = flow;
-                            best_sq = sq;
-                        }
+        let mut field = ContactField {
+            fingers: &mut self.next,
+            near: &mut self.near,
+            plane,
+        };
+        let (unregulated, deformed) = (&mut self.unregulated, &mut self.deformed);
+        displace(reference, &self.area, &mut field, |p, delta| {
+            let ids = reference.patch_node_ids(p % m, p / m);
+            deformed[p] = delta.is_some();
+            match delta {
+                None => {
+                    for id in ids {
+                        unregulated[id] = reference.nodes()[id];
                     }
                 }
-                *flow_k = best;
-                any |= best_sq > 0.0;
-            }
-            let (iu, iv) = (p % m, p / m);
-            let ids = grid.patch_node_ids(iu, iv);
-            self.deformed[p] = any;
-            if !any {
-                for id in ids {
-                    self.unregulated[id] = reference.nodes()[id];
-                }
-                continue;
-            }
-            let mut delta = control_update(&flows);
-            // A pole moves by the flow of the pole sample (see `surface::deform`).
-            for (at_pole, j) in [
-                (iv == 0 && topology.pole_at_start(), 0),
-                (iv + 1 == n && topology.pole_at_end(), 3),
-            ] {
-                if at_pole {
-                    for i in 1..4 {
-                        delta[4 * i + j] = delta[j];
+                // Shared control points get bit-identical updates from every patch holding
+                // them (see `field`), so writing `reference + ΔP` from each is consistent.
+                Some(delta) => {
+                    for (k, &id) in ids.iter().enumerate() {
+                        unregulated[id] = reference.nodes()[id] + delta[k];
                     }
                 }
             }
-            // Shared control points get bit-identical updates from every patch holding them
-            // (see `surface::deform`), so writing `reference + ΔP` from each is consistent.
-            for (k, &id) in ids.iter().enumerate() {
-                self.unregulated[id] = reference.nodes()[id] + delta[k];
-            }
-        }
+        });
 
         // 4. The groups at the corners of those patches: from the unregulated net, regulated
         // when a patch around them moved.
@@ -524,19 +459,30 @@ impl Presser {
         let mut pole_rows = [false; 2];
         for i in 0..self.area.len() {
             let p = self.area[i];
+            // A patch the envelope moves neither now nor before keeps the reference: nothing
+            // of it changes (a group at its corners that must be re-regulated is reached from
+            // a moved patch, or through `couple_components`).
+            if !self.deformed[p] && !self.saved_deformed[i].1 {
+                continue;
+            }
             let (iu, iv) = (p % m, p / m);
-            self.changed.push(p);
+            self.commit.include(p);
+            if regulation == Regulation::None {
+                // Nothing is regulated: the grid is the unregulated net.
+                for id in grid.patch_node_ids(iu, iv) {
+                    self.commit.write(grid, id, self.unregulated[id]);
+                }
+                continue;
+            }
             for (du, dv) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
                 let (k, q) = ((iu + du) % vu, (iv + dv) % vv);
                 if grid.is_pole_line(q) {
                     pole_rows[usize::from(q != 0)] = true;
                     continue;
                 }
-                let v = q * vu + k;
-                if self.vertex_mark[v] == stamp {
+                if !self.vertex_marks.mark(q * vu + k) {
                     continue;
                 }
-                self.vertex_mark[v] = stamp;
                 if !self.unregulate_group(grid, k, q) {
                     continue;
                 }
@@ -550,10 +496,7 @@ impl Presser {
                     };
                     let around = pv * m + pu;
                     moved |= self.deformed[around];
-                    if self.patch_mark[around] != stamp {
-                        self.patch_mark[around] = stamp;
-                        self.changed.push(around);
-                    }
+                    self.commit.include(around);
                 }
                 if moved {
                     self.regulate.push((k, q));
@@ -561,99 +504,59 @@ impl Presser {
                 self.queue.push((k, q));
             }
         }
-        if regulation == Regulation::Exact && self.projections.coupled {
-            self.couple_components(grid, stamp);
+        if regulation == Regulation::Exact && self.commit.projections.coupled {
+            self.couple_components(grid);
         }
         for (row, end) in [(0, PoleEnd::Start), (1, PoleEnd::End)] {
             if !pole_rows[row] {
                 continue;
             }
             let Some(pole) = grid.pole(end) else { continue };
-            let nodes = grid.nodes_mut();
             for &id in std::iter::once(&pole.node).chain(&pole.ring) {
-                self.saved_grid.push((id, nodes[id]));
-                nodes[id] = self.unregulated[id];
+                self.commit.write(grid, id, self.unregulated[id]);
             }
             let iv = if end == PoleEnd::Start { 0 } else { n - 1 };
             let mut moved = false;
             for iu in 0..m {
                 let around = iv * m + iu;
                 moved |= self.deformed[around];
-                if self.patch_mark[around] != stamp {
-                    self.patch_mark[around] = stamp;
-                    self.changed.push(around);
-                }
+                self.commit.include(around);
             }
             if moved {
                 self.poles.push(end);
             }
         }
-        if regulation != Regulation::None && (!self.regulate.is_empty() || !self.poles.is_empty()) {
-            regulate::regulate(
-                grid,
-                regulation,
-                &self.regulate,
-                &self.poles,
-                &mut self.projections,
-            );
-        }
-        if let Some(sym) = self.mirror.as_ref().filter(|s| s.fits(grid)) {
-            // The partners of everything touched, kept aside, then exactly symmetric.
-            for i in 0..self.changed.len() {
-                let q = sym.patch_partner(self.changed[i]);
-                if self.patch_mark[q] != stamp {
-                    self.patch_mark[q] = stamp;
-                    self.changed.push(q);
-                }
-            }
-            self.scratch.clear();
-            for &p in &self.changed {
-                for id in grid.patch_node_ids(p % m, p / m) {
-                    self.saved_grid.push((id, grid.nodes()[id]));
-                    self.scratch.push(id);
-                }
-            }
-            let poles: &[PoleEnd] = if regulation == Regulation::None {
-                &[]
-            } else {
-                &self.poles
-            };
-            let ids = std::mem::take(&mut self.scratch);
-            // The map fits the grid (checked above): enforcing cannot fail.
-            let _ = sym.enforce(grid, &ids, poles);
-            self.scratch = ids;
-        }
-        self.changed.sort_unstable();
-        if let Err(e) = verify_marked(
+        match self.commit.finish(
             grid,
-            &self.changed,
             regulation,
-            &self.saved_grid,
-            &mut self.verify_marks,
+            &self.regulate,
+            &self.poles,
+            self.mirror.as_ref(),
+            None,
         ) {
-            // Back to the last application: the grid, the unregulated net, the fingers.
-            let nodes = grid.nodes_mut();
-            for &(id, x) in self.saved_grid.iter().rev() {
-                nodes[id] = x;
+            Ok(_) => {
+                self.changed.extend_from_slice(self.commit.changed());
+                self.applied.clear();
+                self.applied.extend_from_slice(placements);
+                std::mem::swap(&mut self.fingers, &mut self.next);
+                Ok(())
             }
-            for &(id, x) in self.saved_unregulated.iter().rev() {
-                self.unregulated[id] = x;
+            Err(e) => {
+                // Back to the last application: the grid (rolled back by the commit), the
+                // unregulated net, the fingers.
+                for &(id, x) in self.saved_unregulated.iter().rev() {
+                    self.unregulated[id] = x;
+                }
+                for &(p, d) in &self.saved_deformed {
+                    self.deformed[p] = d;
+                }
+                Err(e)
             }
-            for &(p, d) in &self.saved_deformed {
-                self.deformed[p] = d;
-            }
-            self.changed.clear();
-            return Err(e);
         }
-        grid.refit(&self.changed, &mut self.scratch);
-        self.applied.clear();
-        self.applied.extend_from_slice(placements);
-        std::mem::swap(&mut self.fingers, &mut self.next);
-        Ok(())
     }
 
-    /// The coupled projection ([`regulate::exact`]) makes a group's regulated points a
-    /// function of the unregulated net of every group in its *connected touched set* (groups
+    /// The coupled projection ([`crate::surface::regulate`]) makes a group's regulated points
+    /// a function of the unregulated net of every group in its *connected touched set* (groups
     /// with a moved patch around them, linked when they are corners of one patch), not of its
     /// own patches alone. So a frame re-regulates, besides the groups at the corners of the
     /// patches it reaches (`queue` on entry, already reset to the unregulated net), every
@@ -661,7 +564,7 @@ impl Presser {
     /// patches join the changed ones. A group outside these sets has the same connected set,
     /// with the same unregulated net, as when it was last regulated, and keeps its points —
     /// the frame-by-frame result is the contact applied at once.
-    fn couple_components(&mut self, grid: &mut Grid, stamp: u32) {
+    fn couple_components(&mut self, grid: &mut Grid) {
         let (m, n) = (grid.patches_u(), grid.patches_v());
         let (vu, vv) = (grid.vertices_u(), grid.vertices_v());
         let topology = grid.topology();
@@ -700,22 +603,19 @@ impl Presser {
                     continue;
                 }
                 let v = q2 * vu + k2;
-                if self.vertex_mark[v] == stamp {
+                if self.vertex_marks.get(v) {
                     continue;
                 }
                 let patches = around(k2, q2);
                 if !patches.iter().flatten().any(|&p| self.deformed[p]) {
                     continue;
                 }
-                self.vertex_mark[v] = stamp;
+                self.vertex_marks.set(v);
                 if !self.unregulate_group(grid, k2, q2) {
                     continue;
                 }
                 for p in patches.into_iter().flatten() {
-                    if self.patch_mark[p] != stamp {
-                        self.patch_mark[p] = stamp;
-                        self.changed.push(p);
-                    }
+                    self.commit.include(p);
                 }
                 self.regulate.push((k2, q2));
                 self.queue.push((k2, q2));
@@ -723,34 +623,88 @@ impl Presser {
         }
     }
 
-    /// Puts the nodes of the group at vertex `(k, q)` back to the unregulated net, saving what
-    /// they held for a refusal; `false` (nothing changed) when the vertex has no group.
+    /// Puts the nodes of the group at vertex `(k, q)` back to the unregulated net (the commit
+    /// journals what they held); `false` (nothing changed) when the vertex has no group.
     fn unregulate_group(&mut self, grid: &mut Grid, k: usize, q: usize) -> bool {
         let Some(group) = grid.group(k, q) else {
             return false;
         };
-        let nodes = grid.nodes_mut();
         for id in group.nodes.iter().flatten().flatten() {
-            self.saved_grid.push((*id, nodes[*id]));
-            nodes[*id] = self.unregulated[*id];
+            self.commit.write(grid, *id, self.unregulated[*id]);
         }
         true
     }
+}
 
-    fn next_stamp(&mut self, grid: &Grid) {
-        let (count, vertices) = (grid.patch_count(), grid.vertices_u() * grid.vertices_v());
-        if self.patch_mark.len() != count {
-            self.patch_mark = vec![0; count];
+/// The fingers of one application as a [`DisplacementField`] on the contact's reference:
+/// each finger's flows at a patch's samples come from its memo, or are evaluated and kept.
+struct ContactField<'a> {
+    fingers: &'a mut [Reach],
+    /// The fingers near the patch at hand, with the offset of their flows there.
+    near: &'a mut Vec<(usize, usize)>,
+    plane: Option<Plane>,
+}
+
+impl DisplacementField for ContactField<'_> {
+    fn may_touch(&self, b: &Aabb) -> bool {
+        self.fingers
+            .iter()
+            .any(|f| f.may_touch(b) || self.plane.is_some_and(|pl| f.may_touch(&pl.reflect_box(b))))
+    }
+
+    fn touches(&mut self, _patch: usize, _bounds: &Aabb) -> bool {
+        true
+    }
+
+    fn flows(&mut self, p: usize, bounds: &Aabb, r: &[DVec3; 16]) -> [DVec3; 16] {
+        let plane = self.plane;
+        let mirrored = plane.map(|pl| pl.reflect_box(bounds));
+        self.near.clear();
+        for (k, f) in self.fingers.iter_mut().enumerate() {
+            if !(f.overlaps(bounds) || mirrored.as_ref().is_some_and(|b| f.overlaps(b))) {
+                continue;
+            }
+            let at = match f.memo.find(p) {
+                Some(at) => at,
+                None => {
+                    let touches =
+                        f.may_touch(bounds) || mirrored.as_ref().is_some_and(|b| f.may_touch(b));
+                    let at = if touches {
+                        let at = f.memo.flows.len();
+                        for x in r {
+                            let flow = f.flow(*x);
+                            f.memo.flows.push(flow);
+                        }
+                        if let Some(pl) = plane {
+                            for x in r {
+                                let flow = pl.reflect(f.flow(pl.reflect(*x)));
+                                f.memo.flows.push(flow);
+                            }
+                        }
+                        at
+                    } else {
+                        Memo::NONE
+                    };
+                    f.memo.patches.push((p, at));
+                    at
+                }
+            };
+            if at != Memo::NONE {
+                self.near.push((k, at));
+            }
         }
-        if self.vertex_mark.len() != vertices {
-            self.vertex_mark = vec![0; vertices];
-        }
-        self.stamp = self.stamp.wrapping_add(1);
-        if self.stamp == 0 {
-            self.patch_mark.fill(0);
-            self.vertex_mark.fill(0);
-            self.stamp = 1;
-        }
+        // Every sample follows the envelope of the fingers' flows and their mirror images'.
+        std::array::from_fn(|k| {
+            let mut e = Envelope::default();
+            for &(f, at) in self.near.iter() {
+                let memo = &self.fingers[f].memo.flows;
+                e.add(memo[at + k]);
+                if plane.is_some() {
+                    e.add(memo[at + 16 + k]);
+                }
+            }
+            e.flow()
+        })
     }
 }
 
@@ -817,6 +771,7 @@ fn reach(placements: &[Seg], j: usize) -> Result<Reach, SurfaceError> {
 mod tests {
     use super::*;
     use crate::surface::{Primitive, PrimitiveParams, Sculptor};
+    use glam::DVec3;
 
     /// The sphere of radius 3 with 16 × 8 patches.
     fn sphere_16x8() -> Grid {
@@ -826,6 +781,110 @@ mod tests {
                 ..PrimitiveParams::default()
             })
             .unwrap()
+    }
+
+    /// The engine's one rule, seen from both drivers: a mirrored hand contact of one
+    /// placement and the mirrored push it stands for give bit-identical grids — on the mirror
+    /// plane (where a flow and its mirror image tie), across it (where the finger and its
+    /// image overlap), and away from it — with every regulation method, on the plane, the
+    /// cylinder and the sphere.
+    #[test]
+    fn a_mirrored_contact_and_a_mirrored_push_give_the_same_grid() {
+        use crate::surface::{Plane, Symmetry};
+        let mut compared = 0;
+        for primitive in [Primitive::Plane, Primitive::Cylinder, Primitive::Sphere] {
+            let base = primitive.build(&PrimitiveParams::default()).unwrap();
+            let symmetry = Symmetry::of(&base, Plane::X).unwrap();
+            let b = base.bounds();
+            for x in [0.0, 0.35, -0.8, 1.7] {
+                // A point above the surface at `x`, the finger pressing towards the centre.
+                let target = DVec3::new(x, 0.3 * (b.max.y - b.min.y) * 0.2, b.max.z);
+                let near = crate::surface::nearest(&base, target).unwrap();
+                let dir = -(near.point - (b.min + b.max) * 0.5).normalize();
+                let dir = if primitive == Primitive::Plane {
+                    -DVec3::Z
+                } else {
+                    dir
+                };
+                for reg in Regulation::ALL {
+                    let placement = [Placement {
+                        tip: near.point + 0.3 * dir,
+                        dir,
+                        depth: 0.3,
+                    }];
+                    let mut contact = base.clone();
+                    let mut presser = Presser::default();
+                    presser.set_mirror(Some(symmetry.clone()));
+                    let pressed = presser.apply(&base, &mut contact, &placement, 0.9, 100.0, reg);
+                    let mut op = base.clone();
+                    let pushed = Sculptor::new().apply_mirrored(
+                        &mut op,
+                        &describe(&placement, 0.9)[0],
+                        reg,
+                        &symmetry,
+                    );
+                    assert_eq!(
+                        pressed.is_ok(),
+                        pushed.is_ok(),
+                        "{primitive} x {x} {reg}: {pressed:?} vs {pushed:?}"
+                    );
+                    assert!(
+                        contact != base || pressed.is_err(),
+                        "{primitive} x {x}: no dent"
+                    );
+                    let same = contact.nodes().iter().zip(op.nodes()).all(|(a, b)| {
+                        a.to_array().map(f64::to_bits) == b.to_array().map(f64::to_bits)
+                    });
+                    if !same {
+                        for (i, (a, b)) in contact.nodes().iter().zip(op.nodes()).enumerate() {
+                            if a != b {
+                                eprintln!("{i}: {a} vs {b} base {}", base.nodes()[i]);
+                            }
+                        }
+                    }
+                    assert!(
+                        same,
+                        "{primitive} x {x} {reg}: the contact and the push differ"
+                    );
+                    assert_eq!(contact, op, "{primitive} x {x} {reg}");
+                    compared += 1;
+                }
+            }
+        }
+        assert_eq!(compared, 3 * 4 * Regulation::ALL.len());
+    }
+
+    #[test]
+    fn a_mirror_made_for_another_grid_is_refused_not_dropped() {
+        use crate::surface::{Plane, Symmetry};
+        let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
+        let symmetry = Symmetry::of(&plane, Plane::X).unwrap();
+        let finer = Primitive::Plane
+            .build(&PrimitiveParams {
+                patches: Some((12, 10)),
+                ..PrimitiveParams::default()
+            })
+            .unwrap();
+        let placement = [Placement {
+            tip: DVec3::new(0.5, 0.0, -0.3),
+            dir: -DVec3::Z,
+            depth: 0.3,
+        }];
+        let mut presser = Presser::default();
+        presser.set_mirror(Some(symmetry.clone()));
+        let mut grid = finer.clone();
+        let got = presser.apply(&finer, &mut grid, &placement, 1.0, 2.0, Regulation::Exact);
+        assert!(matches!(got, Err(SurfaceError::BadOp(_))), "{got:?}");
+        assert_eq!(grid, finer);
+        let mut grid = finer.clone();
+        let got = Sculptor::new().apply_mirrored(
+            &mut grid,
+            &describe(&placement, 1.0)[0],
+            Regulation::Exact,
+            &symmetry,
+        );
+        assert!(matches!(got, Err(SurfaceError::BadOp(_))), "{got:?}");
+        assert_eq!(grid, finer);
     }
 
     #[test]
@@ -997,7 +1056,7 @@ mod tests {
         let on = |lon: f64, lat: f64| {
             DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()) * 3.0
         };
-        for mirror in [None, Some(super::super::mirror::Plane::Y)] {
+        for mirror in [None, Some(crate::surface::Plane::Y)] {
             let symmetry = mirror.map(|pl| Symmetry::of(&sphere, pl).unwrap());
             let mut presser = Presser::default();
             presser.set_mirror(symmetry.clone());

@@ -1,0 +1,210 @@
+//! The transaction every deformation ends in (SPEC §7, steps 4–5): regulation around what
+//! moved → the mirror → verification, then either the new boxes or an exact rollback.
+//!
+//! A [`Commit`] keeps a journal of the first old position of every control point written
+//! during one operation ([`Commit::write`], [`Commit::keep`]) and the set of patches whose
+//! control points may change ([`Commit::include`]). [`Commit::finish`] then
+//!
+//! 1. regulates the groups and poles it is given ([`regulate::regulate`]),
+//! 2. with a mirror, takes in the partners of every included patch and makes their control
+//!    points exactly symmetric ([`Symmetry::enforce`]); a mirror made for a grid of other
+//!    patch counts is an error, never dropped,
+//! 3. lands a move's grabbed point exactly on its target ([`grab::land`]),
+//! 4. verifies the result ([`verify_marked`]: coordinates within the limit, and G1 under
+//!    [`Regulation::Exact`]),
+//! 5. refits the boxes of the included patches — or, on any refusal, puts every journaled
+//!    control point back, so the grid is bit for bit as it was.
+
+use glam::DVec3;
+
+use super::marks::Marks;
+use crate::surface::error::SurfaceError;
+use crate::surface::grab::{self, Hold};
+use crate::surface::grid::Grid;
+use crate::surface::group::PoleEnd;
+use crate::surface::mirror::Symmetry;
+use crate::surface::regulate::{self, Projections, Regulation};
+use crate::surface::verify::verify_marked;
+
+/// One operation's transaction; keeps its buffers between operations.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Commit {
+    /// `(node, first old position)` of every node written, each node once.
+    journal: Vec<(usize, DVec3)>,
+    journaled: Marks,
+    /// The patches whose control points may change.
+    changed: Vec<usize>,
+    included: Marks,
+    verify_marks: Marks,
+    pub(crate) projections: Projections,
+    scratch: Vec<usize>,
+    asymmetry: f64,
+}
+
+/// The error of a mirror map made for another grid.
+fn other_grid() -> SurfaceError {
+    SurfaceError::BadOp("the mirror map was made for a grid of other patch counts".to_string())
+}
+
+impl Commit {
+    /// Starts a transaction on `grid`.
+    pub(crate) fn begin(&mut self, grid: &Grid) {
+        self.journal.clear();
+        self.changed.clear();
+        self.journaled.start(grid.nodes().len());
+        self.included.start(grid.patch_count());
+        self.asymmetry = 0.0;
+    }
+
+    /// Adds patch `p` to those whose control points may change.
+    #[inline]
+    pub(crate) fn include(&mut self, p: usize) {
+        if self.included.mark(p) {
+            self.changed.push(p);
+        }
+    }
+
+    /// Journals node `id`'s present position (only its first, the old one, is kept).
+    #[inline]
+    pub(crate) fn keep(&mut self, grid: &Grid, id: usize) {
+        if self.journaled.mark(id) {
+            self.journal.push((id, grid.nodes()[id]));
+        }
+    }
+
+    /// Journals every control point of the included patches.
+    pub(crate) fn keep_included(&mut self, grid: &Grid) {
+        let m = grid.patches_u();
+        for i in 0..self.changed.len() {
+            let p = self.changed[i];
+            for id in grid.patch_node_ids(p % m, p / m) {
+                self.keep(grid, id);
+            }
+        }
+    }
+
+    /// Writes node `id`, journaling its old position.
+    #[inline]
+    pub(crate) fn write(&mut self, grid: &mut Grid, id: usize, x: DVec3) {
+        self.keep(grid, id);
+        grid.nodes_mut()[id] = x;
+    }
+
+    /// Steps 1–5 of the module docs. `vertices` and `poles` are the groups to regulate (with
+    /// `regulation`), `symmetry` the mirror, `hold` a move's landing. Returns how many groups
+    /// and poles were regulated; afterwards [`Commit::changed`] lists the included patches,
+    /// sorted.
+    ///
+    /// # Errors
+    /// [`SurfaceError::BadOp`] for a mirror made for another grid, [`SurfaceError::OutOfRange`]
+    /// or [`SurfaceError::NotG1`] for a result [`verify_marked`] refuses; the grid is then as
+    /// it was before the first write.
+    pub(crate) fn finish(
+        &mut self,
+        grid: &mut Grid,
+        regulation: Regulation,
+        vertices: &[(usize, usize)],
+        poles: &[PoleEnd],
+        symmetry: Option<&Symmetry>,
+        hold: Option<&Hold>,
+    ) -> Result<usize, SurfaceError> {
+        let mut groups = 0;
+        if regulation != Regulation::None && (!vertices.is_empty() || !poles.is_empty()) {
+            for &end in poles {
+                if let Some(pole) = grid.pole(end) {
+                    for &id in std::iter::once(&pole.node).chain(&pole.ring) {
+                        self.keep(grid, id);
+                    }
+                }
+            }
+            groups = regulate::regulate(grid, regulation, vertices, poles, &mut self.projections);
+        }
+        if let Some(s) = symmetry {
+            if !s.fits(grid) {
+                self.rollback(grid);
+                return Err(other_grid());
+            }
+            for i in 0..self.changed.len() {
+                self.include(s.patch_partner(self.changed[i]));
+            }
+            self.changed.sort_unstable();
+            self.keep_included(grid);
+            let plane = s.plane();
+            let b = grid.bounds();
+            let scale = b
+                .min
+                .abs()
+                .max(b.max.abs())
+                .max_element()
+                .max(f64::MIN_POSITIVE);
+            let m = grid.patches_u();
+            let mut worst = 0.0f64;
+            self.scratch.clear();
+            for &p in &self.changed {
+                for id in grid.patch_node_ids(p % m, p / m) {
+                    let e = (plane.reflect(grid.nodes()[id]) - grid.nodes()[s.node_partner(id)])
+                        .length();
+                    worst = worst.max(e);
+                    self.scratch.push(id);
+                }
+            }
+            self.asymmetry = worst / scale;
+            let poles: &[PoleEnd] = if regulation == Regulation::None {
+                &[]
+            } else {
+                poles
+            };
+            let ids = std::mem::take(&mut self.scratch);
+            let enforced = s.enforce(grid, &ids, poles);
+            self.scratch = ids;
+            if let Err(e) = enforced {
+                self.rollback(grid);
+                return Err(SurfaceError::BadOp(e.to_string()));
+            }
+        }
+        if let Some(h) = hold {
+            grab::land(grid, h, symmetry);
+        }
+        self.changed.sort_unstable();
+        if let Err(e) = verify_marked(
+            grid,
+            &self.changed,
+            regulation,
+            &self.journal,
+            &mut self.verify_marks,
+        ) {
+            self.rollback(grid);
+            return Err(e);
+        }
+        grid.refit(&self.changed, &mut self.scratch);
+        Ok(groups)
+    }
+
+    /// Puts every journaled control point back (the boxes were not refitted yet, or are
+    /// refitted by the caller).
+    pub(crate) fn rollback(&mut self, grid: &mut Grid) {
+        let nodes = grid.nodes_mut();
+        for &(id, x) in &self.journal {
+            nodes[id] = x;
+        }
+    }
+
+    /// The included patches (sorted after [`Commit::finish`]).
+    #[must_use]
+    pub(crate) fn changed(&self) -> &[usize] {
+        &self.changed
+    }
+
+    /// Every node written, with its old position.
+    #[must_use]
+    pub(crate) fn journal(&self) -> &[(usize, DVec3)] {
+        &self.journal
+    }
+
+    /// How far the result was from symmetric before the mirror made it exact, relative to
+    /// the model's size (0 without a mirror).
+    #[must_use]
+    pub(crate) fn asymmetry(&self) -> f64 {
+        self.asymmetry
+    }
+}

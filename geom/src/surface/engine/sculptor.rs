@@ -1,0 +1,428 @@
+//! [`Sculptor`]: one operation of the shape functions at a time — a finger on the current grid
+//! ([`FingerField`]) run through [`displace`], then the [`Commit`] transaction.
+
+use glam::DVec3;
+
+use super::commit::Commit;
+use super::field::{DisplacementField, Envelope, displace};
+use super::marks::Marks;
+use crate::surface::bounds::Aabb;
+use crate::surface::error::SurfaceError;
+use crate::surface::grab::Hold;
+use crate::surface::grid::Grid;
+use crate::surface::group::PoleEnd;
+use crate::surface::mirror::{Plane, Symmetry};
+use crate::surface::nearest::nearest;
+use crate::surface::regulate::Regulation;
+use crate::surface::shape_fn::{Finger, Op};
+use crate::surface::smooth::{
+    EnergyDrop, HALVINGS, ThinPlateStep, energy_of, patch_energy, thin_plate_matrix,
+};
+use crate::surface::topology::wrap;
+use std::collections::HashMap;
+
+/// What one operation changed.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Touched {
+    /// Indices (`iv * M + iu`, increasing) of every patch whose control points may have
+    /// changed: the patches the finger moved and their neighbours through regulated groups.
+    pub patches: Vec<usize>,
+    /// How many patches the finger itself moved.
+    pub deformed: usize,
+    /// How many patches the box pyramid let through for sampling (at least `deformed`).
+    pub examined: usize,
+    /// How many groups and poles were regulated.
+    pub groups: usize,
+}
+
+/// Deforms grids; keeps the scratch buffers between operations so that an operation costs
+/// what it touches (reuse one `Sculptor` for a stream of operations).
+#[derive(Debug, Clone, Default)]
+pub struct Sculptor {
+    /// Nodes already moved by this operation's update (shared nodes move once).
+    written: Marks,
+    vertex_marks: Marks,
+    candidates: Vec<usize>,
+    updates: Vec<(usize, [DVec3; 16])>,
+    segments: Vec<usize>,
+    vertices: Vec<(usize, usize)>,
+    poles: Vec<PoleEnd>,
+    smoothing: ThinPlateStep,
+    commit: Commit,
+    last_energy: Option<EnergyDrop>,
+}
+
+/// One finger of the shape functions on the current grid, with its mirror image when there
+/// is a mirror plane (the two combined by the [`Envelope`]).
+struct FingerField<'a> {
+    finger: &'a Finger,
+    /// How far behind its tip the finger reaches ([`Finger::reach_depth`]).
+    depth: f64,
+    plane: Option<Plane>,
+    /// The finger's segments that may reach the patch at hand (one-sided only).
+    segments: &'a mut Vec<usize>,
+}
+
+impl DisplacementField for FingerField<'_> {
+    fn may_touch(&self, b: &Aabb) -> bool {
+        self.finger.may_touch(b, self.depth)
+            || self
+                .plane
+                .is_some_and(|pl| self.finger.may_touch(&pl.reflect_box(b), self.depth))
+    }
+
+    fn touches(&mut self, _patch: usize, bounds: &Aabb) -> bool {
+        self.plane.is_some() || self.finger.restricted_to(bounds, self.depth, self.segments)
+    }
+
+    fn flows(&mut self, _patch: usize, _bounds: &Aabb, r: &[DVec3; 16]) -> [DVec3; 16] {
+        std::array::from_fn(|k| match self.plane {
+            None => self.finger.flow_over(r[k], self.segments),
+            Some(pl) => {
+                let mut e = Envelope::default();
+                e.add(self.finger.flow(r[k]));
+                e.add(pl.reflect(self.finger.flow(pl.reflect(r[k]))));
+                e.flow()
+            }
+        })
+    }
+}
+
+/// Applies one operation to a grid with a fresh [`Sculptor`] (allocates buffers the size of
+/// the grid; use a `Sculptor` for a stream of operations).
+///
+/// # Errors
+/// [`SurfaceError::BadOp`] for an invalid operation; the grid is then unchanged.
+pub fn deform(grid: &mut Grid, op: &Op, regulation: Regulation) -> Result<Touched, SurfaceError> {
+    Sculptor::new().apply(grid, op, regulation)
+}
+
+impl Sculptor {
+    /// A sculptor with empty buffers.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A sculptor whose [`Regulation::Exact`] projects group by group, each group nearest to
+    /// the unregulated net in its own control points, instead of the default coupled
+    /// projection (every connected set of touched groups together, nearest in `∫|ΔS|²` over
+    /// the patches around them: [`crate::surface::regulate`]). Kept for comparison:
+    /// `nendo bench regulation` and `nendo bench sculpt` measure it next to the default.
+    #[must_use]
+    pub fn with_group_by_group_exact() -> Self {
+        let mut s = Self::default();
+        s.commit.projections.coupled = false;
+        s
+    }
+
+    /// Applies one operation: push, pull, draw a line (along a fixed direction, per-point
+    /// directions or the surface normals), move or smooth.
+    ///
+    /// # Errors
+    /// [`SurfaceError::BadOp`] for an invalid operation; [`SurfaceError::OutOfRange`] or
+    /// [`SurfaceError::NotG1`] for a result that is refused (see [`crate::surface::verify()`]).
+    /// The grid is then exactly as it was.
+    pub fn apply(
+        &mut self,
+        grid: &mut Grid,
+        op: &Op,
+        regulation: Regulation,
+    ) -> Result<Touched, SurfaceError> {
+        self.apply_with(grid, op, regulation, None)
+    }
+
+    /// Applies one operation together with its mirror image across the symmetry's plane, as
+    /// one operation: the two displacement fields combined by the engine's one envelope rule
+    /// (each sample moves by the stronger of the two flows; by their mean where they are
+    /// equally strong), regulated once, then made exactly symmetric ([`Symmetry::enforce`]);
+    /// a move lands both grabbed points, a smoothing stroke relaxes both regions.
+    ///
+    /// # Errors
+    /// As [`Sculptor::apply`]; [`SurfaceError::BadOp`] when the symmetry was made for a grid
+    /// of other patch counts.
+    pub fn apply_mirrored(
+        &mut self,
+        grid: &mut Grid,
+        op: &Op,
+        regulation: Regulation,
+        symmetry: &Symmetry,
+    ) -> Result<Touched, SurfaceError> {
+        if !symmetry.fits(grid) {
+            return Err(SurfaceError::BadOp(
+                "the mirror map was made for a grid of other patch counts".to_string(),
+            ));
+        }
+        self.apply_with(grid, op, regulation, Some(symmetry))
+    }
+
+    /// How far the last mirrored operation's result was from symmetric before it was made
+    /// exactly symmetric (relative to the model's size; 0 after an unmirrored operation).
+    #[must_use]
+    pub fn last_asymmetry(&self) -> f64 {
+        self.commit.asymmetry()
+    }
+
+    /// The thin-plate energy of the patches the last smoothing stroke touched, before and
+    /// after it (`None` until a smoothing stroke ran).
+    #[must_use]
+    pub fn last_energy(&self) -> Option<EnergyDrop> {
+        self.last_energy
+    }
+
+    fn apply_with(
+        &mut self,
+        grid: &mut Grid,
+        op: &Op,
+        regulation: Regulation,
+        symmetry: Option<&Symmetry>,
+    ) -> Result<Touched, SurfaceError> {
+        op.validate()?;
+        self.commit.begin(grid);
+        match op {
+            Op::Move { at, to, radius } => {
+                let near = nearest(grid, *at)
+                    .ok_or_else(|| SurfaceError::BadOp("no surface point to grab".to_string()))?;
+                let finger = Finger::ball(near.point, *to - near.point, *radius);
+                let hold = Hold {
+                    patch: near.patch,
+                    u: near.u,
+                    v: near.v,
+                    to: *to,
+                };
+                self.apply_field(grid, &finger, regulation, symmetry, Some(hold))
+            }
+            Op::Smooth {
+                at,
+                radius,
+                strength,
+            } => self.apply_smooth(grid, *at, *radius, *strength, regulation, symmetry),
+            _ => {
+                let finger = op.finger_on(grid)?;
+                self.apply_field(grid, &finger, regulation, symmetry, None)
+            }
+        }
+    }
+
+    /// Applies a validated finger.
+    ///
+    /// # Errors
+    /// [`SurfaceError::OutOfRange`] or [`SurfaceError::NotG1`] (see
+    /// [`crate::surface::verify()`]); the grid is then exactly as it was.
+    pub fn apply_finger(
+        &mut self,
+        grid: &mut Grid,
+        finger: &Finger,
+        regulation: Regulation,
+    ) -> Result<Touched, SurfaceError> {
+        self.apply_field(grid, finger, regulation, None, None)
+    }
+
+    fn apply_field(
+        &mut self,
+        grid: &mut Grid,
+        finger: &Finger,
+        regulation: Regulation,
+        symmetry: Option<&Symmetry>,
+        hold: Option<Hold>,
+    ) -> Result<Touched, SurfaceError> {
+        let mut field = FingerField {
+            finger,
+            depth: finger.reach_depth(&grid.bounds()),
+            plane: symmetry.map(Symmetry::plane),
+            segments: &mut self.segments,
+        };
+        // 1. Reach (and the mirror image's).
+        self.candidates.clear();
+        grid.hierarchy()
+            .query(&|b| field.may_touch(b), &mut self.candidates);
+        // 2–3. Flows and control-point updates, from the unchanged net.
+        self.updates.clear();
+        let updates = &mut self.updates;
+        displace(grid, &self.candidates, &mut field, |p, delta| {
+            if let Some(delta) = delta {
+                updates.push((p, delta));
+            }
+        });
+        // A move lands on its grabbed patch (and its mirror image's) even where the falloff
+        // moved none of its samples.
+        if let Some(h) = &hold {
+            let mut held = vec![h.patch];
+            if let Some(s) = symmetry {
+                held.push(s.patch_partner(h.patch));
+            }
+            for p in held {
+                if !self.updates.iter().any(|(q, _)| *q == p) {
+                    self.updates.push((p, [DVec3::ZERO; 16]));
+                }
+            }
+        }
+        let examined = self.candidates.len();
+        self.commit_updates(grid, regulation, symmetry, hold.as_ref(), examined)
+    }
+
+    /// Writes the updates in `self.updates` and commits them: the groups around the moved
+    /// patches regulated, the mirror, the move's landing, verification (restoring the grid
+    /// on a refusal), boxes.
+    fn commit_updates(
+        &mut self,
+        grid: &mut Grid,
+        regulation: Regulation,
+        symmetry: Option<&Symmetry>,
+        hold: Option<&Hold>,
+        examined: usize,
+    ) -> Result<Touched, SurfaceError> {
+        let (m, n) = (grid.patches_u(), grid.patches_v());
+        let topology = grid.topology();
+        let nodes_changed = !self.updates.is_empty();
+        let deformed = self.updates.len();
+        self.commit.begin(grid);
+        for (p, _) in &self.updates {
+            self.commit.include(*p);
+        }
+        // The groups around the moved patches, and every patch their regulation (or a move's
+        // landing) may change.
+        let regulating = nodes_changed && regulation != Regulation::None;
+        self.vertices.clear();
+        self.poles.clear();
+        if regulating || (nodes_changed && hold.is_some()) {
+            self.collect_groups(grid);
+            for &(k, q) in &self.vertices {
+                for (du, dv) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let Some(iu) = wrap(k as isize - du, m, topology.closed_u()) else {
+                        continue;
+                    };
+                    let Some(iv) = wrap(q as isize - dv, n, topology.closed_v()) else {
+                        continue;
+                    };
+                    self.commit.include(iv * m + iu);
+                }
+            }
+            for &end in &self.poles {
+                let iv = if end == PoleEnd::Start { 0 } else { n - 1 };
+                for iu in 0..m {
+                    self.commit.include(iv * m + iu);
+                }
+            }
+        }
+        // Everything that may change, kept aside to restore on a refusal, then the update.
+        self.commit.keep_included(grid);
+        self.written.start(grid.nodes().len());
+        {
+            let shape = grid.shape();
+            let nodes = grid.nodes_mut();
+            for (p, delta) in &self.updates {
+                let (iu, iv) = (p % m, p / m);
+                for i in 0..4 {
+                    for j in 0..4 {
+                        let id = shape.local_id(iu, iv, i, j);
+                        if self.written.mark(id) {
+                            nodes[id] += delta[4 * i + j];
+                        }
+                    }
+                }
+            }
+        }
+        let (vertices, poles): (&[(usize, usize)], &[PoleEnd]) = if regulating {
+            (&self.vertices, &self.poles)
+        } else {
+            (&[], &[])
+        };
+        let groups = self
+            .commit
+            .finish(grid, regulation, vertices, poles, symmetry, hold)?;
+        Ok(Touched {
+            patches: self.commit.changed().to_vec(),
+            deformed,
+            examined,
+            groups,
+        })
+    }
+
+    /// A smoothing stroke (see [`crate::surface::smooth`]).
+    fn apply_smooth(
+        &mut self,
+        grid: &mut Grid,
+        at: DVec3,
+        radius: f64,
+        strength: f64,
+        regulation: Regulation,
+        symmetry: Option<&Symmetry>,
+    ) -> Result<Touched, SurfaceError> {
+        let h = thin_plate_matrix();
+        let centres: Vec<DVec3> = std::iter::once(at)
+            .chain(symmetry.map(|s| s.plane().reflect(at)))
+            .collect();
+        let mut step = strength;
+        let mut last = EnergyDrop::default();
+        for halvings in 0..=HALVINGS {
+            self.smoothing
+                .updates(grid, &h, &centres, radius, step, &mut self.updates);
+            if self.updates.is_empty() {
+                break;
+            }
+            let examined = self.smoothing.candidates.len();
+            let touched = self.commit_updates(grid, regulation, symmetry, None, examined)?;
+            let after = energy_of(grid, &touched.patches);
+            let before = {
+                let old: HashMap<usize, DVec3> = self.commit.journal().iter().copied().collect();
+                let m = grid.patches_u();
+                touched
+                    .patches
+                    .iter()
+                    .map(|&p| {
+                        let pts = grid
+                            .patch_node_ids(p % m, p / m)
+                            .map(|id| old.get(&id).copied().unwrap_or(grid.nodes()[id]));
+                        patch_energy(&h, &pts)
+                    })
+                    .sum::<f64>()
+            };
+            last = EnergyDrop {
+                before,
+                after: before,
+                halvings,
+            };
+            if after < before {
+                last.after = after;
+                self.last_energy = Some(last);
+                return Ok(touched);
+            }
+            self.commit.rollback(grid);
+            grid.refit(&touched.patches, &mut self.candidates);
+            step *= 0.5;
+        }
+        // Nothing in reach, or no step the regulation kept lowered the energy: no change.
+        self.last_energy = Some(last);
+        Ok(Touched::default())
+    }
+
+    /// The grid vertices at the corners of the moved patches (deduplicated, in a fixed
+    /// order), and the poles they touch.
+    fn collect_groups(&mut self, grid: &Grid) {
+        let m = grid.patches_u();
+        let vu = grid.vertices_u();
+        let vv = grid.vertices_v();
+        self.vertex_marks.start(vu * vv);
+        self.vertices.clear();
+        self.poles.clear();
+        for (p, _) in &self.updates {
+            let (iu, iv) = (p % m, p / m);
+            for (du, dv) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let k = (iu + du) % vu;
+                let q = (iv + dv) % vv;
+                if grid.is_pole_line(q) {
+                    let end = if q == 0 { PoleEnd::Start } else { PoleEnd::End };
+                    if !self.poles.contains(&end) {
+                        self.poles.push(end);
+                    }
+                    continue;
+                }
+                if self.vertex_marks.mark(q * vu + k) {
+                    self.vertices.push((k, q));
+                }
+            }
+        }
+        self.poles.sort_unstable_by_key(|e| *e == PoleEnd::End);
+    }
+}

@@ -1,0 +1,23 @@
+//! The limits every surface result is held to: how large a coordinate may grow, and how much
+//! crease the exact regulation may leave. The bottom of the surface module: the grid refuses
+//! nets beyond the first, [`super::verify`] refuses operations beyond either.
+
+/// The largest absolute value a control-point coordinate may take (10³⁰).
+///
+/// Every surface point is a convex combination of control points, so the whole surface lies
+/// within it, and every mesh a surface is written as (OBJ, STL and GLB are made from the
+/// tessellation's `f32` vertices, whose largest value is ≈ 3.4 · 10³⁸) stays finite, with eight
+/// orders of magnitude to spare for scaling on export. Every product the geometry forms in
+/// `f64` stays finite far below `f64::MAX` ≈ 1.8 · 10³⁰⁸: the mesher's and the measures'
+/// normals are cross products of derivative differences (≈ 10⁶² · small constants) whose
+/// squared lengths reach ≈ 10¹²⁵; the pole regulation's plane fit and its eigen solve square
+/// ring offsets' outer products (≈ 10¹²³). Operations whose result would exceed it are refused
+/// ([`SurfaceError::OutOfRange`](super::SurfaceError::OutOfRange)); grids read from files beyond it are refused by
+/// [`Grid::from_net`](super::Grid::from_net) / [`Grid::from_patches`](super::Grid::from_patches).
+pub const COORDINATE_LIMIT: f64 = 1e30;
+
+/// The largest crease (degrees) [`Regulation::Exact`](super::Regulation::Exact) may leave along an edge of a touched
+/// patch: exact regulation holds G1 to rounding (≈ 10⁻¹²°), so anything above 10⁻⁶° means the
+/// construction failed (e.g. a pole's tangent plane folded the first ring) and the operation
+/// is refused ([`SurfaceError::NotG1`](super::SurfaceError::NotG1)).
+pub const G1_TOLERANCE_DEG: f64 = 1e-6;

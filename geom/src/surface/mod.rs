@@ -49,7 +49,7 @@ pub mod verify;
 
 pub use bounds::Aabb;
 pub use continuity::{ContinuityReport, PoleReport};
-pub use engine::{Placement, Presser, Sculptor, Stroke, Touched, deform, describe};
+pub use engine::{LiveOperation, Placement, Presser, Sculptor, Stroke, Touched, deform, describe};
 pub use error::{SurfaceError, UnknownName};
 pub use grab::Hold;
 pub use grid::Grid;

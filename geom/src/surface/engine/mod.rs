@@ -18,16 +18,19 @@
 //!
 //! Two drivers share it: [`Sculptor`] applies one shape-function operation (a finger on the
 //! current grid), [`Presser`] one contact of the hand (a memoised envelope of placements on
-//! the contact's reference grid, re-applied incrementally frame by frame). Everything runs in
+//! the contact's reference grid, re-applied incrementally frame by frame); [`LiveOperation`]
+//! shows one operation live (a pinch, a stroke), re-applied to its start each time it changes. Everything runs in
 //! a fixed order on plain `f64` arithmetic: the same operation applied to the same grid gives
 //! bit-identical results, and an operation and the same contact give the same grid.
 
 mod commit;
 mod field;
+mod live;
 mod marks;
 mod presser;
 mod sculptor;
 
+pub use live::LiveOperation;
 pub(crate) use marks::Marks;
 pub use presser::{Placement, Presser, Stroke, describe};
 pub use sculptor::{Sculptor, Touched, deform};

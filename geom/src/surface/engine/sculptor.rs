@@ -163,6 +163,11 @@ impl Sculptor {
         self.commit.asymmetry()
     }
 
+    /// `(node, old position)` of every control point the last operation wrote, each once.
+    pub(crate) fn journal(&self) -> &[(usize, DVec3)] {
+        self.commit.journal()
+    }
+
     /// The thin-plate energy of the patches the last smoothing stroke touched, before and
     /// after it (`None` until a smoothing stroke ran).
     #[must_use]

@@ -14,7 +14,8 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::tessellate::{PatchPoints, TriMesh, patch_normal, position_key};
+use super::tessellate::{PatchPoints, patch_normal};
+use super::trimesh::{TriMesh, position_key};
 
 /// Per-vertex seam angle in degrees: for a vertex on a patch boundary, the largest angle
 /// between its patch's exact normal and the exact normal of any coincident vertex of another

@@ -1,8 +1,9 @@
 //! Triangle meshes of the exact surface: tessellation within a chosen tolerance, the G1 error
 //! along seams per vertex, and ray picking refined on the exact patches.
 //!
-//! It works on plain bicubic patches ([`PatchPoints`], 16 control points each) and uses nothing
-//! but [`crate::curve`] and glam; the renderer and the exporters (in the `nendo` crate) both
+//! It works on plain bicubic patches ([`PatchPoints`], 16 control points each), evaluated by
+//! the one patch evaluator [`crate::surface::patch`], and uses nothing else but
+//! [`crate::curve`] and glam; the renderer and the exporters (in the `nendo` crate) both
 //! draw on it, so what the window shows is what a file gets.
 //!
 //! The parts: `tessellate` (the entry points and a patch's vertices), `plan` (segment counts

@@ -16,9 +16,9 @@ use super::plan::estimate;
 use super::plan::{MeshSize, Plan, Tessellation};
 use super::trimesh::{PatchBlock, TriMesh};
 use crate::curve::bernstein;
+use crate::surface::patch::{Patch, VLine, cubic_basis, cubic_basis_derivative};
 
-/// A bicubic Bezier patch: 16 control points `P[4*i + j]`, `i` along `u`, `j` along `v`.
-pub type PatchPoints = [DVec3; 16];
+pub use crate::surface::patch::PatchPoints;
 
 /// Why [`try_tessellate`] refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -127,87 +127,31 @@ pub(super) fn build_with_bounds(patches: &[PatchPoints], plan: &Plan) -> (TriMes
     (mesh, bounds)
 }
 
-/// Cubic Bernstein basis values and derivatives at `t`.
-#[inline]
-fn cubic_basis(t: f64) -> ([f64; 4], [f64; 4]) {
-    let s = 1.0 - t;
-    let b = [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t];
-    let d = [
-        -3.0 * s * s,
-        3.0 * s * s - 6.0 * t * s,
-        6.0 * t * s - 3.0 * t * t,
-        3.0 * t * t,
-    ];
-    (b, d)
-}
-
-/// Point and partial derivatives `(S, S_u, S_v)` of a patch at `(u, v)`.
+/// Point and partial derivatives `(S, S_u, S_v)` of a patch at `(u, v)`: [`Patch::frame`].
 #[must_use]
 pub fn eval_patch(p: &PatchPoints, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
-    let (bu, du) = cubic_basis(u);
-    let (bv, dv) = cubic_basis(v);
-    let mut s = DVec3::ZERO;
-    let mut su = DVec3::ZERO;
-    let mut sv = DVec3::ZERO;
-    for i in 0..4 {
-        for j in 0..4 {
-            let q = p[4 * i + j];
-            s += q * (bu[i] * bv[j]);
-            su += q * (du[i] * bv[j]);
-            sv += q * (bu[i] * dv[j]);
-        }
-    }
-    (s, su, sv)
+    let f = Patch::new(*p).frame(u, v);
+    (f.point, f.du, f.dv)
 }
 
-/// The mixed derivative `S_uv` of a patch at `(u, v)`.
-fn eval_twist(p: &PatchPoints, u: f64, v: f64) -> DVec3 {
-    let (_, du) = cubic_basis(u);
-    let (_, dv) = cubic_basis(v);
-    let mut suv = DVec3::ZERO;
-    for i in 0..4 {
-        for j in 0..4 {
-            suv += p[4 * i + j] * (du[i] * dv[j]);
-        }
-    }
-    suv
-}
-
-/// Unit normal of a patch at `(u, v)`. On a collapsed boundary (a pole, where `S_u` or `S_v`
-/// vanishes) it is the exact limit from inside the patch: there `S_u ≈ (v − v₀) S_uv`, so the
-/// normal is along `±S_uv × S_v` (and likewise for a collapsed column). At any other singular
-/// point, the normal of a point nudged towards the patch centre.
+/// Unit normal of a patch at `(u, v)`: [`Patch::normal`] (on a collapsed boundary, a pole, the
+/// limit from inside the patch), and where the patch has no normal the mesh's fallback,
+/// [`fallback_normal`].
 #[must_use]
 pub fn patch_normal(p: &PatchPoints, u: f64, v: f64) -> DVec3 {
-    let (_, su, sv) = eval_patch(p, u, v);
-    let n = su.cross(sv);
-    let scale = su.length_squared().max(sv.length_squared());
-    if n.length_squared() > 1e-20 * scale * scale && scale > 0.0 {
-        return n.normalize();
-    }
-    let size = p
-        .iter()
-        .fold(0.0f64, |m, q| m.max((*q - p[0]).length_squared()));
-    let tiny = 1e-18 * size;
-    let limit = if su.length_squared() <= tiny && sv.length_squared() > tiny {
-        let sign = if v < 0.5 { 1.0 } else { -1.0 };
-        eval_twist(p, u, v).cross(sv) * sign
-    } else if sv.length_squared() <= tiny && su.length_squared() > tiny {
-        let sign = if u < 0.5 { 1.0 } else { -1.0 };
-        su.cross(eval_twist(p, u, v)) * sign
-    } else {
-        DVec3::ZERO
-    };
-    if let Some(n) = limit.try_normalize() {
-        return n;
-    }
-    for nudge in [1e-6, 1e-4, 1e-2] {
-        let (_, su, sv) = eval_patch(p, u + nudge * (0.5 - u), v + nudge * (0.5 - v));
-        if let Some(n) = su.cross(sv).try_normalize() {
-            return n;
-        }
-    }
-    DVec3::Z
+    let patch = Patch::new(*p);
+    patch
+        .normal(u, v)
+        .unwrap_or_else(|| fallback_normal(&patch))
+}
+
+/// The normal a mesh vertex takes where its patch has none ([`Patch::normal`] is `None`: the
+/// patch is degenerate there beyond a collapsed edge, folded onto itself or shrunk to a
+/// curve): the normal at the patch's centre, or `+Z` when the patch has none there either
+/// (a patch that is a curve or a point). A vertex needs some unit vector; this one is
+/// never used where the surface has a tangent plane.
+fn fallback_normal(patch: &Patch) -> DVec3 {
+    patch.normal(0.5, 0.5).unwrap_or(DVec3::Z)
 }
 
 /// Appends one patch's vertices and triangles.
@@ -255,23 +199,20 @@ pub(super) fn write_patch_vertices(
             k => bernstein::eval(edge, f64::from(k) / f64::from(m)),
         }
     };
-    let bv: Vec<([f64; 4], [f64; 4])> = (0..=m_v)
-        .map(|l| cubic_basis(f64::from(l) / f64::from(m_v)))
+    let patch = Patch::new(*p);
+    let size = patch.size();
+    // The patch along each grid line v = l / m_v: half of every vertex's evaluation, shared
+    // by the vertices of the line (the same bits as `Patch::frame`).
+    let lines: Vec<VLine> = (0..=m_v)
+        .map(|l| patch.v_line(f64::from(l) / f64::from(m_v)))
         .collect();
     for k in 0..=m_u {
         let u = f64::from(k) / f64::from(m_u);
-        let (bu, du) = cubic_basis(u);
-        // Rows of the patch restricted to this u: C_j(u) and their u-derivatives.
-        let mut c = [DVec3::ZERO; 4];
-        let mut d = [DVec3::ZERO; 4];
-        for j in 0..4 {
-            for i in 0..4 {
-                c[j] += p[4 * i + j] * bu[i];
-                d[j] += p[4 * i + j] * du[i];
-            }
-        }
-        for (l, (bvl, dvl)) in bv.iter().enumerate() {
+        let (bu, du) = (cubic_basis(u), cubic_basis_derivative(u));
+        for (l, line) in lines.iter().enumerate() {
             let l = l as u32;
+            let v = f64::from(l) / f64::from(m_v);
+            let frame = line.frame(&bu, &du);
             let position = if l == 0 {
                 on_edge(&e_v0, k, m_u)
             } else if l == m_v {
@@ -281,17 +222,11 @@ pub(super) fn write_patch_vertices(
             } else if k == m_u {
                 on_edge(&e_u1, l, m_v)
             } else {
-                c[0] * bvl[0] + c[1] * bvl[1] + c[2] * bvl[2] + c[3] * bvl[3]
+                frame.point
             };
-            let su = d[0] * bvl[0] + d[1] * bvl[1] + d[2] * bvl[2] + d[3] * bvl[3];
-            let sv = c[0] * dvl[0] + c[1] * dvl[1] + c[2] * dvl[2] + c[3] * dvl[3];
-            let n = su.cross(sv);
-            let scale = su.length_squared().max(sv.length_squared());
-            let normal = if scale > 0.0 && n.length_squared() > 1e-20 * scale * scale {
-                n.normalize()
-            } else {
-                patch_normal(p, u, f64::from(l) / f64::from(m_v))
-            };
+            let normal = patch
+                .normal_at(&frame, u, v, size)
+                .unwrap_or_else(|| fallback_normal(&patch));
             positions[slot] = position.as_vec3();
             normals[slot] = normal.as_vec3();
             slot += 1;
@@ -489,5 +424,41 @@ mod tests {
             welded.triangle_count(),
             mesh.triangle_count() - b.m_u as usize
         );
+    }
+
+    #[test]
+    fn every_vertex_normal_is_the_patch_normal() {
+        use crate::surface::{Primitive, PrimitiveParams};
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut sets: Vec<Vec<PatchPoints>> =
+            (0..5).map(|_| vec![random_patch(&mut rng)]).collect();
+        for primitive in [Primitive::Sphere, Primitive::Tube] {
+            sets.push(
+                primitive
+                    .build(&PrimitiveParams::default())
+                    .unwrap()
+                    .patches(),
+            );
+        }
+        for patches in &sets {
+            let mesh = tessellate(patches, &Tessellation::DISPLAY);
+            for b in &mesh.blocks {
+                let patch = Patch::new(patches[b.patch as usize]);
+                for v in b.first_vertex..b.first_vertex + b.vertex_count() {
+                    let (u, w) = b.uv_of(v);
+                    let want = patch.normal(u, w).expect("a normal").as_vec3();
+                    assert_eq!(mesh.normals[v as usize], want, "({u}, {w})");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_patch_shrunk_to_a_curve_takes_the_explicit_fallback_normal() {
+        let p: PatchPoints = std::array::from_fn(|k| DVec3::new((k / 4 + k % 4) as f64, 0.0, 1.0));
+        assert_eq!(Patch::new(p).normal(0.3, 0.6), None);
+        let mesh = tessellate(&[p], &Tessellation::DISPLAY);
+        assert!(mesh.normals.iter().all(|n| *n == Vec3::Z));
+        assert_eq!(patch_normal(&p, 0.3, 0.6), DVec3::Z);
     }
 }

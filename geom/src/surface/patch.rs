@@ -1,10 +1,27 @@
 //! One bicubic Bezier patch: `S(u,v) = Σ_i Σ_j B_i³(u) B_j³(v) P[4i + j]`, `i` along `u`, `j`
-//! along `v`, `(u, v) ∈ [0,1]²`.
+//! along `v`, `(u, v) ∈ [0,1]²`: the one evaluator of points, derivatives and normals that the
+//! surface code and the mesher ([`crate::mesh`]) share.
 //!
+//! ## The normal, and where there is none
 //! The normal is `unit(S_u × S_v)`. Where a boundary row is collapsed into one point (a pole)
 //! `S_u` vanishes along it, and the normal there is the limit from inside the patch: near a
 //! collapsed row `v = v₀`, `S_u(u,v) ≈ (v − v₀) S_uv(u,v₀)`, so the normal is
 //! `± unit(S_uv × S_v)` with the sign of `v − v₀` (and likewise for a collapsed column).
+//!
+//! One degeneracy rule decides which case a point is ([`Patch::normal`]), with `size` the
+//! diagonal of the control points' bounding box:
+//!
+//! 1. a derivative **vanishes** when its length is at most `1e-9 · size`;
+//! 2. two vectors `a, b` **span a plane** when `|a × b| > 1e-10 |a| |b|` (they are more than
+//!    10⁻¹⁰ rad from parallel);
+//! 3. neither `S_u` nor `S_v` vanishes and they span a plane: the tangent plane is defined,
+//!    the normal is `unit(S_u × S_v)`;
+//! 4. exactly one of them vanishes (a collapsed row or column, a pole): the limit normal
+//!    above, if `S_uv` and the other derivative span a plane;
+//! 5. otherwise (both vanish, they are parallel, or no limit exists): the normal of the point
+//!    moved `10⁻⁶` towards the patch centre in `u` and `v`, if its derivatives span a plane;
+//! 6. otherwise there is no normal: `None`. A caller that needs a vector anyway (a mesh
+//!    vertex) chooses its fallback itself, where it calls.
 
 use glam::DVec3;
 
@@ -31,6 +48,30 @@ pub struct PatchFrame {
     pub dv: DVec3,
     /// `∂²S/∂u∂v`.
     pub duv: DVec3,
+}
+
+/// A patch restricted to one parameter line `v`: the control points
+/// `R_i(v) = Σ_j B_j³(v) P[4i + j]` of the cubic `u ↦ S(u, v)` and those of `u ↦ S_v(u, v)`.
+/// Points along the line share this half of the work ([`Patch::v_line`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct VLine {
+    rows: [DVec3; 4],
+    rows_dv: [DVec3; 4],
+}
+
+impl VLine {
+    /// The frame at the `u` whose basis values are `bu = cubic_basis(u)` and
+    /// `du = cubic_basis_derivative(u)`: `Σ_i B_i(u) R_i`, `Σ_i B_i'(u) R_i`, `Σ_i B_i(u) R_i'`,
+    /// `Σ_i B_i'(u) R_i'`.
+    #[must_use]
+    pub(crate) fn frame(&self, bu: &[f64; 4], du: &[f64; 4]) -> PatchFrame {
+        PatchFrame {
+            point: combine(self.rows, *bu, true),
+            du: combine(self.rows, *du, false),
+            dv: combine(self.rows_dv, *bu, true),
+            duv: combine(self.rows_dv, *du, false),
+        }
+    }
 }
 
 /// Cubic Bernstein values `B_0..B_3` at `t`.
@@ -98,9 +139,15 @@ impl Patch {
     /// The point, `S_u`, `S_v` and `S_uv` at `(u, v)`.
     #[must_use]
     pub fn frame(&self, u: f64, v: f64) -> PatchFrame {
-        let bu = cubic_basis(u);
+        self.v_line(v)
+            .frame(&cubic_basis(u), &cubic_basis_derivative(u))
+    }
+
+    /// The patch restricted to the parameter line `v`, for evaluating many points on it
+    /// ([`VLine::frame`] gives the same bits as [`Patch::frame`]).
+    #[must_use]
+    pub(crate) fn v_line(&self, v: f64) -> VLine {
         let bv = cubic_basis(v);
-        let du = cubic_basis_derivative(u);
         let dv = cubic_basis_derivative(v);
         let mut rows = [DVec3::ZERO; 4];
         let mut rows_dv = [DVec3::ZERO; 4];
@@ -108,12 +155,7 @@ impl Patch {
             rows[i] = combine(self.row(i), bv, true);
             rows_dv[i] = combine(self.row(i), dv, false);
         }
-        PatchFrame {
-            point: combine(rows, bu, true),
-            du: combine(rows, du, false),
-            dv: combine(rows_dv, bu, true),
-            duv: combine(rows_dv, du, false),
-        }
+        VLine { rows, rows_dv }
     }
 
     #[inline]
@@ -127,16 +169,22 @@ impl Patch {
     }
 
     /// The unit normal `unit(S_u × S_v)` at `(u, v)`, with the limit taken along collapsed
-    /// rows and columns (see the module docs). `None` where the surface has no tangent plane
-    /// (both derivatives vanish, or they are parallel and no limit exists).
+    /// rows and columns; `None` where the surface has no tangent plane. The module docs state
+    /// the rule.
     #[must_use]
     pub fn normal(&self, u: f64, v: f64) -> Option<DVec3> {
-        let f = self.frame(u, v);
-        let scale = self.size();
-        if scale.is_nan() || scale <= 0.0 {
+        self.normal_at(&self.frame(u, v), u, v, self.size())
+    }
+
+    /// [`Patch::normal`] at `(u, v)` from the frame there (`f == self.frame(u, v)`) and the
+    /// patch's [`Patch::size`], for a caller that has both already (the mesher evaluates the
+    /// frame of every vertex anyway, and the size once per patch).
+    #[must_use]
+    pub(crate) fn normal_at(&self, f: &PatchFrame, u: f64, v: f64, size: f64) -> Option<DVec3> {
+        if size.is_nan() || size <= 0.0 {
             return None;
         }
-        let tiny = 1e-9 * scale;
+        let tiny = 1e-9 * size;
         let lu = f.du.length();
         let lv = f.dv.length();
         if lu > tiny && lv > tiny {

@@ -16,7 +16,7 @@ use super::trimesh::TriMesh;
 /// updates since left it.
 ///
 /// The counts of a patch come from the largest own count of its tied class (a row or column
-/// of the grid, see [`super::edges`]). After an update the own counts of the changed patches
+/// of the grid, tied through the edges its patches share). After an update the own counts of the changed patches
 /// are measured again and the maxima of their classes recomputed; if any class's count
 /// changes, the block layout changes with it: the whole mesh is rebuilt
 /// ([`MeshUpdate::Rebuilt`]) — or, when the caller asks to keep the counts (a live stroke,

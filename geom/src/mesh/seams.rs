@@ -1,7 +1,7 @@
 //! The G1 error along patch seams, per mesh vertex, for the heat map.
 //!
 //! Where patches meet, the tessellation puts bit-identical vertices on both sides of the seam
-//! (see [`super::tessellate`]). At each such vertex the angle between the two patches' exact
+//! (see [`super::tessellate()`]). At each such vertex the angle between the two patches' exact
 //! normals — evaluated again in `f64` from the patches at the vertex's parameters, not the
 //! single-precision normals the mesh carries — is the G1 error of SPEC §9 sampled at the mesh's
 //! seam vertices; at a pole the largest angle among all the patches around it is the spread of

@@ -136,7 +136,7 @@ pub fn eval_patch(p: &PatchPoints, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
 
 /// Unit normal of a patch at `(u, v)`: [`Patch::normal`] (on a collapsed boundary, a pole, the
 /// limit from inside the patch), and where the patch has no normal the mesh's fallback,
-/// [`fallback_normal`].
+/// the normal at the patch centre, else `+Z`.
 #[must_use]
 pub fn patch_normal(p: &PatchPoints, u: f64, v: f64) -> DVec3 {
     let patch = Patch::new(*p);

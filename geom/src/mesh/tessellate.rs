@@ -16,7 +16,7 @@ use super::plan::estimate;
 use super::plan::{MeshSize, Plan, Tessellation};
 use super::trimesh::{PatchBlock, TriMesh};
 use crate::curve::bernstein;
-use crate::surface::patch::{Patch, VLine, cubic_basis, cubic_basis_derivative};
+use crate::surface::patch::{Patch, VLine, cubic_basis, cubic_basis_derivative, regular_normal};
 
 pub use crate::surface::patch::PatchPoints;
 
@@ -212,7 +212,7 @@ pub(super) fn write_patch_vertices(
         for (l, line) in lines.iter().enumerate() {
             let l = l as u32;
             let v = f64::from(l) / f64::from(m_v);
-            let frame = line.frame(&bu, &du);
+            let (point, su, sv) = line.tangents(&bu, &du);
             let position = if l == 0 {
                 on_edge(&e_v0, k, m_u)
             } else if l == m_v {
@@ -222,10 +222,11 @@ pub(super) fn write_patch_vertices(
             } else if k == m_u {
                 on_edge(&e_u1, l, m_v)
             } else {
-                frame.point
+                point
             };
-            let normal = patch
-                .normal_at(&frame, u, v, size)
+            // `Patch::normal`, its regular case taken from the derivatives at hand.
+            let normal = regular_normal(su, sv, size)
+                .or_else(|| patch.normal(u, v))
                 .unwrap_or_else(|| fallback_normal(&patch));
             positions[slot] = position.as_vec3();
             normals[slot] = normal.as_vec3();

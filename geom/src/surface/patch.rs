@@ -60,6 +60,17 @@ pub(crate) struct VLine {
 }
 
 impl VLine {
+    /// `(S, S_u, S_v)` at the `u` whose basis values are `bu` and `du`: [`VLine::frame`]
+    /// without the mixed derivative, the same bits.
+    #[must_use]
+    pub(crate) fn tangents(&self, bu: &[f64; 4], du: &[f64; 4]) -> (DVec3, DVec3, DVec3) {
+        (
+            combine(self.rows, *bu, true),
+            combine(self.rows, *du, false),
+            combine(self.rows_dv, *bu, true),
+        )
+    }
+
     /// The frame at the `u` whose basis values are `bu = cubic_basis(u)` and
     /// `du = cubic_basis_derivative(u)`: `Σ_i B_i(u) R_i`, `Σ_i B_i'(u) R_i`, `Σ_i B_i(u) R_i'`,
     /// `Σ_i B_i'(u) R_i'`.
@@ -104,6 +115,30 @@ fn combine(x: [DVec3; 4], w: [f64; 4], partition: bool) -> DVec3 {
         return if partition { x[0] } else { DVec3::ZERO };
     }
     x[0] * w[0] + x[1] * w[1] + x[2] * w[2] + x[3] * w[3]
+}
+
+/// `a × b` when `a` and `b` (of lengths `la`, `lb`) span a plane, `|a × b| > 1e-10 |a| |b|`
+/// (rule 2 of the module docs).
+#[inline]
+fn spanned(a: DVec3, b: DVec3, la: f64, lb: f64) -> Option<DVec3> {
+    let n = a.cross(b);
+    (n.length() > 1e-10 * la * lb).then_some(n)
+}
+
+/// Rule 3 of the module docs alone, for a caller that evaluates many points of one patch (the
+/// mesher): from the derivatives `S_u`, `S_v` at a point and the patch's [`Patch::size`],
+/// `unit(S_u × S_v)` where the tangent plane is defined — the bits [`Patch::normal`] returns
+/// there — and `None` where the rest of the rule must decide: ask [`Patch::normal`].
+#[inline]
+#[must_use]
+pub(crate) fn regular_normal(du: DVec3, dv: DVec3, size: f64) -> Option<DVec3> {
+    let tiny = 1e-9 * size;
+    let (lu, lv) = (du.length(), dv.length());
+    if lu > tiny && lv > tiny {
+        spanned(du, dv, lu, lv)?.try_normalize()
+    } else {
+        None
+    }
 }
 
 impl Patch {
@@ -173,14 +208,8 @@ impl Patch {
     /// the rule.
     #[must_use]
     pub fn normal(&self, u: f64, v: f64) -> Option<DVec3> {
-        self.normal_at(&self.frame(u, v), u, v, self.size())
-    }
-
-    /// [`Patch::normal`] at `(u, v)` from the frame there (`f == self.frame(u, v)`) and the
-    /// patch's [`Patch::size`], for a caller that has both already (the mesher evaluates the
-    /// frame of every vertex anyway, and the size once per patch).
-    #[must_use]
-    pub(crate) fn normal_at(&self, f: &PatchFrame, u: f64, v: f64, size: f64) -> Option<DVec3> {
+        let f = self.frame(u, v);
+        let size = self.size();
         if size.is_nan() || size <= 0.0 {
             return None;
         }
@@ -188,35 +217,27 @@ impl Patch {
         let lu = f.du.length();
         let lv = f.dv.length();
         if lu > tiny && lv > tiny {
-            let n = f.du.cross(f.dv);
-            if n.length() > 1e-10 * lu * lv {
+            if let Some(n) = spanned(f.du, f.dv, lu, lv) {
                 return n.try_normalize();
             }
         } else if lu <= tiny && lv > tiny {
             // Collapsed row: S_u ≈ (v − v₀) S_uv.
             let sign = if v < 0.5 { 1.0 } else { -1.0 };
-            let n = f.duv.cross(f.dv) * sign;
-            if n.length() > 1e-10 * f.duv.length() * lv {
-                return n.try_normalize();
+            if let Some(n) = spanned(f.duv, f.dv, f.duv.length(), lv) {
+                return (n * sign).try_normalize();
             }
         } else if lv <= tiny && lu > tiny {
             // Collapsed column: S_v ≈ (u − u₀) S_uv.
             let sign = if u < 0.5 { 1.0 } else { -1.0 };
-            let n = f.du.cross(f.duv) * sign;
-            if n.length() > 1e-10 * f.duv.length() * lu {
-                return n.try_normalize();
+            if let Some(n) = spanned(f.du, f.duv, lu, f.duv.length()) {
+                return (n * sign).try_normalize();
             }
         }
         // A singular point that is not a collapsed boundary: step a little towards the centre.
         let step = 1e-6;
         let (u2, v2) = (u + step * (0.5 - u).signum(), v + step * (0.5 - v).signum());
         let g = self.frame(u2, v2);
-        let n = g.du.cross(g.dv);
-        if n.length() > 1e-10 * g.du.length() * g.dv.length() {
-            n.try_normalize()
-        } else {
-            None
-        }
+        spanned(g.du, g.dv, g.du.length(), g.dv.length()).and_then(DVec3::try_normalize)
     }
 
     /// Diagonal of the control points' bounding box: the scale of the patch.

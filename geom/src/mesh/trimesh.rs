@@ -58,8 +58,9 @@ impl PatchBlock {
 pub struct TriMesh {
     /// Vertex positions.
     pub positions: Vec<Vec3>,
-    /// Unit vertex normals (`S_u × S_v` of the patch; at a collapsed edge, the limit from
-    /// inside the patch).
+    /// Unit vertex normals: [`crate::surface::Patch::normal`] (`S_u × S_v` of the patch; at a
+    /// collapsed edge, the limit from inside the patch), and where the patch has none, the
+    /// normal at its centre, else `+Z`.
     pub normals: Vec<Vec3>,
     /// Triangles, three vertex indices each, counter-clockwise around `S_u × S_v`.
     pub indices: Vec<u32>,

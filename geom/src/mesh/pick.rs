@@ -9,7 +9,8 @@
 
 use glam::DVec3;
 
-use super::tessellate::{PatchPoints, TriMesh, eval_patch, patch_normal};
+use super::tessellate::{PatchPoints, eval_patch, patch_normal};
+use super::trimesh::TriMesh;
 
 /// A ray `origin + t · direction`, `t ≥ 0`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,7 +1,7 @@
 //! The G1 error along patch seams, per mesh vertex, for the heat map.
 //!
 //! Where patches meet, the tessellation puts bit-identical vertices on both sides of the seam
-//! (see [`super::tessellate`]). At each such vertex the angle between the two patches' exact
+//! (see [`super::tessellate()`]). At each such vertex the angle between the two patches' exact
 //! normals — evaluated again in `f64` from the patches at the vertex's parameters, not the
 //! single-precision normals the mesh carries — is the G1 error of SPEC §9 sampled at the mesh's
 //! seam vertices; at a pole the largest angle among all the patches around it is the spread of
@@ -14,7 +14,8 @@ use std::collections::HashMap;
 
 use glam::DVec3;
 
-use super::tessellate::{PatchPoints, TriMesh, patch_normal, position_key};
+use super::tessellate::{PatchPoints, patch_normal};
+use super::trimesh::{TriMesh, position_key};
 
 /// Per-vertex seam angle in degrees: for a vertex on a patch boundary, the largest angle
 /// between its patch's exact normal and the exact normal of any coincident vertex of another

@@ -1,303 +1,24 @@
-//! Tessellation of bicubic Bezier patches into triangles within a chosen tolerance.
+//! Tessellation of bicubic Bezier patches into triangles within a chosen tolerance: the entry
+//! points ([`tessellate`], [`try_tessellate`]) and the evaluation of one patch's vertices.
 //!
-//! A patch `S(u,v) = Σ_i Σ_j B_i³(u) B_j³(v) P[4i+j]` is sampled on a uniform `m_u × m_v` grid of
-//! its parameter square and every grid cell is split into two triangles. The counts come from a
-//! bound on the second derivatives, so the distance between a triangle and the surface at the
-//! same parameters never exceeds the tolerance:
-//!
-//! - `|S_uu| ≤ 6 max|Δ²_u P|`, `|S_vv| ≤ 6 max|Δ²_v P|`, `|S_uv| ≤ 9 max|Δ_u Δ_v P|` (the
-//!   derivatives are Bezier patches whose control points are these differences, and a Bezier
-//!   patch lies in the convex hull of its control points);
-//! - so for every direction `d`, `|S''[d,d]| ≤ A d_u² + B d_v²` with `A = M_uu + M_uv`,
-//!   `B = M_vv + M_uv` (using `2|d_u d_v| ≤ d_u² + d_v²`);
-//! - the linear interpolant on a triangle errs by at most `½ M R²`, `R` the radius of the
-//!   smallest ball holding the triangle and `M` the second-derivative bound (Waldron, *The error
-//!   in linear interpolation at the vertices of a simplex*, SIAM J. Numer. Anal. 35, 1998).
-//!   Applied in the coordinates `(u√A, v√B)`, where `M = 1`, a right triangle with legs
-//!   `1/m_u, 1/m_v` gives `error ≤ (A/m_u² + B/m_v²) / 8`;
-//! - half of the tolerance goes to each term: `m_u = ⌈√(A / 4 tol)⌉`, `m_v = ⌈√(B / 4 tol)⌉`.
-//!
-//! **No cracks.** Neighbouring patches must place the same vertices on the edge they share.
-//! Every patch edge belongs to one of the patch's two directions (the edges `v = 0, 1` run along
-//! `u` and use `m_u`). Edges with identical control points (in either order) tie their
-//! directions together, across all patches and whatever the topology, and each tied set takes
-//! the largest count of its members. Edge vertices are then evaluated from the edge's own cubic
-//! in a canonical orientation (de Casteljau, so a collapsed edge at a pole stays exactly one
-//! point), which makes both sides bit-identical: the mesh is watertight without welding, and
-//! [`TriMesh::welded`] can merge the copies exactly.
+//! A patch is sampled on a uniform `m_u × m_v` grid of its parameter square and every grid cell
+//! is split into two triangles. The parts: how many segments each patch gets so that the
+//! triangles stay within the tolerance ([`super::plan`]); how neighbours agree on the vertices
+//! of the edge they share, so that the mesh has no cracks ([`super::edges`]); the mesh type
+//! ([`super::trimesh`]); keeping a mesh up to date while a few patches change
+//! ([`super::live`]).
 
 use glam::{DVec3, Vec3};
-use std::collections::HashMap;
 
+use super::edges::{canonical, edges};
+#[cfg(doc)]
+use super::plan::estimate;
+use super::plan::{MeshSize, Plan, Tessellation};
+use super::trimesh::{PatchBlock, TriMesh};
 use crate::curve::bernstein;
+use crate::surface::patch::{Patch, VLine, cubic_basis, cubic_basis_derivative, regular_normal};
 
-/// A bicubic Bezier patch: 16 control points `P[4*i + j]`, `i` along `u`, `j` along `v`.
-pub type PatchPoints = [DVec3; 16];
-
-/// How finely patches are tessellated.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Tessellation {
-    /// Largest allowed distance between a triangle and the surface at the same parameters, in
-    /// model units (sides). Not a positive number: every patch gets `max_segments`.
-    pub tolerance: f64,
-    /// Fewest segments along each direction of a patch (at least 1).
-    pub min_segments: u32,
-    /// Most segments along each direction of a patch; when it binds, the tolerance is not met
-    /// (see [`TriMesh::error_bound`]).
-    pub max_segments: u32,
-}
-
-impl Tessellation {
-    /// What the modeller draws: 1/100 side — about a pixel when ten sides fill a 1280-pixel
-    /// view — with at least 4 segments per patch edge so that shading and the seam heat map
-    /// stay smooth on flat patches.
-    pub const DISPLAY: Self = Self {
-        tolerance: 1e-2,
-        min_segments: 4,
-        max_segments: 32,
-    };
-
-    /// The default for exported meshes: 1/1000 side, as few triangles as the tolerance allows.
-    pub const EXPORT: Self = Self {
-        tolerance: 1e-3,
-        min_segments: 1,
-        max_segments: 256,
-    };
-
-    /// The default limit on the triangles of an exported mesh (`nendo export --max-triangles`,
-    /// the window's export): 20 million triangles take about 0.5 GB as tessellated
-    /// ([`MeshSize::bytes`]) and about twice that at the peak of welding and writing.
-    pub const DEFAULT_MAX_TRIANGLES: u64 = 20_000_000;
-
-    /// A tessellation to the given tolerance with the export limits.
-    #[must_use]
-    pub fn with_tolerance(tolerance: f64) -> Self {
-        Self {
-            tolerance,
-            ..Self::EXPORT
-        }
-    }
-
-    /// Segments `(m_u, m_v)` one patch needs on its own, and the bound `(A, B)` of its second
-    /// derivatives (see the module docs).
-    fn own_counts(&self, p: &PatchPoints) -> ([u32; 2], [f64; 2]) {
-        let (a, b) = second_derivative_bounds(p);
-        let lo = self.min_segments.max(1);
-        let hi = self.max_segments.max(lo);
-        let count = |k: f64| -> u32 {
-            let m = (k / (4.0 * self.tolerance)).sqrt().ceil();
-            // A tolerance that is not a positive number (or a NaN patch) asks for the finest.
-            if m.is_finite() && self.tolerance > 0.0 {
-                (m as u32).clamp(lo, hi)
-            } else {
-                hi
-            }
-        };
-        ([count(a), count(b)], [a, b])
-    }
-}
-
-impl Default for Tessellation {
-    fn default() -> Self {
-        Self::DISPLAY
-    }
-}
-
-/// `(A, B)` of the module docs: `A = M_uu + M_uv`, `B = M_vv + M_uv`.
-fn second_derivative_bounds(p: &PatchPoints) -> (f64, f64) {
-    let at = |i: usize, j: usize| p[4 * i + j];
-    let mut m_uu = 0.0f64;
-    let mut m_vv = 0.0f64;
-    let mut m_uv = 0.0f64;
-    for a in 0..4 {
-        for k in 0..2 {
-            m_uu = m_uu.max((at(k + 2, a) - 2.0 * at(k + 1, a) + at(k, a)).length());
-            m_vv = m_vv.max((at(a, k + 2) - 2.0 * at(a, k + 1) + at(a, k)).length());
-        }
-    }
-    for i in 0..3 {
-        for j in 0..3 {
-            m_uv = m_uv.max((at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)).length());
-        }
-    }
-    (6.0 * m_uu + 9.0 * m_uv, 6.0 * m_vv + 9.0 * m_uv)
-}
-
-/// Where one patch's vertices and triangles sit in a [`TriMesh`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PatchBlock {
-    /// Index of the patch in the input slice.
-    pub patch: u32,
-    /// First vertex of the patch; vertex `(k, l)` (at `u = k/m_u`, `v = l/m_v`) is
-    /// `first_vertex + k (m_v + 1) + l`.
-    pub first_vertex: u32,
-    /// First index (into [`TriMesh::indices`]) of the patch's triangles.
-    pub first_index: u32,
-    /// Segments along `u`.
-    pub m_u: u32,
-    /// Segments along `v`.
-    pub m_v: u32,
-}
-
-impl PatchBlock {
-    /// Number of vertices of the block.
-    #[must_use]
-    pub fn vertex_count(&self) -> u32 {
-        (self.m_u + 1) * (self.m_v + 1)
-    }
-
-    /// Number of indices of the block (three per triangle).
-    #[must_use]
-    pub fn index_count(&self) -> u32 {
-        6 * self.m_u * self.m_v
-    }
-
-    /// Vertex index of grid vertex `(k, l)`.
-    #[must_use]
-    pub fn vertex(&self, k: u32, l: u32) -> u32 {
-        self.first_vertex + k * (self.m_v + 1) + l
-    }
-
-    /// Parameters `(u, v)` of a vertex of this block.
-    #[must_use]
-    pub fn uv_of(&self, vertex: u32) -> (f64, f64) {
-        let local = vertex - self.first_vertex;
-        let (k, l) = (local / (self.m_v + 1), local % (self.m_v + 1));
-        (
-            f64::from(k) / f64::from(self.m_u),
-            f64::from(l) / f64::from(self.m_v),
-        )
-    }
-}
-
-/// A triangle mesh in single precision, as every consumer of a mesh (GPU, STL, GLB) takes it;
-/// the geometry it came from stays in `f64`.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct TriMesh {
-    /// Vertex positions.
-    pub positions: Vec<Vec3>,
-    /// Unit vertex normals (`S_u × S_v` of the patch; at a collapsed edge, the limit from
-    /// inside the patch).
-    pub normals: Vec<Vec3>,
-    /// Triangles, three vertex indices each, counter-clockwise around `S_u × S_v`.
-    pub indices: Vec<u32>,
-    /// One block per patch while the mesh is as tessellated; empty after [`TriMesh::welded`].
-    pub blocks: Vec<PatchBlock>,
-    /// Largest error bound `(A/m_u² + B/m_v²)/8` over the patches: at most the tolerance unless
-    /// `max_segments` capped a patch.
-    pub error_bound: f64,
-}
-
-impl TriMesh {
-    /// Number of triangles.
-    #[must_use]
-    pub fn triangle_count(&self) -> usize {
-        self.indices.len() / 3
-    }
-
-    /// The triangles as vertex index triples.
-    pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
-        self.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]])
-    }
-
-    /// The block holding a vertex, by binary search over [`TriMesh::blocks`].
-    #[must_use]
-    pub fn block_of_vertex(&self, vertex: u32) -> Option<&PatchBlock> {
-        let i = self.blocks.partition_point(|b| b.first_vertex <= vertex);
-        let b = self.blocks.get(i.checked_sub(1)?)?;
-        (vertex < b.first_vertex + b.vertex_count()).then_some(b)
-    }
-
-    /// The mesh with bit-identical positions merged into one vertex (normals summed and
-    /// renormalised) and triangles that collapsed (at poles) dropped: what an exporter writes.
-    #[must_use]
-    pub fn welded(&self) -> TriMesh {
-        let mut index_of: HashMap<[u32; 3], u32> = HashMap::with_capacity(self.positions.len());
-        let mut remap = Vec::with_capacity(self.positions.len());
-        let mut positions = Vec::new();
-        let mut normal_sums: Vec<Vec3> = Vec::new();
-        for (p, n) in self.positions.iter().zip(&self.normals) {
-            let key = position_key(*p);
-            let next = positions.len() as u32;
-            let id = *index_of.entry(key).or_insert(next);
-            if id == next {
-                positions.push(*p);
-                normal_sums.push(Vec3::ZERO);
-            }
-            normal_sums[id as usize] += *n;
-            remap.push(id);
-        }
-        let normals = normal_sums
-            .iter()
-            .zip(&remap_first_normals(&remap, &self.normals, positions.len()))
-            .map(|(sum, first)| sum.try_normalize().unwrap_or(*first))
-            .collect();
-        let mut indices = Vec::with_capacity(self.indices.len());
-        for t in self.triangles() {
-            let [a, b, c] = t.map(|i| remap[i as usize]);
-            if a != b && b != c && a != c {
-                indices.extend([a, b, c]);
-            }
-        }
-        TriMesh {
-            positions,
-            normals,
-            indices,
-            blocks: Vec::new(),
-            error_bound: self.error_bound,
-        }
-    }
-
-    /// Axis-aligned bounds `(min, max)` of the positions; `None` for an empty mesh.
-    #[must_use]
-    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
-        let first = *self.positions.first()?;
-        Some(
-            self.positions
-                .iter()
-                .fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
-        )
-    }
-}
-
-/// The first normal seen for each welded vertex: the fallback when opposite normals cancel.
-fn remap_first_normals(remap: &[u32], normals: &[Vec3], count: usize) -> Vec<Vec3> {
-    let mut first = vec![None; count];
-    for (id, n) in remap.iter().zip(normals) {
-        first[*id as usize].get_or_insert(*n);
-    }
-    first.into_iter().map(|n| n.unwrap_or(Vec3::Z)).collect()
-}
-
-/// A hash key of a position's exact bits (`-0.0` and `0.0` are the same point).
-pub(crate) fn position_key(p: Vec3) -> [u32; 3] {
-    [p.x, p.y, p.z].map(|c| if c == 0.0 { 0 } else { c.to_bits() })
-}
-
-/// The size of the mesh [`tessellate`] makes for some patches and settings, computed from the
-/// same per-patch segment counts (after tying shared edges) without building the mesh.
-///
-/// The counts are exact for the mesh [`tessellate`] returns; [`TriMesh::welded`] only removes
-/// vertices and triangles, so they bound an exported mesh from above.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct MeshSize {
-    /// Vertices before welding.
-    pub vertices: u64,
-    /// Triangles before welding.
-    pub triangles: u64,
-}
-
-impl MeshSize {
-    /// Bytes the tessellated mesh takes: a position and a normal (2 × 12 bytes) per vertex and
-    /// three `u32` indices per triangle. Welding it (as exporters do) needs about as much again
-    /// at its peak, plus a hash map entry per vertex.
-    #[must_use]
-    pub fn bytes(&self) -> u64 {
-        self.vertices
-            .saturating_mul(24)
-            .saturating_add(self.triangles.saturating_mul(12))
-    }
-}
+pub use crate::surface::patch::PatchPoints;
 
 /// Why [`try_tessellate`] refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -324,60 +45,6 @@ pub enum TessellateError {
         /// The exact size of the mesh that was refused.
         estimate: MeshSize,
     },
-}
-
-/// Segment counts of every patch for some settings: the plan [`tessellate`] follows.
-#[derive(Debug, Clone)]
-struct Plan {
-    /// Each patch's own counts and second-derivative bounds.
-    own: Vec<([u32; 2], [f64; 2])>,
-    /// The counts after tying shared edges.
-    counts: Vec<[u32; 2]>,
-    /// The tied class of each patch direction `2 · patch + direction` (a representative).
-    classes: Vec<usize>,
-}
-
-impl Plan {
-    fn new(patches: &[PatchPoints], settings: &Tessellation) -> Self {
-        let own: Vec<([u32; 2], [f64; 2])> =
-            patches.iter().map(|p| settings.own_counts(p)).collect();
-        let (counts, classes) = tie_shared_edges(patches, &own);
-        Self {
-            own,
-            counts,
-            classes,
-        }
-    }
-
-    fn size(&self) -> MeshSize {
-        let mut size = MeshSize {
-            vertices: 0,
-            triangles: 0,
-        };
-        for [a, b] in &self.counts {
-            let (a, b) = (u64::from(*a), u64::from(*b));
-            size.vertices += (a + 1) * (b + 1);
-            size.triangles += 2 * a * b;
-        }
-        size
-    }
-}
-
-/// The size of the mesh [`tessellate`] would make, without making it: memory proportional to
-/// the number of patches only (the counts and the shared-edge map).
-///
-/// ```
-/// use glam::DVec3;
-/// use nendo_geom::mesh::{Tessellation, estimate, tessellate};
-/// let square: [DVec3; 16] =
-///     std::array::from_fn(|k| DVec3::new((k / 4) as f64 / 3.0, (k % 4) as f64 / 3.0, 0.0));
-/// let size = estimate(&[square], &Tessellation::with_tolerance(1e-3));
-/// assert_eq!(size.triangles, 2);
-/// assert_eq!(size.vertices, 4);
-/// ```
-#[must_use]
-pub fn estimate(patches: &[PatchPoints], settings: &Tessellation) -> MeshSize {
-    Plan::new(patches, settings).size()
 }
 
 /// [`tessellate`], refusing before it allocates the mesh when the mesh would have more than
@@ -425,181 +92,13 @@ pub fn tessellate(patches: &[PatchPoints], settings: &Tessellation) -> TriMesh {
     build(patches, &Plan::new(patches, settings))
 }
 
-/// What it takes to keep a tessellation up to date patch by patch while a few patches change
-/// (a live stroke): only the changed patches are evaluated again, in place in the mesh, as
-/// long as the segment counts stay what they were. The mesh itself stays the caller's (it is
-/// what the display draws); it must be the one [`LiveTessellation::new`] returned, as the
-/// updates since left it.
-///
-/// The counts of a patch come from the largest own count of its tied class (a row or column
-/// of the grid, see the module docs). After an update the own counts of the changed patches
-/// are measured again and the maxima of their classes recomputed; if any class's count
-/// changes, the block layout changes with it: the whole mesh is rebuilt
-/// ([`MeshUpdate::Rebuilt`]) — or, when the caller asks to keep the counts (a live stroke,
-/// where a dent deepening frame by frame would otherwise rebuild at every step), the changed
-/// patches are evaluated again with the counts they had and the mesh is marked
-/// [`LiveTessellation::counts_stale`]: its vertices lie on the exact surface but the
-/// tolerance may be exceeded there ([`TriMesh::error_bound`] says by how much) until the
-/// next update that does not keep counts rebuilds it. No capacity is reserved per patch:
-/// a changed count changes every patch of the row or column anyway. The classes themselves
-/// are those of the last full build: they follow from which edges the patches share, which
-/// sculpting does not change (a rebuild re-derives them).
-///
-/// An update in place that did not keep stale counts gives the mesh [`tessellate`] would
-/// give for the same patches, bit for bit: the same per-patch evaluation writes the same
-/// vertices.
-#[derive(Debug, Clone)]
-pub struct LiveTessellation {
-    settings: Tessellation,
-    plan: Plan,
-    /// Members of each class, by class representative (CSR: `members[starts[r]..starts[r+1]]`
-    /// for the representative's position `r` in `representatives`).
-    class_index: HashMap<usize, (usize, usize)>,
-    class_members: Vec<usize>,
-    /// The error bound of every patch.
-    bounds: Vec<f64>,
-    /// Some counts are not those the patches need (kept during a live stroke).
-    stale: bool,
-}
-
-/// What [`LiveTessellation::update`] did.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum MeshUpdate {
-    /// The vertices of these blocks (patch indices, sorted) were written again in place;
-    /// the indices and every other block are unchanged.
-    InPlace(Vec<usize>),
-    /// The segment counts changed: the whole mesh was rebuilt (new block layout).
-    Rebuilt,
-}
-
-impl LiveTessellation {
-    /// Tessellates `patches` (the mesh [`tessellate`] makes) and keeps what updating needs.
-    #[must_use]
-    pub fn new(patches: &[PatchPoints], settings: &Tessellation) -> (Self, TriMesh) {
-        let plan = Plan::new(patches, settings);
-        let (mesh, bounds) = build_with_bounds(patches, &plan);
-        let mut live = Self {
-            settings: *settings,
-            plan,
-            class_index: HashMap::new(),
-            class_members: Vec::new(),
-            bounds,
-            stale: false,
-        };
-        live.index_classes();
-        (live, mesh)
-    }
-
-    fn index_classes(&mut self) {
-        let mut by_class: HashMap<usize, Vec<usize>> = HashMap::new();
-        for (x, &c) in self.plan.classes.iter().enumerate() {
-            by_class.entry(c).or_default().push(x);
-        }
-        self.class_index.clear();
-        self.class_members.clear();
-        for (c, members) in by_class {
-            let start = self.class_members.len();
-            self.class_members.extend(members);
-            self.class_index
-                .insert(c, (start, self.class_members.len()));
-        }
-    }
-
-    /// Brings `mesh` up to `patches`, of which only those listed in `changed` differ from
-    /// the patches last given (the same number of patches; otherwise, or when the segment
-    /// counts change, everything is rebuilt). Afterwards `mesh` is what [`tessellate`] makes
-    /// of `patches`. Costs what the changed patches and their rows and columns cost when the
-    /// counts hold.
-    ///
-    /// With `keep_counts`, a change of segment counts does not rebuild: see the type's docs.
-    pub fn update(
-        &mut self,
-        mesh: &mut TriMesh,
-        patches: &[PatchPoints],
-        changed: &[usize],
-        keep_counts: bool,
-    ) -> MeshUpdate {
-        if self.stale && !keep_counts {
-            return self.rebuild(mesh, patches);
-        }
-        if patches.len() != self.plan.own.len()
-            || mesh.blocks.len() != patches.len()
-            || changed.iter().any(|&p| p >= patches.len())
-        {
-            return self.rebuild(mesh, patches);
-        }
-        for &p in changed {
-            self.plan.own[p] = self.settings.own_counts(&patches[p]);
-        }
-        // The classes of the changed patches' directions, each once.
-        let mut classes: Vec<usize> = changed
-            .iter()
-            .flat_map(|&p| [self.plan.classes[2 * p], self.plan.classes[2 * p + 1]])
-            .collect();
-        classes.sort_unstable();
-        classes.dedup();
-        for c in classes {
-            let Some(&(a, b)) = self.class_index.get(&c) else {
-                return self.rebuild(mesh, patches);
-            };
-            let members = &self.class_members[a..b];
-            let max = members
-                .iter()
-                .map(|&x| self.plan.own[x / 2].0[x % 2])
-                .max()
-                .unwrap_or(0);
-            if members
-                .iter()
-                .any(|&x| self.plan.counts[x / 2][x % 2] != max)
-            {
-                if keep_counts {
-                    self.stale = true;
-                } else {
-                    return self.rebuild(mesh, patches);
-                }
-            }
-        }
-        let mut blocks: Vec<usize> = changed.to_vec();
-        blocks.sort_unstable();
-        blocks.dedup();
-        for &p in &blocks {
-            let block = mesh.blocks[p];
-            let [a, b] = self.plan.own[p].1;
-            let (m_u, m_v) = (f64::from(block.m_u), f64::from(block.m_v));
-            self.bounds[p] = (a / (m_u * m_u) + b / (m_v * m_v)) / 8.0;
-            let range =
-                block.first_vertex as usize..(block.first_vertex + block.vertex_count()) as usize;
-            write_patch_vertices(
-                &patches[p],
-                &block,
-                &mut mesh.positions[range.clone()],
-                &mut mesh.normals[range],
-            );
-        }
-        mesh.error_bound = self.bounds.iter().fold(0.0, |m: f64, b| m.max(*b));
-        MeshUpdate::InPlace(blocks)
-    }
-
-    /// True when some segment counts were kept that the patches no longer need (see the
-    /// type's docs): the mesh is on the surface but may miss the tolerance.
-    #[must_use]
-    pub fn counts_stale(&self) -> bool {
-        self.stale
-    }
-
-    fn rebuild(&mut self, mesh: &mut TriMesh, patches: &[PatchPoints]) -> MeshUpdate {
-        (*self, *mesh) = Self::new(patches, &self.settings);
-        MeshUpdate::Rebuilt
-    }
-}
-
 /// Builds the mesh a plan describes.
 fn build(patches: &[PatchPoints], plan: &Plan) -> TriMesh {
     build_with_bounds(patches, plan).0
 }
 
 /// Builds the mesh a plan describes, with each patch's error bound.
-fn build_with_bounds(patches: &[PatchPoints], plan: &Plan) -> (TriMesh, Vec<f64>) {
+pub(super) fn build_with_bounds(patches: &[PatchPoints], plan: &Plan) -> (TriMesh, Vec<f64>) {
     let mut bounds = Vec::with_capacity(patches.len());
     let size = plan.size();
     let mut mesh = TriMesh {
@@ -628,156 +127,31 @@ fn build_with_bounds(patches: &[PatchPoints], plan: &Plan) -> (TriMesh, Vec<f64>
     (mesh, bounds)
 }
 
-/// The four boundary edges of a patch as cubics, with the direction whose count they use:
-/// `(v = 0, along u)`, `(v = 1, along u)`, `(u = 0, along v)`, `(u = 1, along v)`.
-fn edges(p: &PatchPoints) -> [([DVec3; 4], usize); 4] {
-    [
-        ([p[0], p[4], p[8], p[12]], 0),
-        ([p[3], p[7], p[11], p[15]], 0),
-        ([p[0], p[1], p[2], p[3]], 1),
-        ([p[12], p[13], p[14], p[15]], 1),
-    ]
-}
-
-/// The edge in canonical orientation (the lexicographically smaller of the two orders of its
-/// control points' bits) and whether that is the reverse of the given order.
-fn canonical(edge: &[DVec3; 4]) -> ([DVec3; 4], bool) {
-    let key = |e: &[DVec3; 4]| e.map(|p| [p.x, p.y, p.z].map(f64::to_bits));
-    let rev = [edge[3], edge[2], edge[1], edge[0]];
-    if key(&rev) < key(edge) {
-        (rev, true)
-    } else {
-        (*edge, false)
-    }
-}
-
-/// Segment counts per patch after tying shared edges together (union–find over the `2 n`
-/// patch directions; collapsed edges tie nothing, a point has no vertices to disagree on).
-fn tie_shared_edges(
-    patches: &[PatchPoints],
-    own: &[([u32; 2], [f64; 2])],
-) -> (Vec<[u32; 2]>, Vec<usize>) {
-    let mut parent: Vec<usize> = (0..2 * patches.len()).collect();
-    fn find(parent: &mut [usize], mut x: usize) -> usize {
-        while parent[x] != x {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        x
-    }
-    let mut owner: HashMap<[[u64; 3]; 4], usize> = HashMap::with_capacity(2 * patches.len());
-    for (index, p) in patches.iter().enumerate() {
-        for (edge, dir) in edges(p) {
-            if edge.iter().all(|q| *q == edge[0]) {
-                continue;
-            }
-            let (c, _) = canonical(&edge);
-            let key = c.map(|p| [p.x, p.y, p.z].map(f64::to_bits));
-            let node = 2 * index + dir;
-            match owner.get(&key) {
-                Some(&other) => {
-                    let (ra, rb) = (find(&mut parent, node), find(&mut parent, other));
-                    parent[ra] = rb;
-                }
-                None => {
-                    owner.insert(key, node);
-                }
-            }
-        }
-    }
-    let mut class_max = vec![0u32; parent.len()];
-    for node in 0..parent.len() {
-        let root = find(&mut parent, node);
-        class_max[root] = class_max[root].max(own[node / 2].0[node % 2]);
-    }
-    let classes: Vec<usize> = (0..parent.len()).map(|x| find(&mut parent, x)).collect();
-    let counts = (0..patches.len())
-        .map(|i| [class_max[classes[2 * i]], class_max[classes[2 * i + 1]]])
-        .collect();
-    (counts, classes)
-}
-
-/// Cubic Bernstein basis values and derivatives at `t`.
-#[inline]
-fn cubic_basis(t: f64) -> ([f64; 4], [f64; 4]) {
-    let s = 1.0 - t;
-    let b = [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t];
-    let d = [
-        -3.0 * s * s,
-        3.0 * s * s - 6.0 * t * s,
-        6.0 * t * s - 3.0 * t * t,
-        3.0 * t * t,
-    ];
-    (b, d)
-}
-
-/// Point and partial derivatives `(S, S_u, S_v)` of a patch at `(u, v)`.
+/// Point and partial derivatives `(S, S_u, S_v)` of a patch at `(u, v)`: [`Patch::frame`].
 #[must_use]
 pub fn eval_patch(p: &PatchPoints, u: f64, v: f64) -> (DVec3, DVec3, DVec3) {
-    let (bu, du) = cubic_basis(u);
-    let (bv, dv) = cubic_basis(v);
-    let mut s = DVec3::ZERO;
-    let mut su = DVec3::ZERO;
-    let mut sv = DVec3::ZERO;
-    for i in 0..4 {
-        for j in 0..4 {
-            let q = p[4 * i + j];
-            s += q * (bu[i] * bv[j]);
-            su += q * (du[i] * bv[j]);
-            sv += q * (bu[i] * dv[j]);
-        }
-    }
-    (s, su, sv)
+    let f = Patch::new(*p).frame(u, v);
+    (f.point, f.du, f.dv)
 }
 
-/// The mixed derivative `S_uv` of a patch at `(u, v)`.
-fn eval_twist(p: &PatchPoints, u: f64, v: f64) -> DVec3 {
-    let (_, du) = cubic_basis(u);
-    let (_, dv) = cubic_basis(v);
-    let mut suv = DVec3::ZERO;
-    for i in 0..4 {
-        for j in 0..4 {
-            suv += p[4 * i + j] * (du[i] * dv[j]);
-        }
-    }
-    suv
-}
-
-/// Unit normal of a patch at `(u, v)`. On a collapsed boundary (a pole, where `S_u` or `S_v`
-/// vanishes) it is the exact limit from inside the patch: there `S_u ≈ (v − v₀) S_uv`, so the
-/// normal is along `±S_uv × S_v` (and likewise for a collapsed column). At any other singular
-/// point, the normal of a point nudged towards the patch centre.
+/// Unit normal of a patch at `(u, v)`: [`Patch::normal`] (on a collapsed boundary, a pole, the
+/// limit from inside the patch), and where the patch has no normal the mesh's fallback,
+/// the normal at the patch centre, else `+Z`.
 #[must_use]
 pub fn patch_normal(p: &PatchPoints, u: f64, v: f64) -> DVec3 {
-    let (_, su, sv) = eval_patch(p, u, v);
-    let n = su.cross(sv);
-    let scale = su.length_squared().max(sv.length_squared());
-    if n.length_squared() > 1e-20 * scale * scale && scale > 0.0 {
-        return n.normalize();
-    }
-    let size = p
-        .iter()
-        .fold(0.0f64, |m, q| m.max((*q - p[0]).length_squared()));
-    let tiny = 1e-18 * size;
-    let limit = if su.length_squared() <= tiny && sv.length_squared() > tiny {
-        let sign = if v < 0.5 { 1.0 } else { -1.0 };
-        eval_twist(p, u, v).cross(sv) * sign
-    } else if sv.length_squared() <= tiny && su.length_squared() > tiny {
-        let sign = if u < 0.5 { 1.0 } else { -1.0 };
-        su.cross(eval_twist(p, u, v)) * sign
-    } else {
-        DVec3::ZERO
-    };
-    if let Some(n) = limit.try_normalize() {
-        return n;
-    }
-    for nudge in [1e-6, 1e-4, 1e-2] {
-        let (_, su, sv) = eval_patch(p, u + nudge * (0.5 - u), v + nudge * (0.5 - v));
-        if let Some(n) = su.cross(sv).try_normalize() {
-            return n;
-        }
-    }
-    DVec3::Z
+    let patch = Patch::new(*p);
+    patch
+        .normal(u, v)
+        .unwrap_or_else(|| fallback_normal(&patch))
+}
+
+/// The normal a mesh vertex takes where its patch has none ([`Patch::normal`] is `None`: the
+/// patch is degenerate there beyond a collapsed edge, folded onto itself or shrunk to a
+/// curve): the normal at the patch's centre, or `+Z` when the patch has none there either
+/// (a patch that is a curve or a point). A vertex needs some unit vector; this one is
+/// never used where the surface has a tangent plane.
+fn fallback_normal(patch: &Patch) -> DVec3 {
+    patch.normal(0.5, 0.5).unwrap_or(DVec3::Z)
 }
 
 /// Appends one patch's vertices and triangles.
@@ -807,7 +181,7 @@ fn push_patch(mesh: &mut TriMesh, p: &PatchPoints, block: &PatchBlock) {
 
 /// Writes one patch's vertices (`block.vertex_count()` of them, in block order) into
 /// `positions` and `normals`.
-fn write_patch_vertices(
+pub(super) fn write_patch_vertices(
     p: &PatchPoints,
     block: &PatchBlock,
     positions: &mut [Vec3],
@@ -825,23 +199,20 @@ fn write_patch_vertices(
             k => bernstein::eval(edge, f64::from(k) / f64::from(m)),
         }
     };
-    let bv: Vec<([f64; 4], [f64; 4])> = (0..=m_v)
-        .map(|l| cubic_basis(f64::from(l) / f64::from(m_v)))
+    let patch = Patch::new(*p);
+    let size = patch.size();
+    // The patch along each grid line v = l / m_v: half of every vertex's evaluation, shared
+    // by the vertices of the line (the same bits as `Patch::frame`).
+    let lines: Vec<VLine> = (0..=m_v)
+        .map(|l| patch.v_line(f64::from(l) / f64::from(m_v)))
         .collect();
     for k in 0..=m_u {
         let u = f64::from(k) / f64::from(m_u);
-        let (bu, du) = cubic_basis(u);
-        // Rows of the patch restricted to this u: C_j(u) and their u-derivatives.
-        let mut c = [DVec3::ZERO; 4];
-        let mut d = [DVec3::ZERO; 4];
-        for j in 0..4 {
-            for i in 0..4 {
-                c[j] += p[4 * i + j] * bu[i];
-                d[j] += p[4 * i + j] * du[i];
-            }
-        }
-        for (l, (bvl, dvl)) in bv.iter().enumerate() {
+        let (bu, du) = (cubic_basis(u), cubic_basis_derivative(u));
+        for (l, line) in lines.iter().enumerate() {
             let l = l as u32;
+            let v = f64::from(l) / f64::from(m_v);
+            let (point, su, sv) = line.tangents(&bu, &du);
             let position = if l == 0 {
                 on_edge(&e_v0, k, m_u)
             } else if l == m_v {
@@ -851,17 +222,12 @@ fn write_patch_vertices(
             } else if k == m_u {
                 on_edge(&e_u1, l, m_v)
             } else {
-                c[0] * bvl[0] + c[1] * bvl[1] + c[2] * bvl[2] + c[3] * bvl[3]
+                point
             };
-            let su = d[0] * bvl[0] + d[1] * bvl[1] + d[2] * bvl[2] + d[3] * bvl[3];
-            let sv = c[0] * dvl[0] + c[1] * dvl[1] + c[2] * dvl[2] + c[3] * dvl[3];
-            let n = su.cross(sv);
-            let scale = su.length_squared().max(sv.length_squared());
-            let normal = if scale > 0.0 && n.length_squared() > 1e-20 * scale * scale {
-                n.normalize()
-            } else {
-                patch_normal(p, u, f64::from(l) / f64::from(m_v))
-            };
+            // `Patch::normal`, its regular case taken from the derivatives at hand.
+            let normal = regular_normal(su, sv, size)
+                .or_else(|| patch.normal(u, v))
+                .unwrap_or_else(|| fallback_normal(&patch));
             positions[slot] = position.as_vec3();
             normals[slot] = normal.as_vec3();
             slot += 1;
@@ -872,8 +238,10 @@ fn write_patch_vertices(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::estimate;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
+    use std::collections::HashMap;
 
     fn grid_patch(f: impl Fn(f64, f64) -> DVec3, origin: (f64, f64)) -> PatchPoints {
         std::array::from_fn(|k| {
@@ -1060,92 +428,38 @@ mod tests {
     }
 
     #[test]
-    fn a_live_update_gives_the_full_tessellation_bit_for_bit() {
-        use crate::mesh::{seam_angles_deg, update_seam_angles_deg};
-        use crate::surface::{Op, Primitive, PrimitiveParams, Regulation, Sculptor};
-        let mut rng = ChaCha8Rng::seed_from_u64(12);
-        let (mut in_place, mut rebuilt) = (0, 0);
-        for primitive in [Primitive::Plane, Primitive::Sphere, Primitive::Torus] {
-            let mut grid = primitive.build(&PrimitiveParams::default()).unwrap();
-            let (mut live, mut mesh) =
-                LiveTessellation::new(&grid.patches(), &Tessellation::DISPLAY);
-            let mut sculptor = Sculptor::new();
-            let nodes = grid.nodes().to_vec();
-            for _ in 0..25 {
-                let at = nodes[rng.gen_range(0..nodes.len())];
-                let op = Op::Push {
-                    at,
-                    dir: DVec3::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), 1.0),
-                    depth: rng.gen_range(-0.3..0.3),
-                    radius: rng.gen_range(0.4..1.5),
-                };
-                let Ok(touched) = sculptor.apply(&mut grid, &op, Regulation::Exact) else {
-                    continue;
-                };
-                let patches = grid.patches();
-                match live.update(&mut mesh, &patches, &touched.patches, false) {
-                    MeshUpdate::InPlace(blocks) => {
-                        in_place += 1;
-                        assert_eq!(blocks, touched.patches);
-                    }
-                    MeshUpdate::Rebuilt => rebuilt += 1,
+    fn every_vertex_normal_is_the_patch_normal() {
+        use crate::surface::{Primitive, PrimitiveParams};
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut sets: Vec<Vec<PatchPoints>> =
+            (0..5).map(|_| vec![random_patch(&mut rng)]).collect();
+        for primitive in [Primitive::Sphere, Primitive::Tube] {
+            sets.push(
+                primitive
+                    .build(&PrimitiveParams::default())
+                    .unwrap()
+                    .patches(),
+            );
+        }
+        for patches in &sets {
+            let mesh = tessellate(patches, &Tessellation::DISPLAY);
+            for b in &mesh.blocks {
+                let patch = Patch::new(patches[b.patch as usize]);
+                for v in b.first_vertex..b.first_vertex + b.vertex_count() {
+                    let (u, w) = b.uv_of(v);
+                    let want = patch.normal(u, w).expect("a normal").as_vec3();
+                    assert_eq!(mesh.normals[v as usize], want, "({u}, {w})");
                 }
-                let full = tessellate(&patches, &Tessellation::DISPLAY);
-                assert_eq!(mesh, full, "{primitive:?}");
-                // Seam angles recomputed on a few blocks, in the context of all of them.
-                let want = seam_angles_deg(&patches, &full);
-                let mut got = want.clone();
-                let targets: Vec<usize> = touched.patches.clone();
-                for &t in &targets {
-                    let b = full.blocks[t];
-                    got[b.first_vertex as usize..(b.first_vertex + b.vertex_count()) as usize]
-                        .fill(-1.0);
-                }
-                let all: Vec<usize> = (0..full.blocks.len()).collect();
-                update_seam_angles_deg(&patches, &full, &all, &targets, &mut got);
-                assert_eq!(got, want);
             }
         }
-        assert!(
-            in_place > 10 && rebuilt > 0,
-            "{in_place} in place, {rebuilt} rebuilt"
-        );
     }
 
     #[test]
-    fn kept_counts_stay_on_the_surface_until_the_next_full_update() {
-        use crate::surface::{Op, Primitive, PrimitiveParams, Regulation, Sculptor};
-        let mut grid = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
-        let (mut live, mut mesh) = LiveTessellation::new(&grid.patches(), &Tessellation::DISPLAY);
-        let blocks = mesh.blocks.clone();
-        let mut sculptor = Sculptor::new();
-        for k in 1..=4 {
-            let op = Op::Push {
-                at: DVec3::new(0.2, 0.1, 0.0),
-                dir: -DVec3::Z,
-                depth: 0.3 * f64::from(k),
-                radius: 1.25,
-            };
-            let touched = sculptor.apply(&mut grid, &op, Regulation::Exact).unwrap();
-            let patches = grid.patches();
-            let update = live.update(&mut mesh, &patches, &touched.patches, true);
-            assert!(matches!(update, MeshUpdate::InPlace(_)));
-            assert_eq!(mesh.blocks, blocks, "the layout is kept");
-            for b in &mesh.blocks {
-                for v in b.first_vertex..b.first_vertex + b.vertex_count() {
-                    let (u, w) = b.uv_of(v);
-                    let exact = eval_patch(&patches[b.patch as usize], u, w).0;
-                    assert!((mesh.positions[v as usize].as_dvec3() - exact).length() < 1e-5);
-                }
-            }
-        }
-        assert!(live.counts_stale(), "a deepening dent needs more segments");
-        let patches = grid.patches();
-        assert_eq!(
-            live.update(&mut mesh, &patches, &[], false),
-            MeshUpdate::Rebuilt
-        );
-        assert!(!live.counts_stale());
-        assert_eq!(mesh, tessellate(&patches, &Tessellation::DISPLAY));
+    fn a_patch_shrunk_to_a_curve_takes_the_explicit_fallback_normal() {
+        let p: PatchPoints = std::array::from_fn(|k| DVec3::new((k / 4 + k % 4) as f64, 0.0, 1.0));
+        assert_eq!(Patch::new(p).normal(0.3, 0.6), None);
+        let mesh = tessellate(&[p], &Tessellation::DISPLAY);
+        assert!(mesh.normals.iter().all(|n| *n == Vec3::Z));
+        assert_eq!(patch_normal(&p, 0.3, 0.6), DVec3::Z);
     }
 }

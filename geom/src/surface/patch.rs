@@ -1,10 +1,27 @@
 //! One bicubic Bezier patch: `S(u,v) = Σ_i Σ_j B_i³(u) B_j³(v) P[4i + j]`, `i` along `u`, `j`
-//! along `v`, `(u, v) ∈ [0,1]²`.
+//! along `v`, `(u, v) ∈ [0,1]²`: the one evaluator of points, derivatives and normals that the
+//! surface code and the mesher ([`crate::mesh`]) share.
 //!
+//! ## The normal, and where there is none
 //! The normal is `unit(S_u × S_v)`. Where a boundary row is collapsed into one point (a pole)
 //! `S_u` vanishes along it, and the normal there is the limit from inside the patch: near a
 //! collapsed row `v = v₀`, `S_u(u,v) ≈ (v − v₀) S_uv(u,v₀)`, so the normal is
 //! `± unit(S_uv × S_v)` with the sign of `v − v₀` (and likewise for a collapsed column).
+//!
+//! One degeneracy rule decides which case a point is ([`Patch::normal`]), with `size` the
+//! diagonal of the control points' bounding box:
+//!
+//! 1. a derivative **vanishes** when its length is at most `1e-9 · size`;
+//! 2. two vectors `a, b` **span a plane** when `|a × b| > 1e-10 |a| |b|` (they are more than
+//!    10⁻¹⁰ rad from parallel);
+//! 3. neither `S_u` nor `S_v` vanishes and they span a plane: the tangent plane is defined,
+//!    the normal is `unit(S_u × S_v)`;
+//! 4. exactly one of them vanishes (a collapsed row or column, a pole): the limit normal
+//!    above, if `S_uv` and the other derivative span a plane;
+//! 5. otherwise (both vanish, they are parallel, or no limit exists): the normal of the point
+//!    moved `10⁻⁶` towards the patch centre in `u` and `v`, if its derivatives span a plane;
+//! 6. otherwise there is no normal: `None`. A caller that needs a vector anyway (a mesh
+//!    vertex) chooses its fallback itself, where it calls.
 
 use glam::DVec3;
 
@@ -31,6 +48,41 @@ pub struct PatchFrame {
     pub dv: DVec3,
     /// `∂²S/∂u∂v`.
     pub duv: DVec3,
+}
+
+/// A patch restricted to one parameter line `v`: the control points
+/// `R_i(v) = Σ_j B_j³(v) P[4i + j]` of the cubic `u ↦ S(u, v)` and those of `u ↦ S_v(u, v)`.
+/// Points along the line share this half of the work ([`Patch::v_line`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct VLine {
+    rows: [DVec3; 4],
+    rows_dv: [DVec3; 4],
+}
+
+impl VLine {
+    /// `(S, S_u, S_v)` at the `u` whose basis values are `bu` and `du`: [`VLine::frame`]
+    /// without the mixed derivative, the same bits.
+    #[must_use]
+    pub(crate) fn tangents(&self, bu: &[f64; 4], du: &[f64; 4]) -> (DVec3, DVec3, DVec3) {
+        (
+            combine(self.rows, *bu, true),
+            combine(self.rows, *du, false),
+            combine(self.rows_dv, *bu, true),
+        )
+    }
+
+    /// The frame at the `u` whose basis values are `bu = cubic_basis(u)` and
+    /// `du = cubic_basis_derivative(u)`: `Σ_i B_i(u) R_i`, `Σ_i B_i'(u) R_i`, `Σ_i B_i(u) R_i'`,
+    /// `Σ_i B_i'(u) R_i'`.
+    #[must_use]
+    pub(crate) fn frame(&self, bu: &[f64; 4], du: &[f64; 4]) -> PatchFrame {
+        PatchFrame {
+            point: combine(self.rows, *bu, true),
+            du: combine(self.rows, *du, false),
+            dv: combine(self.rows_dv, *bu, true),
+            duv: combine(self.rows_dv, *du, false),
+        }
+    }
 }
 
 /// Cubic Bernstein values `B_0..B_3` at `t`.
@@ -63,6 +115,30 @@ fn combine(x: [DVec3; 4], w: [f64; 4], partition: bool) -> DVec3 {
         return if partition { x[0] } else { DVec3::ZERO };
     }
     x[0] * w[0] + x[1] * w[1] + x[2] * w[2] + x[3] * w[3]
+}
+
+/// `a × b` when `a` and `b` (of lengths `la`, `lb`) span a plane, `|a × b| > 1e-10 |a| |b|`
+/// (rule 2 of the module docs).
+#[inline]
+fn spanned(a: DVec3, b: DVec3, la: f64, lb: f64) -> Option<DVec3> {
+    let n = a.cross(b);
+    (n.length() > 1e-10 * la * lb).then_some(n)
+}
+
+/// Rule 3 of the module docs alone, for a caller that evaluates many points of one patch (the
+/// mesher): from the derivatives `S_u`, `S_v` at a point and the patch's [`Patch::size`],
+/// `unit(S_u × S_v)` where the tangent plane is defined — the bits [`Patch::normal`] returns
+/// there — and `None` where the rest of the rule must decide: ask [`Patch::normal`].
+#[inline]
+#[must_use]
+pub(crate) fn regular_normal(du: DVec3, dv: DVec3, size: f64) -> Option<DVec3> {
+    let tiny = 1e-9 * size;
+    let (lu, lv) = (du.length(), dv.length());
+    if lu > tiny && lv > tiny {
+        spanned(du, dv, lu, lv)?.try_normalize()
+    } else {
+        None
+    }
 }
 
 impl Patch {
@@ -98,9 +174,15 @@ impl Patch {
     /// The point, `S_u`, `S_v` and `S_uv` at `(u, v)`.
     #[must_use]
     pub fn frame(&self, u: f64, v: f64) -> PatchFrame {
-        let bu = cubic_basis(u);
+        self.v_line(v)
+            .frame(&cubic_basis(u), &cubic_basis_derivative(u))
+    }
+
+    /// The patch restricted to the parameter line `v`, for evaluating many points on it
+    /// ([`VLine::frame`] gives the same bits as [`Patch::frame`]).
+    #[must_use]
+    pub(crate) fn v_line(&self, v: f64) -> VLine {
         let bv = cubic_basis(v);
-        let du = cubic_basis_derivative(u);
         let dv = cubic_basis_derivative(v);
         let mut rows = [DVec3::ZERO; 4];
         let mut rows_dv = [DVec3::ZERO; 4];
@@ -108,12 +190,7 @@ impl Patch {
             rows[i] = combine(self.row(i), bv, true);
             rows_dv[i] = combine(self.row(i), dv, false);
         }
-        PatchFrame {
-            point: combine(rows, bu, true),
-            du: combine(rows, du, false),
-            dv: combine(rows_dv, bu, true),
-            duv: combine(rows_dv, du, false),
-        }
+        VLine { rows, rows_dv }
     }
 
     #[inline]
@@ -127,48 +204,40 @@ impl Patch {
     }
 
     /// The unit normal `unit(S_u × S_v)` at `(u, v)`, with the limit taken along collapsed
-    /// rows and columns (see the module docs). `None` where the surface has no tangent plane
-    /// (both derivatives vanish, or they are parallel and no limit exists).
+    /// rows and columns; `None` where the surface has no tangent plane. The module docs state
+    /// the rule.
     #[must_use]
     pub fn normal(&self, u: f64, v: f64) -> Option<DVec3> {
         let f = self.frame(u, v);
-        let scale = self.size();
-        if scale.is_nan() || scale <= 0.0 {
+        let size = self.size();
+        if size.is_nan() || size <= 0.0 {
             return None;
         }
-        let tiny = 1e-9 * scale;
+        let tiny = 1e-9 * size;
         let lu = f.du.length();
         let lv = f.dv.length();
         if lu > tiny && lv > tiny {
-            let n = f.du.cross(f.dv);
-            if n.length() > 1e-10 * lu * lv {
+            if let Some(n) = spanned(f.du, f.dv, lu, lv) {
                 return n.try_normalize();
             }
         } else if lu <= tiny && lv > tiny {
             // Collapsed row: S_u ≈ (v − v₀) S_uv.
             let sign = if v < 0.5 { 1.0 } else { -1.0 };
-            let n = f.duv.cross(f.dv) * sign;
-            if n.length() > 1e-10 * f.duv.length() * lv {
-                return n.try_normalize();
+            if let Some(n) = spanned(f.duv, f.dv, f.duv.length(), lv) {
+                return (n * sign).try_normalize();
             }
         } else if lv <= tiny && lu > tiny {
             // Collapsed column: S_v ≈ (u − u₀) S_uv.
             let sign = if u < 0.5 { 1.0 } else { -1.0 };
-            let n = f.du.cross(f.duv) * sign;
-            if n.length() > 1e-10 * f.duv.length() * lu {
-                return n.try_normalize();
+            if let Some(n) = spanned(f.du, f.duv, lu, f.duv.length()) {
+                return (n * sign).try_normalize();
             }
         }
         // A singular point that is not a collapsed boundary: step a little towards the centre.
         let step = 1e-6;
         let (u2, v2) = (u + step * (0.5 - u).signum(), v + step * (0.5 - v).signum());
         let g = self.frame(u2, v2);
-        let n = g.du.cross(g.dv);
-        if n.length() > 1e-10 * g.du.length() * g.dv.length() {
-            n.try_normalize()
-        } else {
-            None
-        }
+        spanned(g.du, g.dv, g.du.length(), g.dv.length()).and_then(DVec3::try_normalize)
     }
 
     /// Diagonal of the control points' bounding box: the scale of the patch.

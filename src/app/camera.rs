@@ -81,12 +81,12 @@ impl fmt::Display for ViewPreset {
 }
 
 impl FromStr for ViewPreset {
-    type Err = crate::surface::error::UnknownName;
+    type Err = crate::surface::UnknownName;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         ViewPreset::ALL
             .into_iter()
             .find(|p| p.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| crate::surface::error::UnknownName {
+            .ok_or_else(|| crate::surface::UnknownName {
                 kind: "view",
                 given: s.to_owned(),
                 expected: "front, back, left, right, top, bottom or iso",

@@ -2333,7 +2333,7 @@ mod tests {
     /// bit-identical model before it.
     #[test]
     fn mirrored_live_strokes_keep_the_model_symmetric() {
-        use crate::surface::mirror::symmetry_error;
+        use crate::surface::symmetry_error;
         let mut m = Modeller::new(plane_doc(), None, false);
         m.set_viewport(Vec2::new(800.0, 600.0));
         m.refresh();
@@ -2389,7 +2389,7 @@ mod tests {
     /// the same drag leaves it asymmetric.
     #[test]
     fn mirrored_hand_contacts_keep_the_model_symmetric() {
-        use crate::surface::mirror::symmetry_error;
+        use crate::surface::symmetry_error;
         let mut m = hand_tool_on_the_plane();
         let (from, to) = (Vec2::new(250.0, 330.0), Vec2::new(310.0, 290.0));
         for (what, end, pull) in [

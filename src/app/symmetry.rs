@@ -7,7 +7,7 @@
 //! contact of the Hand tool (the hand loop's envelope with the mirrored fingers, see
 //! [`super::hand_input`]). The toggle is offered only when the model is symmetric about
 //! the plane ([`Symmetry::of`]: every control point's mirror image is a control point, to
-//! [`crate::surface::mirror::SYMMETRY_TOLERANCE`], and the grid spacing mirrors); it is on by
+//! [`crate::surface::SYMMETRY_TOLERANCE`], and the grid spacing mirrors); it is on by
 //! default then, and otherwise disabled with the reason ([`MirrorError`]).
 //!
 //! **Auto-refine with a mirror.** The CLI refuses `--auto-refine` with `--mirror`: a refinement

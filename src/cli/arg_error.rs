@@ -53,10 +53,10 @@ pub enum ArgError {
     },
     /// A name outside its set (primitive, regulation, finger).
     #[error("{0}")]
-    Unknown(#[from] crate::surface::error::UnknownName),
+    Unknown(#[from] crate::surface::UnknownName),
     /// A finger that is neither a digit's name nor `ray`.
     #[error("{0}, or ray")]
-    Finger(crate::surface::error::UnknownName),
+    Finger(crate::surface::UnknownName),
 }
 
 /// `MxN` → `(M, N)`, the patch counts of `sculpt` and `replay`.

@@ -53,7 +53,7 @@ use std::time::Instant;
 use crate::hand::scene::{Scene, Start};
 use crate::hand::{FingerModel, Fingers, Hand, HandLoop, HandOptions};
 use crate::model::Model;
-use crate::surface::grid::MAX_PATCHES;
+use crate::surface::MAX_PATCHES;
 use crate::surface::{Grid, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
 use nendo_devices::{HandFrame, Trace};
 

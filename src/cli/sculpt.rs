@@ -32,7 +32,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::model::{Model, ops};
-use crate::surface::grid::MAX_PATCHES;
+use crate::surface::MAX_PATCHES;
 use crate::surface::{Plane, Primitive, Regulation, Sculptor, Symmetry, refine};
 
 /// Arguments of `nendo sculpt`.

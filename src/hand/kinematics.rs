@@ -101,13 +101,13 @@ impl fmt::Display for Digit {
 }
 
 impl FromStr for Digit {
-    type Err = crate::surface::error::UnknownName;
+    type Err = crate::surface::UnknownName;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Digit::ALL
             .into_iter()
             .find(|d| d.name() == s)
-            .ok_or_else(|| crate::surface::error::UnknownName {
+            .ok_or_else(|| crate::surface::UnknownName {
                 kind: "finger",
                 given: s.to_owned(),
                 expected: "thumb, index, middle, ring or pinky",

@@ -205,10 +205,10 @@ impl Fingers {
 }
 
 impl std::str::FromStr for Fingers {
-    type Err = crate::surface::error::UnknownName;
+    type Err = crate::surface::UnknownName;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let unknown = |given: &str| crate::surface::error::UnknownName {
+        let unknown = |given: &str| crate::surface::UnknownName {
             kind: "finger",
             given: given.to_owned(),
             expected: "thumb, index, middle, ring, pinky, palm or all (a comma-separated list)",

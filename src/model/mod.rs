@@ -49,7 +49,7 @@ pub const FORMAT: &str = "nendo-model";
 /// The version this build reads and writes.
 pub const VERSION: u64 = 1;
 /// Largest model file read: 512 MB, several times the largest grid
-/// ([`crate::surface::grid::MAX_PATCHES`] patches of 16 points).
+/// ([`crate::surface::MAX_PATCHES`] patches of 16 points).
 pub const MAX_FILE_BYTES: u64 = 512 << 20;
 /// Copies of a shared point may differ by this much relative to the model's size (1 or the
 /// largest coordinate, whichever is larger).
@@ -145,7 +145,7 @@ struct Header {
 fn topology<'de, D: Deserializer<'de>>(d: D) -> Result<Topology, D::Error> {
     let name = String::deserialize(d)?;
     name.parse()
-        .map_err(|e: crate::surface::topology::UnknownTopology| D::Error::custom(e))
+        .map_err(|e: crate::surface::UnknownTopology| D::Error::custom(e))
 }
 
 fn regulation<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Regulation>, D::Error> {

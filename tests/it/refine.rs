@@ -5,8 +5,8 @@
 use crate::support::{run as nendo, run_with_input, temp_dir};
 use glam::DVec3;
 use nendo::model::Model;
+use nendo::surface::MAX_PATCHES;
 use nendo::surface::continuity::report;
-use nendo::surface::grid::MAX_PATCHES;
 use nendo::surface::refine::{self, RefineError, Refinement, polygon_sizes};
 use nendo::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, deform, regulate_all};
 use rand::{Rng, SeedableRng};

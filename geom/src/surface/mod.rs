@@ -1,5 +1,5 @@
 //! Clay surfaces: grids of bicubic Bezier patches in five topologies, deformed by shape
-//! functions through the Bernstein inverse and kept tangent-continuous (seed 002; SPEC §6–9).
+//! functions through the Bernstein inverse and kept tangent-continuous (P2; docs/design.md §9–§14).
 //!
 //! - [`Grid`]: `M × N` patches on one shared control net ([`grid`]), in a [`Topology`]
 //!   (plane, cylinder, hemisphere, sphere, torus); [`Patch`] evaluates one patch.
@@ -23,39 +23,52 @@
 //!   rows, uniform ×K, and the refinement a finger needs), spacing ratios carried over.
 //! - [`deviation`]: distances between surfaces sample by sample, and to the ideal shape.
 //!
+//! ## Layers
+//!
+//! The folders are the layers, each using only those below it (`.ci/checks/layers.sh` holds
+//! them):
+//!
+//! | folder | what it holds |
+//! |---|---|
+//! | `base/` | limits, topology, boxes, errors, the patch evaluator ([`Patch`], also the mesher's), the plane fit, generation marks |
+//! | `net/` | the grid and its control net, groups and poles, the primitives |
+//! | `constraint/` | regulation, verification, continuity, mirror symmetry |
+//! | `operation/` | shape functions, nearest point, the landing of a move, smoothing, the Bernstein inverse, refinement, deviation |
+//! | `engine/` | the pipeline every deformation runs through, and its drivers |
+//!
+//! The modules are private; what the rest of the workspace uses is re-exported below, and the
+//! namespaces with many items ([`continuity`], [`regulate`], [`refine`], [`deviation`],
+//! [`inverse`], [`engine`]) are public as modules.
+//!
 //! Geometry only: this module uses nothing but glam, std and [`crate::curve`].
 
-pub mod bounds;
-pub mod continuity;
-pub mod deviation;
+mod base;
+mod constraint;
 pub mod engine;
-pub mod error;
-pub mod grab;
-pub mod grid;
-pub mod group;
-pub mod inverse;
-pub mod limits;
-pub mod mirror;
-pub mod nearest;
-pub mod patch;
-pub mod plane_fit;
-pub mod primitive;
-pub mod refine;
-pub mod regulate;
-pub mod shape_fn;
-pub mod smooth;
-pub mod topology;
-pub mod verify;
+mod net;
+mod operation;
+
+// Every module by its own name inside the crate (`crate::surface::grid`, …).
+pub(crate) use base::{bounds, error, limits, marks, patch, plane_fit, topology};
+pub(crate) use constraint::{mirror, verify};
+pub(crate) use net::{grid, group, primitive};
+pub(crate) use operation::{grab, nearest, shape_fn, smooth};
+// The namespaces the workspace uses as modules.
+pub use constraint::{continuity, regulate};
+pub use operation::{deviation, inverse, refine};
 
 pub use bounds::Aabb;
 pub use continuity::{ContinuityReport, PoleReport};
 pub use engine::{LiveOperation, Placement, Presser, Sculptor, Stroke, Touched, deform, describe};
 pub use error::{SurfaceError, UnknownName};
+
 pub use grab::Hold;
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
-pub use limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG};
-pub use mirror::{Asymmetry, MirrorError, Plane, Symmetry, is_symmetric, symmetry_error};
+pub use limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, MAX_PATCHES};
+pub use mirror::{
+    Asymmetry, MirrorError, Plane, SYMMETRY_TOLERANCE, Symmetry, is_symmetric, symmetry_error,
+};
 pub use nearest::{SurfacePoint, nearest};
 pub use patch::{Patch, PatchFrame, PatchPoints};
 pub use primitive::{Ideal, Primitive, PrimitiveParams, PrimitiveSize};
@@ -63,5 +76,5 @@ pub use refine::{FingerRefinement, RefineError, Refinement, for_finger};
 pub use regulate::{Regulation, regulate_all};
 pub use shape_fn::{Dirs, Finger, Op};
 pub use smooth::{EnergyDrop, thin_plate_energy};
-pub use topology::Topology;
+pub use topology::{Topology, UnknownTopology};
 pub use verify::verify;

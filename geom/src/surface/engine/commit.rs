@@ -17,11 +17,11 @@
 
 use glam::DVec3;
 
-use super::marks::Marks;
 use crate::surface::error::SurfaceError;
 use crate::surface::grab::{self, Hold};
 use crate::surface::grid::Grid;
 use crate::surface::group::PoleEnd;
+use crate::surface::marks::Marks;
 use crate::surface::mirror::Symmetry;
 use crate::surface::regulate::{self, Projections, Regulation};
 use crate::surface::verify::verify_marked;

@@ -26,11 +26,11 @@
 mod commit;
 mod field;
 mod live;
-mod marks;
+
 mod presser;
 mod sculptor;
 
 pub use live::LiveOperation;
-pub(crate) use marks::Marks;
+
 pub use presser::{Placement, Presser, Stroke, describe};
 pub use sculptor::{Sculptor, Touched, deform};

@@ -46,11 +46,11 @@ use glam::DVec3;
 
 use super::commit::Commit;
 use super::field::{DisplacementField, Envelope, displace};
-use super::marks::Marks;
 use crate::surface::bounds::Aabb;
 use crate::surface::error::SurfaceError;
 use crate::surface::grid::Grid;
 use crate::surface::group::PoleEnd;
+use crate::surface::marks::Marks;
 use crate::surface::mirror::{Plane, Symmetry};
 use crate::surface::regulate::Regulation;
 use crate::surface::shape_fn::{Finger, Op};
@@ -283,7 +283,7 @@ impl Presser {
     /// [`SurfaceError::BadOp`] for a placement that makes no valid finger, or a mirror
     /// ([`Presser::set_mirror`]) made for a grid of other patch counts;
     /// [`SurfaceError::OutOfRange`] or [`SurfaceError::NotG1`] for a result the surface
-    /// refuses ([`super::verify`]). `grid` and the contact's state are then left as
+    /// refuses ([`crate::surface::verify`]). `grid` and the contact's state are then left as
     /// they were after the last accepted application.
     pub fn apply(
         &mut self,

@@ -5,12 +5,12 @@ use glam::DVec3;
 
 use super::commit::Commit;
 use super::field::{DisplacementField, Envelope, displace};
-use super::marks::Marks;
 use crate::surface::bounds::Aabb;
 use crate::surface::error::SurfaceError;
 use crate::surface::grab::Hold;
 use crate::surface::grid::Grid;
 use crate::surface::group::PoleEnd;
+use crate::surface::marks::Marks;
 use crate::surface::mirror::{Plane, Symmetry};
 use crate::surface::nearest::nearest;
 use crate::surface::regulate::Regulation;

@@ -9,7 +9,7 @@
 //! Every three-point row of control points that crosses a grid line lies inside one group, so
 //! tangent continuity is a condition on each group separately: this is what regulation works on.
 
-use super::grid::Grid;
+use crate::surface::grid::Grid;
 
 /// A connected control-point group around a non-degenerate grid vertex.
 #[derive(Debug, Clone, Copy, PartialEq)]

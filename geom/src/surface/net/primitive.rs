@@ -24,9 +24,9 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::fmt;
 use std::str::FromStr;
 
-use super::error::SurfaceError;
-use super::grid::Grid;
-use super::topology::Topology;
+use crate::surface::error::SurfaceError;
+use crate::surface::grid::Grid;
+use crate::surface::topology::Topology;
 
 /// A starting shape.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -240,13 +240,13 @@ impl fmt::Display for Primitive {
 }
 
 impl FromStr for Primitive {
-    type Err = super::error::UnknownName;
+    type Err = crate::surface::error::UnknownName;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Primitive::ALL
             .into_iter()
             .find(|p| p.name() == s)
-            .ok_or_else(|| super::error::UnknownName {
+            .ok_or_else(|| crate::surface::error::UnknownName {
                 kind: "primitive",
                 given: s.to_owned(),
                 expected: "plane, cylinder, hemisphere, sphere, torus or tube",

@@ -7,7 +7,7 @@
 //!   between the unit normals of the two patches, `atan2(|n₁ × n₂|, n₁·n₂)`, in degrees; the
 //!   maximum and the mean over all points. Points where a side has no tangent plane are
 //!   counted apart ([`ContinuityReport::undefined_normals`]). At the pole end of a meridian
-//!   the normals are the limits of [`super::Patch::normal`].
+//!   the normals are the limits of [`crate::surface::Patch::normal`].
 //! - **Pole spread**: the first-derivative directions out of the pole, `±S_v(u, pole)` at `k`
 //!   parameters on every patch around it, fitted by a plane through the pole (least squares);
 //!   the spread is the largest angle of a direction out of that plane, in degrees (0 when the
@@ -15,10 +15,10 @@
 
 use glam::DVec3;
 
-use super::grid::Grid;
-use super::group::PoleEnd;
-use super::patch::Patch;
-use super::plane_fit::plane_normal;
+use crate::surface::grid::Grid;
+use crate::surface::group::PoleEnd;
+use crate::surface::patch::Patch;
+use crate::surface::plane_fit::plane_normal;
 
 /// The smallest number of points per edge the measures use (SPEC asks for ≥ 33).
 pub const MIN_SAMPLES_PER_EDGE: usize = 33;

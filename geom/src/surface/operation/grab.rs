@@ -2,13 +2,13 @@
 //! §3, seed 004 §3(2)).
 //!
 //! `{"op":"move","at":A,"to":T,"radius":r_f}` takes the surface point nearest `A`,
-//! `S* = S_p(u*, v*)` ([`super::nearest`]), and
+//! `S* = S_p(u*, v*)` ([`crate::surface::nearest`]), and
 //!
 //! 1. **spreads** the movement `δ₀ = T − S*` with the shape functions' falloff: every sample
 //!    within `r_f` of `S*` moves by `(1 − r²/r_f²)·δ₀` (a ball-shaped finger), through the
-//!    Bernstein inverse and the regulation like any operation ([`super::engine`]);
+//!    Bernstein inverse and the regulation like any operation ([`crate::surface::engine`]);
 //! 2. **lands exactly**: the regulation leaves a residual `δ = T − S(u*, v*)`. The control
-//!    points of patch `p` belong to the (up to four) groups at its corners ([`super::group`];
+//!    points of patch `p` belong to the (up to four) groups at its corners ([`crate::surface::group`];
 //!    at a pole, to the pole group: the pole and its whole first ring) — group `g` owns the
 //!    points `P_ij` with `i ∈ I_g`, `j ∈ J_g` (`{0, 1}` next to the vertex at the patch's
 //!    start, `{2, 3}` at its end). Translating a whole group by `t_g` moves `S(u*, v*)` by
@@ -25,7 +25,7 @@
 //!    Local (the groups of one patch, so nothing beyond the regulated ring moves) and exact to
 //!    rounding; applied twice to absorb the rounding of the first.
 //!
-//! With a mirror ([`super::mirror`]) the translations are kept symmetric: a group and its
+//! With a mirror ([`crate::surface::mirror`]) the translations are kept symmetric: a group and its
 //! partner move by `t` and `R t`. Per coordinate (`R` is diagonal) the weights of a group and
 //! its partner add (with a sign along the mirror axis), and a group that is its own partner
 //! cannot move along the mirror axis: a grabbed point on the mirror plane stays on it (the
@@ -41,10 +41,10 @@
 
 use glam::DVec3;
 
-use super::grid::Grid;
-use super::group::PoleEnd;
-use super::mirror::Symmetry;
-use super::patch::cubic_basis;
+use crate::surface::grid::Grid;
+use crate::surface::group::PoleEnd;
+use crate::surface::mirror::Symmetry;
+use crate::surface::patch::cubic_basis;
 
 /// Smallest sum of squared group weights along one axis for which a landing moves along it
 /// (a single patch's weights give at least 1/4).

@@ -36,9 +36,9 @@
 
 use glam::DVec3;
 
-use super::engine::Marks;
-use super::grid::Grid;
-use super::patch::PatchPoints;
+use crate::surface::grid::Grid;
+use crate::surface::marks::Marks;
+use crate::surface::patch::PatchPoints;
 
 /// How many times a stroke's step is halved when the regulated result does not lower the
 /// energy.

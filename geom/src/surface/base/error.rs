@@ -1,6 +1,6 @@
 //! The errors of the surface part.
 
-use super::topology::Topology;
+use crate::surface::topology::Topology;
 
 /// What can go wrong when building, reading or deforming a patch grid.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -34,7 +34,7 @@ pub enum SurfaceError {
     /// The grid would hold more control points than this build can index.
     #[error(
         "a {patches_u} x {patches_v} grid is too large (at most {} patches)",
-        crate::surface::grid::MAX_PATCHES
+        crate::surface::limits::MAX_PATCHES
     )]
     TooLarge {
         /// Patches along u.

@@ -28,15 +28,11 @@
 
 use glam::DVec3;
 
-use super::bounds::{Aabb, Hierarchy};
-use super::error::SurfaceError;
-use super::patch::{Patch, PatchPoints};
-use super::topology::Topology;
-
-/// Largest number of patches a grid may have: 65 536 (256 × 256), about 0.5 GB with its
-/// samples and groups — far past any interactive model (the paper's largest is 128), and a
-/// clear error rather than an allocation failure for a mistyped count.
-pub const MAX_PATCHES: usize = 1 << 16;
+use crate::surface::bounds::{Aabb, Hierarchy};
+use crate::surface::error::SurfaceError;
+use crate::surface::limits::MAX_PATCHES;
+use crate::surface::patch::{Patch, PatchPoints};
+use crate::surface::topology::Topology;
 
 /// A grid of bicubic Bezier patches on a shared control net.
 #[derive(Debug, Clone, PartialEq)]
@@ -119,7 +115,7 @@ impl Grid {
     /// # Errors
     /// Bad counts (see [`Grid::check_counts`]), a net of the wrong length
     /// ([`SurfaceError::WrongCount`]), a non-finite coordinate ([`SurfaceError::NotFinite`],
-    /// with the node index in `patch`) or one beyond [`super::limits::COORDINATE_LIMIT`]
+    /// with the node index in `patch`) or one beyond [`crate::surface::limits::COORDINATE_LIMIT`]
     /// ([`SurfaceError::OutOfRange`], node index in `patch`).
     pub fn from_net(
         topology: Topology,
@@ -144,12 +140,12 @@ impl Grid {
         }
         if let Some(bad) = nodes
             .iter()
-            .position(|p| p.abs().max_element() > super::limits::COORDINATE_LIMIT)
+            .position(|p| p.abs().max_element() > crate::surface::limits::COORDINATE_LIMIT)
         {
             return Err(SurfaceError::OutOfRange {
                 patch: bad,
                 point: 0,
-                limit: super::limits::COORDINATE_LIMIT,
+                limit: crate::surface::limits::COORDINATE_LIMIT,
             });
         }
         let (la, lb) = lattice_dims(topology, m, n);
@@ -550,11 +546,11 @@ impl Grid {
                     point: 0,
                 });
             }
-            if x.abs().max_element() > super::limits::COORDINATE_LIMIT {
+            if x.abs().max_element() > crate::surface::limits::COORDINATE_LIMIT {
                 return Err(SurfaceError::OutOfRange {
                     patch: id,
                     point: 0,
-                    limit: super::limits::COORDINATE_LIMIT,
+                    limit: crate::surface::limits::COORDINATE_LIMIT,
                 });
             }
         }

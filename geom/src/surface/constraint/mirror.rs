@@ -28,10 +28,10 @@
 
 use glam::DVec3;
 
-use super::bounds::Aabb;
-use super::grid::Grid;
-use super::group::PoleEnd;
-use super::plane_fit::plane_normal;
+use crate::surface::bounds::Aabb;
+use crate::surface::grid::Grid;
+use crate::surface::group::PoleEnd;
+use crate::surface::plane_fit::plane_normal;
 
 /// The largest [`asymmetry`](Asymmetry::relative) a model may have to be sculpted with a
 /// mirror: 10⁻⁹ of its size (the primitives are symmetric to ≈ 10⁻¹⁶).
@@ -97,13 +97,13 @@ impl std::fmt::Display for Plane {
 }
 
 impl std::str::FromStr for Plane {
-    type Err = super::error::UnknownName;
+    type Err = crate::surface::error::UnknownName;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Plane::ALL
             .into_iter()
             .find(|p| p.name() == s)
-            .ok_or_else(|| super::error::UnknownName {
+            .ok_or_else(|| crate::surface::error::UnknownName {
                 kind: "mirror plane",
                 given: s.to_owned(),
                 expected: "x, y, z",

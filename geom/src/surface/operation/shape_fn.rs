@@ -26,8 +26,8 @@
 
 use glam::DVec3;
 
-use super::bounds::Aabb;
-use super::error::SurfaceError;
+use crate::surface::bounds::Aabb;
+use crate::surface::error::SurfaceError;
 
 /// One deformation operation.
 #[derive(Debug, Clone, PartialEq)]
@@ -203,7 +203,7 @@ impl Op {
     /// # Errors
     /// [`SurfaceError::BadOp`] for an invalid operation, one that is not a finger (move,
     /// smooth), or a surface point without a normal where one is needed.
-    pub fn finger_on(&self, grid: &super::Grid) -> Result<Finger, SurfaceError> {
+    pub fn finger_on(&self, grid: &crate::surface::Grid) -> Result<Finger, SurfaceError> {
         self.validate()?;
         match self {
             Op::PushNormal { at, depth, radius } => {
@@ -705,8 +705,8 @@ fn turn_pieces(a: DVec3, b: DVec3) -> usize {
 }
 
 /// The inward unit normal (`−unit(S_u × S_v)`) at the surface point nearest `x`.
-fn inward_normal(grid: &super::Grid, x: DVec3) -> Result<DVec3, SurfaceError> {
-    let near = super::nearest::nearest(grid, x)
+fn inward_normal(grid: &crate::surface::Grid, x: DVec3) -> Result<DVec3, SurfaceError> {
+    let near = crate::surface::nearest::nearest(grid, x)
         .ok_or_else(|| SurfaceError::BadOp("no surface point near the path".to_string()))?;
     let m = grid.patches_u();
     grid.normal(near.patch % m, near.patch / m, near.u, near.v)

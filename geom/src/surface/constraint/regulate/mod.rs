@@ -4,7 +4,7 @@
 //! The inverse mapping moves every patch on its own; C0 holds (the net is shared) but the
 //! rows of control points that cross a grid line are no longer collinear, so the surface
 //! creases along patch edges. Regulation works on the connected control-point groups
-//! ([`super::group`]) around the grid vertices an operation touched: groups are disjoint, and
+//! ([`crate::surface::group`]) around the grid vertices an operation touched: groups are disjoint, and
 //! every tangent-continuity condition between bicubic patches (a three-point row across a
 //! grid line; the first ring around a pole) lies inside one group. The paper's methods work
 //! one group at a time; the exact one solves the touched groups together (its metric couples
@@ -30,9 +30,9 @@ use glam::DVec3;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
-use super::grid::Grid;
-use super::group::{Group, Pole, PoleEnd};
-use super::topology::wrap;
+use crate::surface::grid::Grid;
+use crate::surface::group::{Group, Pole, PoleEnd};
+use crate::surface::topology::wrap;
 
 /// How control points are regulated after the inverse mapping.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -36,7 +36,7 @@
 //!
 //! ## Spacing ratios
 //! The exact regulation keeps every three-point row across a grid line at the line's reference
-//! ratio `ρ = |P₊ − P₀| / |P₀ − P₋|` ([`super::regulate::exact`]). The piece of a cubic on
+//! ratio `ρ = |P₊ − P₀| / |P₀ − P₋|` ([`crate::surface::regulate::exact`]). The piece of a cubic on
 //! `[a, b]` has first leg `(b − a)/3 · C′(a)` and last leg `(b − a)/3 · C′(b)`, so with
 //! `h_i = t_{i+1} − t_i` the widths of a column's pieces:
 //!
@@ -70,10 +70,11 @@
 
 use glam::DVec3;
 
-use super::SurfaceError;
-use super::grid::{Grid, MAX_PATCHES};
-use super::shape_fn::{Finger, Op};
-use super::topology::Topology;
+use crate::surface::SurfaceError;
+use crate::surface::grid::Grid;
+use crate::surface::limits::MAX_PATCHES;
+use crate::surface::shape_fn::{Finger, Op};
+use crate::surface::topology::Topology;
 
 /// Smallest distance between an inserted parameter and a grid line or another inserted
 /// parameter (in patch widths): closer pieces would have a spacing ratio near 0 or ∞.

@@ -22,7 +22,7 @@
 
 use glam::DVec3;
 
-use super::patch::PatchPoints;
+use crate::surface::patch::PatchPoints;
 
 /// The sample parameters `{0, 1/3, 2/3, 1}` along each direction.
 pub const SAMPLE_PARAMS: [f64; 4] = [0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0];

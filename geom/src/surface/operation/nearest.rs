@@ -15,9 +15,9 @@
 
 use glam::DVec3;
 
-use super::bounds::Aabb;
-use super::grid::Grid;
-use super::patch::Patch;
+use crate::surface::bounds::Aabb;
+use crate::surface::grid::Grid;
+use crate::surface::patch::Patch;
 
 /// A point of a grid's surface.
 #[derive(Debug, Clone, Copy, PartialEq)]

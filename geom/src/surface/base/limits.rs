@@ -1,6 +1,7 @@
-//! The limits every surface result is held to: how large a coordinate may grow, and how much
-//! crease the exact regulation may leave. The bottom of the surface module: the grid refuses
-//! nets beyond the first, [`super::verify`] refuses operations beyond either.
+//! The limits every surface result is held to: how large a coordinate may grow, how much
+//! crease the exact regulation may leave, how many patches a grid may have. The bottom of the surface module: the grid refuses
+//! nets beyond the first and grids of more patches than the last, the verification refuses
+//! operations beyond either.
 
 /// The largest absolute value a control-point coordinate may take (10³⁰).
 ///
@@ -12,12 +13,17 @@
 /// normals are cross products of derivative differences (≈ 10⁶² · small constants) whose
 /// squared lengths reach ≈ 10¹²⁵; the pole regulation's plane fit and its eigen solve square
 /// ring offsets' outer products (≈ 10¹²³). Operations whose result would exceed it are refused
-/// ([`SurfaceError::OutOfRange`](super::SurfaceError::OutOfRange)); grids read from files beyond it are refused by
-/// [`Grid::from_net`](super::Grid::from_net) / [`Grid::from_patches`](super::Grid::from_patches).
+/// ([`SurfaceError::OutOfRange`](crate::surface::SurfaceError::OutOfRange)); grids read from files beyond it are refused by
+/// [`Grid::from_net`](crate::surface::Grid::from_net) / [`Grid::from_patches`](crate::surface::Grid::from_patches).
 pub const COORDINATE_LIMIT: f64 = 1e30;
 
-/// The largest crease (degrees) [`Regulation::Exact`](super::Regulation::Exact) may leave along an edge of a touched
+/// The largest crease (degrees) [`Regulation::Exact`](crate::surface::Regulation::Exact) may leave along an edge of a touched
 /// patch: exact regulation holds G1 to rounding (≈ 10⁻¹²°), so anything above 10⁻⁶° means the
 /// construction failed (e.g. a pole's tangent plane folded the first ring) and the operation
-/// is refused ([`SurfaceError::NotG1`](super::SurfaceError::NotG1)).
+/// is refused ([`SurfaceError::NotG1`](crate::surface::SurfaceError::NotG1)).
 pub const G1_TOLERANCE_DEG: f64 = 1e-6;
+
+/// Largest number of patches a grid may have: 65 536 (256 × 256), about 0.5 GB with its
+/// samples and groups — far past any interactive model (the paper's largest is 128), and a
+/// clear error rather than an allocation failure for a mistyped count.
+pub const MAX_PATCHES: usize = 1 << 16;

@@ -25,7 +25,7 @@
 
 use glam::DVec3;
 
-use super::bounds::Aabb;
+use crate::surface::bounds::Aabb;
 
 /// The control points of a bicubic patch, `P[4*i + j]`, `i` along `u`, `j` along `v`.
 pub type PatchPoints = [DVec3; 16];

@@ -3,16 +3,16 @@
 //! Surfaces are compared at the same parameters: `k × k` samples per patch at the cell
 //! centres `((i + ½)/k, (j + ½)/k)` (40 × 40 in the paper: 160 000 samples on 100 patches).
 //! The ideal surface of an operation is the starting surface with every sample moved by the
-//! shape function, `S₀ + F(S₀)` ([`super::Finger::ideal`]).
+//! shape function, `S₀ + F(S₀)` ([`crate::surface::Finger::ideal`]).
 //!
 //! [`sample_iter`] and [`distance_iter`] stream the samples (memory for a patch or two, however
 //! many samples); [`samples`] and [`distances`] hold them all (24 and 8 bytes per sample).
 
 use glam::DVec3;
 
-use super::error::SurfaceError;
-use super::grid::Grid;
-use super::shape_fn::Finger;
+use crate::surface::error::SurfaceError;
+use crate::surface::grid::Grid;
+use crate::surface::shape_fn::Finger;
 
 /// The samples of a grid, patch by patch (index order), `k × k` per patch, one at a time:
 /// memory for one patch, whatever the grid and `k`.

@@ -14,13 +14,13 @@
 
 use glam::DVec3;
 
-use super::continuity::angle_deg;
-use super::engine::Marks;
-use super::error::SurfaceError;
-use super::grid::Grid;
-use super::limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG};
-use super::patch::{Patch, cubic_basis, cubic_basis_derivative};
-use super::regulate::Regulation;
+use crate::surface::continuity::angle_deg;
+use crate::surface::error::SurfaceError;
+use crate::surface::grid::Grid;
+use crate::surface::limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG};
+use crate::surface::marks::Marks;
+use crate::surface::patch::{Patch, cubic_basis, cubic_basis_derivative};
+use crate::surface::regulate::Regulation;
 
 /// Points per edge at which [`verify`] compares the normals of the two sides: both ends and
 /// the middle (9 points cost about 3× more; the folds seen so far show at these three).
@@ -32,7 +32,7 @@ const VERIFY_SAMPLES: usize = 3;
 /// an old position listed in `before`) G1 within [`G1_TOLERANCE_DEG`]: proved along the whole edge from its control
 /// points (`certified_g1`, which holds on every edge the exact regulation made G1 away from
 /// the poles), or else with the normals compared at both ends and the middle of the edge
-/// (points where a side has no tangent plane are skipped, as in [`super::continuity`]).
+/// (points where a side has no tangent plane are skipped, as in [`crate::surface::continuity`]).
 ///
 /// `before` lists `(node id, old position)` for every control point the operation wrote (in
 /// the order written; repeats allowed). An edge that creases beyond the tolerance is only a
@@ -163,7 +163,7 @@ const QUADRATIC_WEIGHTS: [[f64; 3]; 3] = [
 /// Whether the edge between patches `a` and `b` (`b` after `a` along u when `along_u`, else
 /// along v) is **proved** G1 within [`G1_TOLERANCE_DEG`] at every point of the edge, from its
 /// 12 control points alone (no sampling), given by their ids `ids` (`a`'s row next to the
-/// edge, the edge, `b`'s row next to it: [`super::grid::Shape::edge_ids`]); `false` means
+/// edge, the edge, `b`'s row next to it: [`crate::surface::grid::Shape::edge_ids`]); `false` means
 /// "not proved" (the caller then measures the normals, [`edge_angle`]).
 ///
 /// Name the rows crossing the edge `k = 0..3` along it: `X_k` on the edge (shared),

@@ -1,0 +1,12 @@
+//! What an operation asks of the surface: shape functions and their fingers, the nearest surface
+//! point, the exact landing of a move, the thin-plate smoothing step, the Bernstein inverse,
+//! refinement, and the deviation from an operation's ideal shape. Uses the layers below; the
+//! engine ([`super::engine`]) runs them.
+
+pub mod deviation;
+pub(crate) mod grab;
+pub mod inverse;
+pub(crate) mod nearest;
+pub mod refine;
+pub(crate) mod shape_fn;
+pub(crate) mod smooth;

@@ -4,7 +4,7 @@
 //! `nendo bench input` table.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use nendo::hand::{Hand, HandOptions, Session};
+use nendo::hand::{Hand, HandOptions, HandSession};
 use nendo::surface::{Primitive, PrimitiveParams, Regulation};
 
 fn hand_loop(c: &mut Criterion) {
@@ -22,7 +22,7 @@ fn hand_loop(c: &mut Criterion) {
         group.throughput(Throughput::Elements(trace.frames.len() as u64));
         group.bench_function(name, |b| {
             b.iter(|| {
-                let mut s = Session::new(
+                let mut s = HandSession::new(
                     grid.clone(),
                     Regulation::default(),
                     hand,

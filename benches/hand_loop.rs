@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! Device sample -> regulated surface, per frame (criterion): the gestures of `nendo bench
 //! input` fed to the hand loop on a 1 600-patch sphere (40 x 40, radius 3). One iteration
 //! replays a whole gesture on a fresh copy of the sphere; the per-frame figures are in the

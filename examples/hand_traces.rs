@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! Writes the hand traces shipped in `devices/traces/` (see `devices/README.md`):
 //!
 //! ```text

@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! # nendo-devices: glove and tracker input for nendo
 //!
 //! Produces timestamped [`HandFrame`]s — tracker pose, glove joint angles, buttons, source

@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! Closest point on curves: Bezier clipping against kurbo 0.13's `CubicBez::nearest`, a
 //! 1001-sample search and Newton from 8 seeds, on the same random cases in one run.
 //!

@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! Curve edits and curve-driven warping (issue 7): grab, split and refine on cubic and degree-9
 //! curves, and one drag frame of the 1 600-patch control net carried by 3 curves.
 //!

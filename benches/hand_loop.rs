@@ -1,10 +1,11 @@
+#![forbid(unsafe_code)]
 //! Device sample -> regulated surface, per frame (criterion): the gestures of `nendo bench
 //! input` fed to the hand loop on a 1 600-patch sphere (40 x 40, radius 3). One iteration
 //! replays a whole gesture on a fresh copy of the sphere; the per-frame figures are in the
 //! `nendo bench input` table.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use nendo::hand::{Hand, HandOptions, Session};
+use nendo::hand::{Hand, HandOptions, HandSession};
 use nendo::surface::{Primitive, PrimitiveParams, Regulation};
 
 fn hand_loop(c: &mut Criterion) {
@@ -22,7 +23,7 @@ fn hand_loop(c: &mut Criterion) {
         group.throughput(Throughput::Elements(trace.frames.len() as u64));
         group.bench_function(name, |b| {
             b.iter(|| {
-                let mut s = Session::new(
+                let mut s = HandSession::new(
                     grid.clone(),
                     Regulation::default(),
                     hand,

@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! Decode throughput per device protocol (criterion). The same streams and decoders as the
 //! table of `nendo_devices::decode_throughput` (behind `nendo bench input`).
 

@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! Regulation: push + regulation on the 10 × 10 and 40 × 40 planes and the 8 × 4 sphere for
 //! every method, and the whole-grid regulation of a sculpted sphere.
 //!

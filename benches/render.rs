@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! Tessellating 100 and 1 600 sculpted patches, and one headless 1280 × 720 frame of the
 //! 10 × 10 plane.
 //!

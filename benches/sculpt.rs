@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! One push (alternating with its pull twin) on planes and spheres of growing size, with the
 //! same finger: the cost should follow the touched area, not the patch count.
 //!

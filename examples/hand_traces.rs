@@ -1,10 +1,11 @@
+#![forbid(unsafe_code)]
 //! Writes the hand traces shipped in `devices/traces/` (see `devices/README.md`):
 //!
 //! ```text
 //! cargo run --release --example hand_traces -- devices/traces
 //! ```
 //!
-//! Each trace is a scripted hand motion (`nendo::hand::script`) written through the real trace
+//! Each trace is a scripted hand motion (`nendo::hand::shipped`) written through the real trace
 //! writer of `nendo-devices`; the generators are deterministic, and `tests/it/hand_traces.rs`
 //! checks that the shipped files are what they write.
 
@@ -17,7 +18,7 @@ fn main() -> ExitCode {
             .nth(1)
             .unwrap_or_else(|| "devices/traces".into()),
     );
-    let shipped = match nendo::hand::script::shipped() {
+    let shipped = match nendo::hand::shipped::shipped() {
         Ok(s) => s,
         Err(e) => {
             eprintln!("hand_traces: {e}");

@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! # nendo (粘土, "clay")
 //!
 //! A free-form modeller in which surfaces are shaped like clay — pushed, pulled, grooved — and

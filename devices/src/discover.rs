@@ -86,6 +86,27 @@ pub fn hid_fits(profile: &Profile, vid: u16, pid: u16) -> bool {
     matches!(profile.glove(), Some(GloveProfile::FiveDtUltraUsb { usb, .. }) if usb.matches(vid, pid))
 }
 
+/// The inventory's entry for a serial port that is present: its path, kind and USB ids, and
+/// the names of the `profiles` that fit it ([`serial_fits`]).
+fn serial_entry(
+    path: String,
+    kind: String,
+    usb: Option<(u16, u16)>,
+    profiles: &[Profile],
+) -> SerialPortEntry {
+    let fits = profiles
+        .iter()
+        .filter(|p| serial_fits(p, &path, usb))
+        .map(|p| p.name.clone())
+        .collect();
+    SerialPortEntry {
+        path,
+        kind,
+        usb,
+        fits,
+    }
+}
+
 /// Lists serial ports and HID devices and matches them against `profiles`. Listing failures
 /// are reported in the inventory, not as errors: an empty machine is a normal answer.
 pub fn inventory(profiles: &[Profile]) -> Inventory {
@@ -111,17 +132,8 @@ pub fn inventory(profiles: &[Profile]) -> Inventory {
                     serialport::SerialPortType::BluetoothPort => ("Bluetooth".to_string(), None),
                     serialport::SerialPortType::Unknown => ("unknown".to_string(), None),
                 };
-                let fits = profiles
-                    .iter()
-                    .filter(|p| serial_fits(p, &port.port_name, usb))
-                    .map(|p| p.name.clone())
-                    .collect();
-                inv.serial.push(SerialPortEntry {
-                    path: port.port_name,
-                    kind,
-                    usb,
-                    fits,
-                });
+                inv.serial
+                    .push(serial_entry(port.port_name, kind, usb, profiles));
             }
         }
         Err(e) => inv.serial_error = Some(e.to_string()),
@@ -170,10 +182,55 @@ mod tests {
         assert!(!hid_fits(&cg, 0x5D70, 0x0100));
     }
 
+    #[cfg(unix)]
     #[test]
-    fn listing_never_fails() {
-        let inv = inventory(&profile::builtin());
-        // This machine may have no ports at all; listing must still succeed or say why.
+    fn a_listed_port_is_matched_to_the_profiles_that_name_it_or_its_usb_ids() {
+        let builtin = profile::builtin();
+        // A port a profile names, behind a symbolic link: the link is resolved.
+        let dir = std::env::temp_dir().join(format!("nendo-discover-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let target = dir.join("ttyFAKE0");
+        std::fs::write(&target, b"").unwrap();
+        let link = dir.join("glove");
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        let mut cg = profile::resolve("cyberglove2-18").unwrap();
+        cg.name = "linked-glove".into();
+        let crate::profile::Input::Devices {
+            glove: Some(glove), ..
+        } = &mut cg.input
+        else {
+            panic!("cyberglove2-18 has a glove")
+        };
+        glove.set_port(&link.to_string_lossy());
+        let profiles: Vec<Profile> = builtin.iter().cloned().chain([cg]).collect();
+        let entry = serial_entry(
+            target.to_string_lossy().into_owned(),
+            "unknown".into(),
+            None,
+            &profiles,
+        );
+        assert_eq!(entry.fits, ["linked-glove"], "{entry:?}");
+        // A port no profile uses fits none.
+        let other = serial_entry("/dev/ttyS7".into(), "PCI".into(), None, &profiles);
+        assert!(other.fits.is_empty(), "{other:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn listing_the_machine_matches_what_it_finds_or_says_why_not() {
+        let profiles = profile::builtin();
+        let inv = inventory(&profiles);
+        // This machine may have no ports at all; listing must still succeed or say why, and
+        // every port found is matched by the same rule.
         assert!(inv.serial_error.is_none() || inv.serial.is_empty());
+        for e in &inv.serial {
+            let want: Vec<String> = profiles
+                .iter()
+                .filter(|p| serial_fits(p, &e.path, e.usb))
+                .map(|p| p.name.clone())
+                .collect();
+            assert_eq!(e.fits, want, "{e:?}");
+        }
     }
 }

@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! # nendo-devices: glove and tracker input for nendo
 //!
 //! Produces timestamped [`HandFrame`]s — tracker pose, glove joint angles, buttons, source
@@ -14,7 +15,7 @@
 //! | [`serial`] | the serial transport (`serialport`) |
 //! | [`device`] | the [`Glove`] and [`Tracker`] traits and their serial and USB HID backends |
 //! | [`stream`] | [`HandStream`]: glove + tracker merged on background threads, watchdog, reconnection |
-//! | [`mouse`] | [`MouseHand`]: a hand driven by the mouse's view ray |
+//! | [`mouse`] | [`MouseDevice`]: a hand driven by the mouse's view ray |
 //! | [`trace`] | the recorded-trace text format, reader and atomic writer |
 //! | [`profile`] | device profiles (JSON): ports, calibration, tracker-to-world transform, hand size |
 //! | [`alignment`] | recenter and scale the tracker-to-world transform, fit the hand to the model |
@@ -69,7 +70,7 @@ pub use frame::{
     ANGLE_LIMIT_RAD, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, POSITION_LIMIT_M,
     SourceState, Timestamp, TrackerPose, buttons,
 };
-pub use mouse::{MouseHand, ViewRay};
+pub use mouse::{MouseDevice, ViewRay};
 pub use profile::{HandSize, Profile, WorldFromTracker};
 pub use stream::{DeviceRole, DeviceStatus, HandStream, StreamOptions, StreamStats};
 pub use throughput::{ThroughputRow, decode_throughput};

@@ -31,7 +31,7 @@ pub type MouseButtons = u32;
 
 /// The mouse-driven hand (see the module docs).
 #[derive(Debug, Clone)]
-pub struct MouseHand {
+pub struct MouseDevice {
     config: MouseProfile,
     depth: f64,
 }
@@ -53,10 +53,10 @@ const CURLED: [Joint; 12] = [
 
 const STRAIGHT: [Joint; 3] = [Joint::IndexMcp, Joint::IndexPip, Joint::IndexDip];
 
-impl MouseHand {
+impl MouseDevice {
     /// A hand at the profile's starting depth.
     pub fn new(config: MouseProfile) -> Self {
-        MouseHand {
+        MouseDevice {
             depth: config.depth,
             config,
         }
@@ -143,7 +143,7 @@ mod tests {
 
     #[test]
     fn the_hand_rides_the_ray_and_points_along_it() {
-        let mut hand = MouseHand::new(MouseProfile::default());
+        let mut hand = MouseDevice::new(MouseProfile::default());
         let ray = ViewRay {
             origin: DVec3::new(0.0, 1.0, 2.0),
             direction: DVec3::new(0.0, 0.0, -3.0),

@@ -63,7 +63,7 @@ pub enum Input {
         #[serde(default)]
         tracker: Option<TrackerProfile>,
     },
-    /// The mouse-driven hand of the window ([`crate::MouseHand`]).
+    /// The mouse-driven hand of the window ([`crate::MouseDevice`]).
     Mouse(MouseProfile),
     /// A recorded trace played back as if live (the mock backend).
     Replay(ReplayProfile),

@@ -484,7 +484,7 @@ impl HandStream {
     /// Opens the devices (or the trace) a profile names and starts streaming. Each device must
     /// answer its handshake now: an absent port or a mute device is an error here, not a
     /// silent stream. The mouse profile is refused: its hand is driven by the window through
-    /// [`MouseHand`](crate::MouseHand).
+    /// [`MouseDevice`](crate::MouseDevice).
     pub fn open(profile: &Profile, options: &StreamOptions) -> Result<HandStream, DeviceError> {
         Self::open_with(profile, options, Start::AllNow)
     }
@@ -541,7 +541,8 @@ impl HandStream {
                 ))
             }
             Input::Mouse(_) => Err(DeviceError::Unsupported(
-                "the mouse hand is driven by the window (MouseHand), not opened as a stream".into(),
+                "the mouse hand is driven by the window (MouseDevice), not opened as a stream"
+                    .into(),
             )),
         }
     }

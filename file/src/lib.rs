@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! The one safe writer of nendo: every file the program writes for the user (models, meshes,
 //! pictures, figures, traces, the window's autosave) goes through [`AtomicFile`].
 //!

@@ -1,3 +1,4 @@
+#![forbid(unsafe_code)]
 //! # nendo-geom: the exact geometry under nendo's clay
 //!
 //! Everything here is the geometry of the papers summarised in `shared/SPEC.md`, and nothing

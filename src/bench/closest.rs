@@ -15,6 +15,7 @@
 //! `[−2,2]^d` (around the curve); "close" queries at `C(u) + δ N`, `|δ| ≤ 0.05` (near it).
 
 use super::reference::sampled_min;
+use super::rng::Seeded;
 use super::{Table, median};
 use crate::curve::{
     Bezier, ClipStats, Curve, CurveSet, Point, closest_bezier, closest_bezier_with_stats,
@@ -23,34 +24,6 @@ use crate::curve::{
 use glam::{DVec2, DVec3};
 use std::hint::black_box;
 use std::time::Instant;
-
-/// A small deterministic generator (SplitMix64), so the library needs no `rand`.
-#[derive(Debug, Clone)]
-pub struct SplitMix(u64);
-
-impl SplitMix {
-    /// A generator from a seed.
-    pub fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-    /// Next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in `[lo, hi)`.
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
-    }
-    /// A point with coordinates uniform in `[−s, s)`.
-    pub fn point<P: Point>(&mut self, s: f64) -> P {
-        let c: Vec<f64> = (0..P::DIM).map(|_| self.range(-s, s)).collect();
-        P::from_coords(&c).unwrap_or(P::ZERO)
-    }
-}
 
 /// One query case with its reference distance.
 #[derive(Debug, Clone)]
@@ -74,7 +47,7 @@ pub enum Spread {
 
 /// Random cases of the given degree and dimension.
 pub fn cases<P: Point>(count: usize, degree: usize, spread: Spread, seed: u64) -> Vec<Case<P>> {
-    let mut rng = SplitMix::new(seed);
+    let mut rng = Seeded::new(seed);
     (0..count)
         .map(|_| {
             let curve: Bezier<P> = Bezier::new((0..=degree).map(|_| rng.point(1.0)).collect());
@@ -396,7 +369,7 @@ pub fn case_count(scale: f64) -> usize {
 /// square and `count` queries over it.
 #[must_use]
 pub fn pick_setup(count: usize) -> (Vec<Curve<DVec2>>, Vec<DVec2>) {
-    let mut rng = SplitMix::new(6);
+    let mut rng = Seeded::new(6);
     let curves: Vec<Curve<DVec2>> = (0..1000)
         .map(|_| {
             let centre = DVec2::new(rng.range(0.0, 40.0), rng.range(0.0, 40.0));
@@ -416,7 +389,7 @@ pub fn pick_setup(count: usize) -> (Vec<Curve<DVec2>>, Vec<DVec2>) {
 /// and the ray runs from the query along a direction drawn from seed 7.
 #[must_use]
 pub fn probe_setup(cases: &[Case<DVec3>]) -> (Vec<f64>, Vec<DVec3>) {
-    let mut rng = SplitMix::new(7);
+    let mut rng = Seeded::new(7);
     let radii = cases.iter().map(|c| 1.2 * c.reference).collect();
     let dirs = cases
         .iter()

@@ -17,7 +17,7 @@
 //! other processes on a shared machine do not inflate them), elsewhere in wall time
 //! ([`super::Stopwatch`]).
 
-use super::closest::SplitMix;
+use super::rng::Seeded;
 use super::{Table, cpu_median_ns, format_ns};
 use crate::curve::edit::{Grab, GrabMethod, GrabOptions, split};
 use crate::curve::refine::{Constraint, Similarity, refine, refine_piecewise};
@@ -28,7 +28,7 @@ use glam::{DMat2, DVec2, DVec3};
 use std::hint::black_box;
 
 /// A curve with bend: control points along a wavy line, plus noise.
-pub fn wavy<P: Point>(rng: &mut SplitMix, degree: usize) -> Bezier<P> {
+pub fn wavy<P: Point>(rng: &mut Seeded, degree: usize) -> Bezier<P> {
     let amp = rng.range(0.3, 1.0);
     let pts = (0..=degree)
         .map(|i| {
@@ -57,7 +57,7 @@ pub struct GrabCase {
 /// `count` grab cases on Bezier curves of `degree`.
 #[must_use]
 pub fn grab_cases(count: usize, degree: usize, seed: u64) -> Vec<GrabCase> {
-    let mut rng = SplitMix::new(seed);
+    let mut rng = Seeded::new(seed);
     (0..count)
         .map(|_| {
             let curve: Curve<DVec3> = wavy(&mut rng, degree).into();
@@ -102,7 +102,7 @@ pub fn refine_cases(
     mode: Similarity,
     seed: u64,
 ) -> Vec<RefineCase> {
-    let mut rng = SplitMix::new(seed);
+    let mut rng = Seeded::new(seed);
     (0..count)
         .map(|_| {
             let segs: Vec<Bezier<DVec2>> = if segments == 1 {
@@ -266,7 +266,7 @@ pub fn report(scale: f64) -> String {
         ]);
     }
     {
-        let mut rng = SplitMix::new(77);
+        let mut rng = Seeded::new(77);
         let splines: Vec<Curve<DVec3>> = (0..count.min(200))
             .filter_map(|_| {
                 BSpline::clamped_uniform(3, wavy::<DVec3>(&mut rng, 7).points().to_vec())

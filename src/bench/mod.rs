@@ -16,6 +16,7 @@ pub mod live;
 pub mod reference;
 pub mod regulation;
 pub mod render;
+pub mod rng;
 pub mod sculpt;
 
 /// Repeated timing of a closure, reporting the median of per-batch means.

@@ -56,6 +56,7 @@ use nalgebra::DMatrix;
 use std::time::Instant;
 
 use super::Table;
+use super::rng::Seeded;
 use crate::surface::continuity::report;
 use crate::surface::deviation::{DeviationStats, ideal_samples, samples};
 use crate::surface::inverse;
@@ -76,34 +77,32 @@ pub const SAMPLES: usize = 40;
 /// finger radii of the push point.
 pub const REGION_RADII: f64 = 2.0;
 
-/// A deterministic stream of random strokes (SplitMix64), so the library needs no `rand`.
+/// A deterministic stream of random strokes from a seed ([`super::rng::Seeded`]).
 #[derive(Debug, Clone)]
 pub struct Strokes {
-    state: u64,
+    rng: Seeded,
 }
 
 impl Strokes {
     /// A stream from a seed.
     #[must_use]
     pub fn new(seed: u64) -> Self {
-        Self { state: seed }
+        Self {
+            rng: Seeded::new(seed),
+        }
     }
 
     fn next_u64(&mut self) -> u64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.rng.next_u64()
     }
 
     /// Uniform in `[lo, hi)`.
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
+        self.rng.range(lo, hi)
     }
 
     fn index(&mut self, n: usize) -> usize {
-        ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * n as f64) as usize % n.max(1)
+        self.rng.index(n)
     }
 
     fn vector(&mut self, s: f64) -> DVec3 {

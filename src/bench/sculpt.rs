@@ -197,31 +197,15 @@ pub fn time_push_with(
     (ns, touched, examined)
 }
 
-/// CPU time consumed by the calling thread so far (ns), on Linux.
+/// CPU time consumed by the calling thread so far (ns), on Linux; `None` when the clock
+/// cannot be read.
 #[cfg(target_os = "linux")]
 #[must_use]
 pub fn thread_cpu_ns() -> Option<u64> {
-    #[repr(C)]
-    struct Timespec {
-        tv_sec: i64,
-        tv_nsec: i64,
-    }
-    unsafe extern "C" {
-        fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
-    }
-    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
-    let mut ts = Timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `clock_gettime` only writes the `timespec` it is given, which lives on this
-    // stack frame and has the C layout (two 64-bit fields on 64-bit Linux).
-    let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    (rc == 0).then(|| {
-        (ts.tv_sec as u64)
-            .wrapping_mul(1_000_000_000)
-            .wrapping_add(ts.tv_nsec as u64)
-    })
+    use nix::sys::time::TimeValLike;
+    use nix::time::{ClockId, clock_gettime};
+    let ts = clock_gettime(ClockId::CLOCK_THREAD_CPUTIME_ID).ok()?;
+    u64::try_from(ts.num_nanoseconds()).ok()
 }
 
 /// CPU time of the calling thread: not available on this platform (wall time is used).

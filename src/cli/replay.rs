@@ -30,7 +30,7 @@
 //! surface does not change; the frame then runs on the finer grid. Whether the frame starts a
 //! contact, and with which pushes, is decided by the hand loop's own rules, the same code
 //! ([`crate::hand::HandLoop::starting`]): no contact in progress, the finger acting, and every
-//! part that presses by rule 4 of [`crate::hand::session`] — its axis crossing the surface no
+//! part that presses by rule 4 of [`crate::hand::hand_loop`] — its axis crossing the surface no
 //! farther behind the tip than its own joints reach, its tip past the surface along `m̂` by
 //! more than the minimum depth, or within the grip distance while gripping — gives a push
 //! ending at its tip `E`, along `m̂` by that depth `h` (from `E − h·m̂`); a pinch taking hold of the clay (rule 9) is refined
@@ -418,7 +418,7 @@ fn replay(args: &Args) -> anyhow::Result<String> {
         options.finger_radius = r;
     }
     let regulation = model.regulation;
-    // The loop of a `Session`, with the grid at hand so that it can be refined between
+    // The loop of a `HandSession`, with the grid at hand so that it can be refined between
     // contacts.
     let symmetry = match mirror {
         None => None,

@@ -12,13 +12,18 @@
 //! |---|---|
 //! | [`kinematics`] | [`Hand`]: bend angles → joint positions of each [`Digit`], lengths from the profile, placed in the world by the tracker pose; the [`Palm`] |
 //! | [`contact`] | [`Probe`]: where a line along the finger meets the surface (patch boxes, then exact ray picking of [`crate::mesh`]); [`Fingertip`], the capsule of radius `r_f` around the finger's axis |
-//! | [`session`] | [`HandLoop`]: frames → contact of every pressing [`Part`] → the surface deformed, pinches held; [`Session`]: the loop with its own grid, for replay |
+//! | [`parts`] | [`Part`]: a finger or the palm; [`Fingers`], the set that presses; [`FingerModel`], the parts a device presses with, and its [`Activation`] |
+//! | [`options`] | [`HandOptions`]: finger radius, parts, thresholds of contact, stroke, grip and pinch |
+//! | [`hand_loop`] | [`HandLoop`]: frames → contact of every pressing [`Part`] → the surface deformed, pinches held (the contact rules) |
+//! | [`outcome`] | what the loop reports: [`Touch`], [`FrameOutcome`], [`LoopStats`] |
+//! | [`session`] | [`HandSession`]: the loop with its own grid, for replay, tests and benches |
 //! | [`press`] | the operation of one contact: every part's finger [`Placement`]s applied together, as an envelope, to the surface before the contact — re-exported from the geometry crate's engine, [`crate::surface::envelope`] (the hand only builds placements) |
 //! | [`mouse`] | [`MouseFinger`]: the mouse as a hand — the view ray is the finger; click depth and drag give push, pull and draw-a-line |
 //! | [`scene`] | [`Scene`](scene::Scene): the surface a recorded session started from and its settings, the `scene` line of a trace header (`nendo replay TRACE` needs nothing else) |
-//! | [`script`] | scripted hand motions written as real traces (inverse kinematics for a wanted fingertip), and the generators of the traces shipped in `devices/traces/` |
+//! | [`script`] | scripted hand motions written as real traces ([`Choreography`](script::Choreography): inverse kinematics for a wanted fingertip; gestures; pinch poses) |
+//! | [`shipped`] | the generators of the traces shipped in `devices/traces/`, and their scenes |
 //!
-//! ## Contact, in short (the rules are in [`session`])
+//! ## Contact, in short (the rules are in [`hand_loop`])
 //!
 //! - **The clay never moves farther than the finger penetrated it, whatever the finger's
 //!   angle: a finger lying on the clay presses with its side, a tip pokes with its tip.**
@@ -58,21 +63,27 @@
 //! replaying a trace twice gives bit-identical surfaces.
 
 pub mod contact;
+pub mod hand_loop;
 pub mod kinematics;
 pub mod mouse;
+pub mod options;
+pub mod outcome;
+pub mod parts;
 pub mod press;
 pub mod scene;
 pub mod script;
 pub mod session;
+pub mod shipped;
 
 pub use contact::{AxisHit, Fingertip, Probe};
+pub use hand_loop::HandLoop;
 pub use kinematics::{Digit, FingerChain, Hand, HandPose, Palm};
 pub use mouse::MouseFinger;
+pub use options::{DEFAULT_FINGER_RADIUS, DEFAULT_PINCH_DISTANCE, HandOptions};
+pub use outcome::{FrameOutcome, LoopStats, Touch};
+pub use parts::{Activation, FingerModel, Fingers, Part};
 pub use press::Placement;
-pub use session::{
-    Activation, DEFAULT_FINGER_RADIUS, DEFAULT_PINCH_DISTANCE, FingerModel, Fingers, FrameOutcome,
-    HandLoop, HandOptions, LoopStats, Part, Session, Touch,
-};
+pub use session::HandSession;
 
 /// What can go wrong in the hand loop.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -1,7 +1,7 @@
 //! The mouse as a hand: the view ray is the finger.
 //!
 //! The window turns the cursor into a view ray (`nendo_devices::ViewRay`); the device layer's
-//! `MouseHand` puts the hand on that ray, pointing along it, index finger straight. For
+//! `MouseDevice` puts the hand on that ray, pointing along it, index finger straight. For
 //! modelling, a [`MouseFinger`] chooses *where* on the ray the fingertip is, and the hand loop
 //! ([`super::session`], finger model [`super::FingerModel::Ray`]) does the rest exactly as for
 //! a glove — so mouse frames can be recorded as traces and replayed like any other.
@@ -22,7 +22,7 @@
 
 use glam::DVec3;
 use nendo_devices::profile::MouseProfile;
-use nendo_devices::{HandFrame, Joint, MouseHand, Timestamp, ViewRay, buttons};
+use nendo_devices::{HandFrame, Joint, MouseDevice, Timestamp, ViewRay, buttons};
 
 use super::HandError;
 use super::contact::Probe;
@@ -42,7 +42,7 @@ struct Press {
 /// The mouse hand for modelling (see the module docs).
 #[derive(Debug, Clone)]
 pub struct MouseFinger {
-    hand: MouseHand,
+    hand: MouseDevice,
     profile: MouseProfile,
     click_depth: f64,
     probe: Probe,
@@ -62,7 +62,7 @@ impl MouseFinger {
             )));
         }
         Ok(Self {
-            hand: MouseHand::new(profile),
+            hand: MouseDevice::new(profile),
             profile,
             click_depth,
             probe: Probe::new(),
@@ -202,7 +202,7 @@ fn far_distance(grid: &Grid, origin: DVec3) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::hand::{FingerModel, Hand, HandOptions, Session};
+    use crate::hand::{FingerModel, Hand, HandOptions, HandSession};
     use crate::surface::{Primitive, PrimitiveParams, Regulation};
     use nendo_devices::{HandSize, WorldFromTracker};
 
@@ -214,14 +214,14 @@ mod tests {
             finger: FingerModel::Ray,
             ..HandOptions::default()
         };
-        let mut s = Session::new(grid, Regulation::None, hand, options).unwrap();
+        let mut s = HandSession::new(grid, Regulation::None, hand, options).unwrap();
         let mut m = MouseFinger::new(MouseProfile::default(), 0.25).unwrap();
         let eye = DVec3::new(0.0, 0.0, 10.0);
         let at = |x: f64, y: f64| ViewRay {
             origin: eye,
             direction: DVec3::new(x, y, 0.0) - eye,
         };
-        let feed = |s: &mut Session, m: &mut MouseFinger, ray: ViewRay, b: u32, k: u64| {
+        let feed = |s: &mut HandSession, m: &mut MouseFinger, ray: ViewRay, b: u32, k: u64| {
             let frames = m.frames(Timestamp(k), ray, b, s.grid()).unwrap();
             for f in &frames {
                 s.feed(f);
@@ -239,7 +239,7 @@ mod tests {
             assert_eq!(n, if k == 1 { 2 } else { 1 });
         }
         feed(&mut s, &mut m, at(0.5, 0.5), 0, 20);
-        let z = |s: &Session, x: f64, y: f64| {
+        let z = |s: &HandSession, x: f64, y: f64| {
             let mut p = Probe::new();
             p.first_crossing(s.grid(), DVec3::new(x, y, 5.0), -DVec3::Z, 10.0)
                 .unwrap()

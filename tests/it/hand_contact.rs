@@ -3,9 +3,10 @@
 
 use glam::DVec3;
 use nendo::hand::script::{self, Choreography};
+use nendo::hand::shipped;
 use nendo::hand::{
-    DEFAULT_PINCH_DISTANCE, Digit, FingerModel, Fingers, Hand, HandLoop, HandOptions, Part, Probe,
-    Session, Touch,
+    DEFAULT_PINCH_DISTANCE, Digit, FingerModel, Fingers, Hand, HandLoop, HandOptions, HandSession,
+    Part, Probe, Touch,
 };
 use nendo::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, continuity};
 use nendo_devices::{HandSize, Joint, Trace, buttons};
@@ -124,12 +125,12 @@ fn the_probe_meets_plane_and_torus_exactly_or_on_their_equations() {
     }
 }
 
-fn session(start: &Grid, regulation: Regulation) -> Session {
+fn session(start: &Grid, regulation: Regulation) -> HandSession {
     let hand = Hand::new(HandSize::default(), Choreography::WORLD).unwrap();
-    Session::new(start.clone(), regulation, hand, HandOptions::default()).unwrap()
+    HandSession::new(start.clone(), regulation, hand, HandOptions::default()).unwrap()
 }
 
-fn feed(s: &mut Session, t: &Trace) {
+fn feed(s: &mut HandSession, t: &Trace) {
     for f in &t.frames {
         s.feed(f);
     }
@@ -344,13 +345,13 @@ fn a_flat_hand_at_any_angle_moves_the_clay_no_farther_than_it_went_in() {
     );
 }
 
-fn session_with(start: &Grid, finger: FingerModel) -> Session {
+fn session_with(start: &Grid, finger: FingerModel) -> HandSession {
     let hand = Hand::new(HandSize::default(), Choreography::WORLD).unwrap();
     let options = HandOptions {
         finger,
         ..HandOptions::default()
     };
-    Session::new(start.clone(), Regulation::default(), hand, options).unwrap()
+    HandSession::new(start.clone(), Regulation::default(), hand, options).unwrap()
 }
 
 /// The largest control-point move and the largest G1 angle of a result.
@@ -410,7 +411,7 @@ fn a_flat_hand_with_every_finger_moves_the_clay_no_farther_than_its_deepest_fing
 fn the_palm_laid_on_the_plane_presses_as_deep_as_it_went() {
     let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
     let depth = 0.1;
-    let t = script::plane_palm(depth).unwrap();
+    let t = shipped::plane_palm(depth).unwrap();
     let mut s = session_with(&plane, FingerModel::Hand(Fingers::ALL.with(Part::Palm)));
     let mut deepest_touch = Fingers::one(Part::Palm);
     let mut palm_at = DVec3::ZERO;
@@ -473,7 +474,7 @@ fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
         * hand.scale();
     assert!(gap < 0.5 * DEFAULT_PINCH_DISTANCE, "the tips meet: {gap}");
 
-    let t = script::sphere_pinch_pull().unwrap();
+    let t = shipped::sphere_pinch_pull().unwrap();
     let mut s = session_with(&sphere, FingerModel::Hand(PINCH_FINGERS)).logging_contacts();
     let (held, released) = feed_pinch(&mut s, &t, true);
     assert!(held > 90, "held for {held} frames");
@@ -524,7 +525,7 @@ fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
 
 /// Feeds a pinch trace to `s` and finishes it: the frames the pinch held, and the surface
 /// when it let go. With `never_presses`, every frame must be free or holding.
-fn feed_pinch(s: &mut Session, t: &Trace, never_presses: bool) -> (usize, Option<Grid>) {
+fn feed_pinch(s: &mut HandSession, t: &Trace, never_presses: bool) -> (usize, Option<Grid>) {
     let mut held = 0;
     let mut released = None;
     for f in &t.frames {
@@ -555,7 +556,7 @@ fn a_mirrored_pinch_pulls_both_sides() {
     let sphere = Primitive::Sphere
         .build(&PrimitiveParams::default())
         .unwrap();
-    let t = script::sphere_pinch_pull().unwrap();
+    let t = shipped::sphere_pinch_pull().unwrap();
     let mut s = session_with(&sphere, FingerModel::Hand(PINCH_FINGERS)).logging_contacts();
     s.set_mirror(Some(Symmetry::of(&sphere, Plane::X).unwrap()));
     let (held, released) = feed_pinch(&mut s, &t, false);
@@ -611,7 +612,7 @@ fn in_the_press_gesture_only_the_index_presses_and_no_deeper_than_it_went() {
             finger: FingerModel::Hand(Fingers::ALL),
             ..HandOptions::default()
         };
-        let mut s = Session::new(plane.clone(), Regulation::default(), hand, options).unwrap();
+        let mut s = HandSession::new(plane.clone(), Regulation::default(), hand, options).unwrap();
         let mut deepest = (0.0f64, Vec::new());
         for f in &t.frames {
             s.feed(f);
@@ -658,7 +659,7 @@ fn in_the_press_gesture_only_the_index_presses_and_no_deeper_than_it_went() {
 #[test]
 fn what_a_frame_starts_is_what_the_loop_starts() {
     let plane = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
-    let mut cases: Vec<(String, Grid, FingerModel, Trace)> = script::shipped()
+    let mut cases: Vec<(String, Grid, FingerModel, Trace)> = shipped::shipped()
         .unwrap()
         .into_iter()
         .filter(|s| s.name != "tube-pot")

@@ -272,7 +272,7 @@ fn the_mouse_hand_puts_its_fingertip_on_the_tracked_point() {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let hand = Hand::new(HandSize::default(), WorldFromTracker::default()).unwrap();
     let profile = nendo_devices::profile::MouseProfile::default();
-    let mouse = nendo_devices::MouseHand::new(profile);
+    let mouse = nendo_devices::MouseDevice::new(profile);
     for case in 0..200 {
         let ray = nendo_devices::ViewRay {
             origin: DVec3::new(

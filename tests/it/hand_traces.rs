@@ -1,7 +1,7 @@
 //! The traces shipped in `devices/traces/` are exactly what their generators write
-//! (`nendo::hand::script`, run by `examples/hand_traces.rs`), and stay small.
+//! (`nendo::hand::shipped`, run by `examples/hand_traces.rs`), and stay small.
 
-use nendo::hand::script;
+use nendo::hand::{script, shipped};
 use nendo_devices::{HandFrame, Trace};
 use std::path::Path;
 
@@ -53,7 +53,7 @@ fn assert_frames_match(name: &str, k: usize, a: &HandFrame, b: &HandFrame) {
 
 #[test]
 fn the_shipped_traces_are_what_the_generators_write() {
-    let shipped = script::shipped().unwrap();
+    let shipped = shipped::shipped().unwrap();
     let names: Vec<&str> = shipped.iter().map(|s| s.name).collect();
     assert_eq!(
         names,
@@ -116,13 +116,13 @@ fn glove_traces_carry_the_profiles_glove_columns_and_a_steady_rate() {
 
 #[test]
 fn the_generators_are_deterministic() {
-    let a = script::tube_pot().unwrap();
-    let b = script::tube_pot().unwrap();
+    let a = shipped::tube_pot().unwrap();
+    let b = shipped::tube_pot().unwrap();
     assert_eq!(a.0, b.0);
     assert_eq!(a.1, b.1);
     assert!(a.1 >= 140, "gestures planned: {}", a.1);
     assert_eq!(
-        script::mouse_sphere().unwrap(),
-        script::mouse_sphere().unwrap()
+        shipped::mouse_sphere().unwrap(),
+        shipped::mouse_sphere().unwrap()
     );
 }

@@ -522,7 +522,7 @@ fn replay_auto_refine_refines_before_contacts() {
 /// (the index as far as the others), the hand lowered until the index's tip, pointing back up
 /// out of the fist, is `height` above the plane, and held. The straight capsule behind that
 /// tip runs down through the plane, but the finger's own joints do not reach it: nothing
-/// presses (rule 3 of `nendo::hand::session`).
+/// presses (rule 3 of `nendo::hand::hand_loop`).
 fn fist_over_the_plane(height: f64) -> nendo_devices::Trace {
     use nendo::hand::script::Choreography;
     use nendo_devices::Joint;

@@ -2,7 +2,7 @@
 //! traces, the same result as the library loop, clear errors that write nothing.
 
 use crate::support::{run as nendo, temp_dir};
-use nendo::hand::{Hand, HandOptions, Session};
+use nendo::hand::{Hand, HandOptions, HandSession};
 use nendo::model::Model;
 use nendo::surface::{Primitive, PrimitiveParams, Regulation};
 use nendo_devices::Trace;
@@ -44,7 +44,7 @@ fn replaying_twice_writes_identical_bytes_equal_to_the_library_loop() {
         .unwrap();
     let hand = Hand::new(t.header.hand, t.header.world_from_tracker).unwrap();
     let mut session =
-        Session::new(grid, Regulation::default(), hand, HandOptions::default()).unwrap();
+        HandSession::new(grid, Regulation::default(), hand, HandOptions::default()).unwrap();
     for f in &t.frames {
         session.feed(f);
     }

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 use nendo::hand::{
-    Digit, FingerModel, Fingers, Hand, HandOptions, LoopStats, Part, Probe, Session,
+    Digit, FingerModel, Fingers, Hand, HandOptions, HandSession, LoopStats, Part, Probe,
 };
 use nendo::surface::{Grid, Primitive, PrimitiveParams, Regulation, continuity};
 use nendo_devices::Trace;
@@ -37,7 +37,7 @@ fn replay_with(
         finger,
         ..HandOptions::default()
     };
-    let mut session = Session::new(start.clone(), regulation, hand, options).unwrap();
+    let mut session = HandSession::new(start.clone(), regulation, hand, options).unwrap();
     for f in &trace.frames {
         session.feed(f);
     }
@@ -190,8 +190,9 @@ fn mouse_click_drag_pull_and_wheel_on_the_sphere() {
         finger: FingerModel::Ray,
         ..HandOptions::default()
     };
-    let mut session = Session::new(sphere.clone(), Regulation::default(), hand, options).unwrap();
-    let eye = nendo::hand::script::MOUSE_CAMERA;
+    let mut session =
+        HandSession::new(sphere.clone(), Regulation::default(), hand, options).unwrap();
+    let eye = nendo::hand::shipped::MOUSE_CAMERA;
     let on = |lat: f64, lon: f64| {
         let (lat, lon): (f64, f64) = (lat.to_radians(), lon.to_radians());
         3.0 * DVec3::new(lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin())
@@ -305,7 +306,7 @@ fn sphere_pinch_pull_draws_a_nose_out_with_one_move() {
 /// bottom untouched.
 #[test]
 fn tube_rim_pinch_presses_both_sides_of_the_wall_toward_each_other() {
-    use nendo::hand::script::{RIM_INDEX, RIM_THUMB};
+    use nendo::hand::shipped::{RIM_INDEX, RIM_THUMB};
     let tube = build(Primitive::Tube);
     let (g, st) = replay_with(
         &trace("tube-rim-pinch"),
@@ -385,7 +386,7 @@ fn plane_palm_presses_as_deep_as_the_palm_went() {
 /// G1 ≤ 0.01° after every shipped trace, replayed with the fingers it was made for.
 #[test]
 fn every_shipped_trace_leaves_the_surface_g1() {
-    for s in nendo::hand::script::shipped().unwrap() {
+    for s in nendo::hand::shipped::shipped().unwrap() {
         let (g, _) = replay_with(
             &trace(s.name),
             &s.grid().unwrap(),

@@ -15,6 +15,9 @@ use nix::poll::{PollFd, PollFlags, poll};
 use nix::pty::{PtyMaster, grantpt, posix_openpt, ptsname_r, unlockpt};
 use nix::sys::termios::{SetArg, cfmakeraw, tcgetattr, tcsetattr};
 
+use rand_chacha::ChaCha8Rng;
+use rand_chacha::rand_core::{RngCore, SeedableRng};
+
 use super::DeviceModel;
 
 #[derive(Debug, Default)]
@@ -27,8 +30,8 @@ struct Control {
     records: u64,
     dropped_bytes: u64,
     corrupt_every: Option<u64>,
-    /// Probability of flipping one bit of a streamed record, and the generator's state.
-    corrupt_probability: Option<(f64, u64)>,
+    /// Probability of flipping one bit of a streamed record, and the seeded generator.
+    corrupt_probability: Option<(f64, ChaCha8Rng)>,
     /// Answers still to garble: (command byte, XOR mask of the answer's first byte).
     garble: Vec<(u8, u8)>,
     answers_garbled: u64,
@@ -185,7 +188,7 @@ impl PtyEmulator {
     pub fn corrupt_randomly(&self, p: Option<f64>, seed: u64) {
         lock(&self.control).corrupt_probability = p
             .filter(|p| p.is_finite() && *p > 0.0)
-            .map(|p| (p.min(1.0), seed | 1));
+            .map(|p| (p.min(1.0), ChaCha8Rng::seed_from_u64(seed)));
     }
 
     /// Garbles the device's answer to the next `command` byte the host sends: the answer's
@@ -232,18 +235,12 @@ impl Drop for PtyEmulator {
 }
 
 /// With random corruption on, whether to flip a bit of a record of `len` bytes, and which
-/// (bit index `8·byte + bit`). xorshift64*: a fixed seed gives the same flips.
+/// (bit index `8·byte + bit`). A seeded ChaCha8 stream: a fixed seed gives the same flips.
 fn random_flip(control: &Mutex<Control>, len: usize) -> Option<usize> {
     let mut c = lock(control);
-    let (p, state) = c.corrupt_probability.as_mut()?;
-    let mut next = || {
-        *state ^= *state >> 12;
-        *state ^= *state << 25;
-        *state ^= *state >> 27;
-        state.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    };
-    let draw = (next() >> 11) as f64 / (1u64 << 53) as f64;
-    let bit = (next() % (8 * len as u64)) as usize;
+    let (p, rng) = c.corrupt_probability.as_mut()?;
+    let draw = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+    let bit = (rng.next_u64() % (8 * len as u64).max(1)) as usize;
     (draw < *p).then_some(bit)
 }
 
@@ -356,5 +353,34 @@ fn run(mut model: impl DeviceModel, mut pty: Option<Pty>, link: &Path, control: 
                 next_due = now + model.period();
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flips(p: f64, seed: u64, len: usize, n: usize) -> Vec<Option<usize>> {
+        let control = Mutex::new(Control {
+            corrupt_probability: Some((p, ChaCha8Rng::seed_from_u64(seed))),
+            ..Control::default()
+        });
+        (0..n).map(|_| random_flip(&control, len)).collect()
+    }
+
+    #[test]
+    fn random_corruption_is_seeded_and_flips_a_bit_of_the_record() {
+        // Always: every record gets one bit flipped, inside it.
+        let all = flips(1.0, 7, 12, 500);
+        assert!(all.iter().all(|b| b.is_some_and(|b| b < 8 * 12)), "{all:?}");
+        // The same seed, the same flips; another seed, others.
+        assert_eq!(all, flips(1.0, 7, 12, 500));
+        assert_ne!(all, flips(1.0, 8, 12, 500));
+        // About the probability asked for.
+        let some = flips(0.2, 7, 12, 5000).iter().flatten().count();
+        assert!((800..1200).contains(&some), "{some} of 5000");
+        // Off: nothing.
+        let control = Mutex::new(Control::default());
+        assert_eq!(random_flip(&control, 12), None);
     }
 }

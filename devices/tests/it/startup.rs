@@ -109,7 +109,8 @@ fn a_garbled_answer_to_glove5_a_is_retried_and_a_mute_device_is_given_up_on() {
         g.stats().handshake_retries,
         1 + u64::from(nendo_devices::device::HANDSHAKE_ATTEMPTS)
     );
-    assert!(started.elapsed() < Duration::from_secs(5));
+    // The retries are counted above; the clock only guards against a hang.
+    assert!(started.elapsed() < Duration::from_secs(60));
 }
 
 /// A Fastrak binary position + quaternion record in centimetres (the `fastrak` profile's
@@ -224,7 +225,10 @@ fn connect_starts_what_is_present_and_takes_in_the_rest_when_it_comes() {
         ..StreamOptions::default()
     };
     // `open` wants both now; `connect` starts the glove and retries the tracker.
-    assert!(HandStream::open(&profile, &options).is_err());
+    match HandStream::open(&profile, &options) {
+        Err(e) => assert!(e.to_string().contains(&tracker.port()), "{e}"),
+        Ok(_) => panic!("open started without the unplugged tracker"),
+    }
     let stream = HandStream::connect(&profile, &options).unwrap();
     let status = stream.status();
     assert_eq!(status.len(), 2);
@@ -244,7 +248,8 @@ fn connect_starts_what_is_present_and_takes_in_the_rest_when_it_comes() {
     assert_eq!(status[1].rate_hz, 0.0);
     assert!(status[1].last_error.is_some());
     tracker.replug();
-    let end = Instant::now() + Duration::from_secs(3);
+    // Waits for the event; the deadline only guards against a hang.
+    let end = Instant::now() + Duration::from_secs(30);
     while stream.states().0 != SourceState::Ok && Instant::now() < end {
         stream.drain();
         std::thread::sleep(Duration::from_millis(20));
@@ -266,7 +271,7 @@ fn connect_starts_what_is_present_and_takes_in_the_rest_when_it_comes() {
     assert_eq!(status[1].stats.starts, 1);
     // Unplugged mid-session: counted, and the error is back until it recovers.
     tracker.unplug();
-    let end = Instant::now() + Duration::from_secs(3);
+    let end = Instant::now() + Duration::from_secs(30);
     while stream.states().0 != SourceState::Disconnected && Instant::now() < end {
         stream.drain();
         std::thread::sleep(Duration::from_millis(20));

@@ -7,7 +7,9 @@ use std::time::{Duration, Instant};
 use nendo_devices::cyberglove::SensorCount;
 use nendo_devices::emulator::{CyberGloveModel, FastrakModel, PtyEmulator};
 use nendo_devices::profile::{self, Profile};
-use nendo_devices::{HandFrame, HandStream, SourceState, StreamOptions, Trace, TraceHeader};
+use nendo_devices::{
+    DeviceError, HandFrame, HandStream, SourceState, StreamOptions, Trace, TraceHeader,
+};
 
 fn glove_and_tracker() -> (PtyEmulator, PtyEmulator, Profile, StreamOptions) {
     let glove = PtyEmulator::spawn(CyberGloveModel::new(SensorCount::Eighteen)).unwrap();
@@ -179,7 +181,11 @@ fn a_slow_consumer_loses_frames_but_never_blocks_the_devices() {
     let (_g, _t, profile, mut options) = glove_and_tracker();
     options.capacity = 4;
     let stream = HandStream::open(&profile, &options).unwrap();
-    std::thread::sleep(Duration::from_millis(300));
+    // Nobody drains: wait until frames are dropped (the deadline only guards against a hang).
+    let end = Instant::now() + Duration::from_secs(60);
+    while stream.stats().overflow <= 10 && Instant::now() < end {
+        std::thread::sleep(Duration::from_millis(10));
+    }
     let overflowed = stream.stats().overflow;
     assert!(overflowed > 10, "{overflowed} frames dropped");
     assert_eq!(stream.drain().len(), 4);
@@ -245,7 +251,13 @@ fn opening_fails_cleanly_when_a_port_is_absent() {
 #[test]
 fn mouse_profiles_are_not_streams() {
     let p = profile::resolve("mouse").unwrap();
-    assert!(HandStream::open(&p, &StreamOptions::default()).is_err());
+    match HandStream::open(&p, &StreamOptions::default()) {
+        Err(DeviceError::Unsupported(why)) => {
+            assert!(why.contains("mouse") && why.contains("window"), "{why}");
+        }
+        Err(e) => panic!("the wrong error: {e}"),
+        Ok(_) => panic!("a mouse profile opened as a stream"),
+    }
 }
 
 #[test]

@@ -113,7 +113,7 @@ use super::options::HandOptions;
 use super::outcome::{FrameOutcome, LoopStats, Touch};
 use super::parts::{FingerModel, Fingers, Part};
 use super::press::{Placement, Presser, Stroke, describe};
-use crate::surface::{Grid, Op, Regulation, Sculptor};
+use crate::surface::{Grid, LiveOperation, Op, Regulation};
 
 mod pinch;
 mod track;
@@ -139,7 +139,8 @@ pub struct HandLoop {
     options: HandOptions,
     probe: Probe,
     presser: Presser,
-    sculptor: Sculptor,
+    /// The pinch's move, shown live on the surface before the pinch.
+    live: LiveOperation,
     contact: Option<Box<Contact>>,
     hold: Option<Box<Hold>>,
     pose: Option<HandPose>,
@@ -172,7 +173,7 @@ impl HandLoop {
             options,
             probe: Probe::new(),
             presser: Presser::default(),
-            sculptor: Sculptor::new(),
+            live: LiveOperation::new(),
             contact: None,
             hold: None,
             pose: None,

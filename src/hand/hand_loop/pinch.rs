@@ -14,8 +14,6 @@ use crate::surface::{Grid, Op, Regulation};
 /// A pinch in progress (rule 9): the clay held between thumb and index.
 #[derive(Debug, Clone)]
 pub(super) struct Hold {
-    /// The surface before the pinch.
-    pub(super) reference: Grid,
     /// The point of the clay taken hold of.
     pub(super) at: DVec3,
     /// The pinch point (between the two tips) when it took hold.
@@ -86,22 +84,18 @@ impl HandLoop {
             let to = h.at + (mid - h.start);
             if (to - h.to).length() > o.min_depth {
                 self.stats.applications += 1;
-                let mut moved = h.reference.clone();
                 let op = Op::Move {
                     at: h.at,
                     to,
                     radius: o.finger_radius,
                 };
-                // With a mirror, the move and its mirror image as one operation.
-                let applied = match self.presser.mirror().filter(|s| s.fits(&moved)) {
-                    Some(s) => self.sculptor.apply_mirrored(&mut moved, &op, regulation, s),
-                    None => self.sculptor.apply(&mut moved, &op, regulation),
-                };
-                match applied {
-                    Ok(_) => {
-                        out.changed = changed_patches(grid, &moved);
+                // The move applied afresh to the surface before the pinch (the engine's live
+                // operation); with a mirror, together with its mirror image as one operation
+                // (a mirror made for another grid is refused, never dropped).
+                match self.live.show(grid, &op, regulation, self.presser.mirror()) {
+                    Ok(changed) => {
+                        out.changed = changed.to_vec();
                         self.stats.patch_updates += out.changed.len() as u64;
-                        *grid = moved;
                         h.to = to;
                     }
                     Err(e) => {
@@ -121,8 +115,9 @@ impl HandLoop {
             out.committed = self.end_contact();
         }
         self.stats.contacts += 1;
+        // The surface as it is now is the start the pinch's moves are applied to.
+        self.live.settle();
         self.hold = Some(Box::new(Hold {
-            reference: grid.clone(),
             at,
             start: mid,
             to: at,
@@ -135,20 +130,4 @@ impl HandLoop {
 pub(super) fn pinch_pair(tips: &[(Part, Fingertip)]) -> Option<(Fingertip, Fingertip)> {
     let find = |d: Digit| tips.iter().find(|(p, _)| *p == Part::Digit(d)).map(|t| t.1);
     Some((find(Digit::Thumb)?, find(Digit::Index)?))
-}
-
-/// The patches whose control points differ between two grids of the same size (sorted).
-fn changed_patches(before: &Grid, after: &Grid) -> Vec<usize> {
-    let (m, n) = (after.patches_u(), after.patches_v());
-    if before.nodes().len() != after.nodes().len() {
-        return (0..m * n).collect();
-    }
-    (0..m * n)
-        .filter(|&p| {
-            after
-                .patch_node_ids(p % m, p / m)
-                .iter()
-                .any(|&id| before.nodes()[id] != after.nodes()[id])
-        })
-        .collect()
 }

@@ -7,8 +7,9 @@
 //!
 //! 1. regulates the groups and poles it is given ([`regulate::regulate`]),
 //! 2. with a mirror, takes in the partners of every included patch and makes their control
-//!    points exactly symmetric ([`Symmetry::enforce`]); a mirror made for a grid of other
-//!    patch counts is an error, never dropped,
+//!    points exactly symmetric ([`Symmetry::enforce`]), then takes in every other patch holding
+//!    a control point that moved; a mirror made for a grid of other patch counts is an error,
+//!    never dropped,
 //! 3. lands a move's grabbed point exactly on its target ([`grab::land`]),
 //! 4. verifies the result ([`verify_marked`]: coordinates within the limit, and G1 under
 //!    [`Regulation::Exact`]),
@@ -24,6 +25,7 @@ use crate::surface::group::PoleEnd;
 use crate::surface::marks::Marks;
 use crate::surface::mirror::Symmetry;
 use crate::surface::regulate::{self, Projections, Regulation};
+use crate::surface::topology::wrap;
 use crate::surface::verify::verify_marked;
 
 /// One operation's transaction; keeps its buffers between operations.
@@ -38,6 +40,10 @@ pub(crate) struct Commit {
     verify_marks: Marks,
     pub(crate) projections: Projections,
     scratch: Vec<usize>,
+    /// The positions of the nodes given to the mirror, before it.
+    before_mirror: Vec<DVec3>,
+    /// The nodes the mirror moved.
+    moved_by_mirror: Marks,
     asymmetry: f64,
 }
 
@@ -155,12 +161,17 @@ impl Commit {
                 poles
             };
             let ids = std::mem::take(&mut self.scratch);
+            self.before_mirror.clear();
+            self.before_mirror
+                .extend(ids.iter().map(|&id| grid.nodes()[id]));
             let enforced = s.enforce(grid, &ids, poles);
-            self.scratch = ids;
             if let Err(e) = enforced {
+                self.scratch = ids;
                 self.rollback(grid);
                 return Err(SurfaceError::BadOp(e.to_string()));
             }
+            self.include_enforced(grid, &ids);
+            self.scratch = ids;
         }
         if let Some(h) = hold {
             grab::land(grid, h, symmetry);
@@ -178,6 +189,63 @@ impl Commit {
         }
         grid.refit(&self.changed, &mut self.scratch);
         Ok(groups)
+    }
+
+    /// Takes in the patches outside the included ones that hold a control point the mirror
+    /// moved (a shared edge node of an included patch, nudged by rounding where the net was
+    /// symmetric only to the last bit; a pole node shared by its whole row): their boxes
+    /// change too. `ids` are the nodes the mirror was given, `self.before_mirror` their
+    /// positions before it.
+    fn include_enforced(&mut self, grid: &Grid, ids: &[usize]) {
+        let bits = |x: DVec3| x.to_array().map(f64::to_bits);
+        self.moved_by_mirror.start(grid.nodes().len());
+        let mut any = false;
+        for (&id, &old) in ids.iter().zip(&self.before_mirror) {
+            if bits(grid.nodes()[id]) != bits(old) {
+                self.moved_by_mirror.set(id);
+                any = true;
+            }
+        }
+        if !any {
+            return;
+        }
+        let (m, n) = (grid.patches_u(), grid.patches_v());
+        let topology = grid.topology();
+        let holds_moved = |grid: &Grid, marks: &Marks, q: usize| {
+            grid.patch_node_ids(q % m, q / m)
+                .iter()
+                .any(|&id| marks.get(id))
+        };
+        let count = self.changed.len();
+        for i in 0..count {
+            let p = self.changed[i];
+            let (iu, iv) = (p % m, p / m);
+            for dv in -1..=1isize {
+                for du in -1..=1isize {
+                    let (Some(qu), Some(qv)) = (
+                        wrap(iu as isize + du, m, topology.closed_u()),
+                        wrap(iv as isize + dv, n, topology.closed_v()),
+                    ) else {
+                        continue;
+                    };
+                    let q = qv * m + qu;
+                    if !self.included.get(q) && holds_moved(grid, &self.moved_by_mirror, q) {
+                        self.include(q);
+                    }
+                }
+            }
+            // A pole node belongs to every patch of its row.
+            let pole_row =
+                (iv == 0 && topology.pole_at_start()) || (iv + 1 == n && topology.pole_at_end());
+            if pole_row {
+                for qu in 0..m {
+                    let q = iv * m + qu;
+                    if !self.included.get(q) && holds_moved(grid, &self.moved_by_mirror, q) {
+                        self.include(q);
+                    }
+                }
+            }
+        }
     }
 
     /// Puts every journaled control point back (the boxes were not refitted yet, or are

@@ -51,9 +51,9 @@ impl LiveOperation {
     }
 
     /// Makes `grid` its start deformed by `op` (with its mirror image when `symmetry` is
-    /// given, as [`Sculptor::apply_mirrored`]). Returns the patches whose control points this
-    /// call changed, sorted: those the last operation had changed (put back) and those the new
-    /// one changed. `grid` must be the grid the last call left (or the start).
+    /// given, as [`Sculptor::apply_mirrored`]). Returns the patches with a control point this
+    /// call changed, sorted (among those the last operation had changed, put back, and those
+    /// the new one changed). `grid` must be the grid the last call left (or the start).
     ///
     /// # Errors
     /// As [`Sculptor::apply`] and [`Sculptor::apply_mirrored`]; the last accepted operation
@@ -69,6 +69,13 @@ impl LiveOperation {
         match self.apply(grid, op, regulation, symmetry) {
             Ok(touched) => {
                 let journal = self.sculptor.journal().to_vec();
+                // Exactly the patches with a control point that differs from the last frame:
+                // a node written by the last operation against its shown position, one
+                // written only by the new operation against its start position.
+                let mut before: std::collections::HashMap<usize, DVec3> =
+                    journal.iter().copied().collect();
+                before.extend(self.redo.iter().copied());
+                let m = grid.patches_u();
                 self.frame.clear();
                 self.frame.extend_from_slice(&touched.patches);
                 if let Some(last) = &last {
@@ -76,6 +83,13 @@ impl LiveOperation {
                 }
                 self.frame.sort_unstable();
                 self.frame.dedup();
+                self.frame.retain(|&p| {
+                    grid.patch_node_ids(p % m, p / m).iter().any(|id| {
+                        before
+                            .get(id)
+                            .is_some_and(|x| x.to_array() != grid.nodes()[*id].to_array())
+                    })
+                });
                 self.shown = Some(Shown {
                     op: op.clone(),
                     touched,
@@ -152,6 +166,7 @@ mod tests {
             let grab = crate::surface::nearest(&start, DVec3::new(0.4, 0.2, b.max.z)).unwrap();
             let mut grid = start.clone();
             let mut live = LiveOperation::new();
+            let mut previous = start.clone();
             for (k, mirror) in [None, symmetry.as_ref()]
                 .into_iter()
                 .cycle()
@@ -175,7 +190,17 @@ mod tests {
                 }
                 .unwrap();
                 assert_eq!(grid, once, "{primitive} frame {k}");
-                assert!(touched.patches.iter().all(|p| frame.contains(p)));
+                let changed: Vec<usize> = (0..grid.patch_count())
+                    .filter(|&p| {
+                        let m = grid.patches_u();
+                        grid.patch_node_ids(p % m, p / m)
+                            .iter()
+                            .any(|&id| grid.nodes()[id] != previous.nodes()[id])
+                    })
+                    .collect();
+                assert_eq!(frame, changed, "{primitive} frame {k}");
+                assert!(!touched.patches.is_empty());
+                previous = grid.clone();
             }
             // A refused operation keeps the last one shown.
             let shown = grid.clone();

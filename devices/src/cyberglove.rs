@@ -1,4 +1,4 @@
-//! CyberGlove I/II/III binary serial protocol (`shared/DEVICES.md` §1).
+//! CyberGlove I/II/III binary serial protocol (`docs/design.md` §16 §1).
 //!
 //! ## Link
 //! 115200 baud 8N1 for the CyberGlove II and III (older VTI units up to 38400).

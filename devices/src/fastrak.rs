@@ -1,4 +1,4 @@
-//! Polhemus Fastrak serial protocol (`shared/DEVICES.md` §3).
+//! Polhemus Fastrak serial protocol (`docs/design.md` §16 §3).
 //!
 //! ## Link
 //! Up to 115200 baud 8N1 (19200 and 115200 are common). 120 Hz update cycle.

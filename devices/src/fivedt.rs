@@ -1,4 +1,4 @@
-//! 5DT Data Glove protocols (`shared/DEVICES.md` §2): the serial Data Glove 5 and Data Glove 16
+//! 5DT Data Glove protocols (`docs/design.md` §16 §2): the serial Data Glove 5 and Data Glove 16
 //! byte streams, and the Data Glove Ultra's USB HID report.
 //!
 //! ## Data Glove 5 (serial, 19200 baud 8N1)

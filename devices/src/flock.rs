@@ -1,4 +1,4 @@
-//! Ascension Flock of Birds serial protocol (`shared/DEVICES.md` §4).
+//! Ascension Flock of Birds serial protocol (`docs/design.md` §16 §4).
 //!
 //! ## Link
 //! 2400–115200 baud (set by DIP switches), 8N1. One bird on the bus (stand-alone); the

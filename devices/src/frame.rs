@@ -72,7 +72,7 @@ macro_rules! joints {
     ($( $(#[$doc:meta])* $variant:ident = $name:literal, )*) => {
         /// A named hand joint measured by a glove sensor. The set is the union of what the
         /// CyberGlove (18 and 22 sensors) and the 5DT gloves (5 and 14 sensors) measure
-        /// (`shared/DEVICES.md` §1, §2); each glove maps its sensors onto these names through
+        /// (`docs/design.md` §16 §1, §2); each glove maps its sensors onto these names through
         /// the profile's calibration table.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
         pub enum Joint {

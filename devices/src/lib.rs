@@ -40,7 +40,7 @@
 //! # Ok(()) }
 //! ```
 //!
-//! Protocol facts come from `shared/DEVICES.md`; each protocol module documents every field of
+//! Protocol facts come from `docs/design.md` §16; each protocol module documents every field of
 //! the records it reads, in its own words.
 #![warn(missing_docs)]
 

@@ -88,7 +88,7 @@ impl UsbMatch {
 }
 
 /// Calibration of one glove sensor: `angle = (raw − offset) · gain` radians (the convention of
-/// VR Juggler's CyberGlove driver; DEVICES.md §1), mapped onto a named joint.
+/// VR Juggler's CyberGlove driver; docs/design.md §16.1), mapped onto a named joint.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SensorCalibration {

@@ -1,7 +1,8 @@
 #![forbid(unsafe_code)]
 //! # nendo-geom: the exact geometry under nendo's clay
 //!
-//! Everything here is the geometry of the papers summarised in `shared/SPEC.md`, and nothing
+//! Everything here is the geometry of the papers summarised in `docs/design.md` (cited in the
+//! docs as `P0`, `P2`, `P3`, `P4` with their sections, listed in `docs/design.md` §2), and nothing
 //! else: no files, devices, GPU or UI. The crate depends on glam, thiserror and nalgebra (dense
 //! least squares and eigenvectors); `serde` derives are behind the `serde` feature. The file
 //! formats (model, curve JSON, SVG, mesh writers), the hand and the window live in the `nendo`

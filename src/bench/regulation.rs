@@ -1,4 +1,4 @@
-//! `nendo bench regulation`: the paper's deviation experiment (seed 002 §6, Fig. 11) for
+//! `nendo bench regulation`: the paper's deviation experiment (P2 §6, Fig. 11) for
 //! every regulation method, and the continuity after 10 000 random strokes per topology.
 //!
 //! ## The experiment

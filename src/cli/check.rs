@@ -1,9 +1,9 @@
-//! `nendo check MODEL.json`: reads a model and prints its continuity report as JSON (SPEC §9):
+//! `nendo check MODEL.json`: reads a model and prints its continuity report as JSON (docs/design.md §14):
 //! patches, shared edges, the G0 gap (between the file's copies of shared points and between
 //! the patches' evaluations along shared edges), the G1 angle (max and mean) along shared
 //! edges, and every pole with the spread of its tangent plane. With `--against OTHER.json` (a
 //! model with the same topology and patch counts) it adds the deviation between the two
-//! surfaces on 40 × 40 samples per patch at the same parameters (SPEC §9).
+//! surfaces on 40 × 40 samples per patch at the same parameters (docs/design.md §14).
 //!
 //! Memory is bounded: the deviation streams its samples (memory for the two models only), the
 //! edge samples are streamed too, and the one list the report holds — the directions out of a

@@ -17,7 +17,7 @@
 //! | `{"op":"svg_write","curves":[C…],"flip_y":bool?}` | `{"svg":"<svg …>"}` |
 //!
 //! * `method` of a grab: `"largest"` (default: the control point with the largest basis weight,
-//!   seed 004), `"nearest"` (the control point of the nearest parameter, seed 000) or
+//!   P4), `"nearest"` (the control point of the nearest parameter, P0) or
 //!   `"least_change"` (every control point, least total move); `keep_ends: true` never moves the
 //!   end control points. See [`crate::curve::edit`].
 //! * Refinement (2D only; [`crate::curve::refine`]) takes one curve (Bezier or B-spline,

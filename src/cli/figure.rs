@@ -1,4 +1,4 @@
-//! `nendo figure fit | render | warp | measure | shape`: figures of metacircles in 2D (seed 000
+//! `nendo figure fit | render | warp | measure | shape`: figures of metacircles in 2D (P0
 //! §4.1–4.2) and metaball shapes fitted to sections (§4.3), headless.
 //!
 //! * `nendo figure fit IN.json --out FIG.json [--png P] [--svg S]`: fits metacircles to the
@@ -93,7 +93,7 @@ pub struct FitArgs {
     /// Guard grid cells along the longer side.
     #[arg(long, default_value_t = 64)]
     pub guard_resolution: usize,
-    /// Use the seed's steepest descent instead of Levenberg–Marquardt.
+    /// Use P0's steepest descent instead of Levenberg–Marquardt.
     #[arg(long)]
     pub descent: bool,
     /// Most optimiser iterations.

@@ -1,5 +1,5 @@
 //! `nendo morph SRC.json DST.json --frames N --out DIR [--no-svg]`: the frames of a morph
-//! between two figure files (seed 000 §4.2, Fig. 11) as PNG and SVG, in one view framing both
+//! between two figure files (P0 §4.2, Fig. 11) as PNG and SVG, in one view framing both
 //! figures.
 //!
 //! Curve `k` of the source file corresponds to curve `k` of the destination; the metacircles

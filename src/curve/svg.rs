@@ -1,4 +1,4 @@
-//! SVG import and export of planar curves (seed 003 §3.1 kept its curves in SVG): path data with
+//! SVG import and export of planar curves (P3 §3.1 kept its curves in SVG): path data with
 //! line, quadratic and cubic segments.
 //!
 //! * Reading ([`read_svg`], [`parse_path_data`]): the document is parsed as XML by `roxmltree`

@@ -1,5 +1,5 @@
 //! Wyvill's sixth-degree density falloff ("soft objects"), the density of one metacircle or
-//! metaball (seed 000 eq. (8), after Wyvill, McPheeters and Wyvill 1986).
+//! metaball (P0 eq. (8), after Wyvill, McPheeters and Wyvill 1986).
 //!
 //! With `ρ = r / R` (distance to the centre over the effective radius):
 //!
@@ -9,12 +9,12 @@
 //!
 //! so `f(0) = 1`, `f(1) = 0`, `f'(1) = 0` (the density joins zero tangentially) and
 //! `f(1/2) = 1/2`: a lone metacircle of centre density 1 has the circle of radius `R/2` as its
-//! iso-curve at the threshold 0.5, as the seed says. The polynomial is even, so it is evaluated
+//! iso-curve at the threshold 0.5, as P0 says. The polynomial is even, so it is evaluated
 //! in `s = ρ² = r² / R²` without a square root: `f = 1 + s (−22/9 + s (17/9 − 4/9 s))`.
 
 use crate::curve::Point;
 
-/// The default threshold `T` of the iso-curve `Σ q_i f_i = T` (seed 000 eq. (9)).
+/// The default threshold `T` of the iso-curve `Σ q_i f_i = T` (P0 eq. (9)).
 pub const DEFAULT_THRESHOLD: f64 = 0.5;
 
 const A2: f64 = -22.0 / 9.0;

@@ -1,4 +1,4 @@
-//! Fitting metacircles to a closed contour (seed 000 §4.2 1)): seed circles on the contour's
+//! Fitting metacircles to a closed contour (P0 §4.2 1)): seed circles on the contour's
 //! medial axis ([`super::medial`]), then optimise every centre, radius and density so that the
 //! iso-curve `F = T` passes through samples of the contour.
 //!
@@ -6,7 +6,7 @@
 //! logarithm, so that it stays positive):
 //!
 //! * on the contour, at `m` samples `s_j` evenly spaced by arc length: `r_j = F(s_j) − T`
-//!   (the seed's error, "the difference between T and f at each sampling point");
+//!   (P0's error, "the difference between T and f at each sampling point");
 //! * guards, so that the region `F ≥ T` is the inside and not some other set whose boundary
 //!   also passes through the samples: on a coarse grid, inside points farther than half a cell
 //!   from the contour give `max(0, T + m − F)` and outside points `max(0, F − (T − m))`, with

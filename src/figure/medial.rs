@@ -1,4 +1,4 @@
-//! Seeding metacircles inside a contour from an approximation of its medial axis (seed 000
+//! Seeding metacircles inside a contour from an approximation of its medial axis (P0
 //! §4.2 1): "medial axes … to compute the circles inside the figure's region").
 //!
 //! The region is sampled on a square grid; every inside cell centre gets its distance `d` to

@@ -1,4 +1,4 @@
-//! Metaballs (3D) and the shape they make: seed 000 §4.3, the 3D counterpart of the metacircles
+//! Metaballs (3D) and the shape they make: P0 §4.3, the 3D counterpart of the metacircles
 //! of [`super::metacircle`].
 //!
 //! Metaball `i` has a centre `C_i`, an effective radius `R_i` and a centre density `q_i`

@@ -1,4 +1,4 @@
-//! Metacircles (2D metaballs) and the figure they make: seed 000 §4.2 1), eqs. (8) and (9).
+//! Metacircles (2D metaballs) and the figure they make: P0 §4.2 1), eqs. (8) and (9).
 //!
 //! Metacircle `i` has a centre `P_i`, an effective radius `R_i`, a centre density `q_i`
 //! (negative values carve) and a colour. The figure's density at `p` is

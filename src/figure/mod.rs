@@ -1,4 +1,4 @@
-//! Figures in 2D made of metacircles, and shapes in 3D made of metaballs (seed 000 §4, SPEC §4).
+//! Figures in 2D made of metacircles, and shapes in 3D made of metaballs (P0 §4, docs/design.md §8).
 //!
 //! Geometry only: this module uses `curve`, `mesh` (the triangle mesh type its iso-surfaces are
 //! returned in), glam and std; reading and writing files, and drawing meshes, is left to the

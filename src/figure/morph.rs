@@ -1,4 +1,4 @@
-//! Morphing between two figures of metacircles (seed 000 §4.2 2)–3), Fig. 7 and 11).
+//! Morphing between two figures of metacircles (P0 §4.2 2)–3), Fig. 7 and 11).
 //!
 //! Corresponding curves are laid on both figures (curve `k` of the source matches curve `k` of
 //! the destination: a spine, the legs…). The metacircles are matched through the curves'

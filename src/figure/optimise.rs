@@ -5,7 +5,7 @@
 //!   Jacobi-preconditioned conjugate gradients with `JᵀJ` applied through `J`), accept `x + δ` when it lowers the cost
 //!   (then `λ ← λ/3`), else raise `λ ← 4λ` and retry (Marquardt 1963, with Nielsen-style
 //!   updates simplified).
-//! * [`Optimiser::SteepestDescent`]: the seed's method (seed 000 §4.2 1), §4.3), `x ← x − α D⁻¹ Jᵀr`
+//! * [`Optimiser::SteepestDescent`]: P0's method (P0 §4.2 1), §4.3), `x ← x − α D⁻¹ Jᵀr`
 //!   with `D = diag(JᵀJ)` (each parameter scaled by its own curvature, since centres, radii and
 //!   densities have different units) and a backtracking (Armijo) step `α`.
 //!
@@ -128,7 +128,7 @@ pub enum Optimiser {
     /// Levenberg–Marquardt (damped Gauss–Newton).
     #[default]
     LevenbergMarquardt,
-    /// Diagonally scaled steepest descent with backtracking, as in the seed.
+    /// Diagonally scaled steepest descent with backtracking, as in P0.
     SteepestDescent,
 }
 

@@ -1,5 +1,5 @@
 //! Horizontal cross-sections of a metaball shape and their deformation by curves laid along
-//! their boundaries (seed 000 §4.3, Fig. 12 (a)).
+//! their boundaries (P0 §4.3, Fig. 12 (a)).
 //!
 //! A section is a closed contour in the horizontal plane at a height `z` (coordinates `(x, y)`,
 //! `z` up), the sampling points its metaballs are fitted to ([`super::shape`]), and the 2D
@@ -30,7 +30,7 @@ use super::warp::{curve_warp, warp_contour};
 pub struct Section {
     /// The height of the section's plane.
     pub z: f64,
-    /// The outline in the plane (its vertices are the sampling points of the seed).
+    /// The outline in the plane (its vertices are the sampling points of P0).
     pub contour: Contour,
     /// 2D curves laid along (or near) the outline; dragging them deforms the section.
     pub curves: Vec<Curve<DVec2>>,

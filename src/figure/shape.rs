@@ -1,4 +1,4 @@
-//! A metaball shape fitted to a few horizontal cross-sections (seed 000 §4.3, Fig. 12): "the
+//! A metaball shape fitted to a few horizontal cross-sections (P0 §4.3, Fig. 12): "the
 //! object is made of several sections; in each section metaballs are placed roughly, then
 //! their positions are optimised so that the error at the sampling points on the sections'
 //! contours is least" — and re-fitted after the sections' sampling points were dragged along by
@@ -485,7 +485,7 @@ pub struct Deformed {
     pub report: Option<ShapeFitReport>,
 }
 
-/// Deforms a shape through its sections (seed 000 §4.3): section `i`'s curves move to
+/// Deforms a shape through its sections (P0 §4.3): section `i`'s curves move to
 /// `deformed[i]`, its contour follows ([`Section::warped`], edges divided to `max_edge`), and
 /// the shape is re-fitted to all the sections from its current balls. When no curve moved the
 /// shape and the sections are returned exactly as they were, without a re-fit.

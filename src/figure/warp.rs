@@ -1,9 +1,9 @@
-//! Warping a figure by the curves laid over it (seed 000 §4.1, Fig. 9–10): every point the
+//! Warping a figure by the curves laid over it (P0 §4.1, Fig. 9–10): every point the
 //! figure is made of — metacircle centres, contour and polygon vertices — is carried by the
 //! curve warp of [`crate::curve::warp`] (`P = C_k(u_k) + v_k N(u_k)` against each original
 //! curve, `P^d = Σ ŵ_k (C_k^d(u_k) + v_k N^d(u_k))`, Beier–Neely weights).
 //!
-//! Radii and densities are kept, as in the seed ("moving the vertex coordinates by the method
+//! Radii and densities are kept, as in P0 ("moving the vertex coordinates by the method
 //! above deforms the figure"); polygon edges are divided before warping so that they bend with
 //! the curves. Curves that did not move warp nothing: the warp by unchanged curves is the
 //! identity, and then no edge is divided either (the polygons keep their vertices).

@@ -3,7 +3,7 @@
 //! The fingertip is a capsule of radius `r_f` around the finger's axis: the segment that ends
 //! at the fingertip point `E` and runs back along the finger (direction `−d̂`) for the loop's
 //! reach `ℓ` ([`super::HandLoop::reach`]). Toward the tip that is the finger of the push shape
-//! function (seed 002 §5.1; [`crate::surface::shape_fn`]): the samples within `r_f` of it are
+//! function (P2 §5.1; [`crate::surface::shape_fn`]): the samples within `r_f` of it are
 //! the ones a push moves, by `(1 − r²/r_f²)·M`, so the capsule drawn is the reach of the
 //! operation. The shape function's finger runs back without end; here it stops `ℓ` behind
 //! the tip (see [`super::press`]), so that a finger inside a pot does not press the opposite

@@ -1,4 +1,4 @@
-//! The loop of seed 002 §2.1 (Fig. 1): at every device sample, the hand frame → the kinematic
+//! The loop of P2 §2.1 (Fig. 1): at every device sample, the hand frame → the kinematic
 //! hand → contact of the active finger with the surface → push / draw-a-line → Bernstein
 //! inverse and regulation.
 //!
@@ -60,7 +60,7 @@
 //! 5. **During a contact** `h` and `m̂` are measured on the surface *as it was before the
 //!    contact* (kept aside): how far the finger is in the clay. The contact is a list of
 //!    placements ([`Placement`]): the first a push ending at the fingertip with `M = h·m̂`
-//!    (seed 002 §5.1: "M, the virtual finger's movement vector"); whenever the tip moves
+//!    (P2 §5.1: "M, the virtual finger's movement vector"); whenever the tip moves
 //!    across `m̂` by more than `stroke_step`, a new placement at the new tip, joined to the
 //!    previous one by a draw-a-line segment (§5.2) of its own `L_f = h·m̂`. Going deeper is
 //!    not moving across: the tip pressed straight in along `m̂`, or poking along the finger

@@ -1,5 +1,5 @@
 //! The kinematic hand: glove bend angles → joint positions of every finger; the tracker pose
-//! and the profile's `world_from_tracker` place it in the world (seed 002 §2.1: "from these
+//! and the profile's `world_from_tracker` place it in the world (P2 §2.1: "from these
 //! values the coordinates of the hand and of the finger joints in virtual space are computed").
 //!
 //! ## The hand in its sensor frame

@@ -1,5 +1,5 @@
 //! The hand: device frames → a kinematic hand → contact of the virtual finger with the surface
-//! → push, pull and draw-a-line operations on the patch grid (seed 002 §2.1, Fig. 1; the
+//! → push, pull and draw-a-line operations on the patch grid (P2 §2.1, Fig. 1; the
 //! interactive system of Fig. 12–13).
 //!
 //! At every device sample the paper's loop reads the hand's position and orientation from the
@@ -30,7 +30,7 @@
 //!   The surface is searched along the finger's axis; when the axis crosses the surface at
 //!   `S` before the fingertip `E`, the clay is pressed along `m̂`, the surface normal at `S`
 //!   turned to the finger's side, by `h`, the depth of `E` past the surface along `m̂`: a push
-//!   ending at the fingertip with `M = h·m̂` (seed 002 §5.1). A tip poking straight in presses
+//!   ending at the fingertip with `M = h·m̂` (P2 §5.1). A tip poking straight in presses
 //!   along the finger; a finger lying on the clay presses into the surface by how deep its
 //!   tip is — not along the finger, which at a shallow angle `θ` would shove the clay
 //!   sideways by `h / sin θ`. A flat hand 0.05 side into the plane moves no control point

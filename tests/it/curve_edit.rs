@@ -1,4 +1,4 @@
-//! Curve editing (seeds 000 §3, 004 §3(2)): derivative weights against independent derivatives,
+//! Curve editing (P0 §3, P4 §3(2)): derivative weights against independent derivatives,
 //! grabs that carry the grabbed point exactly (every method, Bezier and B-spline, 2D and 3D,
 //! degrees 1–9), the least-change grab's optimality, split, tangent edit, insertion.
 

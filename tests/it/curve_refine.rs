@@ -1,4 +1,4 @@
-//! Similarity-preserving refinement (seed 003): similar copies when the constraints admit one
+//! Similarity-preserving refinement (P3): similar copies when the constraints admit one
 //! (both modes; Bezier degrees 2–9, B-splines, piecewise curves with C1/C2 joins), constraints
 //! already met leave the curve alone, optimality of the weak terms against other feasible
 //! curves, iterated refinement, and the paper's straightening and mirroring (its Fig. 5).

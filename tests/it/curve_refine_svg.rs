@@ -1,4 +1,4 @@
-//! SVG import and export of planar curves (the paper's working format, seed 003 §3.1): exact
+//! SVG import and export of planar curves (the paper's working format, P3 §3.1): exact
 //! round trips, the path grammar (relative commands, reflections, implicit repeats, closing),
 //! refusals, and the paper's workflow — read a curve from SVG, refine it, write it back.
 

@@ -1,4 +1,4 @@
-//! Curve-driven warping (seed 000 §4): the identity for unchanged curves, exact following on
+//! Curve-driven warping (P0 §4): the identity for unchanged curves, exact following on
 //! curves, Beier and Neely's line-segment warp as the degree-1 reference, rigid motions, and
 //! the 3D warp of a patch grid's control net by curves laid on it.
 

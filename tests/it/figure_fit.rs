@@ -1,4 +1,4 @@
-//! Fitting metacircles to the shipped figures' contours (seed 000 §4.2 1)): residuals, the
+//! Fitting metacircles to the shipped figures' contours (P0 §4.2 1)): residuals, the
 //! shipped metacircles' own residual, and the pictures.
 
 use std::path::{Path, PathBuf};

@@ -1,4 +1,4 @@
-//! Morphing the shipped horse into the shipped tiger (seed 000 §4.2, Fig. 11): the first and
+//! Morphing the shipped horse into the shipped tiger (P0 §4.2, Fig. 11): the first and
 //! last frames are the source and the destination, and `nendo morph` writes the frames.
 
 use std::path::{Path, PathBuf};

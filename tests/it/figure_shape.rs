@@ -1,4 +1,4 @@
-//! Metaball shapes fitted to horizontal sections and deformed through them (seed 000 §4.3,
+//! Metaball shapes fitted to horizontal sections and deformed through them (P0 §4.3,
 //! Fig. 12): fits against known solids (the distance of the mesh to the true sphere and
 //! ellipsoid), the identity when no curve moves, the locality of a drag, the closed mesh, and
 //! `nendo figure shape` end to end on the shipped torso.

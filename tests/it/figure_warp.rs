@@ -1,4 +1,4 @@
-//! Warping figures by moving the curves laid over them (seed 000 §4.1, Fig. 9 and 10).
+//! Warping figures by moving the curves laid over them (P0 §4.1, Fig. 9 and 10).
 
 use std::path::Path;
 

@@ -1,4 +1,4 @@
-//! Regulation methods (SPEC §8): the properties each method promises, on the grid.
+//! Regulation methods (docs/design.md §12): the properties each method promises, on the grid.
 
 use glam::DVec3;
 use nendo::bench::regulation::{Strokes, experiment, experiment_cases};

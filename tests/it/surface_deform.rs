@@ -1,4 +1,4 @@
-//! Deformation by shape functions through the Bernstein inverse (SPEC §7): the dent, pull,
+//! Deformation by shape functions through the Bernstein inverse (docs/design.md §11): the dent, pull,
 //! the groove, locality, determinism, C0 under random strokes, seams and poles.
 
 use glam::DVec3;

@@ -1,7 +1,7 @@
 //! [`Curve`]: a Bezier curve or a B-spline, behind one set of queries; [`pick`] and
-//! [`CurveSet`] for the nearest of many curves (seed 000 §3).
+//! [`CurveSet`] for the nearest of many curves (P0 §3).
 //!
-//! B-splines are queried through their Bezier segments (seed 004 §3(1)); parameters are
+//! B-splines are queried through their Bezier segments (P4 §3(1)); parameters are
 //! reported in the B-spline's own parameter.
 
 use super::bezier::Bezier;
@@ -178,7 +178,7 @@ fn closest_in_segments<P: Point>(
     best
 }
 
-/// The nearest of many curves to `q` within `r_max` (seed 000 §3): the best distance found so
+/// The nearest of many curves to `q` within `r_max` (P0 §3): the best distance found so
 /// far becomes `R_max` for the next curve, so that curves whose control-point box lies farther
 /// are skipped without any clipping, and the rest are rejected by the hull test of the first
 /// clipping step. For repeated picks among the same curves, [`CurveSet`] keeps the Bezier
@@ -216,7 +216,7 @@ pub fn pick<P: Point>(curves: &[Curve<P>], q: P, r_max: f64) -> Option<Picked<P>
 /// Curves prepared for repeated picking: every curve's Bezier segments with their control
 /// boxes, in a bounding-volume hierarchy (median splits along the longest axis, up to
 /// [`CurveSet::LEAF`] segments per leaf). A pick visits the nodes nearest first and skips every
-/// node whose box lies farther than the best distance so far (the `R_max` of seed 000 §3), so
+/// node whose box lies farther than the best distance so far (the `R_max` of P0 §3), so
 /// its cost follows the curves near the query, not the size of the set.
 #[derive(Debug, Clone)]
 pub struct CurveSet<P> {

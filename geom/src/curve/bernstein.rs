@@ -1,5 +1,5 @@
 //! Bernstein polynomials and the algorithms on Bernstein coefficient arrays that every other part
-//! of nendo builds on (SPEC §1).
+//! of nendo builds on (docs/design.md §3).
 //!
 //! A Bernstein form of degree `n` is `f(t) = Σ_{i=0..n} c_i B_i^n(t)` with
 //! `B_i^n(t) = C(n,i) t^i (1-t)^(n-i)`. The coefficients `c_i` may be scalars (a Bezier *function*)

@@ -1,6 +1,6 @@
 //! Bezier curves of any degree up to [`Bezier::MAX_DEGREE`] in 2D and 3D.
 //!
-//! `C(t) = Σ_{i=0..n} P_i B_i^n(t)`, `t ∈ [0,1]` (SPEC §1).
+//! `C(t) = Σ_{i=0..n} P_i B_i^n(t)`, `t ∈ [0,1]` (docs/design.md §3).
 
 use super::bernstein;
 use super::error::CurveError;

@@ -1,5 +1,5 @@
 //! B-spline curves: `C(t) = Σ_{k=0..n−1} P_k N_{k,p}(t)` over a knot vector `t_0 ≤ … ≤ t_{n+p}`,
-//! on the domain `[t_p, t_n]` (SPEC §1, seed 004 §3).
+//! on the domain `[t_p, t_n]` (docs/design.md §3, P4 §3).
 //!
 //! Evaluation by de Boor's algorithm, knot insertion by Boehm's algorithm, conversion to Bezier
 //! segments by blossoming (each segment's control points are the blossom values

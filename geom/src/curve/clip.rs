@@ -1,4 +1,4 @@
-//! Bezier clipping of scalar Bernstein functions (Nishita, Sederberg & Kakimoto 1990; seed 000
+//! Bezier clipping of scalar Bernstein functions (Nishita, Sederberg & Kakimoto 1990; P0
 //! §2.2–2.3): the graph of `f(t) = Σ c_k B_k^m(t)` lies in the convex hull of its control points
 //! `(k/m, c_k)`, so the part of `[0,1]` where that hull meets `y ≤ 0` (or `y = 0`) bounds where
 //! `f` can be non-positive (or vanish). Every clip is a handful of linear interpolations.

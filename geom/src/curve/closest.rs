@@ -1,5 +1,5 @@
 //! The closest point on a curve to a query point within a radius, by Bezier clipping
-//! (seed 000 §2.3, seed 004 §3(1); SPEC §2), and picking the nearest of many curves (seed 000 §3).
+//! (P0 §2.3, P4 §3(1); docs/design.md §4), and picking the nearest of many curves (P0 §3).
 //!
 //! With `p_i = P_i − Q` (the curve translated so that `Q` is the origin):
 //!
@@ -17,7 +17,7 @@
 //!    `L = (P_n − P_0)/|P_n − P_0|` (the convex hull of the degree-`n` function `p_i·L`).
 //! 3. On each interval: its end values `f(a)`, `f(b)` are candidates (they are `f`'s first and
 //!    last coefficients there); discard it when `min_k f_k ≥ d_min²` (no point of the curve in
-//!    the interval is closer — the circle test of seed 004), or when `g`'s coefficients have
+//!    the interval is closer — the circle test of P4), or when `g`'s coefficients have
 //!    no sign change (the distance is monotone; its minimum is an end already counted).
 //! 4. By Descartes' rule of signs, one sign change means exactly one root of `g`: a minimum if
 //!    `g` goes from negative to positive (found by bracketed Newton), a maximum otherwise
@@ -150,7 +150,7 @@ const fn product_weights() -> [[[f64; W]; W]; W] {
     w
 }
 
-/// `f_k` of `|C(u) − Q|²` for the translated control points `p` (SPEC §2, the product formula
+/// `f_k` of `|C(u) − Q|²` for the translated control points `p` (docs/design.md §4, the product formula
 /// `f_k = Σ_{i+j=k} C(n,i) C(n,j)/C(2n,k) p_i·p_j`), written into `out[..2n+1]`.
 ///
 /// # Panics

@@ -1,4 +1,4 @@
-//! Editing curves where they are grabbed (seeds 000 §3, 004 §3(2); SPEC §3): grab anywhere, split,
+//! Editing curves where they are grabbed (P0 §3, P4 §3(2); docs/design.md §5): grab anywhere, split,
 //! tangent edit at a joint, insert a control point.
 //!
 //! ## Grab
@@ -7,16 +7,16 @@
 //! hand. Moving the control points by `ΔP_k = c_k ΔP` moves the grabbed point by
 //! `Σ_k B_k(u) c_k ΔP`, so the grabbed point follows the hand *exactly* when `Σ_k B_k(u) c_k = 1`:
 //!
-//! * [`GrabMethod::LargestWeight`] (seed 004; the default): only the control point `k` with the
+//! * [`GrabMethod::LargestWeight`] (P4; the default): only the control point `k` with the
 //!   largest `B_k(u)` moves, `ΔP_k = ΔP / B_k(u)`;
-//! * [`GrabMethod::NearestParameter`] (seed 000 eq. (4)): only the control point whose own
+//! * [`GrabMethod::NearestParameter`] (P0 eq. (4)): only the control point whose own
 //!   parameter is nearest `u` moves — `k = round(u·n)` on a Bezier curve, the nearest Greville
 //!   abscissa `(t_{k+1} + … + t_{k+p})/p` on a B-spline;
 //! * [`GrabMethod::LeastChange`]: every control point moves, by the smallest total change
 //!   `Σ |ΔP_k|²` that still carries `C(u)` by exactly `ΔP`: `ΔP_k = B_k(u) ΔP / Σ_j B_j(u)²`
 //!   (the minimum-norm solution of the one linear condition), which spreads the move smoothly.
 //!
-//! With [`GrabOptions::keep_ends`] (seed 004) the first and last control points never move: on a
+//! With [`GrabOptions::keep_ends`] (P4) the first and last control points never move: on a
 //! Bezier curve or a clamped B-spline the curve's end points stay where they are.
 //!
 //! ## Split, tangent edit, insertion
@@ -192,11 +192,11 @@ fn basis_derivatives(knots: &[f64], p: usize, k: usize, t: f64, order: usize) ->
 /// Which control points a grab moves (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum GrabMethod {
-    /// The control point with the largest basis weight at `u` (seed 004).
+    /// The control point with the largest basis weight at `u` (P4).
     #[default]
     LargestWeight,
     /// The control point whose parameter (`k/n`, or the Greville abscissa) is nearest `u`
-    /// (seed 000).
+    /// (P0).
     NearestParameter,
     /// Every control point, with the least total change `Σ |ΔP_k|²`.
     LeastChange,
@@ -207,7 +207,7 @@ pub enum GrabMethod {
 pub struct GrabOptions {
     /// Which control points move.
     pub method: GrabMethod,
-    /// Never move the first and last control points (seed 004).
+    /// Never move the first and last control points (P4).
     pub keep_ends: bool,
 }
 

@@ -1,4 +1,4 @@
-//! Curves: Bernstein forms, Bezier and B-spline curves in 2D and 3D, and the queries of SPEC §2
+//! Curves: Bernstein forms, Bezier and B-spline curves in 2D and 3D, and the queries of docs/design.md §4
 //! (closest point within a radius, picking among many curves, probe-sphere intervals, closest
 //! point to a ray), all by Bezier clipping.
 //!

@@ -1,4 +1,4 @@
-//! The closest pair between a ray and a curve (seed 004 §3(3); SPEC §2): screen picking of 3D
+//! The closest pair between a ray and a curve (P4 §3(3); docs/design.md §4): screen picking of 3D
 //! curves with the mouse.
 //!
 //! With the ray `O + s D` (`s ≥ 0`), `D̂ = D/|D|` and `p(t) = C(t) − O`:

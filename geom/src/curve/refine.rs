@@ -1,8 +1,8 @@
-//! Curve refinement keeping similarity (Satoh and Miwa, seed 003; SPEC §5): a planar curve is
+//! Curve refinement keeping similarity (Satoh and Miwa, P3; docs/design.md §7): a planar curve is
 //! reshaped to meet the user's constraints while the pairs of derivative vectors along it change
 //! by a similarity (a rotation and a scale) that may differ from place to place.
 //!
-//! ## Similarity variables (seed 003 §2.3–2.4)
+//! ## Similarity variables (P3 §2.3–2.4)
 //! Read 2D vectors as complex numbers. At a parameter `u`, with `Q^{(a)}, Q^{(b)}` the
 //! derivatives of the *original* curve and `V^{(a)}, V^{(b)}` those of the refined one,
 //!
@@ -25,7 +25,7 @@
 //! the paper's re-representation needs (its 2-segment cubic examples use `1/3, 2/3` and `1/2`).
 //! A sample where an original derivative vanishes is moved within its span, or dropped.
 //!
-//! ## The solve (seed 003 §2.6–2.7)
+//! ## The solve (P3 §2.6–2.7)
 //! The paper re-expresses the curve in the variables `U = (passing points, S)` through a square
 //! matrix `M`, then solves the user's linear constraints with the `S` as weak terms. With the
 //! passing points pinned by the constraints that is the same as the problem solved here, directly
@@ -90,7 +90,7 @@ use model::Model;
 /// Which pair of derivatives the refinement keeps similar.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Similarity {
-    /// First and second derivatives (seed 003 §2.3, §2.6): the curvature's shape. Needs degree ≥ 2.
+    /// First and second derivatives (P3 §2.3, §2.6): the curvature's shape. Needs degree ≥ 2.
     #[default]
     Curvature,
     /// Second and third derivatives (§2.4, §2.7): the curvature variation's shape; the first
@@ -136,7 +136,7 @@ pub enum Constraint {
         vector: DVec2,
     },
     /// Segments `at` and `at + 1` of a piecewise curve meet with continuity `C^order`
-    /// (`order` 0, 1 or 2): `C_at^{(r)}(1) = C_{at+1}^{(r)}(0)` for `r ≤ order` (seed 003 eqs.
+    /// (`order` 0, 1 or 2): `C_at^{(r)}(1) = C_{at+1}^{(r)}(0)` for `r ≤ order` (P3 eqs.
     /// (11)–(12)). Replaces the continuity the joint has in the original.
     Join {
         /// The joint between segments `at` and `at + 1`.

@@ -1,9 +1,9 @@
-//! The parts of a curve inside a probe circle or sphere (seed 004 §3(1); SPEC §2).
+//! The parts of a curve inside a probe circle or sphere (P4 §3(1); docs/design.md §4).
 //!
 //! `e(t,R) = |C(t) − Q|² − R² = Σ_{k=0..2n} d_k B_k^{2n}(t)`, with
 //! `d_k = Σ_{i+j=k} C(n,i) C(n,j)/C(2n,k) (p_i·p_j) − R²`, `p_i = P_i − Q`. For a cubic
 //! `d = [p0·p0, p0·p1, 0.4 p0·p2 + 0.6 p1·p1, 0.1 p0·p3 + 0.9 p1·p2, 0.4 p1·p3 + 0.6 p2·p2,
-//! p2·p3, p3·p3] − R²`. **Seed 004's eq. (6) is misprinted** (it swaps the 0.1/0.9 and 0.4/0.6
+//! p2·p3, p3·p3] − R²`. **P4's eq. (6) is misprinted** (it swaps the 0.1/0.9 and 0.4/0.6
 //! weights and puts p1·p1 where p1·p2 belongs); the general product formula above is what is
 //! computed, and a regression test pins the cubic coefficients.
 //!
@@ -119,7 +119,7 @@ mod tests {
     use super::*;
     use glam::DVec2;
 
-    /// Regression for seed 004's eq. (6): the right cubic coefficients are the product formula's.
+    /// Regression for P4's eq. (6): the right cubic coefficients are the product formula's.
     #[test]
     fn cubic_coefficients_are_not_the_misprinted_ones() {
         let pts = [

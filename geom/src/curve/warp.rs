@@ -1,4 +1,4 @@
-//! Curve-driven warping (seed 000 §4; SPEC §4): points, polygons and control nets carried along
+//! Curve-driven warping (P0 §4; docs/design.md §6): points, polygons and control nets carried along
 //! by curves that the user deforms — Beier and Neely's field warping with curves in place of
 //! line segments, in 2D and in 3D.
 //!
@@ -18,7 +18,7 @@
 //!   the end's frame (Beier and Neely extrapolate the line instead).
 //!
 //! When `C_k` is deformed into `C_k^d` (the same parameter domain), the point it carries is
-//! (seed 000 eq. (6))
+//! (P0 eq. (6))
 //!
 //! `X_k^d = C_k^d(u_k) + w_k T^d(u_k) + v_k N₁^d(u_k) + z_k N₂^d(u_k)`,
 //!

@@ -3,7 +3,7 @@
 //! Where patches meet, the tessellation puts bit-identical vertices on both sides of the seam
 //! (see [`super::tessellate()`]). At each such vertex the angle between the two patches' exact
 //! normals — evaluated again in `f64` from the patches at the vertex's parameters, not the
-//! single-precision normals the mesh carries — is the G1 error of SPEC §9 sampled at the mesh's
+//! single-precision normals the mesh carries — is the G1 error of docs/design.md §14 sampled at the mesh's
 //! seam vertices; at a pole the largest angle among all the patches around it is the spread of
 //! their tangent planes. The angle is `atan2(|n₁ × n₂|, |n₁·n₂|)`, accurate down to rounding
 //! (an `acos` of a dot product is not: `acos(1 − ε)` in `f32` reads hundredths of a degree on

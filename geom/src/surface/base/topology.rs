@@ -1,4 +1,4 @@
-//! How the patches of a grid connect (seed 002 §3, Fig. 2).
+//! How the patches of a grid connect (P2 §3, Fig. 2).
 //!
 //! A grid has `M` patches along `u` and `N` along `v`. A direction is *open* (the grid has a
 //! boundary there) or *closed* (the last patch connects back to the first). A *pole* is a whole

@@ -1,4 +1,4 @@
-//! How continuous a grid is (SPEC §9): the G0 gap and the G1 angle along every shared edge,
+//! How continuous a grid is (docs/design.md §14): the G0 gap and the G1 angle along every shared edge,
 //! and the tangent-plane spread at every pole.
 //!
 //! - **G0 gap**: the largest distance between the two patches' evaluations of the points of a
@@ -20,7 +20,7 @@ use crate::surface::group::PoleEnd;
 use crate::surface::patch::Patch;
 use crate::surface::plane_fit::plane_normal;
 
-/// The smallest number of points per edge the measures use (SPEC asks for ≥ 33).
+/// The smallest number of points per edge the measures use (docs/design.md §14 asks for ≥ 33).
 pub const MIN_SAMPLES_PER_EDGE: usize = 33;
 
 /// The continuity of a grid.

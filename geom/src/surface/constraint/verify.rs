@@ -1,4 +1,4 @@
-//! Verification of an operation's result (SPEC §7, step 5): every control point of the touched
+//! Verification of an operation's result (docs/design.md §11, step 5): every control point of the touched
 //! patches finite and within [`COORDINATE_LIMIT`]; under [`Regulation::Exact`] (the method
 //! that promises G1) every edge of a touched patch with a changed control point G1 within
 //! [`G1_TOLERANCE_DEG`].

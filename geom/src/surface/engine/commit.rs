@@ -1,4 +1,4 @@
-//! The transaction every deformation ends in (SPEC §7, steps 4–5): regulation around what
+//! The transaction every deformation ends in (docs/design.md §11, steps 4–5): regulation around what
 //! moved → the mirror → verification, then either the new boxes or an exact rollback.
 //!
 //! A [`Commit`] keeps a journal of the first old position of every control point written

@@ -1,5 +1,5 @@
 //! What a contact wants of the clay: a displacement field over the surface, and the one rule
-//! that turns it into control-point updates (seed 002 §2.1; SPEC §7, steps 2–3; the design
+//! that turns it into control-point updates (P2 §2.1; docs/design.md §11, steps 2–3; the design
 //! notes in `docs/design.md`, "The deformation engine").
 //!
 //! A [`DisplacementField`] says which patches it may move (a box test for the bounding-box

@@ -1,5 +1,5 @@
 //! The deformation engine: one pipeline for every change the fingers make to the clay
-//! (seed 002 §2.1, Fig. 1; `docs/design.md`, "The deformation engine").
+//! (P2 §2.1, Fig. 1; `docs/design.md`, "The deformation engine").
 //!
 //! 1. **Reach.** The patches whose control-point boxes a [`field::DisplacementField`] may
 //!    reach are found in the bounding-box pyramid ([`crate::surface::bounds`]), so the cost

@@ -14,7 +14,7 @@
 //! of another size starts a new contact).
 //!
 //! A contact is a sequence of finger placements `T_0, T_1, …` (pressed fingertip, direction
-//! `d̂_j`, depth `D_j`). The first is a push (seed 002 §5.1: the finger half-line ending at
+//! `d̂_j`, depth `D_j`). The first is a push (P2 §5.1: the finger half-line ending at
 //! `T_0`, `M = D_0·d̂_0`); every later one is a draw-a-line segment (§5.2) from the previous
 //! pressed tip to `T_j`, its finger centre-line `L_f = D_j·d̂_j` and stroke `M_f = T_j − T_{j−1}`
 //! — the paper's polyline, one segment at a time, each with its own `L_f`.

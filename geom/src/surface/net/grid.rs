@@ -1,4 +1,4 @@
-//! A grid of `M × N` bicubic Bezier patches sharing one control net (seed 002 §3).
+//! A grid of `M × N` bicubic Bezier patches sharing one control net (P2 §3).
 //!
 //! ## The control net
 //! Every control point exists once. The net is a lattice of columns `a` (along `u`) and rows `b`

@@ -1,4 +1,4 @@
-//! Connected control-point groups (seed 002 §4.1, Fig. 3; SPEC §6).
+//! Connected control-point groups (P2 §4.1, Fig. 3; docs/design.md §9).
 //!
 //! The control net partitions into groups, one around each grid vertex: the vertex node `P_O`,
 //! its neighbours on the patch boundaries through it, and the interior corner points of the

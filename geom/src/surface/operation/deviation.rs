@@ -1,4 +1,4 @@
-//! How far one surface is from another, sample by sample (SPEC §9; seed 002 §6, Fig. 11).
+//! How far one surface is from another, sample by sample (docs/design.md §14; P2 §6, Fig. 11).
 //!
 //! Surfaces are compared at the same parameters: `k × k` samples per patch at the cell
 //! centres `((i + ½)/k, (j + ½)/k)` (40 × 40 in the paper: 160 000 samples on 100 patches).

@@ -1,5 +1,5 @@
-//! Grab and move, exactly: the surface analogue of the curves' exact grab (SPEC §3; seed 000
-//! §3, seed 004 §3(2)).
+//! Grab and move, exactly: the surface analogue of the curves' exact grab (docs/design.md §5; P0
+//! §3, P4 §3(2)).
 //!
 //! `{"op":"move","at":A,"to":T,"radius":r_f}` takes the surface point nearest `A`,
 //! `S* = S_p(u*, v*)` ([`crate::surface::nearest`]), and

@@ -1,4 +1,4 @@
-//! The Bernstein inverse mapping (seed 002 §2.2, eq. (1)–(2); SPEC §7).
+//! The Bernstein inverse mapping (P2 §2.2, eq. (1)–(2); docs/design.md §11).
 //!
 //! A patch is sampled at the 16 parameters `(u_a, v_b)`, `u_a, v_b ∈ {0, 1/3, 2/3, 1}`:
 //! `R = B P`, with the 16 × 16 Bernstein matrix `B = B₄ ⊗ B₄` (Kronecker product of the 4 × 4

@@ -1,4 +1,4 @@
-//! Shape functions: the ideal shape a finger asks for (seed 002 §5; SPEC §7).
+//! Shape functions: the ideal shape a finger asks for (P2 §5; docs/design.md §11).
 //!
 //! An operation presses a virtual finger of radius `r_f` along the unit direction
 //! `d̂ = unit(dir)` by `depth`: the finger's movement vector is `M = depth · d̂` (a negative

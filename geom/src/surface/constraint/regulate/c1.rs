@@ -1,8 +1,8 @@
-//! The paper's baseline, its "former method" (seed 002 §1, ref. 15; compared in §6 and
+//! The paper's baseline, its "former method" (P2 §1, ref. 15; compared in §6 and
 //! Fig. 10): tangent continuity enforced as **C1** between patches, which over-constrains the
 //! surface and deforms it more.
 //!
-//! The reference describing it is not in the seeds, so it is rebuilt here as the C1
+//! The reference describing it is not among the papers (docs/design.md §2), so it is rebuilt here as the C1
 //! counterpart of the paper's own construction ([`super::g1`]): the same steps, but the two
 //! edge points on either side of `P_O` are put at their *mean* distance, so every row and
 //! column of a group is collinear **and equally spaced** (`P(+1) − P(0) = P(0) − P(−1)`): the

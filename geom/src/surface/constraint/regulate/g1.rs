@@ -1,4 +1,4 @@
-//! The paper's G1 regulation (seed 002 §4.2 and §4.3), with the misprints SPEC §8 names
+//! The paper's G1 regulation (P2 §4.2 and §4.3), with the misprints docs/design.md §12 names
 //! corrected.
 //!
 //! ## Non-degenerate point (§4.2), steps (1)–(7)

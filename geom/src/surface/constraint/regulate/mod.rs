@@ -1,5 +1,5 @@
 //! Regulation: restoring tangent continuity after the per-patch Bernstein inverse
-//! (seed 002 §4; SPEC §8).
+//! (P2 §4; docs/design.md §12).
 //!
 //! The inverse mapping moves every patch on its own; C0 holds (the net is shared) but the
 //! rows of control points that cross a grid line are no longer collinear, so the surface

@@ -42,7 +42,7 @@
 //! **Why fixed ratios and not the deformed net's own**: ratios re-measured after each
 //! deformation would let one stroke shift the spacing along whole grid lines (and need a
 //! global solve); with the reference spacing every group is independent and a stroke stays
-//! local, as the throwaway study in SPEC §8 also found.
+//! local, as the throwaway study in docs/design.md §12 also found.
 //!
 //! ## Accuracy and limits
 //! On a push into the plane (depth 1, mean / max distance from the ideal dent, side): the

@@ -48,7 +48,7 @@ pub(crate) struct Commit {
 }
 
 /// The error of a mirror map made for another grid.
-fn other_grid() -> SurfaceError {
+pub(super) fn other_grid() -> SurfaceError {
     SurfaceError::BadOp("the mirror map was made for a grid of other patch counts".to_string())
 }
 

@@ -66,7 +66,7 @@ impl LiveOperation {
         symmetry: Option<&Symmetry>,
     ) -> Result<&[usize], SurfaceError> {
         let last = self.rewind(grid);
-        match self.apply(grid, op, regulation, symmetry) {
+        match self.sculptor.apply_with(grid, op, regulation, symmetry) {
             Ok(touched) => {
                 let journal = self.sculptor.journal().to_vec();
                 // Exactly the patches with a control point that differs from the last frame:
@@ -123,19 +123,6 @@ impl LiveOperation {
     /// Keeps what is shown as the grid's new state: the next operation starts from it.
     pub fn settle(&mut self) {
         self.shown = None;
-    }
-
-    fn apply(
-        &mut self,
-        grid: &mut Grid,
-        op: &Op,
-        regulation: Regulation,
-        symmetry: Option<&Symmetry>,
-    ) -> Result<Touched, SurfaceError> {
-        match symmetry {
-            Some(s) => self.sculptor.apply_mirrored(grid, op, regulation, s),
-            None => self.sculptor.apply(grid, op, regulation),
-        }
     }
 
     /// Puts back what the shown operation wrote; returns it.

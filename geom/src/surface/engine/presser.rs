@@ -44,7 +44,7 @@
 
 use glam::DVec3;
 
-use super::commit::Commit;
+use super::commit::{Commit, other_grid};
 use super::field::{DisplacementField, Envelope, displace};
 use crate::surface::bounds::Aabb;
 use crate::surface::error::SurfaceError;
@@ -322,9 +322,7 @@ impl Presser {
         if let Some(s) = &self.mirror
             && !(s.fits(reference) && s.fits(grid))
         {
-            return Err(SurfaceError::BadOp(
-                "the mirror map was made for a grid of other patch counts".to_string(),
-            ));
+            return Err(other_grid());
         }
         let mut pending = std::mem::take(&mut self.pending);
         pending.clear();

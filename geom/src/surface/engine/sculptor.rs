@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::commit::Commit;
+use super::commit::{Commit, other_grid};
 use super::field::{DisplacementField, Envelope, displace};
 use crate::surface::bounds::Aabb;
 use crate::surface::error::SurfaceError;
@@ -148,11 +148,6 @@ impl Sculptor {
         regulation: Regulation,
         symmetry: &Symmetry,
     ) -> Result<Touched, SurfaceError> {
-        if !symmetry.fits(grid) {
-            return Err(SurfaceError::BadOp(
-                "the mirror map was made for a grid of other patch counts".to_string(),
-            ));
-        }
         self.apply_with(grid, op, regulation, Some(symmetry))
     }
 
@@ -175,13 +170,17 @@ impl Sculptor {
         self.last_energy
     }
 
-    fn apply_with(
+    /// [`Sculptor::apply`] without a mirror, [`Sculptor::apply_mirrored`] with one.
+    pub(crate) fn apply_with(
         &mut self,
         grid: &mut Grid,
         op: &Op,
         regulation: Regulation,
         symmetry: Option<&Symmetry>,
     ) -> Result<Touched, SurfaceError> {
+        if symmetry.is_some_and(|s| !s.fits(grid)) {
+            return Err(other_grid());
+        }
         op.validate()?;
         self.commit.begin(grid);
         match op {

@@ -8,19 +8,19 @@
 
 use egui::{Color32, RichText, Ui};
 
-use super::autosave::Autosave;
-use super::camera::ViewPreset;
-use super::command::Command;
-use super::document::OpTiming;
-use super::export_job::{ExportJob, TOLERANCE_RANGE};
 use super::file_dialog::{DialogPurpose, DialogResult, FileDialog};
-use super::history::History;
 use super::keymap::{self, Action, OrbitButton};
-use super::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
-use super::scene::{Overlays, SurfaceDisplay};
-use super::symmetry::MirrorToggle;
-use super::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, Tool, ToolSettings};
 use crate::curve::edit::GrabMethod;
+use crate::editor::autosave::Autosave;
+use crate::editor::camera::ViewPreset;
+use crate::editor::command::Command;
+use crate::editor::document::OpTiming;
+use crate::editor::export_job::{ExportJob, TOLERANCE_RANGE};
+use crate::editor::history::History;
+use crate::editor::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
+use crate::editor::scene::{Overlays, SurfaceDisplay};
+use crate::editor::symmetry::MirrorToggle;
+use crate::editor::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, Tool, ToolSettings};
 use crate::surface::continuity::ContinuityReport;
 use crate::surface::{Primitive, Regulation, Topology};
 

@@ -289,7 +289,7 @@ fn parse_size(s: &str) -> anyhow::Result<(u32, u32)> {
 
 /// The picture's size and view, checked.
 #[cfg(feature = "gui")]
-fn picture_settings(args: &ShapeArgs) -> anyhow::Result<((u32, u32), crate::app::ViewPreset)> {
+fn picture_settings(args: &ShapeArgs) -> anyhow::Result<((u32, u32), crate::editor::ViewPreset)> {
     let size = parse_size(&args.size)?;
     let view = args
         .view
@@ -312,7 +312,7 @@ fn draw_png(
     moved: &[usize],
     args: &ShapeArgs,
 ) -> anyhow::Result<()> {
-    use crate::app::OrbitCamera;
+    use crate::editor::OrbitCamera;
     use crate::render::{
         GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Rgba, Style,
     };

@@ -2,9 +2,12 @@
 //! recovery, the Hand tool, framing, symmetry, refinement and regulation as undo steps.
 
 use super::*;
+use crate::app::file_dialog::DialogPurpose;
+use crate::app::keymap::Action;
 use crate::editor::autosave::Autosave;
 use crate::editor::lifecycle::{Prompt, UnsavedAnswer};
 use crate::editor::scene::SurfaceDisplay;
+use crate::model::Model;
 use crate::surface::{Primitive, PrimitiveParams};
 
 fn plane_doc() -> Document {

@@ -1,11 +1,14 @@
 //! The device loop without a window: no sample dropped, typed start outcomes, a recording
 //! that replays to the window's surface, profiles, ports, the radius that follows the hand.
 
-use super::calibration::*;
 use super::inbox::*;
 use super::profiles::*;
 use super::*;
+use crate::editor::document::Document;
+use crate::editor::settings::Settings;
+use nendo_devices::profile::{self, Input};
 use nendo_devices::{FrameStatus, Timestamp, TraceHeader};
+use nendo_devices::{HandFrame, HandStream, Trace};
 
 /// A window frame far slower than the device (here a whole second) loses nothing: the
 /// loop thread keeps draining the stream's small channel into the inbox.

@@ -17,7 +17,7 @@ const CLICK_PIXELS: f32 = 4.0;
 
 /// The gesture in progress.
 #[derive(Debug, Clone, PartialEq, Default)]
-enum Gesture {
+pub(super) enum Gesture {
     /// Nothing pressed.
     #[default]
     Idle,
@@ -87,7 +87,7 @@ struct Hover {
 /// The active tool and its gesture.
 #[derive(Debug, Clone, Default)]
 pub struct ToolState {
-    gesture: Gesture,
+    pub(super) gesture: Gesture,
     hover: Hover,
     /// Ctrl held: push pulls, pull pushes, a groove becomes a ridge and back.
     invert: bool,

@@ -3,9 +3,14 @@
 
 use super::gesture::*;
 use super::*;
+use crate::editor::camera::OrbitCamera;
 use crate::editor::camera::ViewPreset;
+use crate::mesh::{PatchPoints, TriMesh};
 use crate::mesh::{Tessellation, tessellate};
+use crate::render::LineBatch;
+use crate::surface::Dirs;
 use crate::surface::{Primitive, PrimitiveParams};
+use glam::Vec2;
 
 /// The default plane seen from the iso view in an 800 × 600 viewport.
 struct PlaneScene {

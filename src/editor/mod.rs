@@ -35,6 +35,8 @@ pub mod export_job;
 pub mod hand_input;
 pub mod history;
 pub mod lifecycle;
+// Half of the device loop's surface is the Devices panel's (in `app`), unused without `gui`.
+#[cfg_attr(not(feature = "gui"), allow(dead_code))]
 pub mod live;
 pub mod reach;
 pub mod scene;

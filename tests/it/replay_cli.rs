@@ -298,8 +298,7 @@ fn a_missing_model_or_trace_is_named_once() {
 
 /// Issue 16: the window's hand loop (`HandDriver::feed`, what its Devices panel calls per
 /// frame, with the window's finger radius) and `nendo replay` with its defaults give the same
-/// surface for a shipped trace.
-#[cfg(feature = "gui")]
+/// surface for a shipped trace. The headless editor serves it, with or without `gui`.
 #[test]
 fn the_windows_hand_loop_and_nendo_replay_give_the_same_surface() {
     use nendo::editor::document::Document;

@@ -7,9 +7,9 @@
 //! `apt-get install mesa-vulkan-drivers`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group};
-use nendo::app::scene::SurfaceDisplay;
-use nendo::app::{OrbitCamera, ViewPreset};
 use nendo::bench::render::sculpted_plane;
+use nendo::editor::scene::SurfaceDisplay;
+use nendo::editor::{OrbitCamera, ViewPreset};
 use nendo::mesh::{Tessellation, tessellate};
 use nendo::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
 use std::hint::black_box;

@@ -4,7 +4,7 @@
 //! A free-form modeller in which surfaces are shaped like clay — pushed, pulled, grooved — and
 //! curves are grabbed anywhere along their length, on exact geometry: grids of bicubic Bezier
 //! patches kept tangent-continuous while they deform, and Bezier / B-spline curves queried by
-//! Bezier clipping. The geometry follows the four papers summarised in `shared/SPEC.md`.
+//! Bezier clipping. The geometry follows the four papers summarised in `docs/design.md`.
 //!
 //! ## Crates, and which part may use which
 //!
@@ -19,13 +19,16 @@
 //! | [`curve`], [`surface`], [`mesh`] | the geometry of `nendo-geom` re-exported, plus the curve file formats ([`curve::json`], [`curve::svg`]) and the OBJ / STL / GLB writers ([`mesh`]) | `nendo-geom`, serde, the file writer |
 //! | [`model`] | the `nendo-model` JSON document (surface + curves) and the sculpt operations, validated reading, safe writing | geometry, serde |
 //! | [`cad`] | the exact surface and curves for CAD: STEP (AP214) and IGES 5.3 writers, no approximation | geometry, [`model`], the file writer |
-//! | [`figure`] | 2D metacircle figures (fit, iso-curves, pictures, warping, morphing) and 3D metaball shapes fitted to sections (seed 000 §4), with their documents and pictures; it lives here, not in `nendo-geom`, because it reads and writes its own files and PNG/SVG pictures | geometry, serde, png |
+//! | [`figure`] | 2D metacircle figures (fit, iso-curves, pictures, warping, morphing) and 3D metaball shapes fitted to sections (P0 §4), with their documents and pictures; it lives here, not in `nendo-geom`, because it reads and writes its own files and PNG/SVG pictures | geometry, serde, png |
 //! | [`hand`] | the kinematic hand (bend angles → joint positions), the contact of the fingertip capsule with the surface, the loop that turns device frames into displacement fields applied through `nendo-geom`'s deformation pipeline, the mouse as a hand, scripted traces; here because it joins devices and geometry | geometry, `nendo_devices` |
-//! | `render`, `app` | the wgpu renderer (CPU tessellation from `mesh`, drawn as clay) and the egui window; feature `gui` | everything above; nothing depends on them |
+//! | [`render`] | what the renderer is handed (view, style, line and sphere batches, the GPU data layouts) and, with feature `gui`, the wgpu renderer (CPU tessellation from `mesh`, drawn as clay) | everything above; wgpu only with `gui` |
+//! | [`editor`] | the headless editor: document, history, lifecycle, live strokes, symmetry, camera, scene, display cache, settings (and the device loop); builds without `gui` | everything above |
+//! | `app` | the thin egui / winit shell around the editor: the window, the modeller's input and panels; feature `gui` | everything above; nothing depends on it but the window's entry (`nendo window`) |
 //! | [`cli`] | the headless subcommands of the `nendo` binary | everything |
 //! | [`bench`] | the measurement suites behind `nendo bench` | everything |
 //!
-//! No module imports one below it in this table.
+//! No module imports one below it in this table. Nothing but `app` (and the one entry that opens
+//! the window, `cli::window`) uses winit or egui, and nothing outside `render` and `app` uses wgpu.
 #![warn(missing_docs)]
 
 #[cfg(feature = "gui")]
@@ -34,12 +37,12 @@ pub mod bench;
 pub mod cad;
 pub mod cli;
 pub mod curve;
+pub mod editor;
 pub mod figure;
 pub mod hand;
 pub mod json_doc;
 pub mod mesh;
 pub mod model;
-#[cfg(feature = "gui")]
 pub mod render;
 
 pub use nendo_geom::num;

@@ -10,10 +10,9 @@ use nendo_devices::glove_calibration::CalibrationPose;
 use nendo_devices::profile::{FingerLengths, GloveProfile, Input};
 use nendo_devices::{DeviceStatus, HandSize, SourceState};
 
-use super::command::Command;
-use super::document::Document;
-use super::file_dialog::DialogPurpose;
-use super::live::{LiveInput, ViewAnchor, fresh_name, state_name};
+use crate::editor::command::{Command, DialogPurpose};
+use crate::editor::document::Document;
+use crate::editor::live::{LiveInput, ViewAnchor, fresh_name, state_name};
 
 const ERROR: Color32 = Color32::from_rgb(230, 90, 70);
 const GOOD: Color32 = Color32::from_rgb(110, 200, 120);
@@ -493,5 +492,69 @@ impl LiveInput {
                     ui.small(r);
                 }
             });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+    use nendo_devices::profile;
+
+    fn plane_doc() -> Document {
+        use crate::model::Model;
+        use crate::surface::{Primitive, PrimitiveParams};
+        Document::new(Model::new(
+            Primitive::Plane
+                .build(&PrimitiveParams::default())
+                .expect("plane"),
+        ))
+    }
+
+    /// The Devices panel fits its width: nothing (the Replay button, the record field, the
+    /// port fields) reaches past its right edge, whichever profile is selected.
+    #[test]
+    fn the_device_panel_fits_its_width() {
+        let mut live = LiveInput::default();
+        let mut doc = plane_doc();
+        live.trace_path = "/some/rather/long/path/to/a/recorded/session.trace".into();
+        live.record = true;
+        live.record_to = "/another/rather/long/path/to/a/recording/session.trace".into();
+        let anchor = ViewAnchor {
+            point: DVec3::ZERO,
+            normal: DVec3::Z,
+            extent: 10.0,
+        };
+        let ctx = egui::Context::default();
+        let count = profile::builtin().len();
+        for selected in 0..count {
+            let mut overflow = None;
+            for _ in 0..2 {
+                let raw = egui::RawInput {
+                    screen_rect: Some(egui::Rect::from_min_size(
+                        egui::Pos2::ZERO,
+                        egui::vec2(1280.0, 800.0),
+                    )),
+                    ..Default::default()
+                };
+                let _ = ctx.run_ui(raw, |ui| {
+                    egui::Panel::right("devices test")
+                        .exact_size(DEVICES_PANEL_WIDTH)
+                        .show(ui, |ui| {
+                            let right = ui.max_rect().max.x;
+                            let _ = live.ui(ui, &mut doc, &anchor);
+                            if live.selected != selected {
+                                live.select(selected);
+                            }
+                            overflow = Some(ui.min_rect().max.x - right);
+                        });
+                });
+            }
+            let overflow = overflow.expect("the panel ran");
+            assert!(
+                overflow <= 0.5,
+                "profile {selected}: the panel's content runs {overflow} points past its edge"
+            );
+        }
     }
 }

@@ -7,65 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-/// What the dialog is for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DialogPurpose {
-    /// Open a model.
-    OpenModel,
-    /// Save the model.
-    SaveModel,
-    /// Export a mesh or, exactly, STEP / IGES (the extension picks the format).
-    ExportMesh,
-    /// Save the recorded operations.
-    SaveOps,
-    /// Replay an operations file.
-    ReplayOps,
-    /// Open a device profile (JSON).
-    OpenProfile,
-    /// Name the trace file a device session records to.
-    RecordTrace,
-    /// Pick a recorded trace to replay.
-    ReplayTrace,
-}
-
-impl DialogPurpose {
-    fn title(self) -> &'static str {
-        match self {
-            DialogPurpose::OpenModel => "Open model",
-            DialogPurpose::SaveModel => "Save model as",
-            DialogPurpose::ExportMesh => "Export (.obj, .stl, .glb; exact: .step, .igs)",
-            DialogPurpose::SaveOps => "Save recorded operations",
-            DialogPurpose::ReplayOps => "Replay operations",
-            DialogPurpose::OpenProfile => "Open a device profile",
-            DialogPurpose::RecordTrace => "Record the device session to (.trace)",
-            DialogPurpose::ReplayTrace => "Replay a hand trace (.trace)",
-        }
-    }
-
-    /// True when the dialog names a new file rather than picking an existing one.
-    fn saves(self) -> bool {
-        matches!(
-            self,
-            DialogPurpose::SaveModel
-                | DialogPurpose::ExportMesh
-                | DialogPurpose::SaveOps
-                | DialogPurpose::RecordTrace
-        )
-    }
-
-    /// File name endings listed (lower case).
-    fn endings(self) -> &'static [&'static str] {
-        match self {
-            DialogPurpose::OpenModel | DialogPurpose::SaveModel => &[".json"],
-            DialogPurpose::ExportMesh => {
-                &[".obj", ".stl", ".glb", ".step", ".stp", ".igs", ".iges"]
-            }
-            DialogPurpose::SaveOps | DialogPurpose::ReplayOps => &[".jsonl", ".ops", ".txt"],
-            DialogPurpose::OpenProfile => &[".json"],
-            DialogPurpose::RecordTrace | DialogPurpose::ReplayTrace => &[".trace"],
-        }
-    }
-}
+pub use crate::editor::command::DialogPurpose;
 
 /// How an entry is listed: folders end in `/` (a marker every font has; the default egui
 /// fonts have no folder emoji).

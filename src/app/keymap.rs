@@ -9,7 +9,7 @@
 
 use egui::{Key, Modifiers};
 
-use super::tools::Tool;
+use crate::editor::tools::Tool;
 
 /// What a key does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

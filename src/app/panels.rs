@@ -8,19 +8,19 @@
 
 use egui::{Color32, RichText, Ui};
 
-use super::autosave::Autosave;
-use super::camera::ViewPreset;
-use super::command::Command;
-use super::document::OpTiming;
-use super::export_job::{ExportJob, TOLERANCE_RANGE};
 use super::file_dialog::{DialogPurpose, DialogResult, FileDialog};
-use super::history::History;
 use super::keymap::{self, Action, OrbitButton};
-use super::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
-use super::scene::{Overlays, SurfaceDisplay};
-use super::symmetry::MirrorToggle;
-use super::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, Tool, ToolSettings};
 use crate::curve::edit::GrabMethod;
+use crate::editor::autosave::Autosave;
+use crate::editor::camera::ViewPreset;
+use crate::editor::command::Command;
+use crate::editor::document::OpTiming;
+use crate::editor::export_job::{ExportJob, TOLERANCE_RANGE};
+use crate::editor::history::History;
+use crate::editor::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
+use crate::editor::scene::{Overlays, SurfaceDisplay};
+use crate::editor::symmetry::MirrorToggle;
+use crate::editor::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, Tool, ToolSettings};
 use crate::surface::continuity::ContinuityReport;
 use crate::surface::{Primitive, Regulation, Topology};
 
@@ -291,16 +291,16 @@ pub(super) fn tool_ui(
     )
     .on_hover_text("The sphere drawn around the point under the cursor on a curve: the part of the curve inside it is highlighted, to see where a grab takes hold");
     let method_name = |m: GrabMethod| match m {
-        GrabMethod::LargestWeight => "largest weight (seed 004)",
-        GrabMethod::NearestParameter => "nearest parameter (seed 000)",
+        GrabMethod::LargestWeight => "largest weight (P4)",
+        GrabMethod::NearestParameter => "nearest parameter (P0)",
         GrabMethod::LeastChange => "least change",
     };
     let method_help = |m: GrabMethod| match m {
         GrabMethod::LargestWeight => {
-            "moves the control point whose basis function weighs most at the grabbed point (Satoh–Miwa, seed 004): simple and local"
+            "moves the control point whose basis function weighs most at the grabbed point (Satoh–Miwa, P4): simple and local"
         }
         GrabMethod::NearestParameter => {
-            "moves the control point nearest in parameter to the grabbed point (seed 000)"
+            "moves the control point nearest in parameter to the grabbed point (P0)"
         }
         GrabMethod::LeastChange => {
             "moves every control point, by the least total change (the sum of their squared moves) that puts the grabbed point under the cursor"

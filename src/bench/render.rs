@@ -114,8 +114,8 @@ pub fn report(scale: f64) -> String {
 /// Headless frame times at 1280 × 720.
 #[cfg(feature = "gui")]
 fn frames(planes: &[(usize, Vec<PatchPoints>)], batches: usize) -> String {
-    use crate::app::scene::SurfaceDisplay;
-    use crate::app::{OrbitCamera, ViewPreset};
+    use crate::editor::scene::SurfaceDisplay;
+    use crate::editor::{OrbitCamera, ViewPreset};
     use crate::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
 
     let gpu = match GpuContext::headless() {

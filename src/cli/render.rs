@@ -7,8 +7,8 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use super::arg_error::ArgError;
-use crate::app::ViewPreset;
-use crate::app::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
+use crate::editor::ViewPreset;
+use crate::editor::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
 use crate::mesh::Tessellation;
 use crate::model::Model;
 use crate::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
@@ -115,7 +115,7 @@ fn render(args: &Args) -> anyhow::Result<()> {
     let (w, h) = args.size;
     let aspect = w as f32 / h as f32;
     let points = framing_points(&model, &patches, &display, &overlays);
-    let camera = crate::app::OrbitCamera::framing(args.view, &points, aspect);
+    let camera = crate::editor::OrbitCamera::framing(args.view, &points, aspect);
     let style = Style {
         heat_map: args.heat,
         heat_max_deg: args.heat_max,

@@ -1,5 +1,5 @@
 //! `nendo figure shape SHAPE.json --mesh OUT.obj [--png OUT.png] [--out RESULT.json]`: a metaball
-//! shape fitted to horizontal sections and deformed through them (seed 000 §4.3, Fig. 12).
+//! shape fitted to horizontal sections and deformed through them (P0 §4.3, Fig. 12).
 //!
 //! 1. The shape file ([`crate::figure::shape_document`]) is read: sections (contours at heights
 //!    `z`), the curves laid along them, the drags (`moves`) of those curves, and optionally
@@ -289,7 +289,7 @@ fn parse_size(s: &str) -> anyhow::Result<(u32, u32)> {
 
 /// The picture's size and view, checked.
 #[cfg(feature = "gui")]
-fn picture_settings(args: &ShapeArgs) -> anyhow::Result<((u32, u32), crate::app::ViewPreset)> {
+fn picture_settings(args: &ShapeArgs) -> anyhow::Result<((u32, u32), crate::editor::ViewPreset)> {
     let size = parse_size(&args.size)?;
     let view = args
         .view
@@ -312,7 +312,7 @@ fn draw_png(
     moved: &[usize],
     args: &ShapeArgs,
 ) -> anyhow::Result<()> {
-    use crate::app::OrbitCamera;
+    use crate::editor::OrbitCamera;
     use crate::render::{
         GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Rgba, Style,
     };

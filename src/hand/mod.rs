@@ -17,7 +17,7 @@
 //! | [`hand_loop`] | [`HandLoop`]: frames → contact of every pressing [`Part`] → the surface deformed, pinches held (the contact rules) |
 //! | [`outcome`] | what the loop reports: [`Touch`], [`FrameOutcome`], [`LoopStats`] |
 //! | [`session`] | [`HandSession`]: the loop with its own grid, for replay, tests and benches |
-//! | [`press`] | the operation of one contact: every part's finger [`Placement`]s applied together, as an envelope, to the surface before the contact — re-exported from the geometry crate's engine, [`crate::surface::envelope`] (the hand only builds placements) |
+//! | [`press`] | the operation of one contact: every part's finger [`Placement`]s applied together, as an envelope, to the surface before the contact — re-exported from the geometry crate's engine, [`crate::surface::engine`] (the hand only builds placements) |
 //! | [`mouse`] | [`MouseFinger`]: the mouse as a hand — the view ray is the finger; click depth and drag give push, pull and draw-a-line |
 //! | [`scene`] | [`Scene`](scene::Scene): the surface a recorded session started from and its settings, the `scene` line of a trace header (`nendo replay TRACE` needs nothing else) |
 //! | [`script`] | scripted hand motions written as real traces ([`Choreography`](script::Choreography): inverse kinematics for a wanted fingertip; gestures; pinch poses) |

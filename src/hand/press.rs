@@ -1,6 +1,6 @@
 //! The operation of one contact: the finger's placements applied together, as an envelope,
 //! to the surface as it was before the contact. The engine lives in the geometry crate
-//! ([`crate::surface::envelope`]); this module re-exports it under the hand's paths.
+//! ([`crate::surface::engine`]); this module re-exports it under the hand's paths.
 
 pub use crate::surface::{Placement, Presser, Stroke, describe};
 

@@ -1,16 +1,20 @@
 //! Data laid out for the GPU: `#[repr(C)]`, `bytemuck::Pod`, sizes asserted at compile time.
+//! The layouts build without the `gui` feature (the editor fills line and sphere batches); the
+//! `Pod` derives and the wgpu vertex attributes come with it.
 //!
 //! **Keep in sync with the `.wgsl` files in `shaders/`.** `tests/it/shader_validation.rs` checks
 //! `Globals` member by member (offsets and size) against naga's layout of the one WGSL block,
 //! `shaders/globals.wgsl`.
 
+#[cfg(feature = "gui")]
 use bytemuck::{Pod, Zeroable};
 
 /// Per-frame uniform shared by every pass (`@group(0) @binding(0)`).
 /// Keep in sync with `struct Globals` in `shaders/globals.wgsl` (the one definition, prepended
 /// to the clay, lines and spheres shaders).
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "gui", derive(Pod, Zeroable))]
 pub struct Globals {
     /// Column-major `clip_from_world` (wgpu's 0..1 depth).
     pub clip_from_world: [[f32; 4]; 4],
@@ -43,7 +47,8 @@ const _: () = assert!(std::mem::size_of::<Globals>() == 160);
 
 /// A vertex of the tessellated surface. Keep in sync with `VertexIn` in `shaders/clay.wgsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "gui", derive(Pod, Zeroable))]
 pub struct SurfaceVertex {
     /// Position, world space.
     pub position: [f32; 3],
@@ -55,6 +60,7 @@ pub struct SurfaceVertex {
 }
 const _: () = assert!(std::mem::size_of::<SurfaceVertex>() == 32);
 
+#[cfg(feature = "gui")]
 impl SurfaceVertex {
     /// Vertex attributes at locations 0, 1, 2.
     pub const ATTRIBUTES: [wgpu::VertexAttribute; 3] =
@@ -63,7 +69,8 @@ impl SurfaceVertex {
 
 /// An end of a line segment. Keep in sync with `VertexIn` in `shaders/lines.wgsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "gui", derive(Pod, Zeroable))]
 pub struct LineVertex {
     /// Position, world space.
     pub position: [f32; 3],
@@ -72,6 +79,7 @@ pub struct LineVertex {
 }
 const _: () = assert!(std::mem::size_of::<LineVertex>() == 16);
 
+#[cfg(feature = "gui")]
 impl LineVertex {
     /// Vertex attributes at locations 0, 1.
     pub const ATTRIBUTES: [wgpu::VertexAttribute; 2] =
@@ -80,13 +88,15 @@ impl LineVertex {
 
 /// A vertex of the unit sphere mesh. Keep in sync with `VertexIn.unit` in `shaders/spheres.wgsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "gui", derive(Pod, Zeroable))]
 pub struct SphereVertex {
     /// Point of the unit sphere (its own normal).
     pub unit: [f32; 3],
 }
 const _: () = assert!(std::mem::size_of::<SphereVertex>() == 12);
 
+#[cfg(feature = "gui")]
 impl SphereVertex {
     /// Vertex attribute at location 0.
     pub const ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![0 => Float32x3];
@@ -94,7 +104,8 @@ impl SphereVertex {
 
 /// One sphere to draw. Keep in sync with `VertexIn` locations 1–3 in `shaders/spheres.wgsl`.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "gui", derive(Pod, Zeroable))]
 pub struct SphereInstance {
     /// Centre, world space.
     pub center: [f32; 3],
@@ -105,6 +116,7 @@ pub struct SphereInstance {
 }
 const _: () = assert!(std::mem::size_of::<SphereInstance>() == 32);
 
+#[cfg(feature = "gui")]
 impl SphereInstance {
     /// Instance attributes at locations 1, 2, 3.
     pub const ATTRIBUTES: [wgpu::VertexAttribute; 3] =

@@ -1,6 +1,10 @@
 //! The wgpu renderer: the clay surface, lines and spheres, drawn into a window's frame or
 //! offscreen into an image.
 //!
+//! What the renderer is handed — [`View`], [`Style`], [`LineBatch`], [`SphereInstance`], the
+//! GPU data layouts — builds without the `gui` feature, so the headless editor fills
+//! it without a GPU; the GPU side (wgpu) comes with `gui`.
+//!
 //! It knows nothing of the application above it: it is handed a [`TriMesh`](crate::mesh::TriMesh)
 //! (the library's own tessellation, done on the CPU — see [`crate::mesh`]), a [`LineBatch`],
 //! [`SphereInstance`]s, a [`View`] and a [`Style`], and draws them. The shaders are in
@@ -21,22 +25,32 @@
 //! # Ok(()) }
 //! ```
 
+#[cfg(feature = "gui")]
 mod buffer;
+#[cfg(feature = "gui")]
 mod context;
 pub mod gpu_data;
+#[cfg(feature = "gui")]
 mod offscreen;
+#[cfg(feature = "gui")]
 mod renderer;
 mod scene;
+#[cfg(feature = "gui")]
 mod targets;
 
+#[cfg(feature = "gui")]
 pub use context::GpuContext;
 pub use gpu_data::SphereInstance;
+#[cfg(feature = "gui")]
 pub use offscreen::{OFFSCREEN_FORMAT, Offscreen, RgbaImage};
+#[cfg(feature = "gui")]
 pub use renderer::{GLOBALS_WGSL, Renderer, SHADERS, look_at_view, surface_vertices};
 pub use scene::{LineBatch, Rgba, Style, ToolFootprint, View};
+#[cfg(feature = "gui")]
 pub use targets::{DEPTH_FORMAT, FrameTargets};
 
 /// What can go wrong while rendering.
+#[cfg(feature = "gui")]
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
     /// No GPU adapter is available (no driver, or none the enabled backends reach).

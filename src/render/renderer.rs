@@ -267,7 +267,7 @@ impl Renderer {
     }
 
     /// Uploads again only the given vertex ranges of the surface (a live stroke: the
-    /// ranges of [`crate::app::display_cache::DisplayCache::vertex_ranges_since`]), for a mesh
+    /// vertex ranges the caller knows changed since the last upload), for a mesh
     /// whose indices and vertex count are those last given to [`Renderer::set_surface`].
     /// Falls back to [`Renderer::set_surface`] when the vertex count differs or a range lies
     /// outside the mesh.

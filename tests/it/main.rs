@@ -40,4 +40,6 @@ mod surface_deform;
 mod surface_grid;
 mod surface_operations;
 mod svg_import;
+// It measures strokes through `nendo::bench::live`, which times the renderer (`gui`).
+#[cfg(feature = "gui")]
 mod undo_history;

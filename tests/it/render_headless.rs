@@ -15,8 +15,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec2, Vec3};
-use nendo::app::scene::{SurfaceDisplay, control_net, curve};
-use nendo::app::{OrbitCamera, ViewPreset};
+use nendo::editor::scene::{SurfaceDisplay, control_net, curve};
+use nendo::editor::{OrbitCamera, ViewPreset};
 use nendo::mesh::Tessellation;
 use nendo::render::{
     GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, RenderError, Renderer, RgbaImage,

@@ -298,12 +298,11 @@ fn a_missing_model_or_trace_is_named_once() {
 
 /// Issue 16: the window's hand loop (`HandDriver::feed`, what its Devices panel calls per
 /// frame, with the window's finger radius) and `nendo replay` with its defaults give the same
-/// surface for a shipped trace.
-#[cfg(feature = "gui")]
+/// surface for a shipped trace. The headless editor serves it, with or without `gui`.
 #[test]
 fn the_windows_hand_loop_and_nendo_replay_give_the_same_surface() {
-    use nendo::app::document::Document;
-    use nendo::app::hand_input::HandDriver;
+    use nendo::editor::document::Document;
+    use nendo::editor::hand_input::HandDriver;
     use nendo::hand::DEFAULT_FINGER_RADIUS;
 
     let dir = temp_dir("window-vs-replay");
@@ -320,7 +319,7 @@ fn the_windows_hand_loop_and_nendo_replay_give_the_same_surface() {
     let mut driver = HandDriver::new(
         trace.header.hand,
         trace.header.world_from_tracker,
-        nendo::app::live::trace_finger(&trace.header),
+        nendo::editor::live::trace_finger(&trace.header),
         DEFAULT_FINGER_RADIUS,
     )
     .unwrap();

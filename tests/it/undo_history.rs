@@ -3,12 +3,12 @@
 //! what each edit changed, so 1 000 typical strokes on a 256 × 256 grid fit in 100 MB.
 
 use glam::DVec3;
-use nendo::app::Document;
-use nendo::app::curve_edit::straight_cubic;
-use nendo::app::history::History;
 use nendo::bench::live::{Strokes, typical_stroke};
 use nendo::curve::json::DynCurve;
 use nendo::curve::{Bezier, Curve};
+use nendo::editor::Document;
+use nendo::editor::curve_edit::straight_cubic;
+use nendo::editor::history::History;
 use nendo::model::Model;
 use nendo::surface::{Op, Primitive, PrimitiveParams, Regulation};
 use rand::{Rng, SeedableRng};

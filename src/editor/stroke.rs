@@ -313,8 +313,8 @@ pub fn edit_name(op: &Op) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::app::display_cache::DisplayCache;
-    use crate::app::scene::SurfaceDisplay;
+    use crate::editor::display_cache::DisplayCache;
+    use crate::editor::scene::SurfaceDisplay;
     use crate::mesh::Tessellation;
     use crate::model::Model;
     use crate::surface::{Primitive, PrimitiveParams};

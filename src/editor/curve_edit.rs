@@ -1,5 +1,5 @@
 //! The window's side of curve editing: finding joints among the model's curves and making new
-//! curves. The edits themselves — grab anywhere, split, tangent edit (SPEC §3; seeds 000 §3 and
+//! curves. The edits themselves — grab anywhere, split, tangent edit (docs/design.md §5; seeds 000 §3 and
 //! 004 §3(2)) — are [`crate::curve::edit`]'s; this module only adapts them to a list of curves.
 
 use glam::DVec3;

@@ -1,5 +1,5 @@
 //! The orbit camera: yaw and pitch about a target, `+Z` up, with the usual mouse conventions
-//! (see [`crate::app`]) and the named views of `nendo render --view`.
+//! (see the window, `app`) and the named views of `nendo render --view`.
 //!
 //! With yaw `ψ` and pitch `θ`, the unit vector from the target to the eye is
 //! `e = (cos θ cos ψ, cos θ sin ψ, sin θ)`, the camera's right is `r = (−sin ψ, cos ψ, 0)` and

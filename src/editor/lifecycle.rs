@@ -19,7 +19,7 @@
 //!
 //!   The pending action (Close, Create, Open) lives in the stage, so it survives the file
 //!   dialog that "Save…" opens for a document that has no file yet.
-//! - [`Session`] is the document with that machine, its autosave file and the exit rules: the
+//! - [`DocumentSession`] is the document with that machine, its autosave file and the exit rules: the
 //!   autosave is removed only when it is this session's and holds nothing unsaved.
 //!
 //! Limits: one question at a time; a Save that fails asks the same question again (the error
@@ -291,7 +291,7 @@ impl Lifecycle {
 
 /// The document with its lifecycle and autosave.
 #[derive(Debug)]
-pub struct Session {
+pub struct DocumentSession {
     /// The document being edited.
     pub doc: Document,
     lifecycle: Lifecycle,
@@ -302,7 +302,7 @@ pub struct Session {
     owns_autosave: bool,
 }
 
-impl Session {
+impl DocumentSession {
     /// A session editing `doc`, autosaving to `autosave` (asking first about an earlier
     /// session's autosave when there is one and `offer_recovery` is set).
     #[must_use]
@@ -393,7 +393,7 @@ impl Session {
 
     /// Recovers the autosave at `path`: the model comes back as unsaved work (dirty until
     /// saved; the autosave stays until then). The caller puts it in place with
-    /// [`Session::replace`] (which needs the window's own state reset too).
+    /// [`DocumentSession::replace`] (which needs the window's own state reset too).
     ///
     /// # Errors
     /// As [`Document::open`]; the question is answered either way.

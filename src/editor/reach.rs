@@ -7,7 +7,7 @@
 //! 20 of its 32 patches), so the ring drawn around the cursor would understate it.
 //!
 //! For a hover the window runs the click's operation on a copy of the grid (a dry run, the
-//! exact answer) when the grid has at most [`Reach::DRY_RUN_MAX_PATCHES`]; on bigger grids it
+//! exact answer) when the grid has at most [`ReachedPatches::DRY_RUN_MAX_PATCHES`]; on bigger grids it
 //! falls back to the patches whose boxes the finger may touch
 //! ([`nendo_geom::surface::Finger::may_touch`], conservative: it may outline a few patches the
 //! flow misses, and it leaves out the regulation's ring). During a stroke the outline is the
@@ -24,12 +24,12 @@ const REACH: Rgba = Rgba([1.0, 0.62, 0.15, 0.95]);
 
 /// The reached patches, cached for the operation and model revision they were found for.
 #[derive(Debug, Default)]
-pub struct Reach {
+pub struct ReachedPatches {
     key: Option<(Op, u64)>,
     patches: Vec<usize>,
 }
 
-impl Reach {
+impl ReachedPatches {
     /// Largest grid a hover dry-runs its operation on.
     pub const DRY_RUN_MAX_PATCHES: usize = 4096;
 
@@ -82,14 +82,14 @@ impl Reach {
 }
 
 /// The patches `op` changes on `grid` (sorted): by a dry run on a copy up to
-/// [`Reach::DRY_RUN_MAX_PATCHES`], else those whose boxes the finger may touch. None for an
+/// [`ReachedPatches::DRY_RUN_MAX_PATCHES`], else those whose boxes the finger may touch. None for an
 /// invalid or refused operation.
 #[must_use]
 pub fn reached(grid: &Grid, op: &Op, regulation: Regulation) -> Vec<usize> {
     let Ok(finger) = op.finger() else {
         return Vec::new();
     };
-    let mut out = if grid.patch_count() <= Reach::DRY_RUN_MAX_PATCHES {
+    let mut out = if grid.patch_count() <= ReachedPatches::DRY_RUN_MAX_PATCHES {
         let mut copy = grid.clone();
         match Sculptor::new().apply(&mut copy, op, regulation) {
             Ok(touched) => touched.patches,

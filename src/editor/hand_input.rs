@@ -349,7 +349,7 @@ impl MouseHandTool {
 /// The Hand tool's state: the mouse hand (made when the tool is first used, again when the
 /// finger radius changes between presses), the profile it is made with, and the press.
 #[derive(Debug, Clone, Default)]
-pub struct MouseHand {
+pub struct HandToolState {
     /// The hand, once made.
     hand: Option<MouseHandTool>,
     /// The mouse profile the hand is made with (the Devices panel's "mouse" profile).
@@ -358,11 +358,11 @@ pub struct MouseHand {
     last_ray: Option<Ray>,
     /// The press grips and pulls (Shift, or "ridges", at the press).
     pull: bool,
-    /// The mirror the next contact presses with ([`MouseHand::set_mirror`]).
+    /// The mirror the next contact presses with ([`HandToolState::set_mirror`]).
     mirror: Option<Symmetry>,
 }
 
-impl MouseHand {
+impl HandToolState {
     /// Why the surface refused a frame of the hand since the last call, if it did.
     pub fn take_refused(&mut self) -> Option<SurfaceError> {
         self.hand.as_mut().and_then(MouseHandTool::take_refused)
@@ -415,7 +415,7 @@ impl MouseHand {
     /// Feeds the hand the view ray `ray` (left button held or not; hovering, the fingertip sits
     /// `hover` along the ray), making the hand first for `radius` and click `depth` when it is
     /// missing or stale (not held, another radius). A contact begun here presses with the mirror
-    /// last set ([`MouseHand::set_mirror`]).
+    /// last set ([`HandToolState::set_mirror`]).
     ///
     /// # Errors
     /// [`HandError`] when the hand refuses the settings or the ray; a refused hand is dropped.

@@ -49,6 +49,26 @@ while IFS= read -r file; do
     *) echo "layers: $file names the window's shell (crate::app / nendo::app); use nendo::editor"; fail=1 ;;
   esac
 done <<<"$(grep -rlE '(crate|nendo)::app([^[:alnum:]_]|$)' src benches tests --include='*.rs' || true)"
+# nendo-geom's surface/ folders are layers (base → net → constraint → operation → engine): a file
+# names only the modules of its own layer and those below (comment lines aside).
+surface=geom/src/surface
+net="grid|group|primitive"
+constraint="regulate|verify|continuity|mirror"
+operation="shape_fn|nearest|grab|smooth|inverse|refine|deviation"
+engine="engine"
+check_layer() {
+  local folder="$1" above="$2" hits
+  hits="$(grep -rnE "surface::($above)\b" "$surface/$folder" --include=*.rs | grep -vE '^[^:]+:[0-9]+:\s*//' || true)"
+  if [ -n "$hits" ]; then
+    echo "layers: $surface/$folder uses a layer above it:"
+    echo "$hits"
+    fail=1
+  fi
+}
+check_layer base "$net|$constraint|$operation|$engine"
+check_layer net "$constraint|$operation|$engine"
+check_layer constraint "$operation|$engine"
+check_layer operation "$engine"
 [ -z "$fail" ] || exit 1
 
 # The headless editor builds, and its unit tests run, without the window (`gui` off: one
@@ -62,5 +82,6 @@ if ! cargo test -p nendo --no-default-features --release --lib editor; then
   exit 1
 fi
 echo "layers check passed: nendo-geom and nendo-devices depend on none of the crates above them;"
+echo "  the surface's layers use only those below them;"
 echo "  winit / egui only in the window's shell, wgpu only in the renderer and the shell;"
 echo "  the headless editor builds and passes its tests without gui"

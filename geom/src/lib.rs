@@ -11,7 +11,7 @@
 //! | module | what it is | may use |
 //! |---|---|---|
 //! | [`curve`] | Bernstein forms, Bezier and B-spline curves in 2D/3D, closest point / pick / probe sphere / ray by Bezier clipping, grab, split, tangent edit, similarity-preserving refinement, curve-driven warping | glam, nalgebra |
-//! | [`surface`] | patch grids in five topologies, control-point groups, deformation by shape functions through the Bernstein inverse, G1 regulation, continuity and deviation measures | `curve`, glam, nalgebra |
+//! | [`surface`] | patch grids in five topologies, control-point groups, deformation by shape functions through the Bernstein inverse (one engine for the mouse and the hand), G1 regulation, continuity and deviation measures; its folders are layers (base → net → constraint → operation → engine) | `curve`, glam, nalgebra |
 //! | [`mesh`] | tessellation of the exact patches within a tolerance, seam G1 error per vertex, exact ray picking | `curve`, the patch evaluator `surface::patch`, glam |
 //! | [`num`] | numbers in error messages: [`num::Compact`] prints `1e308` as `1e308`, not 309 digits | std |
 //!

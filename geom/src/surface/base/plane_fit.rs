@@ -4,7 +4,7 @@
 //! Kept by hand on purpose: `nalgebra::SymmetricEigen` was tried in its place and the exact pole
 //! regulation (`regulate::exact`), which takes its tangent plane from here, then refused a pull
 //! of 10 sides at a sphere's pole as folded (67.9°) that this solver regulates to G1 exactly
-//! (`surface::deform` tests). Until that difference is understood, this solver stays.
+//! (the verification tests, `surface::verify`). Until that difference is understood, this solver stays.
 
 use glam::DVec3;
 

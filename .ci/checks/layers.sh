@@ -73,7 +73,9 @@ check_layer operation "$engine"
 
 # The headless editor builds, and its unit tests run, without the window (`gui` off: one
 # build of its own, with its own feature resolution).
-if ! cargo build -p nendo --no-default-features --release; then
+# `--lib`: the library alone, so that the window's binary in target/release stays the gui one
+# the window checks run.
+if ! cargo build -p nendo --no-default-features --release --lib; then
   echo "layers: nendo does not build without the gui feature (the headless editor must)"
   exit 1
 fi

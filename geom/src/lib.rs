@@ -23,3 +23,6 @@ pub mod curve;
 pub mod mesh;
 pub mod num;
 pub mod surface;
+
+#[cfg(test)]
+mod seeded;

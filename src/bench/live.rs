@@ -293,26 +293,21 @@ fn frames(strokes: usize) -> String {
     )
 }
 
-/// Uniform numbers from a seed (SplitMix64): the same strokes in every run.
+/// Uniform numbers from a seed, drawn from the suites' one generator ([`super::rng::Seeded`]):
+/// the same strokes in every run.
 #[derive(Debug, Clone)]
-pub struct Strokes(u64);
+pub struct Strokes(super::rng::Seeded);
 
 impl Strokes {
     /// A sequence from `seed`.
     #[must_use]
     pub fn new(seed: u64) -> Self {
-        Self(seed)
+        Self(super::rng::Seeded::new(seed))
     }
 
     /// A number in `lo..hi`.
     pub fn gen_range(&mut self, range: std::ops::Range<f64>) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        let unit = (z >> 11) as f64 / (1u64 << 53) as f64;
-        range.start + (range.end - range.start) * unit
+        self.0.range(range.start, range.end)
     }
 }
 

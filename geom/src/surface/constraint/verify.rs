@@ -429,13 +429,8 @@ mod tests {
     fn edge_normals_are_the_patch_normals() {
         // The verification's edge normals against `Patch::normal` (the full frame), on
         // random patches, at both boundaries in both directions.
-        let mut x = 17u64;
-        let mut r = move || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut u = crate::seeded::unit(17u64);
+        let mut r = move || u() - 0.5;
         for _ in 0..200 {
             let points: [DVec3; 16] = std::array::from_fn(|k| {
                 DVec3::new((k / 4) as f64, (k % 4) as f64, 0.0) + DVec3::new(r(), r(), r())
@@ -466,13 +461,8 @@ mod tests {
 
     /// A fixed-seed generator of numbers in `[0, 1)`.
     fn lcg(seed: u64) -> impl FnMut() -> f64 {
-        let mut x = seed;
-        move || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        }
+        let mut u = crate::seeded::unit(seed);
+        move || u()
     }
 
     /// The largest angle (degrees) between the two sides' normals ([`Patch::normal`]) at 65

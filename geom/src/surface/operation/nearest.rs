@@ -143,13 +143,8 @@ mod tests {
                 ..PrimitiveParams::default()
             })
             .unwrap();
-        let mut x = 17u64;
-        let mut r = move || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut u = crate::seeded::unit(17u64);
+        let mut r = move || u() - 0.5;
         for _ in 0..40 {
             let q = DVec3::new(r(), r(), r()) * 8.0;
             let got = nearest(&grid, q).unwrap();
@@ -166,7 +161,10 @@ mod tests {
             }
             let d = (got.point - q).length();
             assert!(d <= best + 1e-12, "{q}: {d} vs {best}");
-            assert!(d > best - 1e-3, "{q}: {d} vs {best}");
+            // Neighbouring samples are at most 2π·3/16/40 ≈ 0.03 apart (a patch spans 1/16 of
+            // the equator of the radius-3 sphere, sampled 40 times), so the nearest sample is
+            // within 0.03 of the nearest point: sampling can only be that much worse.
+            assert!(best - d <= 0.03, "{q}: {d} vs {best}");
         }
     }
 }

@@ -233,18 +233,13 @@ mod tests {
 
     fn perturbed(seed: u64) -> GroupPoints {
         let mut p = bilinear(0.3, 0.45, 0.25, 0.4);
-        let mut x = seed;
+        let mut u = crate::seeded::unit(seed);
         for s in 0..3 {
             for t in 0..3 {
                 if (s, t) == (1, 1) {
                     continue;
                 }
-                let mut r = || {
-                    x = x
-                        .wrapping_mul(6364136223846793005)
-                        .wrapping_add(1442695040888963407);
-                    ((x >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.1
-                };
+                let mut r = || (u() - 0.5) * 0.1;
                 p[s][t] = p[s][t].map(|q| q + DVec3::new(r(), r(), r()));
             }
         }
@@ -381,13 +376,8 @@ mod tests {
 
     /// A pole with `2n` meridians: first ring on a wavy cone, pole at the origin.
     fn pole(n: usize, seed: u64) -> PolePoints {
-        let mut x = seed;
-        let mut r = || {
-            x = x
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((x >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.2
-        };
+        let mut u = crate::seeded::unit(seed);
+        let mut r = || (u() - 0.5) * 0.2;
         let len = 6 * n;
         let ring = (0..len)
             .map(|a| {

@@ -9,13 +9,8 @@ use crate::surface::group::Group;
 use crate::surface::regulate::{GroupPoints, PolePoints};
 
 fn noisy_group(seed: u64) -> GroupPoints {
-    let mut x = seed;
-    let mut r = move || {
-        x = x
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut u = crate::seeded::unit(seed);
+    let mut r = move || u() - 0.5;
     let mut p = [[None; 3]; 3];
     for s in 0..3 {
         for t in 0..3 {
@@ -231,13 +226,8 @@ fn a_reused_factor_gives_the_fresh_solve() {
 #[test]
 fn a_regulated_pole_has_a_tangent_plane() {
     let len = 24;
-    let mut x = 9u64;
-    let mut r = move || {
-        x = x
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut u = crate::seeded::unit(9u64);
+    let mut r = move || u() - 0.5;
     let ring: Vec<DVec3> = (0..len)
         .map(|a| {
             let phi = std::f64::consts::TAU * a as f64 / len as f64;

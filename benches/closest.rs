@@ -13,8 +13,8 @@ use criterion::{BenchmarkId, Criterion, criterion_group};
 use glam::{DVec2, DVec3};
 use kurbo::{CubicBez, ParamCurveNearest, Point as KPoint};
 use nendo::bench::closest::{
-    Baseline, Batch, Case, Prepared, SEEDS, Spread, case_count, cases, pick_setup, probe_setup,
-    report,
+    Baseline, Batch, ClosestCase, Prepared, SEEDS, Spread, case_count, cases, pick_setup,
+    probe_setup, report,
 };
 use nendo::curve::{Bezier, CurveSet, closest_bezier, ray_closest_bezier, sphere_intervals_bezier};
 use std::hint::black_box;
@@ -25,7 +25,7 @@ fn to_kurbo(c: &Bezier<DVec2>) -> CubicBez {
     CubicBez::new(k(p[0]), k(p[1]), k(p[2]), k(p[3]))
 }
 
-fn kurbo_inputs(set: &[Case<DVec2>]) -> Vec<(CubicBez, KPoint)> {
+fn kurbo_inputs(set: &[ClosestCase<DVec2>]) -> Vec<(CubicBez, KPoint)> {
     set.iter()
         .map(|c| (to_kurbo(&c.curve), KPoint::new(c.q.x, c.q.y)))
         .collect()
@@ -43,7 +43,7 @@ impl Baseline for Kurbo {
     fn name(&self) -> &str {
         "kurbo 0.13 CubicBez::nearest (accuracy 1e-9)"
     }
-    fn prepare<'a>(&'a self, cases: &[Case<DVec2>]) -> Box<dyn Batch + 'a> {
+    fn prepare<'a>(&'a self, cases: &[ClosestCase<DVec2>]) -> Box<dyn Batch + 'a> {
         Box::new(Prepared::new(kurbo_inputs(cases), kurbo_query))
     }
 }

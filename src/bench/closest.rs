@@ -27,7 +27,7 @@ use std::time::Instant;
 
 /// One query case with its reference distance.
 #[derive(Debug, Clone)]
-pub struct Case<P> {
+pub struct ClosestCase<P> {
     /// The curve.
     pub curve: Bezier<P>,
     /// The query point.
@@ -46,7 +46,12 @@ pub enum Spread {
 }
 
 /// Random cases of the given degree and dimension.
-pub fn cases<P: Point>(count: usize, degree: usize, spread: Spread, seed: u64) -> Vec<Case<P>> {
+pub fn cases<P: Point>(
+    count: usize,
+    degree: usize,
+    spread: Spread,
+    seed: u64,
+) -> Vec<ClosestCase<P>> {
     let mut rng = Seeded::new(seed);
     (0..count)
         .map(|_| {
@@ -62,7 +67,7 @@ pub fn cases<P: Point>(count: usize, degree: usize, spread: Spread, seed: u64) -
             };
             let f = |u: f64| (curve.eval(u) - q).length();
             let (_, reference) = sampled_min(&f, 0.0, 1.0, 2000);
-            Case {
+            ClosestCase {
                 curve,
                 q,
                 reference,
@@ -159,12 +164,12 @@ pub trait Baseline {
     /// Name printed in the table.
     fn name(&self) -> &str;
     /// The prepared batch for these cases.
-    fn prepare<'a>(&'a self, cases: &[Case<DVec2>]) -> Box<dyn Batch + 'a>;
+    fn prepare<'a>(&'a self, cases: &[ClosestCase<DVec2>]) -> Box<dyn Batch + 'a>;
 }
 
 /// The clipping query on prepared cases: `closest_bezier(curve, q, ∞)`, as in the criterion
 /// bench.
-pub fn clipping_batch<P: Point>(cases: &[Case<P>]) -> Box<dyn Batch> {
+pub fn clipping_batch<P: Point>(cases: &[ClosestCase<P>]) -> Box<dyn Batch> {
     let inputs: Vec<(Bezier<P>, P)> = cases.iter().map(|c| (c.curve.clone(), c.q)).collect();
     Box::new(Prepared::new(inputs, |(c, q): &(Bezier<P>, P)| {
         closest_bezier(c, *q, f64::INFINITY)
@@ -273,7 +278,7 @@ pub fn reference_minima<P: Point>(c: &Bezier<P>, q: P) -> Vec<(f64, f64)> {
 }
 
 fn accuracy<P: Point>(
-    cases: &[Case<P>],
+    cases: &[ClosestCase<P>],
     minima: &[Vec<(f64, f64)>],
     answers: &[(f64, f64)],
 ) -> (f64, f64) {
@@ -291,7 +296,7 @@ fn accuracy<P: Point>(
 
 /// Times the batches interleaved and turns them into rows (accuracy against `cases`).
 fn rows_for<P: Point>(
-    cases: &[Case<P>],
+    cases: &[ClosestCase<P>],
     minima: &[Vec<(f64, f64)>],
     named: &[(String, &dyn Batch, bool)],
     rounds: usize,
@@ -323,21 +328,21 @@ fn round_ratio(a: &[f64], b: &[f64]) -> f64 {
     median(&mut r)
 }
 
-fn sampled_batch<P: Point>(cases: &[Case<P>]) -> Box<dyn Batch> {
+fn sampled_batch<P: Point>(cases: &[ClosestCase<P>]) -> Box<dyn Batch> {
     let inputs: Vec<(Bezier<P>, P)> = cases.iter().map(|c| (c.curve.clone(), c.q)).collect();
     Box::new(Prepared::new(inputs, |(c, q): &(Bezier<P>, P)| {
         (f64::NAN, sampled_distance(c, *q, 1000))
     }))
 }
 
-fn newton_batch<P: Point>(cases: &[Case<P>]) -> Box<dyn Batch> {
+fn newton_batch<P: Point>(cases: &[ClosestCase<P>]) -> Box<dyn Batch> {
     let inputs: Vec<(Bezier<P>, P)> = cases.iter().map(|c| (c.curve.clone(), c.q)).collect();
     Box::new(Prepared::new(inputs, |(c, q): &(Bezier<P>, P)| {
         (f64::NAN, newton_distance(c, *q))
     }))
 }
 
-fn histogram<P: Point>(cases: &[Case<P>]) -> (Vec<usize>, f64, f64, f64) {
+fn histogram<P: Point>(cases: &[ClosestCase<P>]) -> (Vec<usize>, f64, f64, f64) {
     let mut h = vec![0usize; 12];
     let mut total = ClipStats::default();
     for c in cases {
@@ -388,7 +393,7 @@ pub fn pick_setup(count: usize) -> (Vec<Curve<DVec2>>, Vec<DVec2>) {
 /// the sphere's radius is 1.2 times the reference closest distance (so it meets the curve),
 /// and the ray runs from the query along a direction drawn from seed 7.
 #[must_use]
-pub fn probe_setup(cases: &[Case<DVec3>]) -> (Vec<f64>, Vec<DVec3>) {
+pub fn probe_setup(cases: &[ClosestCase<DVec3>]) -> (Vec<f64>, Vec<DVec3>) {
     let mut rng = Seeded::new(7);
     let radii = cases.iter().map(|c| 1.2 * c.reference).collect();
     let dirs = cases
@@ -421,17 +426,17 @@ fn fmt_row(t: &mut Table, r: &Row) {
 pub fn report(scale: f64, baselines: &[&dyn Baseline]) -> String {
     const ROUNDS: usize = 21;
     let count = case_count(scale);
-    let spread2: Vec<Case<DVec2>> = cases(count, 3, Spread::Around, SEEDS[0]);
-    let close2: Vec<Case<DVec2>> = cases(count, 3, Spread::Close, SEEDS[1]);
-    let spread3: Vec<Case<DVec3>> = cases(count, 3, Spread::Around, SEEDS[2]);
-    let nonic: Vec<Case<DVec2>> = cases(count, 9, Spread::Around, SEEDS[3]);
-    let nonic3: Vec<Case<DVec3>> = cases(count, 9, Spread::Around, SEEDS[4]);
-    let minima = |set: &[Case<DVec2>]| -> Vec<Vec<(f64, f64)>> {
+    let spread2: Vec<ClosestCase<DVec2>> = cases(count, 3, Spread::Around, SEEDS[0]);
+    let close2: Vec<ClosestCase<DVec2>> = cases(count, 3, Spread::Close, SEEDS[1]);
+    let spread3: Vec<ClosestCase<DVec3>> = cases(count, 3, Spread::Around, SEEDS[2]);
+    let nonic: Vec<ClosestCase<DVec2>> = cases(count, 9, Spread::Around, SEEDS[3]);
+    let nonic3: Vec<ClosestCase<DVec3>> = cases(count, 9, Spread::Around, SEEDS[4]);
+    let minima = |set: &[ClosestCase<DVec2>]| -> Vec<Vec<(f64, f64)>> {
         set.iter()
             .map(|c| reference_minima(&c.curve, c.q))
             .collect()
     };
-    let minima3 = |set: &[Case<DVec3>]| -> Vec<Vec<(f64, f64)>> {
+    let minima3 = |set: &[ClosestCase<DVec3>]| -> Vec<Vec<(f64, f64)>> {
         set.iter()
             .map(|c| reference_minima(&c.curve, c.q))
             .collect()

@@ -296,9 +296,9 @@ fn frames(strokes: usize) -> String {
 /// Uniform numbers from a seed, drawn from the suites' one generator ([`super::rng::Seeded`]):
 /// the same strokes in every run.
 #[derive(Debug, Clone)]
-pub struct Strokes(super::rng::Seeded);
+pub struct LiveStrokes(super::rng::Seeded);
 
-impl Strokes {
+impl LiveStrokes {
     /// A sequence from `seed`.
     #[must_use]
     pub fn new(seed: u64) -> Self {
@@ -312,7 +312,7 @@ impl Strokes {
 }
 
 /// A typical stroke at a random point of the `n × n` plane (see the module docs).
-pub fn typical_stroke(doc: &mut Document, rng: &mut Strokes, n: usize) {
+pub fn typical_stroke(doc: &mut Document, rng: &mut LiveStrokes, n: usize) {
     let h = n as f64 / 2.0;
     let at = DVec3::new(rng.gen_range(-h..h), rng.gen_range(-h..h), 0.0);
     let depth = rng.gen_range(-0.3..0.3);
@@ -368,7 +368,7 @@ fn undo_memory(strokes: usize) -> String {
         );
         let snapshot = crate::editor::history::model_bytes(&model);
         let mut doc = Document::new(model);
-        let mut rng = Strokes::new(n as u64);
+        let mut rng = LiveStrokes::new(n as u64);
         for _ in 0..strokes {
             typical_stroke(&mut doc, &mut rng, n);
         }

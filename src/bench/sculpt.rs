@@ -29,7 +29,7 @@ use crate::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor}
 
 /// One benchmark case: a grid and the push applied to it.
 #[derive(Debug, Clone)]
-pub struct Case {
+pub struct SculptCase {
     /// Row label.
     pub name: String,
     /// The starting grid.
@@ -43,7 +43,7 @@ pub struct Case {
 /// # Panics
 /// Never for these fixed parameters (the primitives are valid).
 #[must_use]
-pub fn cases() -> Vec<Case> {
+pub fn cases() -> Vec<SculptCase> {
     let mut out = Vec::new();
     for m in [10, 20, 40] {
         let grid = Primitive::Plane
@@ -58,7 +58,7 @@ pub fn cases() -> Vec<Case> {
             depth: 0.5,
             radius: 1.25,
         };
-        out.push(Case {
+        out.push(SculptCase {
             name: format!("plane {m} x {m}"),
             grid,
             push,
@@ -80,7 +80,7 @@ pub fn cases() -> Vec<Case> {
             depth: 0.5,
             radius: 1.25,
         };
-        out.push(Case {
+        out.push(SculptCase {
             name: format!("sphere {m} x {n}"),
             grid,
             push,
@@ -145,7 +145,7 @@ pub fn reversed(op: &Op) -> Op {
 /// and the number of patches one push changes.
 #[must_use]
 pub fn time_push(
-    case: &Case,
+    case: &SculptCase,
     regulation: Regulation,
     calls_per_batch: usize,
 ) -> (f64, usize, usize) {
@@ -155,7 +155,7 @@ pub fn time_push(
 /// [`time_push`] with a given sculptor (e.g. [`Sculptor::with_group_by_group_exact`]).
 #[must_use]
 pub fn time_push_with(
-    case: &Case,
+    case: &SculptCase,
     regulation: Regulation,
     calls_per_batch: usize,
     mut sculptor: Sculptor,
@@ -311,7 +311,7 @@ pub fn refinement_report(scale: f64) -> String {
             radius: Some(3.0),
             ..PrimitiveParams::default()
         })
-        .map(|grid| Case {
+        .map(|grid| SculptCase {
             name: "sphere 40 x 40".into(),
             grid,
             push: Op::Push {
@@ -334,7 +334,7 @@ pub fn refinement_report(scale: f64) -> String {
             let _ = black_box(refine::uniform(black_box(&case.grid), 2));
         });
         let (coarse, _, _) = time_push(&case, Regulation::Exact, calls);
-        let fine_case = Case {
+        let fine_case = SculptCase {
             name: case.name.clone(),
             grid: refined.clone(),
             push: case.push.clone(),

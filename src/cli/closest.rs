@@ -40,7 +40,7 @@ pub fn run(args: Args) -> ExitCode {
 
 /// Why one request line cannot be answered.
 #[derive(Debug, thiserror::Error)]
-pub enum RequestError {
+pub enum ClosestRequestError {
     /// Not JSON, or a member missing, unknown, repeated or invalid (with its path).
     #[error("{0}")]
     Json(#[from] JsonError),
@@ -114,8 +114,8 @@ struct RayRequest {
 /// Answers one request line.
 ///
 /// # Errors
-/// A [`RequestError`] saying what is wrong with the request (and at which member).
-pub fn answer(line: &str) -> Result<Value, RequestError> {
+/// A [`ClosestRequestError`] saying what is wrong with the request (and at which member).
+pub fn answer(line: &str) -> Result<Value, ClosestRequestError> {
     let op = json_doc::from_str::<OpOnly>(line)?.op;
     match op.as_str() {
         "closest" => {
@@ -166,12 +166,12 @@ pub fn answer(line: &str) -> Result<Value, RequestError> {
                 DynCurve::D3(c) => ray_reply(&c, r.origin.typed("origin")?, r.dir.typed("dir")?),
             }
         }
-        _ => Err(RequestError::UnknownOp(op)),
+        _ => Err(ClosestRequestError::UnknownOp(op)),
     }
 }
 
 /// The search radius: infinite when absent or null.
-fn rmax(r: Option<f64>) -> Result<f64, RequestError> {
+fn rmax(r: Option<f64>) -> Result<f64, ClosestRequestError> {
     match r {
         None => Ok(f64::INFINITY),
         Some(r) => Ok(check_radius("rmax", r)?),
@@ -181,7 +181,7 @@ fn rmax(r: Option<f64>) -> Result<f64, RequestError> {
 fn same_dim<P: Point>(
     curves: Vec<DynCurve>,
     take: impl Fn(DynCurve) -> Option<Curve<P>>,
-) -> Result<Vec<Curve<P>>, RequestError> {
+) -> Result<Vec<Curve<P>>, ClosestRequestError> {
     curves
         .into_iter()
         .enumerate()
@@ -200,15 +200,15 @@ fn same_dim<P: Point>(
 
 /// `Ok` when every number of an answer is finite: a result that overflows a double (two
 /// points farther apart than ~1.8e308) is an error, never a JSON `null`.
-fn finite_answer<P: Point>(numbers: &[f64], point: P) -> Result<(), RequestError> {
+fn finite_answer<P: Point>(numbers: &[f64], point: P) -> Result<(), ClosestRequestError> {
     if numbers.iter().all(|v| v.is_finite()) && point.is_finite_coeff() {
         Ok(())
     } else {
-        Err(RequestError::NotRepresentable)
+        Err(ClosestRequestError::NotRepresentable)
     }
 }
 
-fn closest_reply<P: Point>(c: &Curve<P>, q: P, rmax: f64) -> Result<Value, RequestError> {
+fn closest_reply<P: Point>(c: &Curve<P>, q: P, rmax: f64) -> Result<Value, ClosestRequestError> {
     Ok(match c.closest(q, rmax) {
         Some(n) => {
             finite_answer(&[n.u, n.distance], n.point)?;
@@ -218,7 +218,11 @@ fn closest_reply<P: Point>(c: &Curve<P>, q: P, rmax: f64) -> Result<Value, Reque
     })
 }
 
-fn pick_reply<P: Point>(curves: &[Curve<P>], q: P, rmax: f64) -> Result<Value, RequestError> {
+fn pick_reply<P: Point>(
+    curves: &[Curve<P>],
+    q: P,
+    rmax: f64,
+) -> Result<Value, ClosestRequestError> {
     Ok(match pick(curves, q, rmax) {
         Some(p) => {
             finite_answer(&[p.nearest.u, p.nearest.distance], p.nearest.point)?;
@@ -230,11 +234,13 @@ fn pick_reply<P: Point>(curves: &[Curve<P>], q: P, rmax: f64) -> Result<Value, R
     })
 }
 
-fn ray_reply<P: Point>(c: &Curve<P>, o: P, d: P) -> Result<Value, RequestError> {
+fn ray_reply<P: Point>(c: &Curve<P>, o: P, d: P) -> Result<Value, ClosestRequestError> {
     if (0..P::DIM).all(|i| d.coord(i) == 0.0) {
         return Err(CurveError::ZeroVector("dir").into());
     }
-    let r = c.ray_closest(o, d).ok_or(RequestError::NoRayAnswer)?;
+    let r = c
+        .ray_closest(o, d)
+        .ok_or(ClosestRequestError::NoRayAnswer)?;
     finite_answer(&[r.u, r.ray_t, r.distance], r.point)?;
     Ok(
         json!({ "u": r.u, "point": point_to_json(r.point), "ray_t": r.ray_t, "distance": r.distance }),

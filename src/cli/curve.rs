@@ -83,7 +83,7 @@ pub fn run(args: Args) -> ExitCode {
 
 /// Why one request line cannot be answered.
 #[derive(Debug, thiserror::Error)]
-pub enum RequestError {
+pub enum CurveRequestError {
     /// Not JSON, or a member missing, unknown, repeated or invalid (with its path).
     #[error("{0}")]
     Json(#[from] JsonError),
@@ -238,8 +238,8 @@ struct SvgWriteRequest {
 /// Answers one request line.
 ///
 /// # Errors
-/// A [`RequestError`] saying what is wrong with the request (and at which member).
-pub fn answer(line: &str) -> Result<Value, RequestError> {
+/// A [`CurveRequestError`] saying what is wrong with the request (and at which member).
+pub fn answer(line: &str) -> Result<Value, CurveRequestError> {
     let op = json_doc::from_str::<OpOnly>(line)?.op;
     match op.as_str() {
         "grab" => {
@@ -314,7 +314,7 @@ pub fn answer(line: &str) -> Result<Value, RequestError> {
             )?;
             Ok(json!({ "svg": text }))
         }
-        _ => Err(RequestError::UnknownOp(op)),
+        _ => Err(CurveRequestError::UnknownOp(op)),
     }
 }
 
@@ -330,7 +330,7 @@ fn optional_string<'a>(v: Option<&'a Value>, name: &str) -> Result<Option<&'a st
     }
 }
 
-fn grab_reply<P: Point>(c: &Curve<P>, r: &GrabRequest) -> Result<Value, RequestError> {
+fn grab_reply<P: Point>(c: &Curve<P>, r: &GrabRequest) -> Result<Value, CurveRequestError> {
     let from: P = r.from.typed("from")?;
     let to: P = r.to.typed("to")?;
     let rmax = match r.rmax {
@@ -361,7 +361,7 @@ fn grab_reply<P: Point>(c: &Curve<P>, r: &GrabRequest) -> Result<Value, RequestE
 
 fn pair_reply<P: Point>(
     r: Result<(Curve<P>, Curve<P>), CurveError>,
-) -> Result<Value, RequestError> {
+) -> Result<Value, CurveRequestError> {
     let (a, b) = r?;
     Ok(json!({ "curves": [curve_to_json(&a), curve_to_json(&b)] }))
 }
@@ -370,7 +370,7 @@ fn tangent_reply<P: Point>(
     l: &Curve<P>,
     r: &Curve<P>,
     req: &TangentRequest,
-) -> Result<Value, RequestError> {
+) -> Result<Value, CurveRequestError> {
     let side = match req.side {
         SideDoc::Left => Side::Left,
         SideDoc::Right => Side::Right,
@@ -443,7 +443,7 @@ fn constraint(c: ConstraintDoc, path: &str) -> Result<Constraint, JsonError> {
     }
 }
 
-fn refine_reply(req: RefineRequest) -> Result<Value, RequestError> {
+fn refine_reply(req: RefineRequest) -> Result<Value, CurveRequestError> {
     let mode = match req.mode {
         ModeDoc::Curvature => Similarity::Curvature,
         ModeDoc::Variation => Similarity::Variation,
@@ -502,7 +502,7 @@ fn refine_reply(req: RefineRequest) -> Result<Value, RequestError> {
     }
 }
 
-fn warp_reply(req: WarpRequest) -> Result<Value, RequestError> {
+fn warp_reply(req: WarpRequest) -> Result<Value, CurveRequestError> {
     let defaults = WarpParams::default();
     let params = WarpParams {
         a: req.a.unwrap_or(defaults.a),
@@ -533,7 +533,7 @@ fn warp_points<P: WarpSpace>(
     points: &[JsonPoint],
     params: WarpParams,
     take: impl Fn(DynCurve) -> Option<Curve<P>>,
-) -> Result<Value, RequestError> {
+) -> Result<Value, CurveRequestError> {
     let mut typed = Vec::with_capacity(pairs.len());
     for (i, (a, b)) in pairs.into_iter().enumerate() {
         let mismatch = || {

@@ -3,7 +3,7 @@
 //! what each edit changed, so 1 000 typical strokes on a 256 × 256 grid fit in 100 MB.
 
 use glam::DVec3;
-use nendo::bench::live::{Strokes, typical_stroke};
+use nendo::bench::live::{LiveStrokes, typical_stroke};
 use nendo::curve::json::DynCurve;
 use nendo::curve::{Bezier, Curve};
 use nendo::editor::Document;
@@ -52,7 +52,7 @@ fn point(rng: &mut ChaCha8Rng, n: usize) -> DVec3 {
 #[test]
 fn a_thousand_random_edits_undo_to_the_start_and_redo_to_the_end_bit_for_bit() {
     let mut rng = ChaCha8Rng::seed_from_u64(1000);
-    let mut strokes = Strokes::new(1000);
+    let mut strokes = LiveStrokes::new(1000);
     let n = 12;
     let start = plane(n);
     let mut doc = Document::new(start.clone());
@@ -136,7 +136,7 @@ fn a_thousand_random_edits_undo_to_the_start_and_redo_to_the_end_bit_for_bit() {
 #[test]
 fn a_stroke_undo_changes_only_the_patches_it_touched() {
     let mut doc = Document::new(plane(64));
-    let mut strokes = Strokes::new(7);
+    let mut strokes = LiveStrokes::new(7);
     typical_stroke(&mut doc, &mut strokes, 8);
     let revision = doc.revision();
     assert!(doc.undo());
@@ -155,7 +155,7 @@ fn a_stroke_undo_changes_only_the_patches_it_touched() {
 fn a_thousand_typical_strokes_on_256_by_256_fit_in_100_mb() {
     let n = 256;
     let mut doc = Document::new(plane(n));
-    let mut strokes = Strokes::new(256);
+    let mut strokes = LiveStrokes::new(256);
     for _ in 0..1000 {
         typical_stroke(&mut doc, &mut strokes, n);
     }

@@ -51,7 +51,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::hand::scene::{Scene, Start};
-use crate::hand::{FingerModel, Fingers, Hand, HandLoop, HandOptions};
+use crate::hand::{FingerModel, Hand, HandLoop, HandOptions};
 use crate::model::Model;
 use crate::surface::MAX_PATCHES;
 use crate::surface::{Grid, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
@@ -128,11 +128,7 @@ fn parse_mirror(s: &str) -> Result<Mirror, crate::surface::UnknownName> {
 
 /// `--finger`'s parser, shared with `nendo record` and with the `finger` of a trace's scene.
 pub(crate) fn parse_finger(s: &str) -> Result<FingerModel, super::arg_error::ArgError> {
-    if s == "ray" {
-        return Ok(FingerModel::Ray);
-    }
-    s.parse::<Fingers>()
-        .map(FingerModel::Hand)
+    s.parse::<FingerModel>()
         .map_err(super::arg_error::ArgError::Finger)
 }
 
@@ -527,7 +523,7 @@ mod tests {
         assert_eq!(
             parse_finger("all,palm").ok(),
             Some(FingerModel::Hand(
-                Fingers::ALL.with(crate::hand::Part::Palm)
+                crate::hand::Fingers::ALL.with(crate::hand::Part::Palm)
             ))
         );
         assert_eq!(

@@ -146,6 +146,20 @@ pub enum FingerModel {
     Ray,
 }
 
+impl std::str::FromStr for FingerModel {
+    type Err = crate::surface::UnknownName;
+
+    /// `ray` (the mouse's view ray), or a list of the hand's parts as [`Fingers`] reads it
+    /// (`index`, `thumb,index`, `all`, `palm`, …): the one reading of `--finger` and of a
+    /// trace scene's `finger`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "ray" {
+            return Ok(FingerModel::Ray);
+        }
+        s.parse::<Fingers>().map(FingerModel::Hand)
+    }
+}
+
 impl Default for FingerModel {
     /// The index finger alone (the library's one-finger default; a glove profile presses
     /// with every finger, see [`FingerModel::for_profile`]).

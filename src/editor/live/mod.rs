@@ -128,18 +128,8 @@ pub fn trace_finger(header: &nendo_devices::TraceHeader) -> FingerModel {
         .ok()
         .flatten()
         .and_then(|scene| scene.finger)
-        .and_then(|f| scene_finger(&f))
+        .and_then(|f| f.parse::<FingerModel>().ok())
         .unwrap_or_else(|| FingerModel::for_profile_name(header.profile.as_deref()))
-}
-
-/// A scene's `finger` as `nendo replay --finger` reads it: `ray`, or the fingers that press.
-fn scene_finger(s: &str) -> Option<FingerModel> {
-    if s == "ray" {
-        return Some(FingerModel::Ray);
-    }
-    s.parse::<crate::hand::Fingers>()
-        .ok()
-        .map(FingerModel::Hand)
 }
 
 /// `stem-2.trace`, `stem-3.trace`, …: the first name beside `path` that is free.

@@ -13,8 +13,8 @@
 //!   re-applied whole every frame as the window does).
 //!
 //! One frame is the window's path:
-//! 1. *deform + regulate*: [`LiveStroke::show`] — the previous frame's patches rewound to
-//!    the stroke's start, the operation applied to it;
+//! 1. *deform + regulate*: [`LiveStroke::show`] — what the previous frame's operation wrote
+//!    put back from the engine's journal (the stroke's start), the operation applied to it;
 //! 2. *re-tessellate*: [`DisplayCache::refresh`] while busy — only the changed patches are
 //!    tessellated again, in place, and the seam heat around them;
 //! 3. *upload*: the changed vertex ranges ([`DisplayCache::vertex_ranges_since`]) handed to
@@ -319,14 +319,13 @@ pub fn typical_stroke(doc: &mut Document, rng: &mut LiveStrokes, n: usize) {
     if rng.gen_range(0.0..1.0) < 0.5 {
         doc.begin_stroke(if depth < 0.0 { "pull" } else { "push" });
         for k in 1..=3 {
-            doc.rewind_stroke();
             let op = Op::Push {
                 at,
                 dir: -DVec3::Z,
                 depth: depth * f64::from(k) / 3.0,
                 radius: 1.25,
             };
-            let _ = doc.apply(&op);
+            let _ = doc.show_in_stroke(Some(&op), |_| (None, None));
         }
     } else {
         doc.begin_stroke("draw a line");

@@ -3,17 +3,26 @@
 //!
 //! ## Strokes
 //!
-//! A live stroke (many operations while the button is held) is one undo step:
-//! [`Document::begin_stroke`], then [`Document::apply`] for each operation (each costs what it
-//! touches: the history only notes the touched patches), then [`Document::end_stroke`] — or
-//! [`Document::cancel_stroke`], which puts back exactly the surface the stroke started from,
-//! or [`Document::rewind_stroke`], which does the same but keeps the stroke open (a push
-//! whose depth is redone from the start every frame; it costs what the stroke touched since
-//! the last rewind). [`Document::reapply_stroke`] is a live stroke's frame as one revision:
-//! rewind, possibly move onto a finer grid of the same surface (auto-refinement, without
-//! losing the way back to the original grid), apply.
-//! [`Document::surface_changes_since`] tells the display which patches changed, so it
-//! re-tessellates only those.
+//! A stroke (many operations while the button is held) is one undo step:
+//! [`Document::begin_stroke`], then the operations, then [`Document::end_stroke`] — or
+//! [`Document::cancel_stroke`], which puts back exactly the surface the stroke started from.
+//! The operations come in two kinds:
+//!
+//! - **shown** ([`Document::show_in_stroke`], a live push, groove or move): each replaces the
+//!   last, applied afresh to the stroke's start `S₀` through the engine's
+//!   [`LiveOperation`] — the one "re-apply from the start" there is, shared with the hand's
+//!   pinch. Before each operation the document puts `S₀` back from the live operation's
+//!   journal (the first old position of every control point the last one wrote: bit for bit,
+//!   at the cost of what it touched), lets the caller move the stroke onto a finer grid of
+//!   `S₀` (auto-refinement, without losing the way back to the original grid), then shows the
+//!   operation;
+//! - **added** ([`Document::apply`], [`Document::add_to_stroke`], a smoothing stroke's dabs):
+//!   each works on the surface the earlier ones left. Adding makes whatever is shown part of
+//!   the stroke (the live operation settles).
+//!
+//! Every change is noted with the patches it changed, so the history compares only those when
+//! the stroke ends and [`Document::surface_changes_since`] tells the display which patches to
+//! re-tessellate.
 
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -25,7 +34,9 @@ use super::history::{History, Restored};
 use crate::curve::Curve;
 use crate::curve::json::DynCurve;
 use crate::model::{Model, ModelError};
-use crate::surface::{Grid, Op, Regulation, Sculptor, SurfaceError, Symmetry, Touched};
+use crate::surface::{
+    Grid, LiveOperation, Op, Regulation, Sculptor, SurfaceError, Symmetry, Touched,
+};
 
 /// What the last sculpting operation did and cost.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,6 +59,9 @@ pub struct Document {
     /// file at all (a recovered autosave).
     saved_revision: Option<u64>,
     sculptor: Sculptor,
+    /// The operation shown in the stroke in progress ([`Document::show_in_stroke`]), with the
+    /// journal that puts the stroke's start back.
+    live: LiveOperation,
     /// The last sculpting operation's cost.
     pub last_op: Option<OpTiming>,
     /// Operations applied since recording started, when recording.
@@ -81,6 +95,7 @@ impl Document {
             revision: 0,
             saved_revision: Some(0),
             sculptor: Sculptor::new(),
+            live: LiveOperation::new(),
             last_op: None,
             recording: None,
             stroke: None,
@@ -205,6 +220,8 @@ impl Document {
         mirror: Option<&Symmetry>,
     ) -> Result<Touched, SurfaceError> {
         op.validate()?;
+        // What is shown becomes part of the stroke: this operation works on it.
+        self.live.settle();
         if self.stroke.is_none() {
             self.history.commit(&self.model);
         }
@@ -252,6 +269,7 @@ impl Document {
 
     /// Ends the stroke in progress, recording it as one undo step (costs what it touched).
     pub fn end_stroke(&mut self) {
+        self.live.settle();
         if self.stroke.take().is_some() {
             self.history.commit(&self.model);
         }
@@ -264,65 +282,63 @@ impl Document {
         let Some(recorded) = self.stroke.take() else {
             return false;
         };
+        // The shown operation from its journal, then what was added (or the original grid of
+        // a refined stroke) from the history.
+        let shown = self.live.cancel(&mut self.model.surface);
         let restored = self.history.revert(&mut self.model);
         if let Some(rec) = &mut self.recording {
             rec.truncate(recorded);
         }
-        self.note_restored(restored);
+        self.bump(match restored {
+            Restored::Patches(mut p) => {
+                p.extend_from_slice(&shown);
+                p.sort_unstable();
+                p.dedup();
+                SurfaceChange::Patches(p)
+            }
+            Restored::Everything => SurfaceChange::Everything,
+        });
         true
     }
 
-    /// Puts the surface back to where the stroke in progress began, keeping the stroke open
-    /// under its name (a live push redoes its dent from the start with the new depth each
-    /// frame); the operations it recorded are taken off the recording. Costs what the stroke
-    /// touched since it began or was last rewound, and the display is told exactly those
-    /// patches. False when no stroke was in progress.
-    pub fn rewind_stroke(&mut self) -> bool {
-        let Some(recorded) = self.stroke else {
-            return false;
-        };
-        let restored = self.history.rewind(&mut self.model);
-        if let Some(rec) = &mut self.recording {
-            rec.truncate(recorded);
-        }
-        self.note_restored(restored);
-        true
-    }
-
-    /// One frame of a live stroke, as one revision: rewinds the stroke in progress
-    /// ([`Document::rewind_stroke`]), moves it onto the grid `refine` gives for the rewound
-    /// surface if it gives one (an auto-refinement where the finger reaches: the same
-    /// surface, more patches — the undo step still leads from the model the stroke began
-    /// with, and a cancel puts that model back, grid and all), then applies `op` if any. The
-    /// revision notes the patches rewound and those `op` changed (everything after a
-    /// refinement); nothing at all when neither changed anything. `None` when no stroke was
-    /// in progress (nothing done); otherwise `op`'s result.
+    /// One frame of a live stroke, as one revision: puts back the stroke's start (what the
+    /// last shown operation wrote, from its journal), moves the stroke onto the grid `prepare`
+    /// gives for that start if it gives one (an auto-refinement where the finger reaches: the
+    /// same surface, more patches — the undo step still leads from the model the stroke began
+    /// with, and a cancel puts that model back, grid and all), then shows `op` on it: the
+    /// surface is exactly `apply(S₀, op)`, what the same operation applied once makes. The
+    /// recording holds `op` in place of the last one shown.
     ///
-    /// `prepare` sees the rewound surface and gives the finer grid to move onto, if any, and
-    /// the mirror map to apply `op` with (`None`: one-sided).
-    pub fn reapply_stroke<'m>(
+    /// `prepare` sees the start and gives the finer grid to move onto, if any, and the mirror
+    /// map to apply `op` with (`None`: one-sided).
+    ///
+    /// Returns `None` when no stroke is in progress (nothing done); otherwise the patches whose
+    /// control points `op` changed, sorted (empty for no `op`: the start is shown), or why it
+    /// was refused — then the start is shown. The revision notes the patches put back and
+    /// those `op` changed (everything after a refinement); nothing when neither changed
+    /// anything.
+    pub fn show_in_stroke<'m>(
         &mut self,
         op: Option<&Op>,
         prepare: impl FnOnce(&Grid) -> (Option<Grid>, Option<&'m Symmetry>),
-    ) -> Option<Option<Result<Touched, SurfaceError>>> {
+    ) -> Option<Result<Vec<usize>, SurfaceError>> {
         let recorded = self.stroke?;
-        let restored = self.history.rewind(&mut self.model);
         if let Some(rec) = &mut self.recording {
             rec.truncate(recorded);
         }
-        let mut change = match restored {
-            Restored::Patches(p) => SurfaceChange::Patches(p),
-            Restored::Everything => SurfaceChange::Everything,
-        };
+        let mut change = SurfaceChange::Patches(self.live.cancel(&mut self.model.surface));
         let (finer, mirror) = prepare(&self.model.surface);
         if let Some(finer) = finer {
             self.model.surface = finer;
             self.history.rebase_open(&self.model);
             change = SurfaceChange::Everything;
         }
-        let result = op.map(|op| self.apply_unnoted(op, mirror));
-        if let (Some(Ok(touched)), SurfaceChange::Patches(p)) = (&result, &mut change) {
-            p.extend_from_slice(&touched.patches);
+        let result = match op {
+            None => Ok(Vec::new()),
+            Some(op) => self.show_op(op, mirror),
+        };
+        if let (Ok(changed), SurfaceChange::Patches(p)) = (&result, &mut change) {
+            p.extend_from_slice(changed);
             p.sort_unstable();
             p.dedup();
         }
@@ -332,18 +348,40 @@ impl Document {
         Some(result)
     }
 
-    /// Applies `op` on top of what the stroke in progress has done so far, without rewinding
-    /// (a smoothing stroke's dabs: each works on the surface the previous ones left), as one
-    /// revision noting the patches it changed. `prepare` is as for
-    /// [`Document::reapply_stroke`]: a finer grid to move onto first (the undo step and a
-    /// cancel still lead back to the model the stroke began with) and the mirror map. `None`
-    /// when no stroke is in progress (nothing done).
+    /// Shows `op` through the live operation (nothing shown before it: the start), noting what
+    /// it changed for the history and the recording.
+    fn show_op(&mut self, op: &Op, mirror: Option<&Symmetry>) -> Result<Vec<usize>, SurfaceError> {
+        op.validate()?;
+        let start = Instant::now();
+        let regulation = self.model.regulation;
+        let changed = self
+            .live
+            .show(&mut self.model.surface, op, regulation, mirror)?
+            .to_vec();
+        self.last_op = Some(OpTiming {
+            ms: start.elapsed().as_secs_f64() * 1e3,
+            patches: changed.len(),
+        });
+        self.history.touch_patches(&changed);
+        if let Some(rec) = &mut self.recording {
+            rec.push(op.clone());
+        }
+        Ok(changed)
+    }
+
+    /// Applies `op` on top of what the stroke in progress has done so far (a smoothing
+    /// stroke's dabs: each works on the surface the previous ones left), as one revision
+    /// noting the patches it changed. `prepare` is as for [`Document::show_in_stroke`]: a finer
+    /// grid to move onto first (the undo step and a cancel still lead back to the model the
+    /// stroke began with) and the mirror map. `None` when no stroke is in progress (nothing
+    /// done).
     pub fn add_to_stroke<'m>(
         &mut self,
         op: &Op,
         prepare: impl FnOnce(&Grid) -> (Option<Grid>, Option<&'m Symmetry>),
     ) -> Option<Result<Touched, SurfaceError>> {
         self.stroke?;
+        self.live.settle();
         let (finer, mirror) = prepare(&self.model.surface);
         let mut change = SurfaceChange::Patches(Vec::new());
         if let Some(finer) = finer {
@@ -372,6 +410,7 @@ impl Document {
     /// caller's ([`Document::record_undo`]). Not knowing which patches changed, the display
     /// and the history compare everything; [`Document::sculpt_patches`] avoids that.
     pub fn sculpt_surface<R>(&mut self, f: impl FnOnce(&mut Grid, Regulation) -> (R, usize)) -> R {
+        self.live.settle();
         let start = Instant::now();
         let regulation = self.model.regulation;
         let (out, patches) = f(&mut self.model.surface, regulation);
@@ -392,6 +431,7 @@ impl Document {
         &mut self,
         f: impl FnOnce(&mut Grid, Regulation) -> (R, Vec<usize>),
     ) -> R {
+        self.live.settle();
         let start = Instant::now();
         let regulation = self.model.regulation;
         let (out, mut patches) = f(&mut self.model.surface, regulation);

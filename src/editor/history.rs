@@ -60,6 +60,8 @@ struct Dirty {
     everything: bool,
     /// Patches that may have changed (unsorted, with repeats).
     patches: Vec<usize>,
+    /// How many patches were left after the list was last freed of repeats.
+    distinct: usize,
 }
 
 impl Dirty {
@@ -311,9 +313,17 @@ impl History {
     }
 
     /// Notes that these patches' control points may have changed since the last commit.
+    /// A long live stroke notes the same patches frame after frame: the list is kept free of
+    /// repeats whenever it has doubled, so it stays about the size of what the edit touched.
     pub fn touch_patches(&mut self, patches: &[usize]) {
         if !self.dirty.everything {
-            self.dirty.patches.extend_from_slice(patches);
+            let dirty = &mut self.dirty;
+            dirty.patches.extend_from_slice(patches);
+            if dirty.patches.len() > 2 * dirty.distinct.max(256) {
+                dirty.patches.sort_unstable();
+                dirty.patches.dedup();
+                dirty.distinct = dirty.patches.len();
+            }
         }
     }
 
@@ -446,10 +456,10 @@ impl History {
         self.rewind(model)
     }
 
-    /// Puts `model` back to the base where it changed since the last commit, keeping the edit
-    /// in progress open under its name (a live stroke redoing its operation from the start
-    /// each frame). Costs what the edit touched since. Returns what changed on the surface.
-    pub fn rewind(&mut self, model: &mut Model) -> Restored {
+    /// Puts `model` back to the base where it changed since the last commit (what a
+    /// [`History::revert`] does when the edit stayed on the base's grid). Costs what the edit
+    /// touched since. Returns what changed on the surface.
+    fn rewind(&mut self, model: &mut Model) -> Restored {
         let dirty = std::mem::take(&mut self.dirty);
         model.regulation = self.base.regulation;
         if model.curves != self.base.curves {
@@ -492,11 +502,11 @@ impl History {
         }
     }
 
-    /// Moves the open edit onto `model`, a finer grid of the surface the edit is at now (an
-    /// auto-refinement during a live stroke; `model` as it is after a [`History::rewind`]):
-    /// from here on the edit rewinds to `model`, while the step it commits still leads from
-    /// the model it started from and a [`History::revert`] puts that one back. False (nothing
-    /// done) when no edit is open.
+    /// Moves the open edit onto `model`, a finer grid of the surface the edit started from (an
+    /// auto-refinement during a live stroke, the stroke's start put back first): from here on
+    /// `model` is the base, while the step the edit commits still leads from the model it
+    /// started from and a [`History::revert`] puts that one back. False (nothing done) when no
+    /// edit is open.
     pub fn rebase_open(&mut self, model: &Model) -> bool {
         if self.open.is_none() {
             return false;
@@ -753,6 +763,27 @@ mod tests {
         assert!(h.redo(&mut now).is_some());
         assert_eq!(now, end);
         assert_eq!(h.undo_name(), Some("pull"));
+    }
+
+    /// A live stroke notes the patches of every frame; the list stays about the size of
+    /// what was touched, not of the frames shown.
+    #[test]
+    fn touched_patches_noted_frame_after_frame_stay_few() {
+        let now = plane(6);
+        let mut h = History::new(&now);
+        h.begin("push", &now);
+        for frame in 0..10_000 {
+            h.touch_patches(&[frame % 7, 3, 4, 5]);
+        }
+        assert!(
+            h.dirty.patches.len() <= 2 * 256 + 4,
+            "{}",
+            h.dirty.patches.len()
+        );
+        let mut noted = h.dirty.patches.clone();
+        noted.sort_unstable();
+        noted.dedup();
+        assert_eq!(noted, (0..7).collect::<Vec<_>>(), "no patch is lost");
     }
 
     #[test]

@@ -5,15 +5,18 @@
 //! The keys follow Blender's sculpt mode where they do not clash: F then a move sets the
 //! finger radius, Shift+F the depth, Ctrl inverts a stroke, Shift smooths, X toggles
 //! symmetry, G picks Move, Home frames the model, number keys pick tools. The orbit button is a setting ([`OrbitButton`]): the right button (nendo's
-//! default) or the middle one (Blender's).
+//! default) or the middle one (Blender's). Each key gives the modeller a [`Command`]
+//! ([`KeyAction::command`]).
 
 use egui::{Key, Modifiers};
 
+use crate::editor::command::{Command, DialogPurpose};
+use crate::editor::input::OrbitButton;
 use crate::editor::tools::Tool;
 
 /// What a key does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Action {
+pub enum KeyAction {
     /// Undo the last edit.
     Undo,
     /// Redo the last undone edit.
@@ -38,30 +41,48 @@ pub enum Action {
     Tool(Tool),
 }
 
-impl Action {
+impl KeyAction {
+    /// The command the key gives the modeller.
+    #[must_use]
+    pub fn command(self) -> Command {
+        match self {
+            KeyAction::Undo => Command::Undo,
+            KeyAction::Redo => Command::Redo,
+            KeyAction::Save => Command::Save,
+            KeyAction::Open => Command::ShowDialog(DialogPurpose::OpenModel),
+            KeyAction::FrameAll => Command::FrameAll,
+            KeyAction::Help => Command::ToggleHelp,
+            KeyAction::Cancel => Command::Cancel,
+            KeyAction::AdjustRadius => Command::AdjustRadius,
+            KeyAction::AdjustDepth => Command::AdjustDepth,
+            KeyAction::ToggleSymmetry => Command::ToggleSymmetry,
+            KeyAction::Tool(tool) => Command::SelectTool(tool),
+        }
+    }
+
     /// What the action does, in plain words (the help overlay and the README).
     #[must_use]
     pub fn describe(self) -> String {
         match self {
-            Action::Undo => "undo".into(),
-            Action::Redo => "redo".into(),
-            Action::Save => "save".into(),
-            Action::Open => "open a model".into(),
-            Action::FrameAll => "frame the model".into(),
-            Action::Help => "this help".into(),
-            Action::Cancel => {
+            KeyAction::Undo => "undo".into(),
+            KeyAction::Redo => "redo".into(),
+            KeyAction::Save => "save".into(),
+            KeyAction::Open => "open a model".into(),
+            KeyAction::FrameAll => "frame the model".into(),
+            KeyAction::Help => "this help".into(),
+            KeyAction::Cancel => {
                 "cancel the stroke (the surface comes back exactly) or the radius / depth change; close the help or the file dialog".into()
             }
-            Action::AdjustRadius => {
+            KeyAction::AdjustRadius => {
                 "finger radius: move the mouse right to grow it, left to shrink it; click to keep, Esc or right click to restore".into()
             }
-            Action::AdjustDepth => {
+            KeyAction::AdjustDepth => {
                 "depth (a click's push, a line's groove): move the mouse; click to keep, Esc or right click to restore".into()
             }
-            Action::ToggleSymmetry => {
+            KeyAction::ToggleSymmetry => {
                 "symmetry on / off: every stroke mirrored across x = 0 (offered for a model symmetric about it)".into()
             }
-            Action::Tool(tool) => format!("tool: {}", tool.label()),
+            KeyAction::Tool(tool) => format!("tool: {}", tool.label()),
         }
     }
 }
@@ -74,11 +95,11 @@ pub struct KeyBinding {
     /// The modifiers (Ctrl is egui's `COMMAND`).
     pub modifiers: Modifiers,
     /// What it does.
-    pub action: Action,
+    pub action: KeyAction,
 }
 
 impl KeyBinding {
-    const fn new(modifiers: Modifiers, key: Key, action: Action) -> Self {
+    const fn new(modifiers: Modifiers, key: Key, action: KeyAction) -> Self {
         Self {
             key,
             modifiers,
@@ -127,25 +148,25 @@ const NUMBER_KEYS: [Key; 9] = [
 pub fn keys() -> Vec<KeyBinding> {
     let cmd = Modifiers::COMMAND;
     let mut keys = vec![
-        KeyBinding::new(cmd | Modifiers::SHIFT, Key::Z, Action::Redo),
-        KeyBinding::new(cmd, Key::Y, Action::Redo),
-        KeyBinding::new(cmd, Key::Z, Action::Undo),
-        KeyBinding::new(cmd, Key::S, Action::Save),
-        KeyBinding::new(cmd, Key::O, Action::Open),
-        KeyBinding::new(Modifiers::SHIFT, Key::F, Action::AdjustDepth),
-        KeyBinding::new(Modifiers::NONE, Key::F, Action::AdjustRadius),
-        KeyBinding::new(Modifiers::NONE, Key::Home, Action::FrameAll),
-        KeyBinding::new(Modifiers::NONE, Key::F1, Action::Help),
-        KeyBinding::new(Modifiers::NONE, Key::Questionmark, Action::Help),
-        KeyBinding::new(Modifiers::NONE, Key::Escape, Action::Cancel),
-        KeyBinding::new(Modifiers::NONE, Key::X, Action::ToggleSymmetry),
-        KeyBinding::new(Modifiers::NONE, Key::G, Action::Tool(Tool::Move)),
+        KeyBinding::new(cmd | Modifiers::SHIFT, Key::Z, KeyAction::Redo),
+        KeyBinding::new(cmd, Key::Y, KeyAction::Redo),
+        KeyBinding::new(cmd, Key::Z, KeyAction::Undo),
+        KeyBinding::new(cmd, Key::S, KeyAction::Save),
+        KeyBinding::new(cmd, Key::O, KeyAction::Open),
+        KeyBinding::new(Modifiers::SHIFT, Key::F, KeyAction::AdjustDepth),
+        KeyBinding::new(Modifiers::NONE, Key::F, KeyAction::AdjustRadius),
+        KeyBinding::new(Modifiers::NONE, Key::Home, KeyAction::FrameAll),
+        KeyBinding::new(Modifiers::NONE, Key::F1, KeyAction::Help),
+        KeyBinding::new(Modifiers::NONE, Key::Questionmark, KeyAction::Help),
+        KeyBinding::new(Modifiers::NONE, Key::Escape, KeyAction::Cancel),
+        KeyBinding::new(Modifiers::NONE, Key::X, KeyAction::ToggleSymmetry),
+        KeyBinding::new(Modifiers::NONE, Key::G, KeyAction::Tool(Tool::Move)),
     ];
     keys.extend(
         Tool::ALL
             .iter()
             .zip(NUMBER_KEYS)
-            .map(|(tool, key)| KeyBinding::new(Modifiers::NONE, key, Action::Tool(*tool))),
+            .map(|(tool, key)| KeyBinding::new(Modifiers::NONE, key, KeyAction::Tool(*tool))),
     );
     keys
 }
@@ -154,7 +175,7 @@ pub fn keys() -> Vec<KeyBinding> {
 /// once, matched against the table in order; the matched key events are taken out of the
 /// input).
 #[must_use]
-pub fn pressed(input: &mut egui::InputState) -> Vec<Action> {
+pub fn pressed(input: &mut egui::InputState) -> Vec<KeyAction> {
     let table = keys();
     let mut actions = Vec::new();
     input.events.retain(|event| {
@@ -174,27 +195,6 @@ pub fn pressed(input: &mut egui::InputState) -> Vec<Action> {
         true
     });
     actions
-}
-
-/// Which mouse button orbits the camera.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum OrbitButton {
-    /// The right button orbits, the middle one pans (nendo's default).
-    #[default]
-    Right,
-    /// The middle button orbits, Shift+middle or the right button pans (Blender's).
-    Middle,
-}
-
-impl OrbitButton {
-    /// The setting's name in the panel.
-    #[must_use]
-    pub fn label(self) -> &'static str {
-        match self {
-            OrbitButton::Right => "right button (nendo)",
-            OrbitButton::Middle => "middle button (Blender)",
-        }
-    }
 }
 
 /// The mouse bindings under an orbit setting: `(input, what it does)`.
@@ -241,7 +241,7 @@ pub fn markdown(orbit: OrbitButton) -> String {
         s.push_str(&format!("| {input} | {does} |\n"));
     }
     let keys = keys();
-    let mut seen: Vec<Action> = Vec::new();
+    let mut seen: Vec<KeyAction> = Vec::new();
     for binding in &keys {
         if seen.contains(&binding.action) {
             continue;
@@ -300,11 +300,11 @@ mod tests {
             }
         }
         for tool in Tool::ALL {
-            assert!(keys.iter().any(|k| k.action == Action::Tool(tool)));
+            assert!(keys.iter().any(|k| k.action == KeyAction::Tool(tool)));
         }
         assert_eq!(
             keys.iter()
-                .find(|k| k.action == Action::Redo)
+                .find(|k| k.action == KeyAction::Redo)
                 .map(KeyBinding::keys),
             Some("Ctrl+Shift+Z".to_string())
         );
@@ -335,10 +335,10 @@ mod tests {
         assert_eq!(
             got,
             vec![
-                Action::Tool(Tool::ALL[2]),
-                Action::AdjustDepth,
-                Action::Undo,
-                Action::Undo,
+                KeyAction::Tool(Tool::ALL[2]),
+                KeyAction::AdjustDepth,
+                KeyAction::Undo,
+                KeyAction::Undo,
             ]
         );
     }

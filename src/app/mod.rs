@@ -12,14 +12,17 @@
 //!
 //! ## Parts
 //!
-//! Everything of the window that is not drawing or input — the document, undo, the lifecycle,
-//! live strokes, the tools, symmetry, the camera, the scene, the device loop — is the headless
-//! editor, [`crate::editor`]; this module is the thin egui / winit shell around it.
+//! Everything of the window that is not drawing or input — the modeller carrying out commands
+//! and following the pointer, the document, undo, the lifecycle, live strokes, the tools,
+//! symmetry, the camera, the scene, the device loop — is the headless editor,
+//! [`crate::editor`]; this module is the thin egui / winit shell around it: winit's events
+//! become [`crate::editor::input`] events, the panels' clicks and the keys become
+//! [`Command`](crate::editor::Command)s, and the [`Modeller`]'s scene and state are drawn.
 //!
 //! | module | what it is |
 //! |---|---|
-//! | [`modeller`] | the modeller's state, split by concern, its input handling, and [`Modeller::apply`] |
-//! | `panels` | the egui panels (`*_ui` functions) and the [`Command`]s they return |
+//! | [`shell`] | the modeller's panels, dialogs, help and cursor label drawn with egui; the commands they return carried out |
+//! | `panels` | the egui panels (`*_ui` functions) and the [`Command`](crate::editor::Command)s they return |
 //! | [`keymap`] | every key and mouse binding, the one table the shortcuts, the help and the README use |
 //! | [`file_dialog`] | the egui file dialog |
 //! | [`devices_panel`] | the Devices panel (the toolbar's Devices button) |
@@ -28,18 +31,16 @@
 pub mod devices_panel;
 pub mod file_dialog;
 pub mod keymap;
-pub mod modeller;
 mod panels;
+pub mod shell;
 pub mod window;
 
-pub use crate::editor::camera::{OrbitCamera, ViewPreset};
-pub use crate::editor::command::Command;
-pub use crate::editor::document::Document;
-pub use modeller::Modeller;
+pub use shell::Shell;
 pub use window::WindowApp;
 
 use std::path::PathBuf;
 
+use crate::editor::{Document, Modeller};
 use crate::model::Model;
 use crate::surface::{Primitive, PrimitiveParams};
 

@@ -4,12 +4,13 @@
 //!
 //! Each `*_ui` function draws from the state it is handed and returns the [`Command`]s the user
 //! gave; it edits only plain settings in place (sliders, check boxes, the form) and never does
-//! file I/O or touches the document — [`Modeller::apply`](super::Modeller::apply) does.
+//! file I/O or touches the document — [`Modeller::apply`](crate::editor::Modeller::apply)
+//! does.
 
 use egui::{Color32, RichText, Ui};
 
 use super::file_dialog::{DialogPurpose, DialogResult, FileDialog};
-use super::keymap::{self, Action, OrbitButton};
+use super::keymap::{self, KeyAction};
 use crate::curve::edit::GrabMethod;
 use crate::editor::autosave::Autosave;
 use crate::editor::camera::ViewPreset;
@@ -17,7 +18,9 @@ use crate::editor::command::Command;
 use crate::editor::document::OpTiming;
 use crate::editor::export_job::{ExportJob, TOLERANCE_RANGE};
 use crate::editor::history::History;
+use crate::editor::input::OrbitButton;
 use crate::editor::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
+use crate::editor::modeller::Status;
 use crate::editor::scene::{Overlays, SurfaceDisplay};
 use crate::editor::symmetry::MirrorToggle;
 use crate::editor::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, Tool, ToolSettings};
@@ -28,15 +31,6 @@ const ERROR: Color32 = Color32::from_rgb(235, 95, 75);
 
 /// Width of the tool panel, points (`.ci/checks/window.sh` clicks right of it).
 pub(super) const PANEL_WIDTH: f32 = 290.0;
-
-/// A message for the status line.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct Status {
-    /// The message.
-    pub(super) text: String,
-    /// Shown as an error.
-    pub(super) error: bool,
-}
 
 /// Frame timing for the Timing panel.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -49,7 +43,7 @@ pub(super) struct FrameRate {
 
 /// The keys pressed this frame, as [`keymap`](super::keymap) actions (none while egui takes
 /// the keyboard, a text field say).
-pub(super) fn shortcuts_ui(ui: &mut Ui) -> Vec<Action> {
+pub(super) fn shortcuts_ui(ui: &mut Ui) -> Vec<KeyAction> {
     if ui.ctx().egui_wants_keyboard_input() {
         return Vec::new();
     }

@@ -1,5 +1,5 @@
 //! The winit window: owns the surface, the GPU and the egui integration, feeds input to the
-//! [`Modeller`] and draws its scene and panels.
+//! [`Modeller`] and draws its scene and, through the [`Shell`], its panels.
 //!
 //! Each frame: egui runs the panels (which leave a rectangle for the 3D view), the modeller
 //! brings its tessellation up to date and builds lines and spheres, the renderer draws the scene
@@ -63,7 +63,9 @@ use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
-use super::modeller::{Button, Modeller, PointerInput};
+use super::shell::Shell;
+use crate::editor::Modeller;
+use crate::editor::input::{Button, PointerInput};
 use crate::render::{FrameTargets, GpuContext, LineBatch, Renderer, SphereInstance};
 
 /// Samples per pixel of the 3D view on a GPU. On a software adapter (Mesa's lavapipe or
@@ -147,6 +149,8 @@ impl InputPass {
 /// The window application.
 pub struct WindowApp {
     modeller: Modeller,
+    /// The panels drawn around it.
+    shell: Shell,
     gfx: Option<Gfx>,
     egui_ctx: egui::Context,
     error: Option<anyhow::Error>,
@@ -240,6 +244,7 @@ impl WindowApp {
         let base_input = egui_ctx.options(|o| o.input_options);
         Self {
             modeller,
+            shell: Shell::default(),
             gfx: None,
             egui_ctx,
             error: None,
@@ -377,6 +382,7 @@ impl WindowApp {
         let mut passes = input_passes(std::mem::take(&mut raw.events), &arrivals, now_s);
         let mut view_rect = egui::Rect::NOTHING;
         let modeller = &mut self.modeller;
+        let shell = &mut self.shell;
         let base = self.base_input;
         let last = passes.pop().unwrap_or(InputPass {
             events: Vec::new(),
@@ -395,7 +401,7 @@ impl WindowApp {
                 ..raw.clone()
             };
             let out = self.egui_ctx.run_ui(input, |ui| {
-                let _ = modeller.ui(ui);
+                let _ = shell.ui(ui, modeller);
             });
             gfx.egui_state
                 .handle_platform_output(&gfx.window, out.platform_output);
@@ -410,7 +416,9 @@ impl WindowApp {
             .options_mut(|o| o.input_options = last.input_options(base));
         raw.events = last.events;
         raw.time = Some(last.time);
-        let full = self.egui_ctx.run_ui(raw, |ui| view_rect = modeller.ui(ui));
+        let full = self
+            .egui_ctx
+            .run_ui(raw, |ui| view_rect = shell.ui(ui, modeller));
         gfx.egui_state
             .handle_platform_output(&gfx.window, full.platform_output);
         let ppp = full.pixels_per_point;

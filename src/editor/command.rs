@@ -1,8 +1,9 @@
 //! What the panels, prompts, dialogs and shortcuts ask the modeller to do.
 //!
-//! The UI functions (`*_ui` in the `panels` module) draw and return [`Command`]s; only
-//! `Modeller::apply` (in the window's shell, `app`) acts on them — file I/O, undo, replacing the
-//! document — so the same actions run from a test without a window.
+//! The window's UI functions (`*_ui` in the shell's `panels` module) draw and return
+//! [`Command`]s, and its key table maps each key to one; only
+//! [`Modeller::apply`](super::modeller::Modeller::apply) acts on them — file I/O, undo,
+//! replacing the document — so the same actions run from a test without a window.
 
 use std::path::PathBuf;
 
@@ -48,6 +49,16 @@ pub enum Command {
     FrameAll,
     /// Open or close the help overlay (every key and mouse binding).
     ToggleHelp,
+    /// Turn symmetry on if it is off, off if it is on.
+    ToggleSymmetry,
+    /// Set the finger radius by moving the mouse (a left click keeps it, Esc or another
+    /// click restores it).
+    AdjustRadius,
+    /// Set the depth by moving the mouse (as [`Command::AdjustRadius`]).
+    AdjustDepth,
+    /// Esc: cancel the stroke in progress, else the radius or depth being set; else close
+    /// the help, else the file dialog.
+    Cancel,
     /// Start recording operations.
     StartRecording,
     /// Drop the recording.

@@ -1,10 +1,12 @@
 //! The headless editor: everything of the modeller window that is not drawing or input — the
-//! document and its undo history, the lifecycle (unsaved changes, autosave, recovery), live
-//! strokes, the mouse tools, symmetry, the camera, the scene handed to the renderer, what is
-//! derived from the document, the device loop, the settings remembered between runs.
+//! modeller that carries out the panels' commands and follows the pointer, the document and
+//! its undo history, the lifecycle (unsaved changes, autosave, recovery), live strokes, the
+//! mouse tools, symmetry, the camera, the scene handed to the renderer, what is derived from
+//! the document, the device loop, the settings remembered between runs.
 //!
 //! It builds without the `gui` feature: nothing here uses winit, egui or wgpu. The window
-//! (`app`, with the `gui` feature) feeds it input and draws what it builds; `nendo bench live`,
+//! (`app`, with the `gui` feature) translates its events into [`input`] and its panels' clicks
+//! into [`Command`]s, and draws what the [`Modeller`] builds; `nendo bench live`,
 //! `nendo render` and the tests drive it without a window.
 //!
 //! | module | what it is |
@@ -19,7 +21,9 @@
 //! | [`symmetry`] | the symmetry toggle, the mirror image of an operation, refinement for a mirrored stroke |
 //! | [`reach`] | the patches an operation changes, outlined around the cursor |
 //! | [`display_cache`] | what the window derives from the document (tessellation, continuity) |
+//! | [`modeller`] | the modeller: the state the window shows and edits, [`Modeller::apply`] carrying out commands, the editing policy, the pointer state machine |
 //! | [`command`] | what the panels, prompts, dialogs and shortcuts ask the modeller to do |
+//! | [`input`] | the pointer events the window's shell feeds the modeller, the orbit button |
 //! | [`export_job`] | mesh export off the UI thread |
 //! | [`hand_input`] | device frames and the mouse as a hand: the hand loop on the document, the hand drawn |
 //! | [`live`] | the device loop on its own thread; profiles, ports, alignment, calibration, the status file |
@@ -34,10 +38,12 @@ pub mod document;
 pub mod export_job;
 pub mod hand_input;
 pub mod history;
+pub mod input;
 pub mod lifecycle;
 // Half of the device loop's surface is the Devices panel's (in `app`), unused without `gui`.
 #[cfg_attr(not(feature = "gui"), allow(dead_code))]
 pub mod live;
+pub mod modeller;
 pub mod reach;
 pub mod scene;
 pub mod settings;
@@ -48,3 +54,4 @@ pub mod tools;
 pub use camera::{OrbitCamera, ViewPreset};
 pub use command::Command;
 pub use document::Document;
+pub use modeller::Modeller;

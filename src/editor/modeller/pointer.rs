@@ -1,10 +1,12 @@
-//! The pointer over the 3D view: the buttons, the cursor and the modifiers, routed to the
-//! camera, the mouse tools, the Hand tool or a radius / depth being adjusted (F, Shift+F).
+//! The pointer state machine: the plain pointer events of [`crate::editor::input`] over the 3D
+//! view — the buttons, the cursor and the modifiers — routed to the camera, the mouse tools
+//! (their live strokes begun, shown, released or cancelled), the Hand tool or a radius / depth
+//! being adjusted (F, Shift+F).
 
 use glam::{DVec3, Vec2};
 
-use crate::app::keymap::OrbitButton;
 use crate::curve::Curve;
+use crate::editor::input::Button;
 use crate::editor::stroke::LiveStroke;
 use crate::editor::tools::{DEPTH_RANGE, Edit, RADIUS_RANGE, Tool, ToolContext};
 use crate::surface::Op;
@@ -74,12 +76,11 @@ impl Modeller {
             PointerInput::Moved(p) => {
                 let previous = self.pointer.cursor.replace(p);
                 let delta = previous.map_or(Vec2::ZERO, |q| p - q);
-                let [left, right, middle] = self.pointer.buttons;
-                let shift = self.pointer.shift;
-                let (orbit, pan) = match self.panel.orbit {
-                    OrbitButton::Right => (right && !shift, middle || (right && shift)),
-                    OrbitButton::Middle => (middle && !shift, right || (middle && shift)),
-                };
+                let left = self.pointer.buttons[0];
+                let (orbit, pan) = self
+                    .panel
+                    .orbit
+                    .camera_drag(self.pointer.buttons, self.pointer.shift);
                 if orbit {
                     self.camera.orbit(delta);
                 } else if pan {
@@ -118,7 +119,7 @@ impl Modeller {
                                     &self.session.doc,
                                     self.cache.patches(),
                                     &self.cache.display().mesh,
-                                    self.panel.auto_refine,
+                                    self.auto_refine,
                                 )
                                 .with_mirror(mirror),
                             );

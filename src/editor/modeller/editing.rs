@@ -288,7 +288,7 @@ impl Modeller {
                 &self.session.doc,
                 &[],
                 &crate::mesh::TriMesh::default(),
-                self.panel.auto_refine,
+                self.auto_refine,
             )
             .with_mirror(Some(mirror));
             stroke.show(&mut self.session.doc, Some(op));
@@ -303,7 +303,7 @@ impl Modeller {
             }
             return;
         }
-        if self.panel.auto_refine {
+        if self.auto_refine {
             // Refine where the finger reaches first (its own undo step); an invalid operation
             // is reported by the operation itself.
             let model = self.session.doc.model();

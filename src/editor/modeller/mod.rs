@@ -1,34 +1,42 @@
-//! The modeller's state and its frame, independent of winit and of the GPU (the window feeds
-//! it input and draws what it builds).
+//! The modeller: everything the window shows and edits, and what changes it — independent of
+//! winit, egui and the GPU. The window's shell (`app`) feeds it plain input
+//! ([`PointerInput`], the modifiers, [`Command`]s from its panels and keys) and draws what it
+//! builds ([`Modeller::scene`], [`Modeller::surface`], the state its panels show).
 //!
 //! The state is split by concern: the document and its lifecycle ([`DocumentSession`]: unsaved
 //! changes, the questions, the action waiting on them, autosave), the camera and the pointer,
 //! each tool's state ([`ToolState`] for the mouse tools, [`HandToolState`] for the Hand tool,
-//! [`LiveInput`] for devices), what is derived from the document ([`DisplayCache`]), and the
-//! panels' settings. The panels return [`Command`]s; [`Modeller::apply`] carries them out.
+//! [`LiveInput`] for devices), what is derived from the document ([`DisplayCache`]), the
+//! panels' settings, and what the shell is asked to show (the status line, a file dialog, the
+//! help). The parts:
+//!
+//! | module | what it is |
+//! |---|---|
+//! | this one | the state, its getters, the per-frame work (replay, devices, export, autosave), the scene |
+//! | `commands` | [`Modeller::apply`]: the commands carried out, the lifecycle's next steps, files |
+//! | `editing` | the editing policy: the display refreshed, symmetry, live strokes and their report, the hover and the reach, the Hand tool's contacts, the tools' edits applied |
+//! | `pointer` | the pointer state machine: buttons, cursor and modifiers routed to the camera, the tools, the Hand tool or a radius / depth being set |
 
 use glam::{DVec3, Vec2};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::file_dialog::FileDialog;
-use super::keymap::OrbitButton;
-use super::panels::Status;
+use super::camera::{OrbitCamera, ViewPreset};
+use super::command::{Command, DialogPurpose};
+use super::display_cache::DisplayCache;
+use super::document::Document;
+use super::export_job::ExportJob;
+use super::hand_input::HandToolState;
+use super::input::{OrbitButton, PointerInput};
+use super::lifecycle::{DocumentSession, Pending, PrimitiveForm};
+use super::live::{LiveInput, ViewAnchor};
+use super::reach::ReachedPatches;
+use super::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
+use super::settings::Settings;
+use super::stroke::LiveStroke;
+use super::symmetry::MirrorToggle;
+use super::tools::{Tool, ToolContext, ToolSettings, ToolState};
 use crate::curve::Curve;
-use crate::editor::camera::{OrbitCamera, ViewPreset};
-use crate::editor::command::Command;
-use crate::editor::display_cache::DisplayCache;
-use crate::editor::document::Document;
-use crate::editor::export_job::ExportJob;
-use crate::editor::hand_input::HandToolState;
-use crate::editor::lifecycle::{DocumentSession, Pending, PrimitiveForm};
-use crate::editor::live::{LiveInput, ViewAnchor};
-use crate::editor::reach::ReachedPatches;
-use crate::editor::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
-use crate::editor::settings::Settings;
-use crate::editor::stroke::LiveStroke;
-use crate::editor::symmetry::MirrorToggle;
-use crate::editor::tools::{Tool, ToolContext, ToolSettings, ToolState};
 use crate::mesh::Tessellation;
 use crate::render::{LineBatch, SphereInstance, Style};
 use crate::surface::{Op, Plane};
@@ -38,33 +46,28 @@ mod editing;
 mod pointer;
 #[cfg(test)]
 mod tests;
-mod ui;
 
-/// Mouse buttons the viewport listens to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Button {
-    /// Tools.
-    Left,
-    /// Orbit (with Shift: pan).
-    Right,
-    /// Pan.
-    Middle,
+/// A message for the status line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Status {
+    /// The message.
+    pub text: String,
+    /// Shown as an error.
+    pub error: bool,
 }
 
-/// Pointer input in viewport pixels (origin top-left of the 3D view), already filtered by
-/// egui's `consumed` flag.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum PointerInput {
-    /// The cursor moved.
-    Moved(Vec2),
-    /// A button went down.
-    Pressed(Button, Vec2),
-    /// A button went up.
-    Released(Button, Vec2),
-    /// Wheel notches, positive away from the user.
-    Wheel(f32),
-    /// The cursor left the window.
-    Left,
+/// A file the modeller asks the user for: the shell shows a file dialog for it until a
+/// [`Command::DialogChosen`] or [`Command::DialogCancelled`] answers.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FileRequest {
+    /// What the file is for.
+    pub purpose: DialogPurpose,
+    /// The file to start beside (its folder; its name too when saving one).
+    pub current: Option<PathBuf>,
+    /// The name offered when `current` gives none.
+    pub default_name: String,
+    /// Tells one request from the next (a dialog asked for again starts afresh).
+    pub id: u64,
 }
 
 /// The pointer over the 3D view.
@@ -100,19 +103,19 @@ struct Replay {
     next: usize,
 }
 
-/// The panels' own settings.
+/// The panels' own settings: plain values the panels edit in place.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct PanelSettings {
+pub struct PanelSettings {
     /// The new-primitive form.
-    form: PrimitiveForm,
+    pub form: PrimitiveForm,
     /// What to draw besides the clay.
-    overlays: Overlays,
+    pub overlays: Overlays,
     /// The mesh export's tolerance.
-    export_tolerance: f64,
-    /// Refine where the finger reaches before each push, pull or draw-a-line (on by default).
-    auto_refine: bool,
+    pub export_tolerance: f64,
     /// Which button orbits.
-    orbit: OrbitButton,
+    pub orbit: OrbitButton,
+    /// The Devices panel is shown.
+    pub devices_open: bool,
 }
 
 /// What F (radius) or Shift+F (depth) is adjusting.
@@ -145,7 +148,7 @@ struct Tools {
     state: ToolState,
 }
 
-/// Everything the window shows and edits.
+/// Everything the window shows and edits (see the module docs).
 pub struct Modeller {
     /// The document and its lifecycle.
     session: DocumentSession,
@@ -157,8 +160,6 @@ pub struct Modeller {
     hand: HandToolState,
     /// Devices.
     live: LiveInput,
-    /// The Devices panel is shown.
-    devices_open: bool,
     /// The remembered settings as last written, and where (`None`: nothing is remembered).
     settings: Option<(PathBuf, Settings)>,
     /// What is derived from the document.
@@ -166,8 +167,12 @@ pub struct Modeller {
     /// Reframe the camera on the next refresh (new model).
     frame_pending: bool,
     panel: PanelSettings,
-    /// The file dialog on screen.
-    dialog: Option<FileDialog>,
+    /// Refine where the finger reaches before each push, pull or draw-a-line (on by default).
+    auto_refine: bool,
+    /// The file asked of the user (the shell's file dialog is open for it).
+    dialog: Option<FileRequest>,
+    /// File requests made so far (the next one's id).
+    requests: u64,
     status: Option<Status>,
     timing: Timing,
     replay: Option<Replay>,
@@ -212,7 +217,6 @@ impl Modeller {
             },
             hand: HandToolState::default(),
             live: LiveInput::default(),
-            devices_open: false,
             settings: None,
             cache: DisplayCache::default(),
             frame_pending: true,
@@ -220,10 +224,12 @@ impl Modeller {
                 form: PrimitiveForm::defaults_for(crate::surface::Primitive::Plane),
                 overlays: Overlays::default(),
                 export_tolerance: Tessellation::EXPORT.tolerance,
-                auto_refine: true,
                 orbit: OrbitButton::default(),
+                devices_open: false,
             },
+            auto_refine: true,
             dialog: None,
+            requests: 0,
             status: None,
             timing: Timing::default(),
             replay: None,
@@ -253,7 +259,7 @@ impl Modeller {
             self.set_status(w, true);
         }
         self.live.apply_settings(&settings);
-        self.devices_open = settings.devices_open;
+        self.panel.devices_open = settings.devices_open;
         self.panel.orbit = match settings.orbit.as_deref() {
             Some("middle") => OrbitButton::Middle,
             _ => OrbitButton::Right,
@@ -275,13 +281,13 @@ impl Modeller {
             }
             .into(),
         );
-        s.devices_open = self.devices_open;
+        s.devices_open = self.panel.devices_open;
         s
     }
 
     /// Writes the settings when they changed (a failure is shown once, then retried at the
-    /// next change).
-    fn remember_settings(&mut self) {
+    /// next change); the shell calls it after each frame's commands.
+    pub fn remember_settings(&mut self) {
         let Some((path, last)) = &self.settings else {
             return;
         };
@@ -306,7 +312,7 @@ impl Modeller {
         name_or_path: &str,
     ) -> Result<(), nendo_devices::DeviceError> {
         self.live.select_profile(name_or_path)?;
-        self.devices_open = true;
+        self.panel.devices_open = true;
         if let Some(mouse) = self.live.connect_or_mouse(&mut self.session.doc) {
             self.apply(Command::UseMouseHand(mouse));
         }
@@ -315,7 +321,8 @@ impl Modeller {
 
     /// The model point under the view centre (the orbit target when the centre misses the
     /// surface) and the model's size: what the Devices panel aligns the hand with.
-    fn view_anchor(&self) -> ViewAnchor {
+    #[must_use]
+    pub fn view_anchor(&self) -> ViewAnchor {
         let viewport = self.pointer.viewport;
         let ray = self.camera.ray(viewport * 0.5, viewport);
         let display = self.cache.display();
@@ -600,5 +607,123 @@ impl Modeller {
     #[must_use]
     pub fn camera(&self) -> &OrbitCamera {
         &self.camera
+    }
+
+    /// The status line's message, if any.
+    #[must_use]
+    pub fn status(&self) -> Option<&Status> {
+        self.status.as_ref()
+    }
+
+    /// The file asked of the user, while the shell's file dialog should be open for it.
+    #[must_use]
+    pub fn file_request(&self) -> Option<&FileRequest> {
+        self.dialog.as_ref()
+    }
+
+    /// True while the help overlay is open.
+    #[must_use]
+    pub fn help_open(&self) -> bool {
+        self.help
+    }
+
+    /// The panels' settings.
+    #[must_use]
+    pub fn panel(&self) -> &PanelSettings {
+        &self.panel
+    }
+
+    /// The panels' settings, for the panels to edit in place.
+    pub fn panel_mut(&mut self) -> &mut PanelSettings {
+        &mut self.panel
+    }
+
+    /// Whether a push, pull or draw-a-line first refines where its finger reaches.
+    #[must_use]
+    pub fn auto_refine(&self) -> bool {
+        self.auto_refine
+    }
+
+    /// The tool panel's part: the active tool, its settings to edit in place, and the
+    /// symmetry toggle (whether it is on, offered, and why not).
+    pub fn tool_panel(&mut self) -> (Tool, &mut ToolSettings, &MirrorToggle) {
+        (self.tools.active, &mut self.tools.settings, &self.mirror)
+    }
+
+    /// The export panel's part: the tolerance to edit in place and the export running, if
+    /// one is.
+    pub fn export_panel(&mut self) -> (&mut f64, Option<&ExportJob>) {
+        (&mut self.panel.export_tolerance, self.export_job.as_ref())
+    }
+
+    /// The Devices panel's part: the device loop and the document it deforms.
+    pub fn devices_mut(&mut self) -> (&mut LiveInput, &mut Document) {
+        (&mut self.live, &mut self.session.doc)
+    }
+
+    /// What is derived from the document: the continuity measure, the display.
+    #[must_use]
+    pub fn display_cache(&self) -> &DisplayCache {
+        &self.cache
+    }
+
+    /// The frame time (ms, smoothed) and the frames in the last full second.
+    #[must_use]
+    pub fn frame_rate(&self) -> (f64, u32) {
+        (self.timing.frame_ms, self.timing.fps)
+    }
+
+    /// The replay in progress: operations applied so far and in all.
+    #[must_use]
+    pub fn replay_progress(&self) -> Option<(usize, usize)> {
+        self.replay.as_ref().map(|r| (r.next, r.ops.len()))
+    }
+
+    /// The cursor and the number shown beside it: a stroke's depth (and the patches it
+    /// reaches), how far a move went, or the radius or depth F / Shift+F is setting.
+    #[must_use]
+    pub fn cursor_label(&self) -> Option<(Vec2, String)> {
+        let cursor = self.pointer.cursor?;
+        if let Some(adjust) = &self.adjust {
+            let text = match adjust.what {
+                Adjusted::Radius => format!("radius {:.3}", self.tools.settings.radius),
+                Adjusted::Depth => format!("depth {:.3}", self.tools.settings.depth),
+            };
+            return Some((cursor, text));
+        }
+        let stroke = self.stroke.as_ref()?;
+        let ctx = ToolContext {
+            camera: &self.camera,
+            viewport: self.pointer.viewport,
+            patches: stroke.base_patches(),
+            mesh: stroke.base_mesh(),
+            curves: &[],
+        };
+        let Some(depth) = self.tools.state.stroke_depth(&ctx, &self.tools.settings) else {
+            // Move and Smooth press no depth: how far the grab went, or the dabs so far.
+            let text = match stroke.shown() {
+                Some(Op::Move { at, to, .. }) => format!(
+                    "move {:.3} · {} patches",
+                    (*to - *at).length(),
+                    stroke.touched().len()
+                ),
+                _ if self.tools.state.smoothing() => "smooth".to_string(),
+                _ => return None,
+            };
+            return Some((cursor, text));
+        };
+        let signed = stroke.shown().map_or(0.0, |op| match op {
+            Op::Push { depth, .. }
+            | Op::PushNormal { depth, .. }
+            | Op::Drag { depth, .. }
+            | Op::Groove { depth, .. } => *depth,
+            Op::Move { .. } | Op::Smooth { .. } => 0.0,
+        });
+        let way = if signed < 0.0 { "out" } else { "in" };
+        let text = format!(
+            "depth {depth:.3} {way} · {} patches",
+            stroke.touched().len()
+        );
+        Some((cursor, text))
     }
 }

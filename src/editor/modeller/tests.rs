@@ -1,10 +1,10 @@
 //! The modeller without a window: opening, strokes, the lifecycle's questions, autosave and
-//! recovery, the Hand tool, framing, symmetry, refinement and regulation as undo steps.
+//! recovery, the Hand tool, framing, symmetry, refinement and regulation as undo steps — the
+//! same commands and pointer events the window's shell gives it.
 
 use super::*;
-use crate::app::file_dialog::DialogPurpose;
-use crate::app::keymap::Action;
 use crate::editor::autosave::Autosave;
+use crate::editor::input::Button;
 use crate::editor::lifecycle::{Prompt, UnsavedAnswer};
 use crate::editor::scene::SurfaceDisplay;
 use crate::model::Model;
@@ -131,7 +131,7 @@ fn strokes_are_live_and_cancel_exactly() {
         m.refresh();
         assert!(lowest(&m) < shallow, "the wheel goes deeper live");
         if cancel {
-            let _ = m.key_action(Action::Cancel);
+            m.apply(Command::Cancel);
             assert_eq!(m.document().model(), &start, "Esc restores exactly");
             m.pointer(PointerInput::Released(Button::Left, centre));
             assert_eq!(m.document().model(), &start);
@@ -172,10 +172,10 @@ fn strokes_are_live_and_cancel_exactly() {
     assert_eq!(m.document().model(), &start);
     // F then a move to the right grows the radius; Esc restores it.
     let radius = m.tools.settings.radius;
-    let _ = m.key_action(Action::AdjustRadius);
+    m.apply(Command::AdjustRadius);
     m.pointer(PointerInput::Moved(centre + Vec2::new(150.0, 0.0)));
     assert!((m.tools.settings.radius - 2.0 * radius).abs() < 1e-9);
-    let _ = m.key_action(Action::Cancel);
+    m.apply(Command::Cancel);
     assert_eq!(m.tools.settings.radius, radius);
 }
 
@@ -580,7 +580,7 @@ fn cancel_keeps_the_work_and_discard_drops_it() {
 #[test]
 fn refine_and_auto_refine_are_undoable_edits() {
     let mut m = Modeller::new(plane_doc(), None, false);
-    assert!(m.panel.auto_refine);
+    assert!(m.auto_refine);
     // Unmirrored: a mirrored operation refines within its own undo step.
     m.apply(Command::SetSymmetry(false));
     m.apply(Command::Refine);
@@ -650,16 +650,12 @@ fn symmetry_is_offered_only_for_a_symmetric_model() {
     m.refresh();
     let grid = m.document().model().surface.clone();
     assert!(m.mirror.available() && m.mirror.active(&grid).is_some());
-    for command in m.key_action(Action::ToggleSymmetry) {
-        m.apply(command);
-    }
+    m.apply(Command::ToggleSymmetry);
     assert!(
         !m.mirror.wanted() && m.mirror.active(&grid).is_none(),
         "X: off"
     );
-    for command in m.key_action(Action::ToggleSymmetry) {
-        m.apply(command);
-    }
+    m.apply(Command::ToggleSymmetry);
     assert!(m.mirror.active(&grid).is_some(), "X: on again");
 
     let mut lopsided = plane_doc();

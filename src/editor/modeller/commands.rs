@@ -1,13 +1,12 @@
 //! The modeller carrying out [`Command`]s: the unsaved-changes questions and the action waiting
-//! on them, the file dialogs' files, saving, export, undo, the key actions, replacing the document.
+//! on them, the files asked of the user, saving, export, undo, what Esc cancels, replacing the
+//! document.
 
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 
-use crate::app::file_dialog::{DialogPurpose, FileDialog};
-use crate::app::keymap::Action;
 use crate::curve::json::DynCurve;
-use crate::editor::command::Command;
+use crate::editor::command::{Command, DialogPurpose};
 use crate::editor::curve_edit::straight_cubic;
 use crate::editor::document::Document;
 use crate::editor::export_job::{ExportJob, TOLERANCE_RANGE};
@@ -71,10 +70,14 @@ impl Modeller {
                     Err(e) => self.set_status(format!("cannot refine: {e}"), true),
                 }
             }
-            Command::SetAutoRefine(on) => self.panel.auto_refine = on,
+            Command::SetAutoRefine(on) => self.auto_refine = on,
             Command::View(preset) => self.view_from(preset),
             Command::FrameAll => self.frame_all(),
             Command::ToggleHelp => self.help = !self.help,
+            Command::ToggleSymmetry => self.set_symmetry(!self.mirror.wanted()),
+            Command::AdjustRadius => self.begin_adjust(Adjusted::Radius),
+            Command::AdjustDepth => self.begin_adjust(Adjusted::Depth),
+            Command::Cancel => self.cancel(),
             Command::StartRecording => self.session.doc.recording = Some(Vec::new()),
             Command::DiscardRecording => self.session.doc.recording = None,
             Command::StopReplay => self.replay = None,
@@ -113,7 +116,7 @@ impl Modeller {
             Next::ChooseSavePath => {
                 // The lifecycle waits on this very dialog: no `show_dialog` (which would
                 // drop a waiting action along with the dialog it replaces).
-                self.dialog = Some(self.new_dialog(DialogPurpose::SaveModel));
+                self.dialog = Some(self.new_file_request(DialogPurpose::SaveModel));
             }
             Next::Save(path) => {
                 let (next, result) = self.session.save_to(&path);
@@ -136,28 +139,39 @@ impl Modeller {
         }
     }
 
-    /// Shows a file dialog the user asked for, in place of any other (a save dialog that an
+    /// Asks for a file the user asked to pick, in place of any other (a save dialog that an
     /// action waited on goes, and the action with it).
     pub(super) fn show_dialog(&mut self, purpose: DialogPurpose) {
         if self.dialog.take().is_some() {
             self.session.save_dialog_closed();
         }
-        self.dialog = Some(self.new_dialog(purpose));
+        self.dialog = Some(self.new_file_request(purpose));
     }
 
-    pub(super) fn new_dialog(&self, purpose: DialogPurpose) -> FileDialog {
-        if let Some((current, default)) = self.live.dialog_start(purpose) {
-            return FileDialog::beside(purpose, current.as_deref(), default);
-        }
-        let default = match purpose {
-            DialogPurpose::SaveModel | DialogPurpose::OpenModel => "model.nendo.json",
-            DialogPurpose::ExportMesh => "model.obj",
-            DialogPurpose::SaveOps | DialogPurpose::ReplayOps => "ops.jsonl",
-            // The Devices panel opens its own dialogs for these.
-            DialogPurpose::OpenProfile => "profile.json",
-            DialogPurpose::RecordTrace | DialogPurpose::ReplayTrace => "session.trace",
+    /// A new request for a file for `purpose`: beside the document, or where the Devices
+    /// panel's files are.
+    pub(super) fn new_file_request(&mut self, purpose: DialogPurpose) -> FileRequest {
+        self.requests += 1;
+        let (current, default) = match self.live.dialog_start(purpose) {
+            Some((current, default)) => (current, default),
+            None => (
+                self.session.doc.path.clone(),
+                match purpose {
+                    DialogPurpose::SaveModel | DialogPurpose::OpenModel => "model.nendo.json",
+                    DialogPurpose::ExportMesh => "model.obj",
+                    DialogPurpose::SaveOps | DialogPurpose::ReplayOps => "ops.jsonl",
+                    // The Devices panel asks for these itself.
+                    DialogPurpose::OpenProfile => "profile.json",
+                    DialogPurpose::RecordTrace | DialogPurpose::ReplayTrace => "session.trace",
+                },
+            ),
         };
-        FileDialog::beside(purpose, self.session.doc.path.as_deref(), default)
+        FileRequest {
+            purpose,
+            current,
+            default_name: default.to_string(),
+            id: self.requests,
+        }
     }
 
     /// A file dialog picked `path`.
@@ -270,45 +284,35 @@ impl Modeller {
         self.select_tool(Tool::GrabCurve);
     }
 
-    /// Carries out a key's action (some need the modeller's state: what Esc cancels).
-    pub(super) fn key_action(&mut self, action: Action) -> Vec<Command> {
-        match action {
-            Action::Undo => vec![Command::Undo],
-            Action::Redo => vec![Command::Redo],
-            Action::Save => vec![Command::Save],
-            Action::Open => vec![Command::ShowDialog(DialogPurpose::OpenModel)],
-            Action::FrameAll => vec![Command::FrameAll],
-            Action::Help => vec![Command::ToggleHelp],
-            Action::Tool(tool) => vec![Command::SelectTool(tool)],
-            Action::ToggleSymmetry => vec![Command::SetSymmetry(!self.mirror.wanted())],
-            Action::AdjustRadius | Action::AdjustDepth => {
-                if !self.gesture_busy() && self.session.prompt().is_none() {
-                    let (what, start) = if action == Action::AdjustRadius {
-                        (Adjusted::Radius, self.tools.settings.radius)
-                    } else {
-                        (Adjusted::Depth, self.tools.settings.depth)
-                    };
-                    self.adjust = Some(Adjust {
-                        what,
-                        start,
-                        anchor: self.pointer.cursor,
-                    });
-                }
-                Vec::new()
-            }
-            Action::Cancel => {
-                if self.stroke.is_some() || self.tools.state.busy() {
-                    self.cancel_stroke();
-                    self.set_status("stroke cancelled", false);
-                } else if let Some(adjust) = self.adjust.take() {
-                    self.set_adjusted(adjust.what, adjust.start);
-                } else if self.help {
-                    self.help = false;
-                } else if self.dialog.is_some() {
-                    return vec![Command::DialogCancelled];
-                }
-                Vec::new()
-            }
+    /// Starts setting the radius or the depth by moving the mouse (F, Shift+F), unless a
+    /// gesture or a question is in progress.
+    pub(super) fn begin_adjust(&mut self, what: Adjusted) {
+        if self.gesture_busy() || self.session.prompt().is_some() {
+            return;
+        }
+        let start = match what {
+            Adjusted::Radius => self.tools.settings.radius,
+            Adjusted::Depth => self.tools.settings.depth,
+        };
+        self.adjust = Some(Adjust {
+            what,
+            start,
+            anchor: self.pointer.cursor,
+        });
+    }
+
+    /// Esc: cancels the stroke in progress, else the radius or depth being set, else closes
+    /// the help, else the file dialog.
+    pub(super) fn cancel(&mut self) {
+        if self.stroke.is_some() || self.tools.state.busy() {
+            self.cancel_stroke();
+            self.set_status("stroke cancelled", false);
+        } else if let Some(adjust) = self.adjust.take() {
+            self.set_adjusted(adjust.what, adjust.start);
+        } else if self.help {
+            self.help = false;
+        } else if self.dialog.is_some() {
+            self.apply(Command::DialogCancelled);
         }
     }
 

@@ -22,8 +22,8 @@
 //! | [`figure`] | 2D metacircle figures (fit, iso-curves, pictures, warping, morphing) and 3D metaball shapes fitted to sections (P0 §4), with their documents and pictures; it lives here, not in `nendo-geom`, because it reads and writes its own files and PNG/SVG pictures | geometry, serde, png |
 //! | [`hand`] | the kinematic hand (bend angles → joint positions), the contact of the fingertip capsule with the surface, the loop that turns device frames into displacement fields applied through `nendo-geom`'s deformation pipeline, the mouse as a hand, scripted traces; here because it joins devices and geometry | geometry, `nendo_devices` |
 //! | [`render`] | what the renderer is handed (view, style, line and sphere batches, the GPU data layouts) and, with feature `gui`, the wgpu renderer (CPU tessellation from `mesh`, drawn as clay) | everything above; wgpu only with `gui` |
-//! | [`editor`] | the headless editor: document, history, lifecycle, live strokes, symmetry, camera, scene, display cache, settings (and the device loop); builds without `gui` | everything above |
-//! | `app` | the thin egui / winit shell around the editor: the window, the modeller's input and panels; feature `gui` | everything above; nothing depends on it but the window's entry (`nendo window`) |
+//! | [`editor`] | the headless editor: the modeller (commands carried out, the pointer state machine on plain input events), document, history, lifecycle, live strokes, symmetry, camera, scene, display cache, settings (and the device loop); builds without `gui` | everything above |
+//! | `app` | the thin egui / winit shell around the editor: the window (winit events into the editor's input), the panels and dialogs drawn with egui, returning commands; feature `gui` | everything above; nothing depends on it but the window's entry (`nendo window`) |
 //! | [`cli`] | the headless subcommands of the `nendo` binary | everything |
 //! | [`bench`] | the measurement suites behind `nendo bench` | everything |
 //!

@@ -852,3 +852,70 @@ fn regulate_now_is_one_exact_undo_step() {
     m.apply(Command::Redo);
     assert!(bits(m.document().model()) == bits(&regulated), "redo");
 }
+
+/// A file asked of the user stays asked until a choice or a cancel answers it; asking again
+/// makes a new request (the shell's dialog starts afresh), and Esc closes it when nothing
+/// else is in progress. Save… of a document with a file offers that file.
+#[test]
+fn a_file_request_lasts_until_answered() {
+    let mut m = Modeller::new(plane_doc(), None, false);
+    assert!(m.file_request().is_none());
+    m.apply(Command::ShowDialog(DialogPurpose::ExportMesh));
+    let first = m.file_request().cloned().expect("a request");
+    assert_eq!(first.purpose, DialogPurpose::ExportMesh);
+    assert_eq!(first.default_name, "model.obj");
+    m.refresh();
+    assert_eq!(m.file_request(), Some(&first), "a frame does not answer it");
+    m.apply(Command::ShowDialog(DialogPurpose::ExportMesh));
+    let second = m.file_request().cloned().expect("asked again");
+    assert_ne!(second.id, first.id, "a new request");
+    m.apply(Command::Cancel);
+    assert!(m.file_request().is_none(), "Esc closes it");
+
+    let file = temp_autosave("request").with_file_name("mine.nendo.json");
+    m.session.doc.path = Some(file.clone());
+    m.apply(Command::ShowDialog(DialogPurpose::SaveModel));
+    let request = m.file_request().cloned().expect("a save request");
+    assert_eq!(request.current.as_deref(), Some(file.as_path()));
+    m.apply(Command::DialogChosen(
+        DialogPurpose::SaveModel,
+        file.clone(),
+    ));
+    assert!(m.file_request().is_none(), "a choice answers it");
+    assert!(file.is_file(), "and the model is saved there");
+    let _ = std::fs::remove_dir_all(file.parent().expect("dir"));
+}
+
+/// The label by the cursor: the radius while F sets it, then the depth and the reached
+/// patches during a push stroke; nothing when neither is in progress.
+#[test]
+fn the_cursor_label_follows_the_gesture() {
+    let mut m = Modeller::new(plane_doc(), None, false);
+    m.set_viewport(Vec2::new(800.0, 600.0));
+    m.apply(Command::SetAutoRefine(false));
+    m.refresh();
+    let centre = Vec2::new(400.0, 300.0);
+    m.pointer(PointerInput::Moved(centre));
+    assert_eq!(m.cursor_label(), None);
+    m.apply(Command::AdjustRadius);
+    let (at, text) = m.cursor_label().expect("a label");
+    assert_eq!(at, centre);
+    assert!(text.starts_with("radius "), "{text}");
+    m.pointer(PointerInput::Pressed(Button::Left, centre));
+    assert_eq!(m.cursor_label(), None, "the click kept the radius");
+    assert_eq!(m.document().revision(), 0, "and pushed nothing");
+    m.pointer(PointerInput::Pressed(Button::Left, centre));
+    m.pointer(PointerInput::Moved(centre + Vec2::new(0.0, 30.0)));
+    m.refresh();
+    let (_, text) = m.cursor_label().expect("a stroke's label");
+    let patches = m.stroke.as_ref().map_or(0, |s| s.touched().len());
+    assert!(patches > 0);
+    assert!(
+        text.starts_with("depth ")
+            && text.contains(" in · ")
+            && text.ends_with(&format!("{patches} patches")),
+        "{text}"
+    );
+    m.apply(Command::Cancel);
+    assert_eq!(m.cursor_label(), None);
+}

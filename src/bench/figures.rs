@@ -37,10 +37,10 @@ use crate::figure::fit::{FitOptions, FitReport, fit_contour, measure};
 use crate::figure::marching::{MeshOptions, iso_surface};
 use crate::figure::morph::{Morph, MorphOptions};
 use crate::figure::optimise::Stopping;
-use crate::figure::picture::{PictureOptions, Scene, draw};
+use crate::figure::picture::{Backdrop, PictureOptions, draw};
 use crate::figure::raster::{RasterStyle, render};
 use crate::figure::shape::{ShapeFitOptions, ShapeFitReport, deform, fit_sections};
-use crate::figure::{FigureDocument, FigureError, ImageSize, ShapeDocument, View};
+use crate::figure::{FigureDocument, FigureError, ImageSize, RasterView, ShapeDocument};
 
 /// The shipped horse figure file.
 pub const HORSE: &str = include_str!("../../tests/data/figures/horse.json");
@@ -93,8 +93,9 @@ pub fn seeded(doc: &FigureDocument, count: usize) -> Result<FigureDocument, Figu
 }
 
 /// The 512 × 512 view of a document's frame.
-fn frame_view(doc: &FigureDocument, size: ImageSize) -> Option<View> {
-    doc.frame().map(|(lo, hi)| View::fit(lo, hi, size, 0.0))
+fn frame_view(doc: &FigureDocument, size: ImageSize) -> Option<RasterView> {
+    doc.frame()
+        .map(|(lo, hi)| RasterView::fit(lo, hi, size, 0.0))
 }
 
 fn residual_cells(r: &FitReport) -> Vec<String> {
@@ -189,13 +190,13 @@ fn try_report(scale: f64) -> Result<String, FigureError> {
         size,
         ..PictureOptions::default()
     };
-    let scene = Scene {
+    let backdrop = Backdrop {
         background: horse.background,
         polygons: &[],
         curves: &horse.curves,
     };
     let ns = cpu_median_ns(batches, 1, |_| {
-        black_box(draw(&horse.figure, &scene, &view, &options).ok());
+        black_box(draw(&horse.figure, &backdrop, &view, &options).ok());
     });
     table.row(vec![
         "picture 512x512 (render + SVG boundary)".into(),
@@ -208,7 +209,7 @@ fn try_report(scale: f64) -> Result<String, FigureError> {
         MorphOptions::default(),
     )?;
     let both = match (horse.frame(), tiger.frame()) {
-        (Some(a), Some(b)) => View::fit(a.0.min(b.0), a.1.max(b.1), size, 0.0),
+        (Some(a), Some(b)) => RasterView::fit(a.0.min(b.0), a.1.max(b.1), size, 0.0),
         _ => view,
     };
     let steps = 16usize;

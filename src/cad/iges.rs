@@ -27,7 +27,7 @@
 use std::fmt::Write;
 
 use super::real::{push_real, real};
-use super::{CurveSpline, Timestamp};
+use super::{CurveSpline, HeaderTimestamp};
 use crate::model::Model;
 
 /// One record line of 80 columns: `data` (at most 72 columns) padded, the section letter, the
@@ -87,7 +87,7 @@ fn reals(out: &mut Vec<String>, xs: impl IntoIterator<Item = f64>) {
 /// The IGES file of `model`, coordinates times `scale` (millimetres per model unit). The model
 /// must pass [`super::check`].
 #[must_use]
-pub fn encode(model: &Model, scale: f64, name: &str, stamp: &Timestamp) -> String {
+pub fn encode(model: &Model, scale: f64, name: &str, stamp: &HeaderTimestamp) -> String {
     let grid = &model.surface;
     let mut entities = Vec::with_capacity(grid.patch_count() + model.curves.len());
     let mut max_coord = 0.0f64;
@@ -162,7 +162,7 @@ pub fn encode(model: &Model, scale: f64, name: &str, stamp: &Timestamp) -> Strin
         record(&mut out, line.trim_end(), 'S', k + 1);
     }
     // Global section.
-    let Timestamp {
+    let HeaderTimestamp {
         year,
         month,
         day,

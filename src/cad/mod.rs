@@ -104,7 +104,7 @@ impl CadFormat {
     /// As [`check`].
     pub fn encode(self, model: &Model, scale: f64, name: &str) -> Result<Vec<u8>, CadError> {
         check(model, scale)?;
-        let stamp = Timestamp::now();
+        let stamp = HeaderTimestamp::now();
         Ok(match self {
             CadFormat::Step => step::encode(model, scale, name, &stamp).into_bytes(),
             CadFormat::Iges => iges::encode(model, scale, name, &stamp).into_bytes(),
@@ -248,7 +248,7 @@ fn curve_numbers(c: &crate::curve::json::DynCurve) -> (Vec<f64>, Vec<f64>) {
 
 /// A UTC date and time for file headers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Timestamp {
+pub struct HeaderTimestamp {
     /// Year.
     pub year: i64,
     /// Month, 1–12.
@@ -259,7 +259,7 @@ pub struct Timestamp {
     pub hms: (u32, u32, u32),
 }
 
-impl Timestamp {
+impl HeaderTimestamp {
     /// Now, from the system clock (the epoch if the clock is before it).
     #[must_use]
     pub fn now() -> Self {
@@ -298,12 +298,12 @@ mod tests {
 
     #[test]
     fn civil_dates_of_known_unix_times() {
-        let t = Timestamp::from_unix(0);
+        let t = HeaderTimestamp::from_unix(0);
         assert_eq!((t.year, t.month, t.day, t.hms), (1970, 1, 1, (0, 0, 0)));
         // 2000-02-29 12:34:56 UTC and 2026-12-02 03:53:38 UTC.
-        let t = Timestamp::from_unix(951_827_696);
+        let t = HeaderTimestamp::from_unix(951_827_696);
         assert_eq!((t.year, t.month, t.day, t.hms), (2000, 2, 29, (12, 34, 56)));
-        let t = Timestamp::from_unix(1_796_183_618);
+        let t = HeaderTimestamp::from_unix(1_796_183_618);
         assert_eq!((t.year, t.month, t.day, t.hms), (2026, 12, 2, (3, 53, 38)));
     }
 

@@ -37,7 +37,7 @@ use std::fmt::Write;
 use glam::DVec3;
 
 use super::real::push_real;
-use super::{CurveSpline, Timestamp};
+use super::{CurveSpline, HeaderTimestamp};
 use crate::model::Model;
 use crate::surface::{Grid, Topology};
 
@@ -192,7 +192,7 @@ pub fn encode_counted(
     model: &Model,
     scale: f64,
     name: &str,
-    stamp: &Timestamp,
+    stamp: &HeaderTimestamp,
 ) -> (String, StepCounts) {
     let grid = &model.surface;
     let mut data = Data {
@@ -330,7 +330,7 @@ pub fn encode_counted(
         ));
     }
 
-    let Timestamp {
+    let HeaderTimestamp {
         year,
         month,
         day,
@@ -358,7 +358,7 @@ pub fn encode_counted(
 
 /// The STEP file of `model` (see [`encode_counted`]).
 #[must_use]
-pub fn encode(model: &Model, scale: f64, name: &str, stamp: &Timestamp) -> String {
+pub fn encode(model: &Model, scale: f64, name: &str, stamp: &HeaderTimestamp) -> String {
     encode_counted(model, scale, name, stamp).0
 }
 

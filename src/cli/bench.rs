@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 /// Arguments of `nendo bench`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct BenchArgs {
     /// Which suite to run.
     #[arg(value_enum)]
     pub suite: Suite,
@@ -41,7 +41,7 @@ pub enum Suite {
 pub const MAX_SCALE: f64 = 100.0;
 
 /// Runs `nendo bench`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: BenchArgs) -> ExitCode {
     if !(args.scale.is_finite() && args.scale > 0.0 && args.scale <= MAX_SCALE) {
         eprintln!(
             "nendo bench: --scale must be a positive number of at most {MAX_SCALE}, got {}",

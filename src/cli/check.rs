@@ -22,7 +22,7 @@ use crate::surface::deviation::{DeviationStats, distance_iter};
 
 /// Arguments of `nendo check`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct CheckArgs {
     /// The model file.
     pub model: PathBuf,
     /// Points per shared edge (33 to 100 000).
@@ -44,7 +44,7 @@ pub const MAX_POLE_DIRECTIONS: usize = 1 << 22;
 const DEVIATION_SAMPLES: usize = 40;
 
 /// Runs `nendo check`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: CheckArgs) -> ExitCode {
     if args.samples > MAX_SAMPLES_PER_EDGE {
         eprintln!("nendo check: --samples must be at most {MAX_SAMPLES_PER_EDGE}");
         return ExitCode::from(2);

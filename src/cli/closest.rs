@@ -27,14 +27,14 @@ use std::process::ExitCode;
 
 /// Arguments of `nendo closest`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct ClosestArgs {
     /// Read JSON Lines requests from stdin and answer each on stdout (the only mode).
     #[arg(long)]
     pub batch: bool,
 }
 
 /// Runs `nendo closest`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: ClosestArgs) -> ExitCode {
     super::json_lines::run("closest", args.batch, answer)
 }
 

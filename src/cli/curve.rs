@@ -55,7 +55,7 @@
 //! naming the bad member's path and column (e.g. `pairs[0][1].bezier[2]: ...`); later lines
 //! are still answered, and the exit status is 1 if any line failed. Blank lines are skipped.
 
-use crate::curve::edit::{self, Follow, Grab, GrabMethod, GrabOptions, Side};
+use crate::curve::edit::{self, Follow, Grab, GrabMethod, GrabOptions, JointSide};
 use crate::curve::json::{DynCurve, JsonPoint, curve_to_json, point_to_json};
 use crate::curve::refine::{self, Constraint, Similarity};
 use crate::curve::warp::{CurveWarp, WarpParams, WarpSpace};
@@ -70,14 +70,14 @@ use std::process::ExitCode;
 
 /// Arguments of `nendo curve`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct CurveArgs {
     /// Read JSON Lines requests from stdin and answer each on stdout (the only mode).
     #[arg(long)]
     pub batch: bool,
 }
 
 /// Runs `nendo curve`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: CurveArgs) -> ExitCode {
     super::json_lines::run("curve", args.batch, answer)
 }
 
@@ -372,8 +372,8 @@ fn tangent_reply<P: Point>(
     req: &TangentRequest,
 ) -> Result<Value, CurveRequestError> {
     let side = match req.side {
-        SideDoc::Left => Side::Left,
-        SideDoc::Right => Side::Right,
+        SideDoc::Left => JointSide::Left,
+        SideDoc::Right => JointSide::Right,
     };
     let follow = match optional_string(req.follow.as_ref(), "follow")? {
         None | Some("length") => Follow::KeepLength,

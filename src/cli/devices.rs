@@ -9,7 +9,7 @@ use nendo_devices::profile::{self, Input, Profile};
 
 /// Arguments of `nendo devices`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct DevicesArgs {
     /// A directory of further profile JSON files to match, besides the shipped ones.
     #[arg(long)]
     pub profiles: Option<PathBuf>,
@@ -18,7 +18,7 @@ pub struct Args {
 /// Runs `nendo devices`. A profile in `--profiles` that does not load is reported on
 /// standard error and skipped; the rest are listed. A directory that cannot be read is an
 /// error.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: DevicesArgs) -> ExitCode {
     let mut profiles = profile::builtin();
     if let Some(dir) = &args.profiles {
         match load_dir(dir) {

@@ -61,7 +61,7 @@ pub enum EmulatedDevice {
 
 /// Arguments of `nendo emulate`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct EmulateArgs {
     /// The device to emulate.
     pub device: EmulatedDevice,
     /// The device's variant: fastrak `ascii` (default) or `binary` (its power-on record
@@ -142,7 +142,7 @@ fn parse_motion(s: &str) -> Result<Gesture, String> {
 }
 
 /// Runs `nendo emulate`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: EmulateArgs) -> ExitCode {
     match emulate(&args) {
         Ok(summary) => {
             eprintln!("nendo emulate: {summary}");
@@ -238,7 +238,7 @@ fn glove_table(profile: &Profile, want: usize) -> anyhow::Result<Vec<SensorCalib
     Ok(table)
 }
 
-fn emulate(args: &Args) -> anyhow::Result<String> {
+fn emulate(args: &EmulateArgs) -> anyhow::Result<String> {
     if let Some(s) = args.seconds
         && !(s.is_finite() && s > 0.0 && s <= MAX_SECONDS)
     {

@@ -25,7 +25,7 @@ use crate::model::Model;
 
 /// Arguments of `nendo export`.
 #[derive(Debug, Clone, ClapArgs)]
-pub struct Args {
+pub struct ExportArgs {
     /// The model (nendo-model JSON).
     pub model: PathBuf,
     /// The output file; its extension chooses the format: .obj, .stl, .glb (meshes), .step /
@@ -48,7 +48,7 @@ pub struct Args {
 }
 
 /// Runs `nendo export`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: ExportArgs) -> ExitCode {
     if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
         eprintln!(
             "nendo export: --tolerance must be a positive number, not {}",
@@ -139,7 +139,7 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 /// `nendo export` to STEP or IGES.
-fn run_cad(args: &Args, format: CadFormat) -> ExitCode {
+fn run_cad(args: &ExportArgs, format: CadFormat) -> ExitCode {
     if let Some(up) = args.up.filter(|&u| u != UpAxis::Z) {
         eprintln!(
             "nendo export: --up {up}: {} is written +Z up, as the model",

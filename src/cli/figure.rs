@@ -31,7 +31,7 @@ use crate::figure::{FigureDocument, Image, ImageSize, PictureOptions, Rgb, pictu
 
 /// Arguments of `nendo figure`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct FigureArgs {
     /// What to do.
     #[command(subcommand)]
     pub action: Action,
@@ -43,14 +43,14 @@ pub enum Action {
     /// Fit metacircles to the contour of a figure file; print the residual as JSON.
     Fit(FitArgs),
     /// Draw a figure file to PNG and/or SVG.
-    Render(RenderArgs),
+    Render(FigureRenderArgs),
     /// Warp a figure by moving its curves to deformed ones.
     Warp(WarpArgs),
     /// Print the residual of a figure against its contour as JSON.
     Measure(MeasureArgs),
     /// Fit metaballs to horizontal sections, drag the curves laid along them, re-fit, and
     /// write the iso-surface as a mesh (and a PNG through the renderer).
-    Shape(super::shape::ShapeArgs),
+    Shape(super::shape::FigureShapeArgs),
 }
 
 /// Picture outputs shared by the actions.
@@ -109,7 +109,7 @@ pub struct FitArgs {
 
 /// Arguments of `nendo figure render`.
 #[derive(Debug, Clone, ClapArgs)]
-pub struct RenderArgs {
+pub struct FigureRenderArgs {
     /// The figure file.
     pub figure: PathBuf,
     /// Outputs.
@@ -155,7 +155,7 @@ pub struct MeasureArgs {
 }
 
 /// Runs `nendo figure`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: FigureArgs) -> ExitCode {
     let result = match args.action {
         Action::Fit(a) => fit(&a),
         Action::Render(a) => render(&a),
@@ -301,7 +301,7 @@ fn fit(args: &FitArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn render(args: &RenderArgs) -> anyhow::Result<()> {
+fn render(args: &FigureRenderArgs) -> anyhow::Result<()> {
     if args.picture.png.is_none() && args.picture.svg.is_none() {
         bail!("nothing to write: give --png and/or --svg");
     }

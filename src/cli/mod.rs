@@ -1,6 +1,6 @@
 //! The `nendo` command line: one module per subcommand, each with its own clap arguments.
 
-use clap::{Parser, Subcommand};
+use clap::Parser;
 
 pub mod arg_error;
 pub mod bench;
@@ -33,49 +33,49 @@ use std::process::ExitCode;
 pub struct Cli {
     /// The subcommand; without one, the modeller window opens.
     #[command(subcommand)]
-    pub command: Option<Command>,
+    pub command: Option<Subcommand>,
     /// The window's options (without a subcommand).
     #[command(flatten)]
-    pub window: window::Args,
+    pub window: window::WindowArgs,
 }
 
 /// Every subcommand of the `nendo` binary.
-#[derive(Debug, Subcommand)]
-pub enum Command {
+#[derive(Debug, clap::Subcommand)]
+pub enum Subcommand {
     /// Run a measurement suite and print its table.
-    Bench(bench::Args),
+    Bench(bench::BenchArgs),
     /// Print a model's continuity report (G0 gap, G1 angles, pole spread) as JSON.
-    Check(check::Args),
+    Check(check::CheckArgs),
     /// Closest point, pick, probe sphere and ray queries on curves, as JSON Lines (`--batch`).
-    Closest(closest::Args),
+    Closest(closest::ClosestArgs),
     /// Curve editing (grab, split, tangent, insert), similarity-preserving refinement, warping and SVG, as JSON Lines (`--batch`).
-    Curve(curve::Args),
+    Curve(curve::CurveArgs),
     /// List serial ports and HID devices, and which device profile fits each.
-    Devices(devices::Args),
+    Devices(devices::DevicesArgs),
     /// Run a device emulator (fastrak, cyberglove, flock, 5dt-glove5) on a pseudo-terminal: print
     /// its port, then move a hand through a scripted gesture, for trying glove mode without hardware.
-    Emulate(emulate::Args),
+    Emulate(emulate::EmulateArgs),
     /// Write a model as a mesh (OBJ with normals, binary STL, GLB) within a tolerance, or exactly
     /// as CAD (STEP AP214, IGES 5.3: the patches as B-spline surfaces, the curves).
-    Export(export::Args),
+    Export(export::ExportArgs),
     /// Figures of metacircles: fit to a contour, render to PNG / SVG, warp by curves, measure;
     /// metaball shapes fitted to sections.
-    Figure(figure::Args),
+    Figure(figure::FigureArgs),
     /// Write the frames of a morph between two figure files as PNG and SVG.
-    Morph(morph::Args),
+    Morph(morph::MorphArgs),
     /// Record hand frames from the devices of a profile into a trace file.
-    Record(record::Args),
+    Record(record::RecordArgs),
     /// Run the hand loop headless on a recorded trace (frames -> hand -> contact -> push / pull /
     /// draw-a-line) and write the model.
-    Replay(replay::Args),
+    Replay(replay::ReplayArgs),
     /// Split patches without changing the surface: insert patch columns / rows at global grid
     /// parameters, or every patch into K x K; write the refined model.
-    Refine(refine::Args),
+    Refine(refine::RefineArgs),
     /// Draw a model to a PNG with the window's renderer, offscreen.
     #[cfg(feature = "gui")]
-    Render(render::Args),
+    Render(render::RenderArgs),
     /// Build a primitive or read a model, apply push / drag operations, write the model.
-    Sculpt(sculpt::Args),
+    Sculpt(sculpt::SculptArgs),
 }
 
 /// Parses the process arguments and runs the chosen subcommand.
@@ -85,20 +85,20 @@ pub fn run() -> ExitCode {
     signal::install();
     match cli.command {
         None => window::run(cli.window),
-        Some(Command::Bench(args)) => bench::run(args),
-        Some(Command::Check(args)) => check::run(args),
-        Some(Command::Closest(args)) => closest::run(args),
-        Some(Command::Curve(args)) => curve::run(args),
-        Some(Command::Devices(args)) => devices::run(args),
-        Some(Command::Emulate(args)) => emulate::run(args),
-        Some(Command::Export(args)) => export::run(args),
-        Some(Command::Figure(args)) => figure::run(args),
-        Some(Command::Morph(args)) => morph::run(args),
-        Some(Command::Record(args)) => record::run(args),
-        Some(Command::Refine(args)) => refine::run(args),
-        Some(Command::Replay(args)) => replay::run(args),
+        Some(Subcommand::Bench(args)) => bench::run(args),
+        Some(Subcommand::Check(args)) => check::run(args),
+        Some(Subcommand::Closest(args)) => closest::run(args),
+        Some(Subcommand::Curve(args)) => curve::run(args),
+        Some(Subcommand::Devices(args)) => devices::run(args),
+        Some(Subcommand::Emulate(args)) => emulate::run(args),
+        Some(Subcommand::Export(args)) => export::run(args),
+        Some(Subcommand::Figure(args)) => figure::run(args),
+        Some(Subcommand::Morph(args)) => morph::run(args),
+        Some(Subcommand::Record(args)) => record::run(args),
+        Some(Subcommand::Refine(args)) => refine::run(args),
+        Some(Subcommand::Replay(args)) => replay::run(args),
         #[cfg(feature = "gui")]
-        Some(Command::Render(args)) => render::run(args),
-        Some(Command::Sculpt(args)) => sculpt::run(args),
+        Some(Subcommand::Render(args)) => render::run(args),
+        Some(Subcommand::Sculpt(args)) => sculpt::run(args),
     }
 }

@@ -17,12 +17,12 @@ use glam::DVec2;
 
 use super::figure::{parse_size, read_document, write_png, write_text};
 use crate::figure::morph::{Morph, MorphOptions};
-use crate::figure::picture::{PictureOptions, Scene, draw};
-use crate::figure::{ImageSize, Rgb, View};
+use crate::figure::picture::{Backdrop, PictureOptions, draw};
+use crate::figure::{ImageSize, RasterView, Rgb};
 
 /// Arguments of `nendo morph`.
 #[derive(Debug, Clone, ClapArgs)]
-pub struct Args {
+pub struct MorphArgs {
     /// The source figure file (metacircles and curves).
     pub source: PathBuf,
     /// The destination figure file (metacircles and as many curves).
@@ -52,14 +52,14 @@ pub struct Args {
 }
 
 /// Runs `nendo morph`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: MorphArgs) -> ExitCode {
     match morph(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => super::output::failed("nendo morph", &e),
     }
 }
 
-fn morph(args: &Args) -> anyhow::Result<()> {
+fn morph(args: &MorphArgs) -> anyhow::Result<()> {
     if args.frames < 2 || args.frames > 100_000 {
         bail!("--frames must be 2 to 100000, got {}", args.frames);
     }
@@ -93,7 +93,7 @@ fn morph(args: &Args) -> anyhow::Result<()> {
         let pad = 0.04 * (hi - lo).max_element();
         (lo - DVec2::splat(pad), hi + DVec2::splat(pad))
     };
-    let view = View::fit(lo, hi, args.size, 0.0);
+    let view = RasterView::fit(lo, hi, args.size, 0.0);
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let picture = PictureOptions {
@@ -107,12 +107,12 @@ fn morph(args: &Args) -> anyhow::Result<()> {
         let t = i as f64 / (args.frames - 1) as f64;
         let figure = morph.at(t)?;
         let curves = morph.curves_at(t);
-        let scene = Scene {
+        let backdrop = Backdrop {
             background: Some(background),
             polygons: &[],
             curves: &curves,
         };
-        let pic = draw(&figure, &scene, &view, &picture)?;
+        let pic = draw(&figure, &backdrop, &view, &picture)?;
         let stem = format!("frame_{i:04}");
         write_png(&args.out.join(format!("{stem}.png")), &pic.image)?;
         if !args.no_svg {

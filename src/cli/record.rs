@@ -38,7 +38,7 @@ use crate::surface::{Plane, Primitive, Regulation};
 
 /// Arguments of `nendo record`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct RecordArgs {
     /// Device profile: a shipped name (see `nendo devices`) or a path to a profile JSON file.
     #[arg(long)]
     pub profile: String,
@@ -112,7 +112,7 @@ fn reference_path(model: &Path, out: &Path) -> anyhow::Result<PathBuf> {
 
 /// The scene the options name, checked (the model read, the primitive's parameters
 /// resolved); `None` without `--primitive` or `--model`.
-fn scene(args: &Args) -> anyhow::Result<Option<SceneText>> {
+fn scene(args: &RecordArgs) -> anyhow::Result<Option<SceneText>> {
     let shape = args.shape.given();
     let settings = args.regulation.is_some()
         || args.finger.is_some()
@@ -174,14 +174,14 @@ enum Ending {
 }
 
 /// Runs `nendo record`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: RecordArgs) -> ExitCode {
     match record(args) {
         Ok(summary) => super::output::exit_after("nendo record", super::output::println(summary)),
         Err(e) => super::output::failed("nendo record", &e),
     }
 }
 
-fn record(args: Args) -> anyhow::Result<String> {
+fn record(args: RecordArgs) -> anyhow::Result<String> {
     if !(args.seconds.is_finite() && args.seconds > 0.0 && args.seconds <= MAX_SECONDS) {
         anyhow::bail!("--seconds must be a positive number of at most {MAX_SECONDS} (a day)");
     }

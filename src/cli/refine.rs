@@ -36,7 +36,7 @@ use crate::surface::refine::{RefineError, Refinement};
 
 /// Arguments of `nendo refine`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct RefineArgs {
     /// The model file.
     pub model: PathBuf,
     /// Split every patch into K x K.
@@ -76,7 +76,7 @@ enum Failure {
 }
 
 /// Runs `nendo refine`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: RefineArgs) -> ExitCode {
     match refine(&args) {
         Ok(summary) => {
             eprintln!("nendo refine: {summary}");
@@ -92,7 +92,7 @@ pub fn run(args: Args) -> ExitCode {
     }
 }
 
-fn refine(args: &Args) -> Result<String, Failure> {
+fn refine(args: &RefineArgs) -> Result<String, Failure> {
     if args.uniform.is_none() && args.insert_u.is_empty() && args.insert_v.is_empty() {
         return Err(Failure::Argument(
             "give --uniform K, --insert-u T,... or --insert-v T,...".into(),

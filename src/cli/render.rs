@@ -15,7 +15,7 @@ use crate::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer
 
 /// Arguments of `nendo render`.
 #[derive(Debug, Clone, ClapArgs)]
-pub struct Args {
+pub struct RenderArgs {
     /// The model (nendo-model JSON).
     pub model: PathBuf,
     /// Where to write the image.
@@ -72,7 +72,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), ArgError> {
 }
 
 /// Runs `nendo render`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: RenderArgs) -> ExitCode {
     match render(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -82,7 +82,7 @@ pub fn run(args: Args) -> ExitCode {
     }
 }
 
-fn render(args: &Args) -> anyhow::Result<()> {
+fn render(args: &RenderArgs) -> anyhow::Result<()> {
     if !(args.heat_max.is_finite() && args.heat_max > 0.0) {
         anyhow::bail!(
             "--heat-max must be a positive angle in degrees, not {}",

@@ -62,7 +62,7 @@ pub const PROGRESS_FROM: usize = 1_000;
 
 /// Arguments of `nendo replay`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct ReplayArgs {
     /// The trace (`nendo-hand-trace` version 1 or 2).
     pub trace: PathBuf,
     /// Start from a primitive: plane, cylinder, hemisphere, sphere, torus or tube (default: the
@@ -145,7 +145,7 @@ fn naming(path: &Path, e: &dyn std::fmt::Display) -> anyhow::Error {
 }
 
 /// Runs `nendo replay`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: ReplayArgs) -> ExitCode {
     match replay(&args) {
         Ok(summary) => {
             eprintln!("nendo replay: {summary}");
@@ -232,7 +232,7 @@ struct Setup {
 }
 
 /// Merges the trace's scene (if any) and the command line (which wins).
-fn setup(args: &Args, trace: &Trace) -> anyhow::Result<Setup> {
+fn setup(args: &ReplayArgs, trace: &Trace) -> anyhow::Result<Setup> {
     let in_trace = |e: &dyn std::fmt::Display| {
         anyhow::anyhow!("{}: the trace's scene: {e}", args.trace.display())
     };
@@ -371,7 +371,7 @@ fn setup(args: &Args, trace: &Trace) -> anyhow::Result<Setup> {
     })
 }
 
-fn replay(args: &Args) -> anyhow::Result<String> {
+fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     // `--out` may replace the `--model` read (a model either way), not the trace or profile.
     super::paths::check(
         &[("--out", Some(&args.out))],

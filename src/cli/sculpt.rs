@@ -37,7 +37,7 @@ use crate::surface::{Plane, Primitive, Regulation, Sculptor, Symmetry, refine};
 
 /// Arguments of `nendo sculpt`.
 #[derive(Debug, ClapArgs)]
-pub struct Args {
+pub struct SculptArgs {
     /// Start from a primitive: plane, cylinder, hemisphere, sphere, torus or tube.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_primitive), conflicts_with = "model")]
     pub primitive: Option<Primitive>,
@@ -77,7 +77,7 @@ pub fn parse_plane(s: &str) -> Result<Plane, crate::surface::UnknownName> {
 }
 
 /// Runs `nendo sculpt`.
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: SculptArgs) -> ExitCode {
     match sculpt(&args) {
         Ok(summary) => {
             eprintln!("nendo sculpt: {summary}");
@@ -90,7 +90,7 @@ pub fn run(args: Args) -> ExitCode {
     }
 }
 
-fn sculpt(args: &Args) -> anyhow::Result<String> {
+fn sculpt(args: &SculptArgs) -> anyhow::Result<String> {
     // `--out` may replace the `--model` read (a model either way), not the operations file.
     super::paths::check(
         &[("--out", Some(&args.out))],

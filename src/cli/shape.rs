@@ -37,7 +37,7 @@ use crate::mesh::{MeshFormat, TriMesh, save_mesh};
 
 /// Arguments of `nendo figure shape`.
 #[derive(Debug, Clone, ClapArgs)]
-pub struct ShapeArgs {
+pub struct FigureShapeArgs {
     /// The shape file (`nendo-shape` JSON: sections, curves, moves, optional metaballs).
     pub shape: PathBuf,
     /// Where to write the mesh; the extension (.obj, .stl, .glb) chooses the format.
@@ -130,7 +130,7 @@ fn report_json(r: &ShapeFitReport, seconds: f64) -> Value {
 ///
 /// # Errors
 /// What went wrong, with the file it concerns.
-pub fn shape(args: &ShapeArgs) -> anyhow::Result<()> {
+pub fn shape(args: &FigureShapeArgs) -> anyhow::Result<()> {
     // `--out` may replace the shape file read (a shape file either way); the mesh and the
     // picture may not.
     super::paths::check(
@@ -289,7 +289,9 @@ fn parse_size(s: &str) -> anyhow::Result<(u32, u32)> {
 
 /// The picture's size and view, checked.
 #[cfg(feature = "gui")]
-fn picture_settings(args: &ShapeArgs) -> anyhow::Result<((u32, u32), crate::editor::ViewPreset)> {
+fn picture_settings(
+    args: &FigureShapeArgs,
+) -> anyhow::Result<((u32, u32), crate::editor::ViewPreset)> {
     let size = parse_size(&args.size)?;
     let view = args
         .view
@@ -299,7 +301,7 @@ fn picture_settings(args: &ShapeArgs) -> anyhow::Result<((u32, u32), crate::edit
 }
 
 #[cfg(not(feature = "gui"))]
-fn picture_settings(args: &ShapeArgs) -> anyhow::Result<()> {
+fn picture_settings(args: &FigureShapeArgs) -> anyhow::Result<()> {
     parse_size(&args.size)?;
     bail!("--png needs the renderer: build nendo with the `gui` feature")
 }
@@ -310,7 +312,7 @@ fn draw_png(
     mesh: &TriMesh,
     sections: &[Section],
     moved: &[usize],
-    args: &ShapeArgs,
+    args: &FigureShapeArgs,
 ) -> anyhow::Result<()> {
     use crate::editor::OrbitCamera;
     use crate::render::{
@@ -367,7 +369,7 @@ fn draw_png(
     _mesh: &TriMesh,
     _sections: &[Section],
     _moved: &[usize],
-    args: &ShapeArgs,
+    args: &FigureShapeArgs,
 ) -> anyhow::Result<()> {
     picture_settings(args)
 }

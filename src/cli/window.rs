@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 /// Options of the window (given without a subcommand).
 #[derive(Debug, Clone, Default, ClapArgs)]
-pub struct Args {
+pub struct WindowArgs {
     /// A nendo model (JSON) to open; without one, the paper's 10 × 10 plane.
     #[arg(value_name = "MODEL")]
     pub model: Option<PathBuf>,
@@ -28,7 +28,7 @@ pub struct Args {
 
 /// Opens the window.
 #[cfg(feature = "gui")]
-pub fn run(args: Args) -> ExitCode {
+pub fn run(args: WindowArgs) -> ExitCode {
     let options = crate::app::WindowOptions {
         model: args.model,
         autosave: args.autosave,
@@ -47,7 +47,7 @@ pub fn run(args: Args) -> ExitCode {
 
 /// Without the `gui` feature there is no window.
 #[cfg(not(feature = "gui"))]
-pub fn run(_args: Args) -> ExitCode {
+pub fn run(_args: WindowArgs) -> ExitCode {
     eprintln!(
         "nendo: this build has no window (built without the `gui` feature); see `nendo --help`"
     );

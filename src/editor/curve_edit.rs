@@ -4,13 +4,13 @@
 
 use glam::DVec3;
 
-use crate::curve::edit::{self, Follow, Side};
+use crate::curve::edit::{self, Follow, JointSide};
 use crate::curve::{Bezier, Curve, CurveError};
 
 /// A joint between two curves of a list: the last control point of `left` equals the first of
 /// `right` (as a split leaves them).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Joint {
+pub struct CurveJoint {
     /// Index of the curve ending at the joint.
     pub left: usize,
     /// Index of the curve starting at the joint.
@@ -19,12 +19,12 @@ pub struct Joint {
 
 /// Every joint among `curves`.
 #[must_use]
-pub fn joints(curves: &[Curve<DVec3>]) -> Vec<Joint> {
+pub fn joints(curves: &[Curve<DVec3>]) -> Vec<CurveJoint> {
     let mut out = Vec::new();
     for (left, a) in curves.iter().enumerate() {
         for (right, b) in curves.iter().enumerate() {
             if left != right && edit::joint(a, b).is_ok() {
-                out.push(Joint { left, right });
+                out.push(CurveJoint { left, right });
             }
         }
     }
@@ -33,7 +33,7 @@ pub fn joints(curves: &[Curve<DVec3>]) -> Vec<Joint> {
 
 /// `(Q_L, Q, Q_R)` of a joint of `curves`.
 #[must_use]
-pub fn joint_points(curves: &[Curve<DVec3>], joint: Joint) -> Option<(DVec3, DVec3, DVec3)> {
+pub fn joint_points(curves: &[Curve<DVec3>], joint: CurveJoint) -> Option<(DVec3, DVec3, DVec3)> {
     edit::joint(curves.get(joint.left)?, curves.get(joint.right)?).ok()
 }
 
@@ -45,7 +45,7 @@ pub fn joint_points(curves: &[Curve<DVec3>], joint: Joint) -> Option<(DVec3, DVe
 /// As [`edit::tangent_edit`]; [`CurveError::Index`] for a joint outside `curves`.
 pub fn tangent_edit(
     curves: &[Curve<DVec3>],
-    joint: Joint,
+    joint: CurveJoint,
     left_side: bool,
     target: DVec3,
 ) -> Result<(Curve<DVec3>, Curve<DVec3>), CurveError> {
@@ -55,7 +55,11 @@ pub fn tangent_edit(
     };
     let left = curves.get(joint.left).ok_or_else(missing)?;
     let right = curves.get(joint.right).ok_or_else(missing)?;
-    let side = if left_side { Side::Left } else { Side::Right };
+    let side = if left_side {
+        JointSide::Left
+    } else {
+        JointSide::Right
+    };
     edit::tangent_edit(left, right, side, target, Follow::KeepLength)
 }
 
@@ -85,7 +89,7 @@ mod tests {
         .into();
         let (l, r) = edit::split(&c, 0.5).expect("inside");
         let curves = vec![straight_cubic(DVec3::ZERO, DVec3::ONE), l, r];
-        assert_eq!(joints(&curves), vec![Joint { left: 1, right: 2 }]);
+        assert_eq!(joints(&curves), vec![CurveJoint { left: 1, right: 2 }]);
         let joint = joints(&curves)[0];
         let (_, q, qr) = joint_points(&curves, joint).expect("joint");
         let (l2, r2) =

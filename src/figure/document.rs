@@ -14,7 +14,7 @@
 //! ```
 //!
 //! * Coordinates are in figure units with **y pointing down** (SVG's convention); pictures
-//!   map them to pixels through a [`View`](super::View).
+//!   map them to pixels through a [`RasterView`](super::View).
 //! * `format` and `version` are required; every other member is optional: `threshold` (default
 //!   0.5, positive), `name`, `view` (the rectangle drawn; default the figure's bounds),
 //!   `background` (default white), `metacircles` (default none; `colour` default `#8a5a3c`,

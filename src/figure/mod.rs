@@ -35,7 +35,7 @@ pub use metaball::{Metaball, Shape};
 pub use metacircle::{Figure, Metacircle, Rgb};
 pub use morph::{Morph, MorphOptions};
 pub use picture::{Picture, PictureOptions, picture};
-pub use raster::{Image, ImageSize, RasterStyle, View};
+pub use raster::{Image, ImageSize, RasterStyle, RasterView};
 pub use section::{CurveMove, Section};
 pub use shape::{Deformed, ShapeFitOptions, ShapeFitReport, deform, fit_sections, refit_sections};
 pub use shape_document::ShapeDocument;

@@ -10,7 +10,7 @@ use super::document::{FigureDocument, FilledPolygon};
 use super::error::FigureError;
 use super::iso::{IsoLine, Lattice, iso_lines};
 use super::metacircle::{Figure, Rgb};
-use super::raster::{Image, ImageSize, View, compose, coverage};
+use super::raster::{Image, ImageSize, RasterView, compose, coverage};
 use super::svg::{SvgLayers, figure_svg, mean_colour};
 
 /// How pictures are made.
@@ -44,7 +44,7 @@ impl Default for PictureOptions {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Picture {
     /// Figure units to pixels.
-    pub view: View,
+    pub view: RasterView,
     /// The image (RGBA).
     pub image: Image,
     /// The iso-curve, traced on the pixel lattice and refined onto the curve (figure units).
@@ -55,7 +55,7 @@ pub struct Picture {
 
 /// What to draw besides the figure.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct Scene<'a> {
+pub struct Backdrop<'a> {
     /// Background (`None`: transparent).
     pub background: Option<Rgb>,
     /// Polygons under the figure.
@@ -78,32 +78,32 @@ pub fn picture(doc: &FigureDocument, options: &PictureOptions) -> Result<Picture
         let pad = 0.04 * (hi - lo).max_element();
         (lo - DVec2::splat(pad), hi + DVec2::splat(pad))
     };
-    let view = View::fit(lo, hi, options.size, options.margin);
-    let scene = Scene {
+    let view = RasterView::fit(lo, hi, options.size, options.margin);
+    let backdrop = Backdrop {
         background: Some(doc.background.unwrap_or(Rgb::WHITE)),
         polygons: &doc.polygons,
         curves: if options.curves { &doc.curves } else { &[] },
     };
-    draw(&doc.figure, &scene, &view, options)
+    draw(&doc.figure, &backdrop, &view, options)
 }
 
-/// Draws a figure and its scene in a given view.
+/// Draws a figure and its backdrop in a given view.
 ///
 /// # Errors
 /// [`FigureError`] for an invalid figure, view or option.
 pub fn draw(
     figure: &Figure,
-    scene: &Scene<'_>,
-    view: &View,
+    backdrop: &Backdrop<'_>,
+    view: &RasterView,
     options: &PictureOptions,
 ) -> Result<Picture, FigureError> {
     let size = options.size;
     let mut cov = coverage(figure, view, size, options.samples)?;
     // Polygons go under the figure: "figure over polygon" per pixel, in linear light.
-    if !scene.polygons.is_empty() {
+    if !backdrop.polygons.is_empty() {
         let mut under_alpha = vec![0.0f32; cov.alpha.len()];
         let mut under_colour = vec![[0.0f32; 3]; cov.alpha.len()];
-        for p in scene.polygons {
+        for p in backdrop.polygons {
             let a = polygon_coverage(&p.contour, view, size, options.samples.max(1) as usize);
             let c = p.colour.0.map(srgb_to_linear);
             for k in 0..a.len() {
@@ -128,7 +128,7 @@ pub fn draw(
             cov.alpha[k] = out;
         }
     }
-    let image = compose(&cov, scene.background);
+    let image = compose(&cov, backdrop.background);
     let lattice = Lattice {
         origin: view.origin,
         step: 1.0 / view.scale,
@@ -141,9 +141,9 @@ pub fn draw(
         view,
         size,
         &SvgLayers {
-            background: scene.background,
-            polygons: scene.polygons,
-            curves: scene.curves,
+            background: backdrop.background,
+            polygons: backdrop.polygons,
+            curves: backdrop.curves,
         },
     );
     Ok(Picture {
@@ -166,7 +166,12 @@ fn srgb_to_linear(c: u8) -> f32 {
 /// The fraction of each pixel inside a polygon (even–odd): `n` scanlines per pixel row, each
 /// span's overlap with a pixel measured exactly along x.
 #[must_use]
-pub fn polygon_coverage(contour: &Contour, view: &View, size: ImageSize, n: usize) -> Vec<f32> {
+pub fn polygon_coverage(
+    contour: &Contour,
+    view: &RasterView,
+    size: ImageSize,
+    n: usize,
+) -> Vec<f32> {
     let (w, h) = (size.width as usize, size.height as usize);
     let mut out = vec![0.0f32; w * h];
     let pts: Vec<DVec2> = contour.points().iter().map(|&p| view.to_pixel(p)).collect();
@@ -220,7 +225,7 @@ mod tests {
         )
         .unwrap();
         let size = ImageSize::new(50, 40).unwrap();
-        let view = View {
+        let view = RasterView {
             origin: DVec2::ZERO,
             scale: 1.0,
         };

@@ -22,14 +22,14 @@ pub const TILE: usize = 16;
 /// The map from figure coordinates to pixels: `pixel = (p − origin) · scale`. Both have y
 /// pointing down (figures use SVG's convention); pixel `(i, j)` covers `[i, i+1] × [j, j+1]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct View {
+pub struct RasterView {
     /// The figure point at the image's top-left corner.
     pub origin: DVec2,
     /// Pixels per figure unit.
     pub scale: f64,
 }
 
-impl View {
+impl RasterView {
     /// The view that shows `[min, max]` centred in a `width × height` image with `margin`
     /// pixels left free on every side, at a uniform scale.
     #[must_use]
@@ -257,7 +257,7 @@ fn shade(circles: &[Prepared], p: DVec2) -> (f64, [f32; 4]) {
 /// [`FigureError`] when the figure or the view is invalid or `samples` is outside 1..=16.
 pub fn coverage(
     figure: &Figure,
-    view: &View,
+    view: &RasterView,
     size: ImageSize,
     samples: u32,
 ) -> Result<Coverage, FigureError> {
@@ -400,7 +400,7 @@ fn mean_colour(cs: impl Iterator<Item = [f32; 4]>) -> [f32; 3] {
 /// As [`coverage`].
 pub fn render(
     figure: &Figure,
-    view: &View,
+    view: &RasterView,
     size: ImageSize,
     style: &RasterStyle,
 ) -> Result<Image, FigureError> {
@@ -447,7 +447,7 @@ mod tests {
         // Iso-circle radius R/2 = 100 px; coverage sums to its area within the AA error.
         let fig = Figure::new(vec![Metacircle::new(DVec2::new(256.0, 256.0), 200.0, 1.0)]);
         let size = ImageSize::new(512, 512).unwrap();
-        let view = View {
+        let view = RasterView {
             origin: DVec2::ZERO,
             scale: 1.0,
         };
@@ -473,7 +473,7 @@ mod tests {
             Metacircle::new(DVec2::new(35.0, 40.0), 15.0, -0.8),
         ]);
         let size = ImageSize::new(70, 61).unwrap();
-        let view = View {
+        let view = RasterView {
             origin: DVec2::new(-2.0, 1.0),
             scale: 1.0,
         };
@@ -498,7 +498,7 @@ mod tests {
         m.colour = Rgb([255, 0, 0]);
         let fig = Figure::new(vec![m]);
         let size = ImageSize::new(16, 16).unwrap();
-        let view = View {
+        let view = RasterView {
             origin: DVec2::ZERO,
             scale: 1.0,
         };
@@ -533,7 +533,7 @@ mod tests {
     #[test]
     fn fit_view_centres_the_box() {
         let size = ImageSize::new(200, 100).unwrap();
-        let v = View::fit(DVec2::new(0.0, 0.0), DVec2::new(10.0, 10.0), size, 10.0);
+        let v = RasterView::fit(DVec2::new(0.0, 0.0), DVec2::new(10.0, 10.0), size, 10.0);
         assert!((v.scale - 8.0).abs() < 1e-12);
         assert!((v.to_pixel(DVec2::new(5.0, 5.0)) - DVec2::new(100.0, 50.0)).length() < 1e-9);
     }

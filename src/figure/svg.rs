@@ -1,6 +1,6 @@
 //! SVG pictures of figures: the traced boundary ([`super::iso`]) as one even–odd filled path,
 //! the polygons, and the curves laid over the figure as strokes, in the pixel frame of a
-//! [`View`] so that the SVG and the PNG of a figure line up.
+//! [`RasterView`] so that the SVG and the PNG of a figure line up.
 
 use std::fmt::Write;
 
@@ -11,7 +11,7 @@ use crate::curve::Curve;
 use super::document::FilledPolygon;
 use super::iso::IsoLine;
 use super::metacircle::{Figure, Rgb};
-use super::raster::{ImageSize, View};
+use super::raster::{ImageSize, RasterView};
 
 /// What goes into the picture besides the boundary.
 #[derive(Debug, Clone, Copy, Default)]
@@ -54,7 +54,7 @@ pub fn mean_colour(figure: &Figure) -> Rgb {
 pub fn figure_svg(
     boundary: &[IsoLine],
     fill: Rgb,
-    view: &View,
+    view: &RasterView,
     size: ImageSize,
     layers: &SvgLayers<'_>,
 ) -> String {
@@ -103,7 +103,7 @@ pub fn figure_svg(
     s
 }
 
-fn path_data(points: impl Iterator<Item = DVec2>, closed: bool, view: &View) -> String {
+fn path_data(points: impl Iterator<Item = DVec2>, closed: bool, view: &RasterView) -> String {
     let mut d = String::new();
     for (i, p) in points.enumerate() {
         let q = view.to_pixel(p);
@@ -135,7 +135,7 @@ mod tests {
         ]);
         let lines = iso_lines(&fig, &Lattice::around(&fig, 0.5).unwrap(), 2);
         let size = ImageSize::new(100, 50).unwrap();
-        let view = View::fit(DVec2::ZERO, DVec2::new(25.0, 10.0), size, 0.0);
+        let view = RasterView::fit(DVec2::ZERO, DVec2::new(25.0, 10.0), size, 0.0);
         let svg = figure_svg(
             &lines,
             mean_colour(&fig),

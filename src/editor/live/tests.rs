@@ -161,7 +161,7 @@ fn a_window_recording_replays_to_the_windows_surface() {
     assert_eq!(scene.finger_radius, Some(0.8));
     let out = dir.join("replayed.json");
     // `nendo replay TRACE --out OUT` (it reports its outcome on standard error).
-    let _ = crate::cli::replay::run(crate::cli::replay::Args {
+    let _ = crate::cli::replay::run(crate::cli::replay::ReplayArgs {
         trace: trace_path,
         primitive: None,
         shape: crate::cli::primitive_args::ShapeArgs::default(),

@@ -171,7 +171,7 @@ pub struct Modeller {
     auto_refine: bool,
     /// The file asked of the user (the shell's file dialog is open for it).
     dialog: Option<FileRequest>,
-    /// File requests made so far (the next one's id).
+    /// File requests made so far (the last one's id).
     requests: u64,
     status: Option<Status>,
     timing: Timing,

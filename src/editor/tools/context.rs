@@ -5,7 +5,7 @@ use glam::{DVec3, Vec2};
 
 use crate::curve::Curve;
 use crate::editor::camera::OrbitCamera;
-use crate::editor::curve_edit::{Joint, joint_points, joints};
+use crate::editor::curve_edit::{CurveJoint, joint_points, joints};
 use crate::mesh::{PatchPoints, Ray, SurfaceHit, TriMesh, pick};
 
 /// What the tools may look at.
@@ -69,9 +69,9 @@ impl ToolContext<'_> {
 
     /// The joint handle nearest to `pixel` within `PICK_PIXELS`: `(joint, left side)`, with
     /// joints indexed in `curves`.
-    pub(super) fn pick_handle(&self, pixel: Vec2) -> Option<(Joint, bool)> {
+    pub(super) fn pick_handle(&self, pixel: Vec2) -> Option<(CurveJoint, bool)> {
         let curves: Vec<Curve<DVec3>> = self.curves.iter().map(|(_, c)| (*c).clone()).collect();
-        let mut best: Option<(f32, (Joint, bool))> = None;
+        let mut best: Option<(f32, (CurveJoint, bool))> = None;
         for joint in joints(&curves) {
             let Some((ql, _, qr)) = joint_points(&curves, joint) else {
                 continue;

@@ -5,7 +5,7 @@ use glam::{DVec3, Vec2};
 
 use crate::curve::Curve;
 use crate::curve::edit::{Grab, split};
-use crate::editor::curve_edit::{Joint, joint_points, joints, tangent_edit};
+use crate::editor::curve_edit::{CurveJoint, joint_points, joints, tangent_edit};
 use crate::mesh::SurfaceHit;
 use crate::render::{LineBatch, Rgba, SphereInstance, ToolFootprint};
 use crate::surface::{Dirs, Op};
@@ -392,9 +392,10 @@ impl ToolState {
                 };
                 let (left_index, left) = ctx.curves[joint.left];
                 let (right_index, right) = ctx.curves[joint.right];
-                let Some((ql, _, qr)) =
-                    joint_points(&[left.clone(), right.clone()], Joint { left: 0, right: 1 })
-                else {
+                let Some((ql, _, qr)) = joint_points(
+                    &[left.clone(), right.clone()],
+                    CurveJoint { left: 0, right: 1 },
+                ) else {
                     return Vec::new();
                 };
                 let handle = if left_side { ql } else { qr };
@@ -461,7 +462,7 @@ impl ToolState {
                 pair,
             } => {
                 let target = ctx.ray(pixel).at(*ray_t);
-                match tangent_edit(pair, Joint { left: 0, right: 1 }, *left_side, target) {
+                match tangent_edit(pair, CurveJoint { left: 0, right: 1 }, *left_side, target) {
                     Ok((l, r)) => {
                         *pair = [l.clone(), r.clone()];
                         vec![
@@ -649,7 +650,7 @@ impl ToolState {
                 spheres.push(marker(at, settings.probe_radius, [0.35, 0.6, 1.0, 0.3]));
             }
             Gesture::Tangent { pair, .. } => {
-                if let Some((ql, q, qr)) = joint_points(pair, Joint { left: 0, right: 1 }) {
+                if let Some((ql, q, qr)) = joint_points(pair, CurveJoint { left: 0, right: 1 }) {
                     lines.polyline([ql, q, qr].map(|p| p.as_vec3()), Rgba::HIGHLIGHT);
                 }
             }

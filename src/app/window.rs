@@ -64,8 +64,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::window::{Window, WindowId};
 
 use super::shell::Shell;
-use crate::editor::Modeller;
-use crate::editor::input::{Button, PointerInput};
+use crate::editor::{Modeller, input::Button, input::PointerInput};
 use crate::render::{FrameTargets, GpuContext, LineBatch, Renderer, SphereInstance};
 
 /// Samples per pixel of the 3D view on a GPU. On a software adapter (Mesa's lavapipe or
@@ -149,7 +148,6 @@ impl InputPass {
 /// The window application.
 pub struct WindowApp {
     modeller: Modeller,
-    /// The panels drawn around it.
     shell: Shell,
     gfx: Option<Gfx>,
     egui_ctx: egui::Context,
@@ -381,8 +379,7 @@ impl WindowApp {
         let arrivals = std::mem::take(&mut gfx.arrivals);
         let mut passes = input_passes(std::mem::take(&mut raw.events), &arrivals, now_s);
         let mut view_rect = egui::Rect::NOTHING;
-        let modeller = &mut self.modeller;
-        let shell = &mut self.shell;
+        let (modeller, shell) = (&mut self.modeller, &mut self.shell);
         let base = self.base_input;
         let last = passes.pop().unwrap_or(InputPass {
             events: Vec::new(),

@@ -25,16 +25,20 @@
 //!   permission bits, at the moment the new head is in place.
 //!
 //! As for [`crate::AtomicFile`]: symbolic links are written through, only regular files are
-//! replaced, the short-lived temporary is locked, registered for
-//! [`crate::remove_live_temporaries`] and swept when stale.
+//! replaced, the short-lived temporary is locked and registered for
+//! [`crate::remove_live_temporaries`]. Unlike it, creating an append file sweeps no stale
+//! temporaries of its target: an older nendo wrote recordings atomically, and a temporary it
+//! left when killed holds that session's frames (a recovering trace reader reads them). A
+//! stale temporary of an append file itself holds only a head; the next atomic write to the
+//! same target sweeps it.
 
 use std::fs::File;
 use std::io::{self, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use crate::{
-    WriteError, deregister, directory_of, registry, resolve_links, sweep_stale, sync_directory,
-    temp_prefix, without_temporary_path,
+    WriteError, deregister, directory_of, registry, resolve_links, sync_directory, temp_prefix,
+    without_temporary_path,
 };
 
 /// What [`AppendFile::create`] does when a file is already at the target.
@@ -104,7 +108,8 @@ impl AppendFile {
         };
         let dir = directory_of(&resolved);
         let prefix = temp_prefix(&name);
-        sweep_stale(&dir, &prefix);
+        // No sweep of stale temporaries here (unlike `AtomicFile::create`): beside a recording,
+        // a stale temporary may be an older nendo's killed recording, whose frames it holds.
         let mut registry = registry();
         if registry.closed {
             return Err(WriteError::Stopping {
@@ -118,7 +123,9 @@ impl AppendFile {
         registry.live.push((id, temp.path().to_path_buf()));
         drop(registry);
         // On any failure below, dropping `temp` removes the temporary.
+        // Through the plain file: `NamedTempFile`'s own errors would name the temporary.
         let written = temp
+            .as_file_mut()
             .write_all(head)
             .and_then(|()| temp.as_file().sync_all());
         let placed = written.map_err(io).and_then(|()| {

@@ -147,6 +147,17 @@ fn a_record_refused_part_way_is_taken_back() {
         .unwrap_or_else(|| panic!("no report from the child: {lines:?}"));
     let (count, error) = report.split_once(" then ").expect("count then error");
     let count: usize = count.parse().expect("a count");
+    let head_error = lines
+        .iter()
+        .find_map(|l| l.split_once("head error: ").map(|(_, r)| r))
+        .unwrap_or_else(|| panic!("no head report from the child: {lines:?}"));
+    let big = dir.path().join("big.rec");
+    assert!(
+        head_error.starts_with(&format!("{}: ", big.display()))
+            && head_error.contains("too large")
+            && !head_error.contains("nendo-tmp"),
+        "{head_error}"
+    );
     let path = dir.path().join("limited.rec");
     assert!(
         error.starts_with(&format!("{}: ", path.display())) && error.contains("too large"),
@@ -174,6 +185,12 @@ fn child_appender() {
     let Some(dir) = std::env::var_os(CHILD_DIR) else {
         panic!("{CHILD_DIR} is not set: this test only runs as a child of another");
     };
+    // A head beyond the limit: nothing is created, and the error names the target.
+    let big = Path::new(&dir).join("big.rec");
+    match AppendFile::create(&big, &[b'x'; 20_000], Existing::Refuse) {
+        Ok(_) => println!("head error: none"),
+        Err(e) => println!("head error: {e}"),
+    }
     let path = Path::new(&dir).join("limited.rec");
     let mut f = AppendFile::create(&path, HEAD, Existing::Refuse).expect("created");
     let mut k = 0;
@@ -187,4 +204,20 @@ fn child_appender() {
     // A second try after the failure fails too and leaves the file as it was.
     assert!(f.append(&record(k)).is_err());
     println!("appended {k} then {error}");
+}
+
+/// An older nendo wrote recordings atomically: killed, it left its frames in a temporary
+/// beside the target. Starting a recording there never removes it.
+#[test]
+fn a_stale_temporary_beside_the_target_is_left_alone() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let stale = dir.path().join(".t.rec.nendo-tmp-aB3xY9");
+    fs::write(&stale, "an older nendo's killed recording").expect("seed");
+    let path = dir.path().join("t.rec");
+    AppendFile::create(&path, HEAD, Existing::Refuse).expect("created");
+    assert_eq!(
+        fs::read_to_string(&stale).expect("kept"),
+        "an older nendo's killed recording"
+    );
+    assert_eq!(names(dir.path()), [".t.rec.nendo-tmp-aB3xY9", "t.rec"]);
 }

@@ -181,6 +181,140 @@ fn a_window_recording_replays_to_the_windows_surface() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A live device session recorded by the window (the editor's device path: the stream, the
+/// loop thread's recorder, the hand driver on the document) replays with `nendo replay` to
+/// the window's surface bit for bit. The devices are emulated CyberGlove and Fastrak doing
+/// the press gesture over the plane: their values (sensor bytes through the calibration,
+/// inches or centimetres to metres) are not six-decimal numbers, so a window fed other numbers
+/// than the trace stores would leave a different surface.
+#[test]
+fn a_live_session_recorded_in_the_window_replays_bit_for_bit() {
+    use crate::cli::emulate::{GESTURE_RATE_HZ, frame_at, raw_values};
+    use crate::hand::script::Gesture;
+    use nendo_devices::cyberglove::SensorCount;
+    use nendo_devices::emulator::{
+        CyberGloveModel, DeviceModel, FastrakModel, PtyEmulator, Script,
+    };
+    use std::sync::Arc;
+
+    let dir = std::env::temp_dir().join(format!("nendo-live-bits-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    // The shipped glove + tracker profile placed so the press reaches the default plane.
+    let mut profile = profile::resolve("cyberglove2-18-fastrak").expect("shipped");
+    profile.world_from_tracker.translation = [0.0; 3];
+    profile.world_from_tracker.scale = 21.5;
+    let gesture = Gesture::Press
+        .trace(profile.world_from_tracker, GESTURE_RATE_HZ)
+        .expect("the press gesture");
+    let frames = Arc::new(gesture.frames);
+    let tracker = FastrakModel::new();
+    let period = tracker.period();
+    let poses = Arc::clone(&frames);
+    let tracker = PtyEmulator::spawn(tracker.with_path(Script::new(move |k| {
+        frame_at(&poses, period, k)
+            .pose
+            .unwrap_or(nendo_devices::TrackerPose::IDENTITY)
+    })))
+    .expect("tracker emulator");
+    let table = profile
+        .glove()
+        .map(|g| g.calibration().to_vec())
+        .expect("a glove");
+    let glove = CyberGloveModel::new(SensorCount::Eighteen);
+    let period = glove.period();
+    let angles = Arc::clone(&frames);
+    let glove = PtyEmulator::spawn(glove.with_values(Script::new(move |k| {
+        raw_values(&table, frame_at(&angles, period, k), 1)
+    })))
+    .expect("glove emulator");
+    let trace_path = dir.join("window.trace");
+    let mut live = LiveInput {
+        entries: vec![ProfileEntry {
+            profile,
+            source: ProfileSource::Builtin,
+        }],
+        selected: 0,
+        glove_port: glove.port(),
+        tracker_port: tracker.port(),
+        record: true,
+        record_to: trace_path.display().to_string(),
+        ..LiveInput::default()
+    };
+    let mut doc = plane_doc();
+    let start = doc.model().clone();
+    live.connect(&mut doc);
+    assert!(live.is_connected(), "{:?}", live.message);
+    // One press (3 s) and a little more; the deadline only guards against a hang.
+    let begun = Instant::now();
+    let deadline = begun + Duration::from_secs(60);
+    while (begun.elapsed() < Duration::from_millis(3500) || live.contacts == 0)
+        && Instant::now() < deadline
+    {
+        std::thread::sleep(Duration::from_millis(20));
+        let _ = live.poll(&mut doc);
+    }
+    live.disconnect_from(&mut doc);
+    assert!(live.contacts >= 1, "the press reached the clay");
+    assert_ne!(doc.model(), &start, "the hand pressed the document");
+    assert!(
+        live.message
+            .as_deref()
+            .is_some_and(|m| m.starts_with("trace recorded")),
+        "{:?}",
+        live.message
+    );
+    let recorded = Trace::read(&trace_path).expect("the recording");
+    assert!(
+        recorded
+            .frames
+            .iter()
+            .any(|f| f.pose.is_some() && f.joints.is_some())
+    );
+    let out = dir.join("replayed.json");
+    let _ = crate::cli::replay::run(crate::cli::replay::Args {
+        trace: trace_path,
+        primitive: None,
+        shape: crate::cli::primitive_args::ShapeArgs::default(),
+        model: None,
+        regulation: None,
+        profile: None,
+        finger: None,
+        finger_radius: None,
+        auto_refine: false,
+        no_auto_refine: false,
+        mirror: None,
+        out: out.clone(),
+    });
+    let replayed = crate::model::Model::read(&out).expect("the replay").model;
+    let bits = |m: &crate::model::Model| -> Vec<[u64; 3]> {
+        m.surface
+            .nodes()
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect()
+    };
+    let window = doc.model();
+    let worst = replayed
+        .surface
+        .nodes()
+        .iter()
+        .zip(window.surface.nodes())
+        .map(|(a, b)| (*a - *b).abs().max_element())
+        .fold(0.0, f64::max);
+    let (a, b) = (bits(&replayed), bits(window));
+    assert_eq!(a.len(), b.len());
+    let differing = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert_eq!(
+        differing,
+        0,
+        "{differing} of {} control points differ, by up to {worst:e}",
+        a.len()
+    );
+    assert_eq!(&replayed, window);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 fn listed() -> LiveInput {
     let mut live = LiveInput::default();
     live.rescan();

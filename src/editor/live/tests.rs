@@ -315,6 +315,123 @@ fn a_live_session_recorded_in_the_window_replays_bit_for_bit() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The environment variable that tells [`window_recording_under_a_size_limit`] where to record
+/// (it runs only as the child of the test below).
+const LIMIT_CHILD_DIR: &str = "NENDO_LIVE_LIMIT_CHILD_DIR";
+
+/// A recording the file system refuses part-way stops, the hand going on: run in a child
+/// process under a file size limit (`ulimit -f`, SIGXFSZ ignored, so the write fails with
+/// EFBIG as a full disk fails with ENOSPC).
+#[cfg(unix)]
+#[test]
+fn a_refused_write_stops_the_windows_recording_and_the_hand_goes_on() {
+    let dir = std::env::temp_dir().join(format!("nendo-live-limit-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let exe = std::env::current_exe().expect("the test binary");
+    let out = std::process::Command::new("sh")
+        .arg("-c")
+        .arg("trap '' XFSZ; ulimit -f 64 || exit 97; exec \"$0\" \"$@\"")
+        .arg(exe)
+        .args([
+            "--exact",
+            "editor::live::tests::window_recording_under_a_size_limit",
+            "--ignored",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env(LIMIT_CHILD_DIR, &dir)
+        .output()
+        .expect("the child runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("window recording stopped after "),
+        "{:?}\n{stdout}\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The child of the test above: 4 000 frames recorded by the window's loop under the size
+/// limit. The recording stops with an error naming the frames kept, which the file holds; the
+/// inbox (the hand) still gets every frame.
+#[test]
+#[ignore = "run as a child process by a_refused_write_stops_the_windows_recording_and_the_hand_goes_on"]
+fn window_recording_under_a_size_limit() {
+    use nendo_devices::{Joint, JointAngles, SourceState};
+    let Some(dir) = std::env::var_os(LIMIT_CHILD_DIR) else {
+        panic!("{LIMIT_CHILD_DIR} is not set: this test only runs as a child of another");
+    };
+    let joints = vec![
+        Joint::IndexMcp,
+        Joint::IndexPip,
+        Joint::MiddleMcp,
+        Joint::MiddlePip,
+    ];
+    let n = 4000u64;
+    let frames = (0..n)
+        .map(|i| {
+            let mut a = JointAngles::new();
+            for (k, &j) in joints.iter().enumerate() {
+                a.set(j, 0.1 * k as f64 + i as f64 * 1e-4)
+                    .expect("in range");
+            }
+            HandFrame {
+                time: Timestamp::from_micros(i * 1000),
+                joints: Some(a),
+                status: FrameStatus {
+                    glove: SourceState::Ok,
+                    glove_fresh: true,
+                    ..FrameStatus::default()
+                },
+                ..Default::default()
+            }
+        })
+        .collect();
+    let trace = Trace {
+        header: TraceHeader {
+            joints,
+            ..TraceHeader::default()
+        },
+        frames,
+    };
+    let profile = profile::builtin()
+        .into_iter()
+        .next()
+        .expect("a built-in profile");
+    let path = std::path::Path::new(&dir).join("limited.trace");
+    // A channel that holds the whole trace: no frame is dropped on overflow.
+    let stream = HandStream::replay(trace, 20.0, false, 8192);
+    let mut session =
+        DeviceSession::start(stream, Some((path.clone(), &profile, None))).expect("started");
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while !lock(&session.shared.status).finished && Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    session.stop();
+    let got = std::mem::take(&mut *lock(&session.shared.inbox));
+    assert_eq!(got.len() as u64, n, "the hand got every frame");
+    let error = lock(&session.shared.status).recording_error.clone();
+    let error = error.expect("the recording stopped");
+    assert!(
+        error.starts_with(&format!(
+            "recording stopped: {}: File too large",
+            path.display()
+        )),
+        "{error}"
+    );
+    let kept = match lock(&session.shared.recorded).take() {
+        Some(Err(nendo_devices::DeviceError::RecordingStopped { frames, .. })) => frames,
+        other => panic!("{other:?}"),
+    };
+    let recovered = Trace::read_recovering(&path).expect("the file reads");
+    assert_eq!(recovered.trace.frames.len() as u64, kept);
+    assert!(kept > 100 && kept < n, "{kept} frames kept");
+    assert_eq!(recovered.trace.frames[..], got[..kept as usize]);
+    println!("window recording stopped after {kept} frames: {error}");
+}
+
 fn listed() -> LiveInput {
     let mut live = LiveInput::default();
     live.rescan();

@@ -225,7 +225,9 @@ fn record(args: Args) -> anyhow::Result<String> {
             ("--model", args.model.as_deref()),
         ],
     )?;
-    // An existing trace is refused before any device opens: it may be an earlier session.
+    // The scene is checked before any device opens: a bad one records nothing.
+    let scene = scene(&args)?;
+    // So is an existing trace, which may be an earlier session: refused unless --replace.
     let existing = if args.replace {
         Existing::Replace
     } else {
@@ -234,8 +236,6 @@ fn record(args: Args) -> anyhow::Result<String> {
         }
         Existing::Refuse
     };
-    // The scene is checked before any device opens: a bad one records nothing.
-    let scene = scene(&args)?;
     let profile = profile::resolve(&args.profile)?;
     let mut options = StreamOptions {
         glove_port: args.glove_port,

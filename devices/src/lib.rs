@@ -16,7 +16,7 @@
 //! | [`device`] | the [`Glove`] and [`Tracker`] traits and their serial and USB HID backends |
 //! | [`stream`] | [`HandStream`]: glove + tracker merged on background threads, watchdog, reconnection |
 //! | [`mouse`] | [`MouseDevice`]: a hand driven by the mouse's view ray |
-//! | [`trace`] | the recorded-trace text format, reader and atomic writer |
+//! | [`trace`] | the recorded-trace text format, its reader (recovering interrupted recordings), atomic writer and recorder |
 //! | [`profile`] | device profiles (JSON): ports, calibration, tracker-to-world transform, hand size |
 //! | [`alignment`] | recenter and scale the tracker-to-world transform, fit the hand to the model |
 //! | [`glove_calibration`] | a glove's offsets and gains from a flat hand, a fist and the thumb out |
@@ -74,4 +74,4 @@ pub use mouse::{MouseDevice, ViewRay};
 pub use profile::{HandSize, Profile, WorldFromTracker};
 pub use stream::{DeviceRole, DeviceStatus, HandStream, StreamOptions, StreamStats};
 pub use throughput::{ThroughputRow, decode_throughput};
-pub use trace::{SceneText, Trace, TraceHeader, TraceWriter};
+pub use trace::{Recovered, SceneText, Trace, TraceHeader, TraceRecorder, TraceWriter};

@@ -1,9 +1,27 @@
 //! `nendo record`: records live devices (or a replayed trace) into a trace file.
 //!
-//! Recording ends after `--seconds`, when a replayed trace has played to its end, or on
-//! SIGINT (Ctrl-C), SIGTERM or SIGHUP: in every case the frames so far are written and the
-//! trace is finished atomically (its `end` line, then renamed into place), so stopping early
-//! never loses the recording nor leaves a temporary file behind.
+//! **A recording survives whatever ends it.** The trace grows under the `--out` name from the
+//! start ([`nendo_devices::TraceRecorder`]): its header is placed whole and synced first, each
+//! frame line is handed to the kernel as it comes (one `write` per frame), the file is synced
+//! (`fdatasync`) at most a second after a frame ([`nendo_devices::trace::SYNC_INTERVAL`]; the
+//! loop below checks it every 20 ms while it waits), and the `end N` line comes last. So:
+//! - after `--seconds`, the end of a replayed trace, or SIGINT (Ctrl-C), SIGTERM or SIGHUP, the
+//!   frames so far are written and the trace is finished with its `end` line;
+//! - a SIGKILL (or a crash) loses only the frames still on their way from the devices (at most
+//!   one 20 ms poll), a power cut at most about the last second: the file is an interrupted
+//!   trace, which `nendo replay` reads up to its last complete frame, saying how many it
+//!   recovered;
+//! - a full disk (or any failed write) stops the recording at once with an error naming the
+//!   file and the frames it keeps (exit status 1); the torn line is taken back, so the file
+//!   reads up to the last frame written. Nothing is retried: a recording with a silent hole in
+//!   time would replay as a jump.
+//!
+//! **An existing `--out` is refused** (before any device opens): a recording is a session that
+//! cannot be made again, so a new one never replaces an earlier one by surprise — the user
+//! names another file, or says `--replace`. With `--replace` the old file stays whole until the
+//! new recording's header is in place. (Recordings of older nendo versions, written atomically,
+//! left a killed session in a hidden `.NAME.nendo-tmp-XXXXXX` beside the target; nothing here
+//! removes it, and `nendo replay` reads it.)
 //!
 //! The scene of the session (trace version 2, [`crate::hand::scene`]): `--primitive` (with
 //! `--patches`, `--radius`, `--height`, `--minor-radius`) or `--model` names the surface the
@@ -28,7 +46,10 @@ const MAX_SECONDS: f64 = 86_400.0;
 
 use clap::Args as ClapArgs;
 use nendo_devices::profile::{self, Input};
-use nendo_devices::{HandStream, SceneText, SourceState, StreamOptions, TraceWriter};
+use nendo_devices::trace::Existing;
+use nendo_devices::{
+    DeviceError, HandStream, SceneText, SourceState, StreamOptions, TraceRecorder,
+};
 
 use super::arg_error::{parse_primitive, parse_regulation};
 use super::primitive_args::ShapeArgs;
@@ -42,9 +63,13 @@ pub struct RecordArgs {
     /// Device profile: a shipped name (see `nendo devices`) or a path to a profile JSON file.
     #[arg(long)]
     pub profile: String,
-    /// The trace file to write (written atomically when recording ends).
+    /// The trace file to write: it grows as frames come, and ends with its `end` line when the
+    /// recording does. An existing file is refused (see --replace).
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace an existing --out (it stays whole until the new recording has begun).
+    #[arg(long)]
+    pub replace: bool,
     /// How long to record, in seconds (at most a day).
     #[arg(long, default_value_t = 10.0, allow_hyphen_values = true)]
     pub seconds: f64,
@@ -162,6 +187,14 @@ fn scene(args: &RecordArgs) -> anyhow::Result<Option<SceneText>> {
     Ok(Some(scene.to_text()?))
 }
 
+/// Why an existing `--out` is not recorded over.
+fn exists_message(out: &Path) -> String {
+    format!(
+        "{}: a file is already there (an earlier recording?): nendo record does not replace it; give another --out, or --replace to replace it",
+        out.display()
+    )
+}
+
 /// What ended a recording.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Ending {
@@ -194,6 +227,15 @@ fn record(args: RecordArgs) -> anyhow::Result<String> {
     )?;
     // The scene is checked before any device opens: a bad one records nothing.
     let scene = scene(&args)?;
+    // So is an existing trace, which may be an earlier session: refused unless --replace.
+    let existing = if args.replace {
+        Existing::Replace
+    } else {
+        if std::fs::symlink_metadata(&args.out).is_ok() {
+            anyhow::bail!("{}", exists_message(&args.out));
+        }
+        Existing::Refuse
+    };
     let profile = profile::resolve(&args.profile)?;
     let mut options = StreamOptions {
         glove_port: args.glove_port,
@@ -258,10 +300,20 @@ fn record(args: RecordArgs) -> anyhow::Result<String> {
     if scene.is_some() {
         header.scene = scene;
     }
-    let mut writer = TraceWriter::create(&args.out, header)?;
+    let mut writer = match TraceRecorder::create(&args.out, header, existing) {
+        Ok(w) => w,
+        Err(DeviceError::File { error, .. })
+            if error.kind() == std::io::ErrorKind::AlreadyExists =>
+        {
+            anyhow::bail!("{}", exists_message(&args.out))
+        }
+        Err(e) => return Err(e.into()),
+    };
     let started = Instant::now();
     let end = started + Duration::from_secs_f64(args.seconds);
     let mut ending = Ending::Time;
+    // The first write that fails ends the recording (the file keeps what came before).
+    let mut failed = None;
     loop {
         if stop.requested() {
             ending = Ending::Signal;
@@ -273,24 +325,34 @@ fn record(args: RecordArgs) -> anyhow::Result<String> {
         // Read before draining: a replay sets it after its last frame, so the drain below
         // still takes every frame sent before.
         let finished = stream.finished();
-        if let Some(frame) = stream.next_timeout(Duration::from_millis(20)) {
-            writer.push(&frame)?;
-            for frame in stream.drain() {
-                writer.push(&frame)?;
+        let written = match stream.next_timeout(Duration::from_millis(20)) {
+            Some(frame) => std::iter::once(frame)
+                .chain(stream.drain())
+                .try_for_each(|f| writer.push(&f)),
+            None if finished => {
+                ending = Ending::ReplayEnded;
+                break;
             }
-        } else if finished {
-            ending = Ending::ReplayEnded;
+            None => writer.sync_if_due(),
+        };
+        if let Err(e) = written {
+            failed = Some(e);
             break;
         }
     }
     let elapsed = started.elapsed().as_secs_f64();
     // Frames that arrived before the stop are kept.
-    for frame in stream.drain() {
-        writer.push(&frame)?;
+    if failed.is_none()
+        && let Err(e) = stream.drain().iter().try_for_each(|f| writer.push(f))
+    {
+        failed = Some(e);
     }
     let description = stream.describe();
     let last_error = stream.last_error();
     let stats = stream.close();
+    if let Some(e) = failed {
+        anyhow::bail!("{e} (after {elapsed:.1} s)");
+    }
     let frames = writer.finish()?;
     let source = |name: &str, s: nendo_devices::DeviceStats| {
         format!(

@@ -18,6 +18,12 @@
 //! `--auto-refine` / `--no-auto-refine` its refinement. A trace without a scene (version 1, or
 //! recorded without one) needs `--primitive` or `--model`.
 //!
+//! A trace without its `end` line — a recording killed, cut by a power failure or stopped by a
+//! full disk — replays its complete frames ([`nendo_devices::Trace::read_recovering`]): a
+//! notice on standard error says how many were recovered and which damaged end was dropped,
+//! and the summary says `N frames recovered from an interrupted recording`. A bad line inside
+//! a finished trace stays an error.
+//!
 //! The hand's sizes and the tracker-to-world transform come from the trace's header, or from
 //! `--profile` (a shipped profile's name or a profile file); frames recorded with the `mouse`
 //! profile use the view-ray finger. The result is a pure function of the trace, the starting
@@ -380,7 +386,14 @@ fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             ("profile", args.profile.as_deref().map(Path::new)),
         ],
     )?;
-    let trace = Trace::read(&args.trace).map_err(|e| naming(&args.trace, &e))?;
+    // An interrupted recording (killed, a power cut, a full disk: no `end` line) replays its
+    // complete frames, saying so here and in the summary.
+    let recovered = Trace::read_recovering(&args.trace).map_err(|e| naming(&args.trace, &e))?;
+    let interrupted = recovered.interrupted.map(|i| {
+        eprintln!("nendo replay: {}: {i}", args.trace.display());
+        " recovered from an interrupted recording".to_owned()
+    });
+    let trace = recovered.trace;
     let Setup {
         mut model,
         finger: chosen_finger,
@@ -485,7 +498,8 @@ fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
         format!("; from the trace's scene: {}", from_scene.join(", "))
     };
     Ok(format!(
-        "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}{refinement}{scene}; {:.3} s -> {}",
+        "{total} frames{} ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}{refinement}{scene}; {:.3} s -> {}",
+        interrupted.unwrap_or_default(),
         st.frames_with_finger,
         st.contacts,
         st.pushes,

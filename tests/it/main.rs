@@ -25,6 +25,7 @@ mod limits_cli;
 mod memory_limits;
 mod model_cli;
 mod model_file;
+mod record_survives;
 mod refine;
 mod regulation_methods;
 mod regulation_strokes;

@@ -1,6 +1,9 @@
 //! The loop thread: it drains the device stream's small channel continuously into an
-//! unbounded inbox (and, when recording, into a trace file), so a slow window frame never
-//! drops a sample; the window takes everything in the inbox once per frame.
+//! unbounded inbox (and, when recording, into a trace file that grows frame by frame, so a
+//! crash keeps what was recorded: [`TraceRecorder`]), so a slow window frame never drops a
+//! sample; the window takes everything in the inbox once per frame. The frames are the
+//! stream's, already rounded as the trace stores them, so the hand loop and the recording see
+//! the same numbers.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -8,8 +11,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
+use nendo_devices::trace::Existing;
 use nendo_devices::{
-    DeviceError, DeviceStatus, HandFrame, HandStream, Profile, SceneText, TraceWriter,
+    DeviceError, DeviceStatus, HandFrame, HandStream, Profile, SceneText, TraceRecorder,
 };
 
 /// What the loop thread shares with the window.
@@ -77,7 +81,12 @@ impl DeviceSession {
                 // the scene is the window's.
                 let mut header = stream.recording_header(profile);
                 header.scene = scene;
-                Some(TraceWriter::create(&path, header).map_err(LiveError::Record)?)
+                // Appended as frames come, so a crash keeps them; the panel has asked before
+                // replacing an existing file (`LiveInput::connect`).
+                Some(
+                    TraceRecorder::create(&path, header, Existing::Replace)
+                        .map_err(LiveError::Record)?,
+                )
             }
             None => None,
         };
@@ -96,11 +105,17 @@ impl DeviceSession {
                         batch.extend(stream.drain());
                     }
                     if let Some(w) = &mut writer {
-                        for f in &batch {
-                            if let Err(e) = w.push(f) {
-                                lock(&worker.status).recording_error =
-                                    Some(format!("recording: {e}"));
-                            }
+                        let written = batch
+                            .iter()
+                            .try_for_each(|f| w.push(f))
+                            .and_then(|()| w.sync_if_due());
+                        // A failed write (a full disk) stops the recording, keeping the frames
+                        // before it; the hand goes on.
+                        if let Err(e) = written {
+                            lock(&worker.status).recording_error =
+                                Some(format!("recording stopped: {e}"));
+                            *lock(&worker.recorded) = Some(Err(e));
+                            writer = None;
                         }
                     }
                     worker
@@ -115,7 +130,9 @@ impl DeviceSession {
                         break;
                     }
                 }
-                *lock(&worker.recorded) = writer.map(TraceWriter::finish);
+                if let Some(w) = writer {
+                    *lock(&worker.recorded) = Some(w.finish());
+                }
                 stream.close();
             })
             .map_err(LiveError::Spawn)?;

@@ -196,8 +196,9 @@ impl LiveInput {
     /// Plays a recorded trace as if it came from the devices.
     pub(crate) fn replay(&mut self, path: &Path, doc: &mut Document) {
         self.disconnect_from(doc);
-        match Trace::read(path) {
-            Ok(trace) => {
+        match Trace::read_recovering(path) {
+            Ok(recovered) => {
+                let trace = recovered.trace;
                 let h = &trace.header;
                 let driver = HandDriver::new(
                     h.hand,
@@ -218,6 +219,10 @@ impl LiveInput {
                         s.replay = Some(path.to_path_buf());
                         self.session = Some(s);
                         self.driver = Some(driver);
+                        // An interrupted recording plays its complete frames, saying so.
+                        if let Some(i) = recovered.interrupted {
+                            self.message = Some(format!("{}: {i}", path.display()));
+                        }
                     }
                     Err(e) => self.message = Some(e.to_string()),
                 }

@@ -28,8 +28,8 @@
 //! recording is made on — a model is embedded in the trace, or with `--reference` named by its
 //! path (relative to the trace's directory when it is inside it, else absolute) and the
 //! SHA-256 of its bytes — and `--regulation`, `--finger`, `--finger-radius`, `--mirror`,
-//! `--auto-refine` the session's settings; `nendo replay TRACE --out M.json` then needs nothing
-//! else. Without `--primitive` or `--model` the trace says it has no scene (`scene none`; a
+//! `--auto-refine` the session's settings, and the profile's gate and filter settings go with
+//! them (the scene's `filter`); `nendo replay TRACE --out M.json` then needs nothing else. Without `--primitive` or `--model` the trace says it has no scene (`scene none`; a
 //! replayed trace keeps its own), and the settings options are refused.
 //!
 //! Devices start as in the window's Connect ([`HandStream::connect`]): whatever is present
@@ -184,6 +184,8 @@ fn scene(args: &RecordArgs) -> anyhow::Result<Option<SceneText>> {
     scene.finger_radius = args.finger_radius;
     scene.mirror = args.mirror;
     scene.auto_refine = args.auto_refine;
+    // The profile's gate and filter, so that a replay filters the frames the same way.
+    scene.filter = Some(profile::resolve(&args.profile)?.filter);
     Ok(Some(scene.to_text()?))
 }
 

@@ -45,6 +45,11 @@
 //! is not refined further while it lasts (its reference surface is fixed when it starts), nor
 //! is a contact that starts on the very frame the previous one ends. A refinement stopped by
 //! the grid limit is reported on standard error, and the contact goes on.
+//! Every frame goes through the hand loop's plausibility gate and One-Euro filter
+//! ([`crate::hand::filter`]) with the settings of the trace's scene (what the recording was
+//! made with), else `--profile`'s, else the defaults for the finger; `--no-filter` replays the
+//! raw frames. The summary says what the gate held (per channel, with the first frames).
+//!
 //! `--mirror x|y|z` presses every contact together with its mirror image across the plane
 //! `x = 0` (`y = 0`, `z = 0`), keeping a symmetric model exactly symmetric; a model that is not
 //! symmetric about the plane is refused (exit status 1).
@@ -57,11 +62,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use crate::hand::scene::{Scene, Start};
-use crate::hand::{FingerModel, Hand, HandLoop, HandOptions};
+use crate::hand::{FingerModel, Hand, HandLoop, HandOptions, filter};
 use crate::model::Model;
 use crate::surface::MAX_PATCHES;
 use crate::surface::{Grid, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
-use nendo_devices::{HandFrame, Trace};
+use nendo_devices::{FilterSettings, HandFrame, Trace};
 
 /// Frames from which a replay reports its progress.
 pub const PROGRESS_FROM: usize = 1_000;
@@ -111,6 +116,11 @@ pub struct ReplayArgs {
     /// about the plane. Default: the trace's scene's.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_mirror))]
     pub mirror: Option<Mirror>,
+    /// Feed the hand loop the raw frames: no plausibility gate, no One-Euro filter. Default:
+    /// the trace's scene's filter, else --profile's, else the defaults (none for the mouse's
+    /// ray).
+    #[arg(long)]
+    pub no_filter: bool,
     /// Where to write the model (atomically).
     #[arg(long)]
     pub out: PathBuf,
@@ -233,6 +243,8 @@ struct Setup {
     finger_radius: Option<f64>,
     mirror: Option<Plane>,
     auto_refine: bool,
+    /// The trace's scene's gate and filter settings.
+    filter: Option<FilterSettings>,
     /// What came from the trace's scene, for the summary.
     from_scene: Vec<&'static str>,
 }
@@ -367,12 +379,17 @@ fn setup(args: &ReplayArgs, trace: &Trace) -> anyhow::Result<Setup> {
             }
         );
     }
+    let filter = scene.as_ref().and_then(|s| s.filter);
+    if filter.is_some() && !args.no_filter {
+        from_scene.push("filter");
+    }
     Ok(Setup {
         model,
         finger,
         finger_radius,
         mirror,
         auto_refine,
+        filter,
         from_scene,
     })
 }
@@ -400,20 +417,23 @@ fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
         finger_radius,
         mirror,
         auto_refine,
+        filter: scene_filter,
         from_scene,
     } = setup(args, &trace)?;
-    let (hand, mut finger) = match &args.profile {
+    let (hand, mut finger, profile_filter) = match &args.profile {
         Some(name) => {
             let profile =
                 nendo_devices::profile::resolve(name).map_err(|e| anyhow::anyhow!("{e}"))?;
             (
                 Hand::new(profile.hand, profile.world_from_tracker)?,
                 FingerModel::for_profile(&profile),
+                Some(profile.filter),
             )
         }
         None => (
             Hand::new(trace.header.hand, trace.header.world_from_tracker)?,
             FingerModel::for_profile_name(trace.header.profile.as_deref()),
+            None,
         ),
     };
     if let Some(f) = chosen_finger {
@@ -441,6 +461,14 @@ fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     };
     let mut hand_loop = HandLoop::new(hand, options)?;
     hand_loop.set_mirror(symmetry);
+    hand_loop.set_filter(if args.no_filter {
+        FilterSettings::off()
+    } else {
+        scene_filter
+            .or(profile_filter)
+            .unwrap_or_else(|| filter::default_for(finger))
+    });
+    let mut held = Vec::new();
     let mut grid = model.surface.clone();
     let mut refiner = auto_refine.then(AutoRefine::default);
     let total = trace.frames.len();
@@ -452,6 +480,9 @@ fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             r.before(&mut hand_loop, frame, &mut grid, k + 1)?;
         }
         let out = hand_loop.frame(frame, &mut grid, regulation);
+        if !hand_loop.filter().held().is_empty() {
+            held.push(k + 1);
+        }
         // A refused frame leaves the surface as the contact's last accepted application; the
         // replay goes on, reports every refusal with its frame number (1-based), and ends
         // with exit status 2 after writing the result.
@@ -497,8 +528,21 @@ fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     } else {
         format!("; from the trace's scene: {}", from_scene.join(", "))
     };
+    let gate = if hand_loop.filter().settings().enabled {
+        format!("; {}", filter::describe(hand_loop.filter().stats()))
+    } else {
+        "; not filtered".into()
+    };
+    let gate = match held.len() {
+        0 => gate,
+        n => {
+            let first: Vec<String> = held.iter().take(8).map(usize::to_string).collect();
+            let more = if n > 8 { ", …" } else { "" };
+            format!("{gate} — frames {}{more}", first.join(", "))
+        }
+    };
     Ok(format!(
-        "{total} frames{} ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}{refinement}{scene}; {:.3} s -> {}",
+        "{total} frames{} ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}{gate}{refinement}{scene}; {:.3} s -> {}",
         interrupted.unwrap_or_default(),
         st.frames_with_finger,
         st.contacts,

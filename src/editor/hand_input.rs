@@ -90,6 +90,14 @@ impl HandDriver {
         &self.hand_loop
     }
 
+    /// Gates and filters the frames from now on with `settings` ([`HandLoop::set_filter`]):
+    /// a device session's profile's, a replayed trace's scene's.
+    #[must_use]
+    pub fn with_filter(mut self, settings: nendo_devices::FilterSettings) -> Self {
+        self.hand_loop.set_filter(settings);
+        self
+    }
+
     /// Presses the next contacts together with their mirror images (`None`: one-sided). Taken
     /// up only between contacts: a contact in progress keeps the mirror it began with.
     pub fn set_mirror(&mut self, mirror: Option<&Symmetry>) {

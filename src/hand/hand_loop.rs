@@ -2,6 +2,9 @@
 //! hand → contact of the active finger with the surface → push / draw-a-line → Bernstein
 //! inverse and regulation.
 //!
+//! Before any rule below reads a frame, it goes through the plausibility gate and the
+//! One-Euro filter ([`super::filter`]): the rules see the filtered frame.
+//!
 //! ## Contact semantics
 //!
 //! The hand presses with every part in [`HandOptions::finger`] ([`Fingers`]: any of the five
@@ -104,7 +107,7 @@
 //! the starting grid and the options.
 
 use glam::DVec3;
-use nendo_devices::{HandFrame, JointAngles, SourceState};
+use nendo_devices::{FrameFilter, HandFrame, JointAngles, SourceState};
 
 use super::HandError;
 use super::contact::{Fingertip, Probe};
@@ -147,6 +150,9 @@ pub struct HandLoop {
     fingertip: Option<Fingertip>,
     tips: Vec<(Part, Fingertip)>,
     stats: LoopStats,
+    /// The plausibility gate and One-Euro filter every frame goes through first
+    /// ([`super::filter`]).
+    pub(super) filter: FrameFilter,
 }
 
 impl HandLoop {
@@ -180,6 +186,7 @@ impl HandLoop {
             fingertip: None,
             tips: Vec::new(),
             stats: LoopStats::default(),
+            filter: FrameFilter::new(super::filter::default_for(options.finger)),
         })
     }
 
@@ -448,6 +455,10 @@ impl HandLoop {
         grid: &mut Grid,
         regulation: Regulation,
     ) -> FrameOutcome {
+        // The device's samples are gated and filtered before anything reads them
+        // (super::filter): every rule below sees the filtered frame.
+        let filtered = self.filter.apply(frame);
+        let frame = &filtered;
         self.stats.frames += 1;
         let mut out = FrameOutcome::default();
         let parts = self.parts_of(frame);
@@ -592,6 +603,8 @@ impl HandLoop {
         if self.touch() != Touch::Free {
             return None;
         }
+        // The frame as HandLoop::frame will see it (super::filter), the filter untouched.
+        let frame = &self.filter.peek(frame);
         let (_, tips) = self.parts_of(frame)?;
         let grip = self.acting(frame)?;
         if let Some((thumb, index)) = pinch_pair(&tips)

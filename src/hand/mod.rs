@@ -14,6 +14,7 @@
 //! | [`contact`] | [`Probe`]: where a line along the finger meets the surface (patch boxes, then exact ray picking of [`crate::mesh`]); [`Fingertip`], the capsule of radius `r_f` around the finger's axis |
 //! | [`parts`] | [`Part`]: a finger or the palm; [`Fingers`], the set that presses; [`FingerModel`], the parts a device presses with, and its [`Activation`] |
 //! | [`options`] | [`HandOptions`]: finger radius, parts, thresholds of contact, stroke, grip and pinch |
+//! | [`filter`] | the plausibility gate and One-Euro filter every frame goes through first ([`nendo_devices::filter`]), and which settings a loop uses |
 //! | [`hand_loop`] | [`HandLoop`]: frames → contact of every pressing [`Part`] → the surface deformed, pinches held (the contact rules) |
 //! | [`outcome`] | what the loop reports: [`Touch`], [`FrameOutcome`], [`LoopStats`] |
 //! | [`session`] | [`HandSession`]: the loop with its own grid, for replay, tests and benches |
@@ -59,10 +60,16 @@
 //!   before the pinch, one undo step: after letting go the surface passes through the last
 //!   target to rounding); a wall pinched from both sides is pressed on both sides instead.
 //!
-//! The whole loop is a pure function of the frames, the starting surface and the options:
-//! replaying a trace twice gives bit-identical surfaces.
+//! - **Filtered first.** Every frame goes through a plausibility gate (a tracker sample
+//!   faster or more sudden than a hand, a joint past its range, NaN: the last good value
+//!   held, and counted) and a One-Euro filter on position, orientation and joints, on the
+//!   frames' own timestamps ([`filter`]), before anything above reads it.
+//!
+//! The whole loop is a pure function of the frames, the starting surface, the options and
+//! the filter's settings: replaying a trace twice gives bit-identical surfaces.
 
 pub mod contact;
+pub mod filter;
 pub mod hand_loop;
 pub mod kinematics;
 pub mod mouse;

@@ -27,7 +27,10 @@
 //! `finger` (the value of `--finger`, parsed by the command line's own parser; absent: the
 //! profile's default), `finger_radius` (`r_f` in sides, a positive finite number; absent:
 //! [`super::DEFAULT_FINGER_RADIUS`]), `mirror` (`x`, `y` or `z`; absent: no symmetry),
-//! `auto_refine` (default `false`). Unknown and repeated members are refused, like every
+//! `auto_refine` (default `false`), `filter` (the plausibility gate and One-Euro filter the
+//! session's frames went through, as a profile's `filter` member, every member written out:
+//! [`nendo_devices::FilterSettings`]; absent: `nendo replay` uses `--profile`'s, else the
+//! defaults for the finger, [`super::filter::default_for`]). Unknown and repeated members are refused, like every
 //! value that does not validate, with the member's path ([`crate::json_doc`]).
 
 use serde::Deserialize;
@@ -41,7 +44,7 @@ use crate::model::{Model, ModelError, first_non_finite};
 use crate::surface::{
     Grid, Plane, Primitive, PrimitiveParams, Regulation, SurfaceError, UnknownName,
 };
-use nendo_devices::SceneText;
+use nendo_devices::{FilterSettings, SceneText};
 
 /// What is wrong with a scene.
 #[derive(Debug, thiserror::Error)]
@@ -134,6 +137,8 @@ pub struct Scene {
     pub mirror: Option<Plane>,
     /// Whether the grid is refined before each contact.
     pub auto_refine: bool,
+    /// The gate and filter the frames go through (`None`: the trace does not say).
+    pub filter: Option<FilterSettings>,
 }
 
 #[derive(Deserialize)]
@@ -155,6 +160,8 @@ struct SceneDoc {
     mirror: Option<String>,
     #[serde(default)]
     auto_refine: bool,
+    #[serde(default)]
+    filter: Option<FilterSettings>,
 }
 
 #[derive(Deserialize)]
@@ -207,6 +214,16 @@ fn uses(primitive: Primitive) -> [bool; 3] {
     }
 }
 
+fn check_filter(f: Option<FilterSettings>) -> Result<Option<FilterSettings>, SceneError> {
+    if let Some(f) = &f {
+        f.validate().map_err(|e| SceneError::Value {
+            name: "filter",
+            message: e.to_string(),
+        })?;
+    }
+    Ok(f)
+}
+
 fn check_radius(r: Option<f64>) -> Result<Option<f64>, SceneError> {
     match r {
         Some(r) if !(r.is_finite() && r > 0.0) => Err(SceneError::Value {
@@ -228,6 +245,7 @@ impl Scene {
             finger_radius: None,
             mirror: None,
             auto_refine: false,
+            filter: None,
         }
     }
 
@@ -340,6 +358,7 @@ impl Scene {
             finger_radius: check_radius(doc.finger_radius)?,
             mirror: doc.mirror.map(|m| m.parse()).transpose()?,
             auto_refine: doc.auto_refine,
+            filter: check_filter(doc.filter)?,
         })
     }
 
@@ -363,6 +382,7 @@ impl Scene {
     /// [`SceneError::Model`] for an embedded model with a coordinate that is not finite.
     pub fn to_text(&self) -> Result<SceneText, SceneError> {
         check_radius(self.finger_radius)?;
+        check_filter(self.filter)?;
         // Each member's name and its JSON text, in this order.
         let mut members: Vec<(&str, String)> = Vec::new();
         if let Some(r) = self.regulation {
@@ -378,6 +398,14 @@ impl Scene {
             members.push(("mirror", json!(m.name()).to_string()));
         }
         members.push(("auto_refine", json!(self.auto_refine).to_string()));
+        if let Some(f) = &self.filter {
+            // In the members' own order (a `json!` object would sort them).
+            let text = serde_json::to_string(f).map_err(|e| SceneError::Value {
+                name: "filter",
+                message: e.to_string(),
+            })?;
+            members.push(("filter", text));
+        }
         match &self.start {
             Start::Primitive { primitive, params } => {
                 let primitive = *primitive;
@@ -475,7 +503,8 @@ impl Scene {
     }
 
     /// The `nendo replay` options naming this scene, for a scene whose start can be named on
-    /// the command line (a primitive or a model file; `None` for an embedded model). A model
+    /// the command line (a primitive or a model file; `None` for an embedded model, or a
+    /// filter other than the defaults or off). A model
     /// file's path is given as the scene names it (relative to the trace's directory).
     #[must_use]
     pub fn arguments(&self) -> Option<Vec<String>> {
@@ -515,6 +544,11 @@ impl Scene {
         }
         if self.auto_refine {
             a.push("--auto-refine".into());
+        }
+        match self.filter {
+            Some(f) if !f.enabled => a.push("--no-filter".into()),
+            Some(f) if f != FilterSettings::default() => return None,
+            _ => {}
         }
         Some(a)
     }
@@ -566,6 +600,49 @@ mod tests {
         };
         assert_eq!(m.surface.nodes(), sphere.surface.nodes());
         assert_eq!(w.arguments(), None);
+    }
+
+    #[test]
+    fn a_scene_carries_its_filter() {
+        let mut s = Scene::primitive(Primitive::Plane, &PrimitiveParams::default()).unwrap();
+        let mut f = FilterSettings::default();
+        f.position.beta = 50.0;
+        s.filter = Some(f);
+        let text = s.to_text().unwrap();
+        assert!(text.as_str().contains(r#""filter":{"enabled":true,"position":{"min_cutoff_hz":1.0,"beta":50.0,"d_cutoff_hz":1.0}"#), "{text}");
+        assert_eq!(Scene::parse(text.as_str()).unwrap(), s);
+        // The command line names only the defaults and no filter.
+        assert_eq!(s.arguments(), None);
+        s.filter = Some(FilterSettings::off());
+        assert_eq!(
+            s.arguments().unwrap().last().map(String::as_str),
+            Some("--no-filter")
+        );
+        s.filter = Some(FilterSettings::default());
+        assert_eq!(
+            s.arguments().unwrap(),
+            ["--primitive", "plane", "--patches", "10x10"]
+        );
+        // Members left out take their defaults; a bad value is refused with its name.
+        let partial =
+            Scene::parse(r#"{"filter":{"gate":{"hold_max_s":0.5}},"primitive":{"name":"plane"}}"#)
+                .unwrap();
+        assert_eq!(partial.filter.unwrap().gate.hold_max_s, 0.5);
+        assert_eq!(
+            partial.filter.unwrap().position,
+            FilterSettings::default().position
+        );
+        let e = Scene::parse(r#"{"filter":{"joints":{"min_cutoff_hz":0.0,"beta":1.0,"d_cutoff_hz":1.0}},"primitive":{"name":"plane"}}"#)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "filter: filter.joints.min_cutoff_hz is 0; it must be a positive number"
+        );
+        assert!(
+            Scene::parse(r#"{"filter":{"smooth":true},"primitive":{"name":"plane"}}"#).is_err()
+        );
     }
 
     #[test]

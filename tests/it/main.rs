@@ -19,6 +19,7 @@ mod figure_morph;
 mod figure_shape;
 mod figure_warp;
 mod hand_contact;
+mod hand_filter;
 mod hand_kinematics;
 mod hand_traces;
 mod limits_cli;

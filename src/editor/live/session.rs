@@ -120,9 +120,13 @@ impl LiveInput {
         // Mismatches the devices worked around (a glove for the other hand) stay on show.
         let warnings = (!stream.warnings().is_empty()).then(|| stream.warnings().join("; "));
         // The recording names the scene it is made on: the document's model as it is now, and
-        // the hand's finger and radius.
+        // the hand's finger, radius and filter.
+        let scene = Scene {
+            filter: Some(*driver.hand_loop().filter().settings()),
+            ..Scene::of_window(doc.model(), finger, radius)
+        };
         let record = match record {
-            Some(path) => match Scene::of_window(doc.model(), finger, radius).to_text() {
+            Some(path) => match scene.to_text() {
                 Ok(scene) => Some((path, &profile, Some(scene))),
                 Err(e) => {
                     self.message = Some(format!("cannot record the scene: {e}"));
@@ -156,8 +160,10 @@ impl LiveInput {
             Some(h) => {
                 let finger = trace_finger(h);
                 let radius = self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS);
+                let filter = crate::hand::filter::for_trace(h, finger);
                 (
-                    HandDriver::new(h.hand, h.world_from_tracker, finger, radius),
+                    HandDriver::new(h.hand, h.world_from_tracker, finger, radius)
+                        .map(|d| d.with_filter(filter)),
                     finger,
                     radius,
                 )
@@ -166,7 +172,8 @@ impl LiveInput {
                 let finger = FingerModel::for_profile(profile);
                 let radius = self.radius(profile, false);
                 (
-                    HandDriver::new(profile.hand, profile.world_from_tracker, finger, radius),
+                    HandDriver::new(profile.hand, profile.world_from_tracker, finger, radius)
+                        .map(|d| d.with_filter(profile.filter)),
                     finger,
                     radius,
                 )
@@ -200,12 +207,14 @@ impl LiveInput {
             Ok(recovered) => {
                 let trace = recovered.trace;
                 let h = &trace.header;
+                let finger = FingerModel::for_profile_name(h.profile.as_deref());
                 let driver = HandDriver::new(
                     h.hand,
                     h.world_from_tracker,
-                    FingerModel::for_profile_name(h.profile.as_deref()),
+                    finger,
                     self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS),
-                );
+                )
+                .map(|d| d.with_filter(crate::hand::filter::for_trace(h, finger)));
                 let driver = match driver {
                     Ok(d) => d,
                     Err(e) => {

@@ -173,6 +173,7 @@ fn a_window_recording_replays_to_the_windows_surface() {
         auto_refine: false,
         no_auto_refine: false,
         mirror: None,
+        no_filter: false,
         out: out.clone(),
     });
     let replayed = crate::model::Model::read(&out).expect("the replay").model;

@@ -273,7 +273,7 @@ fn a_live_session_recorded_in_the_window_replays_bit_for_bit() {
             .any(|f| f.pose.is_some() && f.joints.is_some())
     );
     let out = dir.join("replayed.json");
-    let _ = crate::cli::replay::run(crate::cli::replay::Args {
+    let _ = crate::cli::replay::run(crate::cli::replay::ReplayArgs {
         trace: trace_path,
         primitive: None,
         shape: crate::cli::primitive_args::ShapeArgs::default(),
@@ -285,6 +285,7 @@ fn a_live_session_recorded_in_the_window_replays_bit_for_bit() {
         auto_refine: false,
         no_auto_refine: false,
         mirror: None,
+        no_filter: false,
         out: out.clone(),
     });
     let replayed = crate::model::Model::read(&out).expect("the replay").model;

@@ -17,11 +17,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
-BIN="${NENDO_BIN:-${CARGO_TARGET_DIR:-target}/release/nendo}"
-if [ ! -x "$BIN" ]; then
-  cargo build --release --bin nendo
-fi
-BIN="$(cd "$(dirname "$BIN")" && pwd)/$(basename "$BIN")"
+# shellcheck source=lib/binary.sh
+. .ci/checks/lib/binary.sh
 command -v jq >/dev/null || { echo "record-survives check: jq is missing (apt-get install jq)"; exit 1; }
 [ "$(id -u)" = 0 ] || { echo "record-survives check FAILED: it mounts a small tmpfs and needs root (CI runs as root)"; exit 1; }
 
@@ -48,9 +45,11 @@ start_emulator() { # device → prints its port
   "$BIN" emulate "$1" --motion press --seconds 600 --profile "$WORK/profile.json" \
     >"$WORK/$1.out" 2>"$WORK/$1.log" &
   local pid=$!
-  for _ in $(seq 100); do [ -s "$WORK/$1.out" ] && break; sleep 0.1; done
-  [ -s "$WORK/$1.out" ] || fail "the $1 emulator did not print its port"
+  # Known to the cleanup before anything can fail, so a failure never leaves it running
+  # (the cleanup's `wait` would wait for it). Up to 30 s: a loaded machine is slow to start it.
   if [ "$1" = fastrak ]; then TRACKER_PID=$pid; else GLOVE_PID=$pid; fi
+  for _ in $(seq 300); do [ -s "$WORK/$1.out" ] && break; sleep 0.1; done
+  [ -s "$WORK/$1.out" ] || fail "the $1 emulator did not print its port"
 }
 start_emulator cyberglove
 start_emulator fastrak

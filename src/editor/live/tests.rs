@@ -160,23 +160,7 @@ fn a_window_recording_replays_to_the_windows_surface() {
     assert_eq!(scene.finger.as_deref(), Some("index"));
     assert_eq!(scene.finger_radius, Some(0.8));
     let out = dir.join("replayed.json");
-    // `nendo replay TRACE --out OUT` (it reports its outcome on standard error).
-    let _ = crate::cli::replay::run(crate::cli::replay::ReplayArgs {
-        trace: trace_path,
-        primitive: None,
-        shape: crate::cli::primitive_args::ShapeArgs::default(),
-        model: None,
-        regulation: None,
-        profile: None,
-        finger: None,
-        finger_radius: None,
-        auto_refine: false,
-        no_auto_refine: false,
-        mirror: None,
-        no_filter: false,
-        out: out.clone(),
-    });
-    let replayed = crate::model::Model::read(&out).expect("the replay").model;
+    let replayed = replay_with_defaults(trace_path, &out);
     assert_eq!(replayed.surface.nodes(), doc.model().surface.nodes());
     assert_eq!(&replayed, doc.model());
     let _ = std::fs::remove_dir_all(&dir);
@@ -273,22 +257,7 @@ fn a_live_session_recorded_in_the_window_replays_bit_for_bit() {
             .any(|f| f.pose.is_some() && f.joints.is_some())
     );
     let out = dir.join("replayed.json");
-    let _ = crate::cli::replay::run(crate::cli::replay::ReplayArgs {
-        trace: trace_path,
-        primitive: None,
-        shape: crate::cli::primitive_args::ShapeArgs::default(),
-        model: None,
-        regulation: None,
-        profile: None,
-        finger: None,
-        finger_radius: None,
-        auto_refine: false,
-        no_auto_refine: false,
-        mirror: None,
-        no_filter: false,
-        out: out.clone(),
-    });
-    let replayed = crate::model::Model::read(&out).expect("the replay").model;
+    let replayed = replay_with_defaults(trace_path, &out);
     let bits = |m: &crate::model::Model| -> Vec<[u64; 3]> {
         m.surface
             .nodes()
@@ -624,4 +593,25 @@ fn the_finger_radius_follows_the_hand_unless_set() {
     live.radius_set = Some(0.3);
     assert_eq!(live.radius(&p, false), 0.3);
     assert_eq!(live.radius(&p, true), 0.3);
+}
+
+/// `nendo replay TRACE --out OUT` with every other option left to the trace (it reports its
+/// outcome on standard error), and the model it wrote.
+fn replay_with_defaults(trace: std::path::PathBuf, out: &std::path::Path) -> crate::model::Model {
+    let _ = crate::cli::replay::run(crate::cli::replay::ReplayArgs {
+        trace,
+        primitive: None,
+        shape: crate::cli::primitive_args::ShapeArgs::default(),
+        model: None,
+        regulation: None,
+        profile: None,
+        finger: None,
+        finger_radius: None,
+        auto_refine: false,
+        no_auto_refine: false,
+        mirror: None,
+        no_filter: false,
+        out: out.to_path_buf(),
+    });
+    crate::model::Model::read(out).expect("the replay").model
 }

@@ -357,6 +357,9 @@ pub struct HandFrame {
     pub buttons: u32,
     /// Source states and freshness.
     pub status: FrameStatus,
+    /// The hand as joint poses, when the tracker slot is a skeleton source (a VMC receiver,
+    /// [`crate::skeleton`]) and it is delivering; such a frame has no `pose` and no `joints`.
+    pub skeleton: Option<crate::skeleton::Skeleton>,
 }
 
 impl HandFrame {

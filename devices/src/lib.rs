@@ -16,6 +16,8 @@
 //! | [`device`] | the [`Glove`] and [`Tracker`] traits and their serial and USB HID backends |
 //! | [`filter`] | [`FrameFilter`]: the plausibility gate and One-Euro filter on tracker pose and glove joints, its [`FilterSettings`] (a profile's `filter`) |
 //! | [`stream`] | [`HandStream`]: glove + tracker merged on background threads, watchdog, reconnection |
+//! | [`skeleton`] | [`Skeleton`]: a hand as the 26 joint poses of OpenXR, the [`SkeletonSource`] trait, the joints made where a source lacks them |
+//! | [`vmc`] | the VMC protocol (OSC over UDP): [`vmc::VmcReceiver`], the humanoid hierarchy composed, Unity's frame converted |
 //! | [`mouse`] | [`MouseDevice`]: a hand driven by the mouse's view ray |
 //! | [`trace`] | the recorded-trace text format, its reader (recovering interrupted recordings), atomic writer and recorder |
 //! | [`profile`] | device profiles (JSON): ports, calibration, tracker-to-world transform, hand size |
@@ -61,9 +63,11 @@ pub mod glove_calibration;
 pub mod mouse;
 pub mod profile;
 pub mod serial;
+pub mod skeleton;
 pub mod stream;
 pub mod throughput;
 pub mod trace;
+pub mod vmc;
 
 pub use decode::DecodeStats;
 pub use device::{DeviceStats, Glove, Tracker, open_glove, open_glove_for_hand, open_tracker};
@@ -75,6 +79,7 @@ pub use frame::{
 };
 pub use mouse::{MouseDevice, ViewRay};
 pub use profile::{HandSize, Profile, WorldFromTracker};
+pub use skeleton::{HandJoint, JointPose, JointSource, Skeleton, SkeletonSource};
 pub use stream::{DeviceRole, DeviceStatus, HandStream, StreamOptions, StreamStats};
 pub use throughput::{ThroughputRow, decode_throughput};
 pub use trace::{Recovered, SceneText, Trace, TraceHeader, TraceRecorder, TraceWriter};

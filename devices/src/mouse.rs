@@ -127,6 +127,7 @@ impl MouseDevice {
             pose: Some(pose),
             joints: Some(self.pointing_pose()),
             buttons,
+            skeleton: None,
             status: FrameStatus {
                 tracker: SourceState::Ok,
                 glove: SourceState::Ok,

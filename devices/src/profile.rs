@@ -72,6 +72,9 @@ pub enum Input {
     Mouse(MouseProfile),
     /// A recorded trace played back as if live (the mock backend).
     Replay(ReplayProfile),
+    /// A source of joint poses: a skeleton hand ([`crate::skeleton`]), such as the VMC
+    /// receiver.
+    Skeleton(SkeletonProfile),
 }
 
 /// How a USB device identifies itself.
@@ -729,6 +732,7 @@ impl Profile {
                     return Err(bad("mouse depth must satisfy 0 < near ≤ depth ≤ far".into()));
                 }
             }
+            Input::Skeleton(s) => s.validate(name)?,
             Input::Replay(r) => {
                 if !(MIN_REPLAY_SPEED..=MAX_REPLAY_SPEED).contains(&r.speed) {
                     return Err(bad(format!(
@@ -759,7 +763,7 @@ impl Profile {
 }
 
 /// The shipped profiles, as (file stem, JSON text).
-const BUILTIN: [(&str, &str); 8] = [
+const BUILTIN: [(&str, &str); 9] = [
     (
         "cyberglove2-18",
         include_str!("../profiles/cyberglove2-18.json"),
@@ -783,6 +787,7 @@ const BUILTIN: [(&str, &str); 8] = [
         include_str!("../profiles/cyberglove2-18-fastrak.json"),
     ),
     ("mouse", include_str!("../profiles/mouse.json")),
+    ("vmc", include_str!("../profiles/vmc.json")),
 ];
 
 /// The profiles shipped in `devices/profiles/`, parsed. A shipped profile that failed to parse
@@ -820,6 +825,8 @@ pub fn resolve(name_or_path: &str) -> Result<Profile, DeviceError> {
 
 mod hand;
 pub use hand::{FingerLengths, HandSize, Side, WorldFromTracker};
+mod skeleton;
+pub use skeleton::SkeletonProfile;
 
 #[cfg(test)]
 mod tests;

@@ -39,7 +39,8 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::device::{DeviceStats, Glove, Tracker, open_glove_for_hand, open_tracker};
-use crate::profile::{Input, Profile};
+use crate::profile::{Input, Profile, SkeletonProfile};
+use crate::skeleton::{Skeleton, SkeletonSource};
 use crate::trace::{Trace, TraceHeader, quantize_frame};
 use crate::{
     DeviceError, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, SourceState, Timestamp,
@@ -62,6 +63,8 @@ pub struct StreamOptions {
     pub watchdog: Option<Duration>,
     /// Time between attempts to reopen a lost device.
     pub retry: Duration,
+    /// Replaces the VMC receiver's listening address of the profile (`ADDR:PORT`).
+    pub vmc_listen: Option<String>,
 }
 
 impl Default for StreamOptions {
@@ -72,6 +75,7 @@ impl Default for StreamOptions {
             capacity: 1024,
             watchdog: None,
             retry: Duration::from_millis(250),
+            vmc_listen: None,
         }
     }
 }
@@ -98,6 +102,7 @@ struct Merge {
     pose: Option<TrackerPose>,
     angles: Option<JointAngles>,
     switch: bool,
+    skeleton: Option<Skeleton>,
     tracker: SourceState,
     glove: SourceState,
 }
@@ -163,6 +168,7 @@ impl Shared {
                 tracker_fresh,
                 glove_fresh,
             },
+            skeleton: m.skeleton.filter(|_| m.tracker == SourceState::Ok),
         };
         self.send(frame);
     }
@@ -185,13 +191,15 @@ impl Shared {
 enum Source {
     Glove(Box<dyn Glove>),
     Tracker(Box<dyn Tracker>),
+    /// A skeleton source, in the tracker's slot of a frame (its state is the tracker's).
+    Skeleton(Box<dyn SkeletonSource>),
 }
 
 impl Source {
     fn role(&self) -> DeviceRole {
         match self {
             Source::Glove(_) => DeviceRole::Glove,
-            Source::Tracker(_) => DeviceRole::Tracker,
+            Source::Tracker(_) | Source::Skeleton(_) => DeviceRole::Tracker,
         }
     }
 
@@ -199,6 +207,7 @@ impl Source {
         match self {
             Source::Glove(g) => g.describe(),
             Source::Tracker(t) => t.describe(),
+            Source::Skeleton(s) => s.describe(),
         }
     }
 
@@ -206,6 +215,7 @@ impl Source {
         match self {
             Source::Glove(g) => g.start(),
             Source::Tracker(t) => t.start(),
+            Source::Skeleton(s) => s.start(),
         }
     }
 
@@ -213,6 +223,7 @@ impl Source {
         match self {
             Source::Glove(g) => g.stop(),
             Source::Tracker(t) => t.stop(),
+            Source::Skeleton(s) => s.stop(),
         }
     }
 
@@ -220,6 +231,7 @@ impl Source {
         match self {
             Source::Glove(g) => g.stats(),
             Source::Tracker(t) => t.stats(),
+            Source::Skeleton(s) => s.stats(),
         }
     }
 
@@ -229,6 +241,7 @@ impl Source {
         shared: &Shared,
         gloves: &mut Vec<GloveSample>,
         poses: &mut Vec<TrackerPose>,
+        hands: &mut Vec<Skeleton>,
     ) -> Result<usize, DeviceError> {
         match self {
             Source::Glove(g) => {
@@ -256,6 +269,20 @@ impl Source {
                 }
                 r.map(|()| poses.len())
             }
+            Source::Skeleton(s) => {
+                hands.clear();
+                let r = s.read(POLL, hands);
+                *lock(&shared.tracker_stats) = s.stats();
+                let seen = s.seen();
+                shared.role(DeviceRole::Tracker, |r| r.seen = seen);
+                for h in hands.iter() {
+                    let mut m = lock(&shared.merge);
+                    m.skeleton = Some(*h);
+                    m.tracker = SourceState::Ok;
+                    shared.emit(&m, true, false);
+                }
+                r.map(|()| hands.len())
+            }
         }
     }
 
@@ -263,7 +290,7 @@ impl Source {
         let mut m = lock(&shared.merge);
         let slot = match self {
             Source::Glove(_) => &mut m.glove,
-            Source::Tracker(_) => &mut m.tracker,
+            Source::Tracker(_) | Source::Skeleton(_) => &mut m.tracker,
         };
         if *slot != state {
             *slot = state;
@@ -296,10 +323,11 @@ fn run_source(
     let role = source.role();
     let mut gloves = Vec::new();
     let mut poses = Vec::new();
+    let mut hands = Vec::new();
     while !shared.stop.load(Ordering::Relaxed) {
         match phase {
             Phase::Running { last_data } => {
-                match source.read_and_publish(&shared, &mut gloves, &mut poses) {
+                match source.read_and_publish(&shared, &mut gloves, &mut poses, &mut hands) {
                     Ok(0) if last_data.elapsed() > watchdog => {
                         shared.watchdog_trips.fetch_add(1, Ordering::Relaxed);
                         shared.role(role, |r| {
@@ -367,7 +395,7 @@ fn run_source(
     let stats = source.stats();
     match source {
         Source::Glove(_) => *lock(&shared.glove_stats) = stats,
-        Source::Tracker(_) => *lock(&shared.tracker_stats) = stats,
+        Source::Tracker(_) | Source::Skeleton(_) => *lock(&shared.tracker_stats) = stats,
     }
 }
 
@@ -442,7 +470,14 @@ impl HandStream {
                     }
                     None => None,
                 };
-                HandStream::start_devices(glove, tracker, watchdog, options, start)
+                let sources = [glove.map(Source::Glove), tracker.map(Source::Tracker)];
+                HandStream::start_sources(sources, watchdog, options, start)
+            }
+            Input::Skeleton(SkeletonProfile::Vmc { listen }) => {
+                let listen = options.vmc_listen.as_deref().unwrap_or(listen);
+                let receiver = crate::vmc::VmcReceiver::new(listen, profile.hand)?;
+                let sources = [None, Some(Source::Skeleton(Box::new(receiver)))];
+                HandStream::start_sources(sources, watchdog, options, start)
             }
             Input::Replay(r) => {
                 // An interrupted recording plays its complete frames, with a warning saying so.
@@ -469,7 +504,8 @@ impl HandStream {
         watchdog: Duration,
         options: &StreamOptions,
     ) -> Result<HandStream, DeviceError> {
-        Self::start_devices(glove, tracker, watchdog, options, Start::AllNow)
+        let sources = [glove.map(Source::Glove), tracker.map(Source::Tracker)];
+        Self::start_sources(sources, watchdog, options, Start::AllNow)
     }
 
     /// Starts a stream over device backends; those that do not start now are retried by
@@ -480,31 +516,24 @@ impl HandStream {
         watchdog: Duration,
         options: &StreamOptions,
     ) -> Result<HandStream, DeviceError> {
-        Self::start_devices(glove, tracker, watchdog, options, Start::Tolerant)
+        let sources = [glove.map(Source::Glove), tracker.map(Source::Tracker)];
+        Self::start_sources(sources, watchdog, options, Start::Tolerant)
     }
 
-    fn start_devices(
-        glove: Option<Box<dyn Glove>>,
-        tracker: Option<Box<dyn Tracker>>,
+    /// Starts the sources: a glove (first) and a tracker or skeleton source (second).
+    fn start_sources(
+        given: [Option<Source>; 2],
         watchdog: Duration,
         options: &StreamOptions,
         start: Start,
     ) -> Result<HandStream, DeviceError> {
-        if glove.is_none() && tracker.is_none() {
+        let mut sources: Vec<Source> = given.into_iter().flatten().collect();
+        if sources.is_empty() {
             return Err(DeviceError::Unsupported(
                 "a stream needs a glove or a tracker".into(),
             ));
         }
-        let mut sources = Vec::new();
-        let mut description = Vec::new();
-        if let Some(g) = glove {
-            description.push(g.describe());
-            sources.push(Source::Glove(g));
-        }
-        if let Some(t) = tracker {
-            description.push(t.describe());
-            sources.push(Source::Tracker(t));
-        }
+        let description: Vec<String> = sources.iter().map(Source::describe).collect();
         let mut failures: Vec<Option<DeviceError>> = Vec::new();
         for i in 0..sources.len() {
             match sources[i].start() {
@@ -537,7 +566,7 @@ impl HandStream {
             };
             match s {
                 Source::Glove(_) => merge.glove = state,
-                Source::Tracker(_) => merge.tracker = state,
+                Source::Tracker(_) | Source::Skeleton(_) => merge.tracker = state,
             }
         }
         let shared = Arc::new(Shared::new(tx, merge, joints.clone()));
@@ -585,108 +614,6 @@ impl HandStream {
         })
     }
 
-    /// Plays a trace back in real time (scaled by `speed`) as a stream: the recorded-trace mock
-    /// backend. With `repeat`, it starts over at the end with timestamps continuing.
-    pub fn replay(trace: Trace, speed: f64, repeat: bool, capacity: usize) -> HandStream {
-        let (tx, rx) = sync_channel(capacity.max(1));
-        let shared = Arc::new(Shared::new(
-            tx,
-            Merge::default(),
-            trace.header.joints.clone(),
-        ));
-        for role in [DeviceRole::Glove, DeviceRole::Tracker] {
-            shared.role(role, |r| {
-                r.present = true;
-                r.description = format!("{} of the replayed trace", role.name());
-            });
-        }
-        let joints = trace.header.joints.clone();
-        let source_header = trace.header.clone();
-        let worker = Arc::clone(&shared);
-        let speed = if speed.is_finite() && speed > 0.0 {
-            speed
-        } else {
-            1.0
-        };
-        let thread = std::thread::Builder::new()
-            .name("nendo-replay".into())
-            .spawn(move || {
-                let frames = trace.frames;
-                let Some(first) = frames.first().map(|f| f.time.as_micros()) else {
-                    worker.finished.store(true, Ordering::Relaxed);
-                    return;
-                };
-                let span = frames.last().map_or(0, |f| f.time.as_micros() - first);
-                let period = if frames.len() > 1 {
-                    span / (frames.len() as u64 - 1)
-                } else {
-                    0
-                };
-                let mut offset = 0u64;
-                let t0 = Instant::now();
-                loop {
-                    for f in &frames {
-                        let t = f.time.as_micros() - first + offset;
-                        // Never a panic, whatever the speed: a delay beyond a day waits a day.
-                        let delay = (t as f64 * 1e-6 / speed).clamp(0.0, 86_400.0);
-                        let due = t0 + Duration::from_secs_f64(delay);
-                        loop {
-                            if worker.stop.load(Ordering::Relaxed) {
-                                return;
-                            }
-                            let now = Instant::now();
-                            if now >= due {
-                                break;
-                            }
-                            std::thread::sleep((due - now).min(POLL));
-                        }
-                        // The replay's states are the trace's, frame by frame.
-                        {
-                            let mut m = lock(&worker.merge);
-                            m.tracker = f.status.tracker;
-                            m.glove = f.status.glove;
-                        }
-                        if f.status.tracker_fresh {
-                            worker.role(DeviceRole::Tracker, |r| r.samples(1));
-                        }
-                        if f.status.glove_fresh {
-                            worker.role(DeviceRole::Glove, |r| r.samples(1));
-                        }
-                        worker.send(HandFrame {
-                            time: Timestamp(t),
-                            ..*f
-                        });
-                    }
-                    if !repeat {
-                        break;
-                    }
-                    offset += span + period.max(1);
-                }
-                worker.finished.store(true, Ordering::Relaxed);
-            });
-        let threads = match thread {
-            Ok(t) => vec![t],
-            Err(e) => {
-                // No thread, no frames: say so rather than pretend to play.
-                shared.note_error(&DeviceError::Io {
-                    device: "replay thread".into(),
-                    error: e,
-                });
-                shared.finished.store(true, Ordering::Relaxed);
-                Vec::new()
-            }
-        };
-        HandStream {
-            rx,
-            shared,
-            threads,
-            joints,
-            description: vec!["trace replay".into()],
-            source_header: Some(source_header),
-            warnings: Vec::new(),
-        }
-    }
-
     /// The header of the trace a replay stream plays (`None` for live devices).
     pub fn source_header(&self) -> Option<&TraceHeader> {
         self.source_header.as_ref()
@@ -705,6 +632,10 @@ impl HandStream {
                 hand: profile.hand,
                 joints: self.joints.clone(),
                 scene: None,
+                skeleton: match profile.input {
+                    Input::Skeleton(_) => Some(profile.hand.side),
+                    _ => None,
+                },
             },
         }
     }
@@ -780,6 +711,7 @@ impl HandStream {
                     watchdog_trips: r.watchdog_trips,
                     disconnects: r.disconnects,
                     stats: device,
+                    seen: r.seen.clone(),
                 }
             })
             .collect()
@@ -844,6 +776,7 @@ impl Drop for HandStream {
     }
 }
 
+mod replay;
 mod status;
 use status::RoleStatus;
 pub use status::{DeviceRole, DeviceStatus};

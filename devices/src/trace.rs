@@ -16,7 +16,8 @@
 //! ```
 //!
 //! - Line 1 names the format and its version ([`TRACE_FORMAT`], [`TRACE_VERSION`]). This crate
-//!   writes version 2 and reads versions 1 and 2 ([`OLDEST_TRACE_VERSION`]).
+//!   reads versions 1 to 3 ([`OLDEST_TRACE_VERSION`]) and writes the oldest that holds the
+//!   trace: version 2, or version 3 for a trace of skeleton frames (a `skeleton` header line).
 //! - Header lines, each a keyword and its value: `profile` (optional, the rest of the line),
 //!   `world_from_tracker` and `hand` (optional, one-line JSON as in profiles, validated by the
 //!   same rules; defaults when absent), `joints` (the glove columns of every frame, by joint
@@ -27,6 +28,9 @@
 //!   surface and the session's settings, `nendo::hand::scene`). The writer always writes
 //!   the `scene` line (last, as it may hold a whole model); a version-2 header without one
 //!   reads as `scene none`, and a version-1 header must not have one.
+//! - Since version 3, `skeleton left` or `skeleton right` (before `scene`): the frames carry a
+//!   hand as joint poses ([`crate::skeleton`]), each in an `S` section after its `J` columns
+//!   (module `skeleton` says how it is written). A trace without the line has no `S` sections.
 //! - `frames` ends the header. Each following line is one frame:
 //!   `time tracker glove buttons P pose J angles`, where
 //!   - `time` is in microseconds since the recording started, never decreasing;
@@ -81,6 +85,7 @@ use crate::profile::{HandSize, WorldFromTracker};
 
 mod recorder;
 mod recover;
+mod skeleton;
 use crate::{
     DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose,
 };
@@ -91,7 +96,9 @@ pub use recover::{DroppedTail, Interrupted, Recovered};
 /// The format name on the first line.
 pub const TRACE_FORMAT: &str = "nendo-hand-trace";
 /// The format version this crate writes (and the newest it reads).
-pub const TRACE_VERSION: u32 = 2;
+pub const TRACE_VERSION: u32 = 3;
+/// The version of a trace without skeleton frames (written as before skeletons came).
+pub const GLOVE_TRACE_VERSION: u32 = 2;
 /// The oldest format version this crate reads: version 1, without the `scene` header line.
 pub const OLDEST_TRACE_VERSION: u32 = 1;
 /// Decimals of every number in a trace.
@@ -111,6 +118,8 @@ pub struct TraceHeader {
     /// The scene the trace was recorded on (`None`: the trace does not say; always `None`
     /// for a version-1 trace).
     pub scene: Option<SceneText>,
+    /// The hand of the frames' skeletons (`None`: the frames carry none; trace version 3).
+    pub skeleton: Option<crate::profile::Side>,
 }
 
 /// The `scene` of a trace header: one line of well-formed JSON whose value is an object,
@@ -200,6 +209,9 @@ pub fn quantize_frame(frame: &HandFrame, joints: &[Joint]) -> HandFrame {
         }
         f.joints = Some(q);
     }
+    if let Some(s) = &f.skeleton {
+        f.skeleton = Some(skeleton::quantize_skeleton(s));
+    }
     f
 }
 
@@ -221,6 +233,7 @@ pub fn withdraw_stale(frame: &HandFrame) -> HandFrame {
     let mut f = *frame;
     if f.status.tracker != SourceState::Ok {
         f.pose = None;
+        f.skeleton = None;
     }
     if f.status.glove != SourceState::Ok {
         f.joints = None;
@@ -232,6 +245,12 @@ pub fn withdraw_stale(frame: &HandFrame) -> HandFrame {
 /// the line reads back as exactly that frame. Values of a source that is not `ok` are not
 /// written (`P -`, `J -`; see [`withdraw_stale`]).
 pub fn format_frame(joints: &[Joint], f: &HandFrame, out: &mut String) {
+    format_frame_of(joints, false, f, out);
+}
+
+/// [`format_frame`] for a trace with or without skeleton frames (`skeleton`: the header has a
+/// `skeleton` line, and the frame gets its `S` section).
+pub fn format_frame_of(joints: &[Joint], skeleton: bool, f: &HandFrame, out: &mut String) {
     let f = &quantize_frame(f, joints);
     let _ = write!(out, "{} ", f.time.as_micros());
     state_token(f.status.tracker, f.status.tracker_fresh, out);
@@ -262,12 +281,20 @@ pub fn format_frame(joints: &[Joint], f: &HandFrame, out: &mut String) {
         }
         None => out.push_str(" -"),
     }
+    if skeleton {
+        skeleton::format_skeleton(f.skeleton.as_ref(), out);
+    }
     out.push('\n');
 }
 
 /// The header lines, up to and including `frames`.
 pub fn format_header(h: &TraceHeader) -> String {
-    let mut s = format!("{TRACE_FORMAT} {TRACE_VERSION}\n");
+    let version = if h.skeleton.is_some() {
+        TRACE_VERSION
+    } else {
+        GLOVE_TRACE_VERSION
+    };
+    let mut s = format!("{TRACE_FORMAT} {version}\n");
     if let Some(p) = &h.profile {
         let _ = writeln!(s, "profile {}", p.replace(['\n', '\r'], " "));
     }
@@ -286,6 +313,9 @@ pub fn format_header(h: &TraceHeader) -> String {
         s.push(' ');
         s.push_str(j.name());
     }
+    if let Some(side) = h.skeleton {
+        let _ = write!(s, "\nskeleton {}", skeleton::side_token(side));
+    }
     match &h.scene {
         Some(scene) => {
             let _ = write!(s, "\nscene {scene}");
@@ -301,7 +331,12 @@ impl Trace {
     pub fn to_text(&self) -> String {
         let mut s = format_header(&self.header);
         for f in &self.frames {
-            format_frame(&self.header.joints, f, &mut s);
+            format_frame_of(
+                &self.header.joints,
+                self.header.skeleton.is_some(),
+                f,
+                &mut s,
+            );
         }
         let _ = writeln!(s, "end {}", self.frames.len());
         s
@@ -419,6 +454,19 @@ impl Trace {
                         })?),
                     };
                 }
+                "skeleton" if version < 3 => {
+                    return Err(err(
+                        n,
+                        format!(
+                            "a `skeleton` header line needs trace version 3; this trace says version {version}"
+                        ),
+                    ));
+                }
+                "skeleton" => {
+                    header.skeleton = Some(skeleton::parse_side(rest.trim()).ok_or_else(|| {
+                        err(n, format!("skeleton `{rest}`: expected `left` or `right`"))
+                    })?);
+                }
                 "frames" => {
                     in_frames = true;
                     break;
@@ -467,7 +515,7 @@ impl Trace {
                 };
                 return Ok(Recovered::interrupted(header, frames, Some(tail)));
             }
-            let frame = parse_frame(&header.joints, line)
+            let frame = parse_frame_of(&header.joints, header.skeleton, line)
                 .map_err(|e| e.to_string())
                 .and_then(|f| {
                     if f.time.as_micros() < last {
@@ -586,6 +634,12 @@ pub enum FrameError {
     /// column follows a field).
     #[error("`{0}` is not a per-frame field `name=value`")]
     BadField(String),
+    /// The `S` section of a skeleton trace's frame is missing.
+    #[error("expected `S` before the skeleton (the header says the frames carry one)")]
+    MissingSkeletonMarker,
+    /// A joint of the `S` section does not read or validate.
+    #[error("skeleton: {0}")]
+    BadSkeleton(String),
     /// A per-frame field this version of the format does not know.
     #[error("unknown per-frame field `{0}` (a trace from a newer nendo?)")]
     UnknownField(String),
@@ -640,6 +694,16 @@ fn read_field(word: &str) -> Result<(), FrameError> {
 
 /// Parses one frame line given the header's joint columns.
 pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, FrameError> {
+    parse_frame_of(joints, None, line)
+}
+
+/// Parses one frame line given the header's joint columns and skeleton hand (`Some`: the
+/// frame has an `S` section).
+pub fn parse_frame_of(
+    joints: &[Joint],
+    skeleton: Option<crate::profile::Side>,
+    line: &str,
+) -> Result<HandFrame, FrameError> {
     let mut w = line.split_whitespace();
     let time: u64 = w
         .next()
@@ -690,6 +754,20 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, FrameError
     for field in fields {
         read_field(field)?;
     }
+    let (rest, hand) = match skeleton {
+        None => (rest, None),
+        Some(side) => {
+            let at = rest
+                .iter()
+                .position(|w| *w == "S")
+                .ok_or(FrameError::MissingSkeletonMarker)?;
+            let hand = skeleton::parse_skeleton(&rest[at + 1..], side)?;
+            if hand.is_some() && tracker != SourceState::Ok {
+                return Err(FrameError::PoseWithoutTracker(tracker));
+            }
+            (&rest[..at], hand)
+        }
+    };
     let angles = if rest == ["-"] {
         None
     } else if glove != SourceState::Ok {
@@ -720,6 +798,7 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, FrameError
             tracker_fresh,
             glove_fresh,
         },
+        skeleton: hand,
     })
 }
 
@@ -734,6 +813,7 @@ pub struct TraceWriter {
     out: Option<nendo_file::AtomicFile>,
     path: PathBuf,
     joints: Vec<Joint>,
+    skeleton: bool,
     count: u64,
     line: String,
 }
@@ -754,6 +834,7 @@ impl TraceWriter {
         Ok(TraceWriter {
             out: Some(out),
             path: path.to_path_buf(),
+            skeleton: header.skeleton.is_some(),
             joints: header.joints,
             count: 0,
             line: String::new(),
@@ -763,7 +844,7 @@ impl TraceWriter {
     /// Appends a frame. Errors name the trace (not its temporary file).
     pub fn push(&mut self, frame: &HandFrame) -> Result<(), DeviceError> {
         self.line.clear();
-        format_frame(&self.joints, frame, &mut self.line);
+        format_frame_of(&self.joints, self.skeleton, frame, &mut self.line);
         let Some(out) = self.out.as_mut() else {
             return Err(DeviceError::File {
                 path: self.path.clone(),
@@ -803,64 +884,4 @@ impl TraceWriter {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn frame_errors_are_typed_and_keep_their_messages() {
-        let joints = [Joint::IndexMcp];
-        let cases: [(&str, FrameError, &str); 8] = [
-            ("", FrameError::Empty, "empty line"),
-            ("0 ok", FrameError::EndsEarly, "the line ends early"),
-            (
-                "x ok ok 0 P - J -",
-                FrameError::BadTime,
-                "the time is not a whole number of microseconds",
-            ),
-            (
-                "0 up ok 0 P - J -",
-                FrameError::UnknownState("up".into()),
-                "unknown source state `up`",
-            ),
-            (
-                "0 ok ok 0 P 1.5 J -",
-                FrameError::NotSixDecimals("1.5".into()),
-                "`1.5` is not a number with 6 decimals",
-            ),
-            (
-                "0 lost ok 0 P 0.000000 J -",
-                FrameError::PoseWithoutTracker(SourceState::Disconnected),
-                "the tracker is `lost` but the frame has a pose: only an `ok` source carries values",
-            ),
-            (
-                "0 ok silent 0 P - J 0.100000",
-                FrameError::AnglesWithoutGlove(SourceState::Silent),
-                "the glove is `silent` but the frame has joint angles: only an `ok` source carries values",
-            ),
-            (
-                "0 ok ok 0 P - J 0.100000 0.200000",
-                FrameError::JointCount {
-                    found: 2,
-                    expected: 1,
-                },
-                "2 joint columns, the header names 1",
-            ),
-        ];
-        for (line, want, message) in cases {
-            let e = parse_frame(&joints, line).unwrap_err();
-            assert_eq!(e, want, "{line}");
-            assert_eq!(e.to_string(), message, "{line}");
-        }
-        assert!(matches!(
-            parse_frame(&joints, "0 ok ok 0 P - J 9.000000"),
-            Err(FrameError::BadJoint(_))
-        ));
-        assert!(matches!(
-            parse_frame(
-                &joints,
-                "0 ok ok 0 P 0.000000 0.000000 0.000000 0.000000 0.000000 0.000000 0.000000 J -"
-            ),
-            Err(FrameError::BadPose(_))
-        ));
-    }
-}
+mod tests;

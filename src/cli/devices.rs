@@ -144,6 +144,7 @@ fn render(inv: &discover::Inventory, profiles: &[Profile]) -> String {
             }
             Input::Mouse(_) => "the mouse (in the window)".to_string(),
             Input::Replay(r) => format!("replay of {}", r.trace),
+            Input::Skeleton(k) => format!("{} (UDP) on {}", k.protocol(), k.listen()),
         };
         s.push_str(&format!("  {:<24} {wants}\n", p.name));
     }

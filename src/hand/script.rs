@@ -293,6 +293,7 @@ impl Choreography {
             pose: Some(self.pose),
             joints: Some(self.angles),
             buttons: self.buttons,
+            skeleton: None,
             status: FrameStatus {
                 tracker: SourceState::Ok,
                 glove: SourceState::Ok,
@@ -320,6 +321,7 @@ impl Choreography {
                 hand: *self.hand.size(),
                 joints: CYBERGLOVE_18_JOINTS.to_vec(),
                 scene: None,
+                skeleton: None,
             },
             frames: self.frames,
         })

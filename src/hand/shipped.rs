@@ -449,6 +449,7 @@ pub fn mouse_sphere() -> Result<Trace, HandError> {
             hand: HandSize::default(),
             joints,
             scene: None,
+            skeleton: None,
         },
         frames,
     })

@@ -30,6 +30,7 @@ fn frame(k: usize, hz: f64, position: DVec3, q: DQuat, angles: JointAngles) -> H
         }),
         joints: Some(angles),
         buttons: 0,
+        skeleton: None,
         status: FrameStatus {
             tracker: SourceState::Ok,
             glove: SourceState::Ok,

@@ -59,6 +59,9 @@ pub struct DeviceStatus {
     pub disconnects: u64,
     /// All of the device's counters.
     pub stats: DeviceStats,
+    /// The bones (or joints) a skeleton source has received, by name (empty for a glove or
+    /// tracker).
+    pub seen: Vec<String>,
 }
 
 /// A device's status as the worker keeps it.
@@ -74,6 +77,7 @@ pub(super) struct RoleStatus {
     pub(super) window_count: u64,
     pub(super) rate: f64,
     pub(super) last_sample: Option<Instant>,
+    pub(super) seen: Vec<String>,
 }
 
 impl RoleStatus {

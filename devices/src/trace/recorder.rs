@@ -34,7 +34,7 @@ use std::time::{Duration, Instant};
 
 use nendo_file::{AppendFile, Existing};
 
-use super::{TraceHeader, format_frame, format_header};
+use super::{TraceHeader, format_frame_of, format_header};
 use crate::{DeviceError, HandFrame, Joint};
 
 /// The longest a pushed frame waits for its `fdatasync`.
@@ -47,6 +47,8 @@ pub struct TraceRecorder {
     out: Option<AppendFile>,
     path: PathBuf,
     joints: Vec<Joint>,
+    /// The frames carry skeletons (the header's `skeleton` line).
+    skeleton: bool,
     count: u64,
     line: String,
     /// When the file was last synced.
@@ -79,6 +81,7 @@ impl TraceRecorder {
         Ok(TraceRecorder {
             out: Some(out),
             path: path.to_path_buf(),
+            skeleton: header.skeleton.is_some(),
             joints: header.joints,
             count: 0,
             line: String::new(),
@@ -105,7 +108,7 @@ impl TraceRecorder {
     /// file keeps every frame before this one), or it had stopped already.
     pub fn push(&mut self, frame: &HandFrame) -> Result<(), DeviceError> {
         self.line.clear();
-        format_frame(&self.joints, frame, &mut self.line);
+        format_frame_of(&self.joints, self.skeleton, frame, &mut self.line);
         let Some(out) = self.out.as_mut() else {
             return Err(self.not_writable());
         };

@@ -42,6 +42,7 @@ fn frames(n: u64) -> Vec<HandFrame> {
                 ),
                 joints: Some(a),
                 buttons: (i % 2) as u32,
+                skeleton: None,
                 status: FrameStatus {
                     tracker: SourceState::Ok,
                     glove: SourceState::Ok,

@@ -48,6 +48,7 @@ fn random_frames(seed: u64, n: usize, joints: &[Joint]) -> Vec<HandFrame> {
                 pose,
                 joints: angles,
                 buttons: rng.gen_range(0..8),
+                skeleton: None,
                 status: FrameStatus {
                     tracker: states[rng.gen_range(0..4)],
                     glove: states[rng.gen_range(0..4)],
@@ -145,11 +146,11 @@ fn malformed_traces_report_the_line() {
         v[i] = new;
         v.join("\n")
     };
-    assert_eq!(error_line("nendo-hand-trace 3\nframes\nend 0\n").0, 1);
+    assert_eq!(error_line("nendo-hand-trace 4\nframes\nend 0\n").0, 1);
     assert!(
         error_line("nendo-hand-trace 0\nframes\nend 0\n")
             .1
-            .contains("reads versions 1 to 2")
+            .contains("reads versions 1 to 3")
     );
     assert_eq!(error_line("hello\n").0, 1);
     // The first frame line with a number (values only come with an `ok` source).
@@ -387,4 +388,100 @@ fn a_writer_error_names_the_trace_not_its_temporary_file() {
         .to_string();
     assert!(e.starts_with(&path.display().to_string()), "{e}");
     assert!(!e.contains("nendo-tmp"), "{e}");
+}
+
+/// Version 3: skeleton frames round-trip bit for bit; a glove trace is still written as
+/// version 2; a `skeleton` line needs version 3; a bad `S` section is an error on its line.
+#[test]
+fn skeleton_traces_round_trip_and_glove_traces_stay_version_2() {
+    use nendo_devices::profile::Side;
+    use nendo_devices::skeleton::{HandJoint, JointPose, JointSource, Skeleton};
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let mut frames = Vec::new();
+    for k in 0..20u64 {
+        let mut s = Skeleton::new(Side::Left);
+        for j in HandJoint::ALL {
+            if rng.gen_bool(0.1) {
+                continue;
+            }
+            let q = glam::DQuat::from_xyzw(
+                rng.gen_range(-1.0..1.0),
+                rng.gen_range(-1.0..1.0),
+                rng.gen_range(-1.0..1.0),
+                rng.gen_range(-1.0..1.0),
+            )
+            .normalize();
+            let p = glam::DVec3::new(rng.gen_range(-2.0..2.0), rng.gen_range(-2.0..2.0), 1.0);
+            let radius = rng.gen_bool(0.5).then(|| rng.gen_range(0.005..0.02));
+            let source = if rng.gen_bool(0.5) {
+                JointSource::Measured
+            } else {
+                JointSource::Made
+            };
+            s.set(j, JointPose::new(p, q, radius).unwrap(), source);
+        }
+        let ok = k % 7 != 3;
+        frames.push(HandFrame {
+            time: Timestamp::from_micros(k * 16_667),
+            skeleton: ok.then_some(s),
+            status: FrameStatus {
+                tracker: if ok {
+                    SourceState::Ok
+                } else {
+                    SourceState::Silent
+                },
+                glove: SourceState::Absent,
+                tracker_fresh: ok,
+                glove_fresh: false,
+            },
+            ..HandFrame::default()
+        });
+    }
+    let trace = Trace {
+        header: TraceHeader {
+            skeleton: Some(Side::Left),
+            ..TraceHeader::default()
+        },
+        frames: frames
+            .iter()
+            .map(|f| nendo_devices::trace::quantize_frame(f, &[]))
+            .collect(),
+    };
+    let text = trace.to_text();
+    assert!(text.starts_with("nendo-hand-trace 3\n"), "{text}");
+    assert!(text.contains("\nskeleton left\n"));
+    let back = Trace::parse(&text).unwrap();
+    assert_eq!(back, trace);
+    assert_eq!(back.to_text(), text);
+    // Without skeletons: version 2, as before.
+    let glove = Trace {
+        header: header(),
+        frames: Vec::new(),
+    };
+    assert!(glove.to_text().starts_with("nendo-hand-trace 2\n"));
+    // A skeleton line in a version-2 trace, a bad flag, a short section.
+    let v2 = text.replacen("nendo-hand-trace 3", "nendo-hand-trace 2", 1);
+    assert!(
+        Trace::parse(&v2)
+            .unwrap_err()
+            .to_string()
+            .contains("needs trace version 3")
+    );
+    let first = text
+        .lines()
+        .position(|l| l.contains(" S m") || l.contains(" S d"))
+        .unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let bad_flag = lines[first]
+        .replacen(" S m", " S x", 1)
+        .replacen(" S d", " S x", 1);
+    let short = lines[first].rsplit_once(' ').unwrap().0.to_owned();
+    for bad in [bad_flag, short] {
+        let mut v = lines.clone();
+        v[first] = &bad;
+        let e = Trace::parse(&(v.join("\n") + "\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with(&format!("trace line {}:", first + 1)), "{e}");
+    }
 }

@@ -69,6 +69,17 @@ fn device_status_ui(ui: &mut Ui, d: &DeviceStatus, replay: bool) {
             d.faults, d.rejected, d.watchdog_trips, d.disconnects
         ));
     }
+    // A skeleton source (VMC): its packets, the malformed ones and the bones it has seen.
+    if !replay && !d.seen.is_empty() {
+        ui.small(format!(
+            "packets {}, malformed {}, invalid {}, incomplete hands {}",
+            d.stats.decode.records + d.stats.decode.rejected,
+            d.stats.decode.rejected,
+            d.stats.invalid,
+            d.stats.faults
+        ));
+        ui.small(format!("bones seen: {}", d.seen.join(" ")));
+    }
     if let Some(e) = &d.last_error {
         ui.colored_label(ERROR, e);
     }
@@ -141,10 +152,9 @@ impl LiveInput {
         ui.separator();
         self.replay_ui(ui, doc, &mut commands);
         if self.running_devices().is_some()
-            || self
-                .entries
-                .get(self.selected)
-                .is_some_and(|e| matches!(e.profile.input, Input::Devices { .. }))
+            || self.entries.get(self.selected).is_some_and(|e| {
+                matches!(e.profile.input, Input::Devices { .. } | Input::Skeleton(_))
+            })
         {
             ui.separator();
             self.alignment_ui(ui, doc, anchor);

@@ -82,6 +82,10 @@ pub struct RecordArgs {
     /// Serial port replacing the profile tracker's.
     #[arg(long)]
     pub tracker_port: Option<String>,
+    /// The address and port the VMC receiver listens on (`ADDR:PORT`), replacing the
+    /// profile's: for a profile with a VMC source (`--profile vmc`).
+    #[arg(long, value_name = "ADDR:PORT")]
+    pub vmc_listen: Option<String>,
     /// The scene's start surface: a primitive (plane, cylinder, hemisphere, sphere, torus or
     /// tube).
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_primitive), conflicts_with = "model")]
@@ -242,8 +246,15 @@ fn record(args: RecordArgs) -> anyhow::Result<String> {
     let mut options = StreamOptions {
         glove_port: args.glove_port,
         tracker_port: args.tracker_port,
+        vmc_listen: args.vmc_listen,
         ..StreamOptions::default()
     };
+    if options.vmc_listen.is_some() && !matches!(profile.input, Input::Skeleton(_)) {
+        anyhow::bail!(
+            "profile {} has no VMC receiver for --vmc-listen (try --profile vmc)",
+            profile.name
+        );
+    }
     if let Some(port) = args.port {
         match (
             &profile.input,

@@ -33,7 +33,9 @@
 //! 1. **Finger.** A frame whose tracker is not `ok`, or without a pose, has no finger; nor has
 //!    a frame whose glove is silent or lost, or `ok` without joint angles; without a glove in
 //!    the profile (`none`) the hand is flat. Values a frame carries for a source that is not
-//!    `ok` are never used. No finger: the contact ends.
+//!    `ok` are never used. No finger: the contact ends. A frame carrying a skeleton (a VMC
+//!    source in the tracker's slot) takes the hand from its joints ([`super::skeleton`]); a
+//!    skeleton missing a joint of the finger chains has no finger.
 //! 2. **Activation** ([`Activation`](super::Activation)). The glove's finger always acts;
 //!    its switch ([`nendo_devices::buttons::PRIMARY`]) is the grip. The mouse finger acts
 //!    only while a button is held: the left button presses, the right one grips.
@@ -345,15 +347,10 @@ impl HandLoop {
         if frame.status.tracker != SourceState::Ok {
             return None;
         }
-        let pose = frame.pose?;
-        let joints: Option<&JointAngles> = match (frame.status.glove, &frame.joints) {
-            (SourceState::Ok, Some(j)) => Some(j),
-            (SourceState::Absent, _) => None,
-            _ => return None,
-        };
-        let placed = match self.options.finger {
-            FingerModel::Hand(_) => self.hand.pose(&pose, joints),
-            FingerModel::Ray => self.hand.pose_at_fingertip(&pose, joints, Digit::Index),
+        // A skeleton source gives the hand's joints themselves (super::skeleton).
+        let placed = match &frame.skeleton {
+            Some(skeleton) => self.hand.skeleton_pose(skeleton)?,
+            None => self.glove_pose(frame)?,
         };
         let mut tips = Vec::new();
         for part in self.options.finger.parts().parts() {
@@ -390,6 +387,21 @@ impl HandLoop {
             tips.push((part, tip));
         }
         (!tips.is_empty()).then_some((placed, tips))
+    }
+
+    /// The kinematic hand of a glove and tracker frame (rule 1): the tracker's pose, bent by
+    /// the glove's angles (flat without a glove in the profile).
+    fn glove_pose(&self, frame: &HandFrame) -> Option<HandPose> {
+        let pose = frame.pose?;
+        let joints: Option<&JointAngles> = match (frame.status.glove, &frame.joints) {
+            (SourceState::Ok, Some(j)) => Some(j),
+            (SourceState::Absent, _) => None,
+            _ => return None,
+        };
+        Some(match self.options.finger {
+            FingerModel::Hand(_) => self.hand.pose(&pose, joints),
+            FingerModel::Ray => self.hand.pose_at_fingertip(&pose, joints, Digit::Index),
+        })
     }
 
     /// Signed penetration of a fingertip into `grid` along its axis: `ahead` is how far past

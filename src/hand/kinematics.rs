@@ -184,7 +184,7 @@ pub struct Hand {
 }
 
 /// Palm thickness as a fraction of the palm width.
-const PALM_THICKNESS: f64 = 0.3;
+pub(crate) const PALM_THICKNESS: f64 = 0.3;
 /// Rest spread of the thumb from the middle finger, radians (25°).
 const THUMB_REST_SPREAD: f64 = 25.0 * std::f64::consts::PI / 180.0;
 

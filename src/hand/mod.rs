@@ -11,6 +11,7 @@
 //! | module | what it is |
 //! |---|---|
 //! | [`kinematics`] | [`Hand`]: bend angles → joint positions of each [`Digit`], lengths from the profile, placed in the world by the tracker pose; the [`Palm`] |
+//! | [`skeleton`] | skeleton hands (the VMC receiver's joints) and the kinematic hand: [`Hand::skeleton_pose`] places a [`nendo_devices::Skeleton`], [`Hand::skeleton`] makes one from a glove frame |
 //! | [`contact`] | [`Probe`]: where a line along the finger meets the surface (patch boxes, then exact ray picking of [`crate::mesh`]); [`Fingertip`], the capsule of radius `r_f` around the finger's axis |
 //! | [`parts`] | [`Part`]: a finger or the palm; [`Fingers`], the set that presses; [`FingerModel`], the parts a device presses with, and its [`Activation`] |
 //! | [`options`] | [`HandOptions`]: finger radius, parts, thresholds of contact, stroke, grip and pinch |
@@ -81,6 +82,7 @@ pub mod scene;
 pub mod script;
 pub mod session;
 pub mod shipped;
+pub mod skeleton;
 
 pub use contact::{AxisHit, Fingertip, Probe};
 pub use hand_loop::HandLoop;

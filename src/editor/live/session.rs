@@ -258,7 +258,13 @@ impl LiveInput {
             refused = driver.take_refused();
             self.contacts = driver.contacts();
         }
-        if let Some(pose) = frames.iter().rev().find_map(|f| f.pose) {
+        // A skeleton source's hand is where its palm is (for Recenter).
+        let palm = |f: &nendo_devices::HandFrame| {
+            let s = f.skeleton.as_ref()?;
+            let p = s.get(nendo_devices::HandJoint::Palm)?;
+            TrackerPose::new(p.position, p.orientation).ok()
+        };
+        if let Some(pose) = frames.iter().rev().find_map(|f| f.pose.or_else(|| palm(f))) {
             self.last_pose = Some(pose);
         }
         self.capture(&frames);
@@ -320,11 +326,11 @@ impl LiveInput {
         ))
     }
 
-    /// The running live profile (devices, not a replay).
+    /// The running live profile (devices or a skeleton source, not a replay).
     pub(crate) fn running_devices(&self) -> Option<&Profile> {
         self.running
             .as_ref()
-            .filter(|p| matches!(p.input, Input::Devices { .. }))
+            .filter(|p| matches!(p.input, Input::Devices { .. } | Input::Skeleton(_)))
     }
 
     /// The last tracker pose.

@@ -57,6 +57,9 @@ pub enum EmulatedDevice {
     /// 5DT Data Glove 5, serial (glove; profile `5dt-glove5-serial`).
     #[value(name = "5dt-glove5")]
     FiveDtGlove5,
+    /// A VMC performer: the hand's bones as OSC bundles over UDP to `--to` (profile `vmc`;
+    /// see `super::emulate_vmc`).
+    Vmc,
 }
 
 /// Arguments of `nendo emulate`.
@@ -88,6 +91,9 @@ pub struct EmulateArgs {
     /// is then PATH.
     #[arg(long, value_name = "PATH")]
     pub link: Option<std::path::PathBuf>,
+    /// Where `vmc` sends its bundles (default 127.0.0.1:39539, the `vmc` profile's).
+    #[arg(long, value_name = "ADDR:PORT")]
+    pub to: Option<String>,
 }
 
 /// A symbolic link `--link` made to the emulator's port; removed on drop if it still points
@@ -187,6 +193,7 @@ fn default_profile(device: EmulatedDevice, format: Option<&str>) -> &'static str
         EmulatedDevice::Cyberglove => "cyberglove2-18",
         EmulatedDevice::Flock => "flock",
         EmulatedDevice::FiveDtGlove5 => "5dt-glove5-serial",
+        EmulatedDevice::Vmc => "vmc",
     }
 }
 
@@ -210,6 +217,10 @@ fn check_profile_device(profile: &Profile, device: EmulatedDevice) -> anyhow::Re
         EmulatedDevice::FiveDtGlove5 => (
             matches!(profile.glove(), Some(GloveProfile::FiveDtGlove5 { .. })),
             "a 5DT Data Glove 5",
+        ),
+        EmulatedDevice::Vmc => (
+            matches!(profile.input, nendo_devices::profile::Input::Skeleton(_)),
+            "a VMC receiver",
         ),
     };
     if fits {
@@ -246,6 +257,15 @@ fn emulate(args: &EmulateArgs) -> anyhow::Result<String> {
     }
     if !(args.corrupt.is_finite() && (0.0..=1.0).contains(&args.corrupt)) {
         anyhow::bail!("--corrupt must be a probability from 0 to 1");
+    }
+    if args.device == EmulatedDevice::Vmc {
+        if args.format.is_some() || args.link.is_some() || args.corrupt != 0.0 {
+            anyhow::bail!("--format, --link and --corrupt are for the serial emulators, not vmc");
+        }
+        return super::emulate_vmc::emulate_vmc(args);
+    }
+    if args.to.is_some() {
+        anyhow::bail!("--to is for the vmc emulator (a serial emulator prints its port)");
     }
     let format = args.format.as_deref();
     let name = args
@@ -343,6 +363,10 @@ fn emulate(args: &EmulateArgs) -> anyhow::Result<String> {
                 PtyEmulator::spawn(model.with_values(values))?,
                 "5DT Data Glove 5".to_string(),
             )
+        }
+        // Sent over UDP above, never on a pty.
+        EmulatedDevice::Vmc => {
+            anyhow::bail!("the vmc emulator sends over UDP (--to), not on a pty")
         }
     };
     if args.corrupt > 0.0 {

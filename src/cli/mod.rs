@@ -9,6 +9,7 @@ pub mod closest;
 pub mod curve;
 pub mod devices;
 pub mod emulate;
+mod emulate_vmc;
 pub mod export;
 pub mod figure;
 pub mod json_lines;

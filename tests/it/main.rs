@@ -21,6 +21,7 @@ mod figure_warp;
 mod hand_contact;
 mod hand_filter;
 mod hand_kinematics;
+mod hand_skeleton;
 mod hand_traces;
 mod limits_cli;
 mod memory_limits;
@@ -45,3 +46,4 @@ mod svg_import;
 // It measures strokes through `nendo::bench::live`, which times the renderer (`gui`).
 #[cfg(feature = "gui")]
 mod undo_history;
+mod vmc_cli;

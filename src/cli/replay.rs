@@ -39,6 +39,10 @@
 //! is not refined further while it lasts (its reference surface is fixed when it starts), nor
 //! is a contact that starts on the very frame the previous one ends. A refinement stopped by
 //! the grid limit is reported on standard error, and the contact goes on.
+//! The summary on standard error counts the contacts and what they ended as: pushes, pulls
+//! (the grip drawing the clay out), draw-a-line strokes, and grabs — pinches of thumb and
+//! index that took hold of the clay (rule 9 of [`crate::hand::hand_loop`]), each one `move`.
+//!
 //! `--mirror x|y|z` presses every contact together with its mirror image across the plane
 //! `x = 0` (`y = 0`, `z = 0`), keeping a symmetric model exactly symmetric; a model that is not
 //! symmetric about the plane is refused (exit status 1).
@@ -485,12 +489,13 @@ fn replay(args: &Args) -> anyhow::Result<String> {
         format!("; from the trace's scene: {}", from_scene.join(", "))
     };
     Ok(format!(
-        "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}{refinement}{scene}; {:.3} s -> {}",
+        "{total} frames ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes, {} grabs (pinches); regulation {regulation}{refinement}{scene}; {:.3} s -> {}",
         st.frames_with_finger,
         st.contacts,
         st.pushes,
         st.pulls,
         st.strokes,
+        st.holds,
         elapsed.as_secs_f64(),
         args.out.display()
     ))

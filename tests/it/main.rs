@@ -20,6 +20,8 @@ mod figure_shape;
 mod figure_warp;
 mod hand_contact;
 mod hand_kinematics;
+mod hand_poses;
+mod hand_side;
 mod hand_traces;
 mod limits_cli;
 mod memory_limits;

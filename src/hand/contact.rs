@@ -150,9 +150,10 @@ impl Probe {
             .extend(self.candidates.iter().map(|&p| grid.patch_at(p)));
         let mesh = tessellate(&self.patches, &CONTACT_TESSELLATION);
         // The nearest triangle hit from `start + from·d̂` on; a crossing found behind the
-        // origin sends the search on past it (at most a few sheets lie within the slack).
+        // origin, or a triangle with no crossing of the patch near it, sends the search on
+        // past it.
         let mut from = 0.0;
-        for _ in 0..4 {
+        for _ in 0..PASSES {
             let hit = pick(
                 &self.patches,
                 &mesh,
@@ -170,17 +171,18 @@ impl Probe {
             }
             let scale = 1.0 + hit.point.abs().max_element() + origin.abs().max_element();
             let off_line = (start + along * dir - hit.point).length();
-            let (t, patch, uv) = if off_line <= ON_LINE * scale {
-                (along - SLACK, hit.patch, (hit.u, hit.v))
+            let exact = if off_line <= ON_LINE * scale {
+                Some((along - SLACK, hit.patch, (hit.u, hit.v)))
             } else {
                 // The triangle's hit did not refine onto the line: the line meets the surface
                 // within the tessellation's error of it, or not at all.
-                self.exact_crossing(origin, dir, t_max, hit.patch, (hit.u, hit.v), scale)?
+                self.exact_crossing(origin, dir, t_max, hit.patch, (hit.u, hit.v), scale)
             };
-            if t < 0.0 {
+            let Some((t, patch, uv)) = exact.filter(|e| e.0 >= 0.0) else {
+                // Behind the origin, or no crossing there: on to the next triangle.
                 from = along + 1e-9 * (1.0 + span);
                 continue;
-            }
+            };
             if t > t_max {
                 return None;
             }
@@ -232,6 +234,10 @@ impl Probe {
     }
 }
 
+/// How many triangle hits the probe passes over (crossings behind the origin, triangles with no
+/// crossing of the patch near them) before it gives up.
+const PASSES: usize = 8;
+
 /// How far off the line (relative to the coordinates' size) a hit may be and still be on it.
 const ON_LINE: f64 = 1e-9;
 
@@ -258,7 +264,7 @@ fn newton(
         let f = s - (origin + t * dir);
         let d = -dir;
         let det = su.dot(sv.cross(d));
-        if !(det.abs() > 1e-300) {
+        if det.is_nan() || det.abs() <= 1e-300 {
             return None;
         }
         let du = -f.dot(sv.cross(d)) / det;

@@ -242,6 +242,44 @@ mod tests {
         assert!(s.feed(&silent).committed.is_some());
     }
 
+    /// A jump of the hand (a tracker glitch, two recordings joined) from below the paper's
+    /// sphere to above it: the fingertip's path passes through the clay and out again, so it
+    /// is still outside, and pressing down from there dents the north pole to the fingertip
+    /// (counting only the first crossing, the tip would have been taken for in the clay from
+    /// below, pushing the pole up by the 1 side between it and the tip).
+    #[test]
+    fn a_jump_through_the_clay_and_out_leaves_the_finger_outside() {
+        let sphere = Primitive::Sphere
+            .build(&PrimitiveParams::default())
+            .unwrap();
+        let hand = Hand::new(HandSize::default(), Choreography::WORLD).unwrap();
+        let mut s =
+            HandSession::new(sphere, Regulation::default(), hand, HandOptions::default()).unwrap();
+        let mut c = Choreography::new(Choreography::WORLD, 120.0).unwrap();
+        // Below, pointing up at the sphere (the whole hand below it); then above, pointing
+        // down at it.
+        c.place(DVec3::new(0.0, 0.0, -4.0), DVec3::Z, DVec3::Y);
+        c.hold(2);
+        c.place(DVec3::new(0.0, 0.0, 4.0), -DVec3::Z, -DVec3::Y);
+        c.hold(2);
+        c.move_to(DVec3::new(0.0, 0.0, 2.8), -DVec3::Z, 20);
+        c.hold(10);
+        let t = c.finish("test").unwrap();
+        for (k, f) in t.frames.iter().enumerate() {
+            let out = s.feed(f);
+            if k < 4 {
+                assert_eq!(out.touch, Touch::Free, "frame {k}");
+            }
+        }
+        assert_eq!(s.hand_loop().touch(), Touch::Pressing);
+        let top = 10.0
+            - Probe::new()
+                .first_crossing(s.grid(), DVec3::new(0.0, 0.0, 10.0), -DVec3::Z, 20.0)
+                .unwrap()
+                .t;
+        assert!((top - 2.8).abs() < 2e-3, "the pole at {top}");
+    }
+
     #[test]
     fn values_of_a_source_that_is_not_ok_never_act() {
         let (above, frame) = above_and_in();

@@ -36,7 +36,7 @@
 use glam::DVec3;
 
 use super::HandLoop;
-use crate::hand::contact::Fingertip;
+use crate::hand::contact::{AxisHit, Fingertip};
 use crate::hand::parts::Part;
 use crate::surface::Grid;
 
@@ -92,6 +92,9 @@ impl Side {
     }
 }
 
+/// The most crossings of one frame's tip path counted (a jump through a few sheets).
+const MAX_CROSSINGS: usize = 8;
+
 /// How many times the normal's foot is refined (`depth_behind`).
 const FOOT_STEPS: usize = 4;
 
@@ -114,7 +117,10 @@ impl HandLoop {
     /// clay — pressing if its body crossed no surface at the last frame, else it went through
     /// with the hand (the back of the hand or a knuckle crossed first), pressing nothing; from
     /// `Unknown` it rejoins its body's side (`Home`); from [`Place::Far`] back across the
-    /// surface (against `dir`) it is home again, pressing nothing.
+    /// surface (against `dir`) it is home again, pressing nothing. The crossings of the path
+    /// are counted: an even number (a jump — a tracker glitch, two recordings joined — through
+    /// the clay and out again) leaves the tip where it was, and a tip that crossed several
+    /// sheets in one frame does not press.
     pub(super) fn side_press(
         &mut self,
         reference: &Grid,
@@ -125,28 +131,27 @@ impl HandLoop {
             return (self.appearing(reference, finger), None);
         };
         let step = finger.tip - was.tip;
-        let length = step.length();
-        let crossing = if length > 0.0 {
-            self.probe.first_crossing(reference, was.tip, step, length)
-        } else {
-            None
-        };
-        let place = match (was.place, crossing) {
+        let (count, last) = self.crossings(reference, was.tip, step);
+        let place = match (was.place, last) {
+            // No crossing, or an even number (a jump through the clay and out again in one
+            // frame): still on the same side.
+            (Place::Unknown, _) if count % 2 == 0 => self.appearing(reference, finger),
+            (place, _) if count % 2 == 0 => place,
+            (_, None) => was.place,
             (Place::Far { dir, pressing }, Some(x)) => {
-                // Back through the sheet toward the side it came from: out of the clay.
-                if x.normal.dot(step) * x.normal.dot(dir) < 0.0 {
+                // Back through the sheet toward the side it came from: out of the clay (a
+                // lone crossing onward, into a farther sheet, keeps it in).
+                if count > 1 || x.normal.dot(step) * x.normal.dot(dir) < 0.0 {
                     return (Place::Home, None);
                 }
                 Place::Far { dir, pressing }
             }
-            (Place::Unknown, None) => self.appearing(reference, finger),
-            (place, None) => place,
             (from, Some(x)) => {
                 let Some(n) = x.normal.try_normalize() else {
                     return (from, None);
                 };
                 let dir = if n.dot(step) > 0.0 { n } else { -n };
-                if self.clear(reference, &was.body) {
+                if count == 1 && self.clear(reference, &was.body) {
                     Place::Far {
                         dir,
                         pressing: true,
@@ -178,6 +183,31 @@ impl HandLoop {
             },
             place => (place, None),
         }
+    }
+
+    /// How many times the path `from → from + step` crosses `grid` (at most
+    /// [`MAX_CROSSINGS`]), and the last crossing.
+    fn crossings(&mut self, grid: &Grid, from: DVec3, step: DVec3) -> (usize, Option<AxisHit>) {
+        let length = step.length();
+        let Some(dir) = step.try_normalize() else {
+            return (0, None);
+        };
+        let (mut count, mut last, mut at) = (0, None, 0.0);
+        while count < MAX_CROSSINGS {
+            let Some(x) = self
+                .probe
+                .first_crossing(grid, from + at * dir, dir, length - at)
+            else {
+                break;
+            };
+            count += 1;
+            at += x.t + 1e-6 * (1.0 + length);
+            last = Some(AxisHit { t: at, ..x });
+            if at >= length {
+                break;
+            }
+        }
+        (count, last)
     }
 
     /// Where a part is whose side is not known yet (it has just appeared): on the hand's side

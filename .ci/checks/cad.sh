@@ -25,10 +25,8 @@ if ! "$VENV/bin/python" -c "import OCP.STEPControl, numpy" 2>/dev/null; then
     || fail "cadquery-ocp-novtk==$OCP_VERSION installed but OCP does not import"
 fi
 
-BIN="${NENDO_BIN:-${CARGO_TARGET_DIR:-target}/release/nendo}"
-if [ ! -x "$BIN" ]; then
-  cargo build --release --bin nendo
-fi
+# shellcheck source=lib/binary.sh
+. .ci/checks/lib/binary.sh
 
 WORK="$(mktemp -d /tmp/nendo-cad-check.XXXXXX)"
 trap 'rm -rf "$WORK"' EXIT

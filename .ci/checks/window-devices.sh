@@ -17,11 +17,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
-BIN="${NENDO_BIN:-${CARGO_TARGET_DIR:-target}/release/nendo}"
-if [ ! -x "$BIN" ]; then
-  cargo build --release --bin nendo
-fi
-BIN="$(cd "$(dirname "$BIN")" && pwd)/$(basename "$BIN")"
+# shellcheck source=lib/binary.sh
+. .ci/checks/lib/binary.sh
 for tool in Xvfb xdotool import compare convert jq; do
   command -v "$tool" >/dev/null || { echo "window-devices check: $tool is missing (apt-get install xvfb xdotool imagemagick jq)"; exit 1; }
 done
@@ -69,9 +66,11 @@ start_emulator() { # role device
   "$BIN" emulate "$2" --motion press --profile "$WORK/profile.json" --link "$WORK/$1.tty" \
     >"$WORK/$1.out" 2>"$WORK/$1.log" &
   local pid=$!
-  for _ in $(seq 100); do [ -s "$WORK/$1.out" ] && break; sleep 0.1; done
-  [ "$(head -n1 "$WORK/$1.out" 2>/dev/null)" = "$WORK/$1.tty" ] || fail "the $1 emulator did not print its port"
+  # Known to the cleanup before anything can fail, so a failure never leaves it running
+  # (the cleanup's `wait` would wait for it). Up to 30 s: a loaded machine is slow to start it.
   if [ "$1" = tracker ]; then TRACKER_PID=$pid; else GLOVE_PID=$pid; fi
+  for _ in $(seq 300); do [ -s "$WORK/$1.out" ] && break; sleep 0.1; done
+  [ "$(head -n1 "$WORK/$1.out" 2>/dev/null)" = "$WORK/$1.tty" ] || fail "the $1 emulator did not print its port"
 }
 # status JQ-FILTER: the filter's value on the window's status (false when there is none yet).
 status() { jq -e "$1" "$WORK/status.json" >/dev/null 2>&1; }

@@ -8,10 +8,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
-BIN="${NENDO_BIN:-${CARGO_TARGET_DIR:-target}/release/nendo}"
-if [ ! -x "$BIN" ]; then
-  cargo build --release --bin nendo
-fi
+# shellcheck source=lib/binary.sh
+. .ci/checks/lib/binary.sh
 for tool in Xvfb xdotool import compare convert; do
   command -v "$tool" >/dev/null || { echo "window check: $tool is missing (apt-get install xvfb xdotool imagemagick)"; exit 1; }
 done

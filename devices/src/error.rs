@@ -85,6 +85,21 @@ pub enum DeviceError {
         /// The underlying error (part of the message, not a `source()`).
         error: std::io::Error,
     },
+    /// A recording stopped because its file could not be written (a full disk, an I/O
+    /// error): the file keeps the frames recorded before, as an interrupted trace that a
+    /// recovering read ([`crate::Trace::read_recovering`]) reads.
+    #[error(
+        "{}: {error}: the recording stopped; the file keeps the {frames} frames recorded before (an interrupted trace, which replay reads)",
+        path.display()
+    )]
+    RecordingStopped {
+        /// The trace file.
+        path: PathBuf,
+        /// The frames the file keeps.
+        frames: u64,
+        /// The file system's error (part of the message, not a `source()`).
+        error: std::io::Error,
+    },
     /// A value is not a finite number or lies outside its physical range; it is never passed on.
     #[error("invalid value: {0}")]
     InvalidValue(String),

@@ -14,9 +14,10 @@
 //! | [`cyberglove`], [`fivedt`], [`fastrak`], [`flock`] | one module per protocol: record formats, commands, framing, encoders |
 //! | [`serial`] | the serial transport (`serialport`) |
 //! | [`device`] | the [`Glove`] and [`Tracker`] traits and their serial and USB HID backends |
+//! | [`filter`] | [`FrameFilter`]: the plausibility gate and One-Euro filter on tracker pose and glove joints, its [`FilterSettings`] (a profile's `filter`) |
 //! | [`stream`] | [`HandStream`]: glove + tracker merged on background threads, watchdog, reconnection |
 //! | [`mouse`] | [`MouseDevice`]: a hand driven by the mouse's view ray |
-//! | [`trace`] | the recorded-trace text format, reader and atomic writer |
+//! | [`trace`] | the recorded-trace text format, its reader (recovering interrupted recordings), atomic writer and recorder |
 //! | [`profile`] | device profiles (JSON): ports, calibration, tracker-to-world transform, hand size |
 //! | [`alignment`] | recenter and scale the tracker-to-world transform, fit the hand to the model |
 //! | [`glove_calibration`] | a glove's offsets and gains from a flat hand, a fist and the thumb out |
@@ -52,6 +53,7 @@ pub mod discover;
 pub mod emulator;
 mod error;
 pub mod fastrak;
+pub mod filter;
 pub mod fivedt;
 pub mod flock;
 pub mod frame;
@@ -66,6 +68,7 @@ pub mod trace;
 pub use decode::DecodeStats;
 pub use device::{DeviceStats, Glove, Tracker, open_glove, open_glove_for_hand, open_tracker};
 pub use error::DeviceError;
+pub use filter::{FilterSettings, FilterStats, FrameFilter};
 pub use frame::{
     ANGLE_LIMIT_RAD, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, POSITION_LIMIT_M,
     SourceState, Timestamp, TrackerPose, buttons,
@@ -74,4 +77,4 @@ pub use mouse::{MouseDevice, ViewRay};
 pub use profile::{HandSize, Profile, WorldFromTracker};
 pub use stream::{DeviceRole, DeviceStatus, HandStream, StreamOptions, StreamStats};
 pub use throughput::{ThroughputRow, decode_throughput};
-pub use trace::{SceneText, Trace, TraceHeader, TraceWriter};
+pub use trace::{Recovered, SceneText, Trace, TraceHeader, TraceRecorder, TraceWriter};

@@ -11,6 +11,7 @@ use std::path::Path;
 
 use crate::cyberglove::SensorCount;
 use crate::fastrak::{DataFormat, Units};
+use crate::filter::FilterSettings;
 use crate::flock::RecordMode;
 use crate::{DeviceError, Joint, JointAngles, TrackerPose};
 
@@ -44,6 +45,10 @@ pub struct Profile {
     /// restarted.
     #[serde(default = "default_watchdog_ms")]
     pub watchdog_ms: u64,
+    /// The plausibility gate and One-Euro filter on the frames ([`crate::filter`]); absent:
+    /// the defaults ([`FilterSettings::default`]).
+    #[serde(default)]
+    pub filter: FilterSettings,
 }
 
 fn default_watchdog_ms() -> u64 {
@@ -692,6 +697,7 @@ impl Profile {
         if self.watchdog_ms == 0 {
             return Err(bad("watchdog_ms must be positive".into()));
         }
+        self.filter.validate().map_err(|e| bad(e.to_string()))?;
         self.world_from_tracker
             .validate()
             .map_err(|e| bad(e.to_string()))?;

@@ -22,6 +22,13 @@
 //! status panel shows ([`DeviceStatus`]: state, sample rate, the last error — cleared when the
 //! device recovers —, faults, rejected records, watchdog trips).
 //!
+//! **Frames are delivered as a trace stores them**: every frame is rounded to the trace's six
+//! decimals on its way into the channel ([`crate::trace::quantize_frame`], by the stream's
+//! glove joints), so whatever reads a stream — the window's hand loop, `nendo record` — sees
+//! exactly the numbers a recording of it keeps, and replaying the recording gives the window's
+//! surface bit for bit. (One micrometre and one microradian lie far below what any of these
+//! devices resolves.)
+//!
 //! Nothing here panics on device input; a poisoned lock is recovered, not unwrapped.
 
 use std::path::Path;
@@ -33,7 +40,7 @@ use std::time::{Duration, Instant};
 
 use crate::device::{DeviceStats, Glove, Tracker, open_glove_for_hand, open_tracker};
 use crate::profile::{Input, Profile};
-use crate::trace::{Trace, TraceHeader};
+use crate::trace::{Trace, TraceHeader, quantize_frame};
 use crate::{
     DeviceError, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, SourceState, Timestamp,
     TrackerPose, buttons,
@@ -98,6 +105,8 @@ struct Merge {
 struct Shared {
     merge: Mutex<Merge>,
     tx: SyncSender<HandFrame>,
+    /// The glove's joints: the columns a trace of the stream has, by which frames are rounded.
+    joints: Vec<Joint>,
     stop: AtomicBool,
     finished: AtomicBool,
     frames: AtomicU64,
@@ -116,8 +125,10 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 }
 
 impl Shared {
+    /// Sends a frame as a trace stores it ([`quantize_frame`]): the one place where frames are
+    /// rounded on their way to the hand loop and to a recording, so both see the same numbers.
     fn send(&self, frame: HandFrame) {
-        match self.tx.try_send(frame) {
+        match self.tx.try_send(quantize_frame(&frame, &self.joints)) {
             Ok(()) => {
                 self.frames.fetch_add(1, Ordering::Relaxed);
             }
@@ -434,13 +445,14 @@ impl HandStream {
                 HandStream::start_devices(glove, tracker, watchdog, options, start)
             }
             Input::Replay(r) => {
-                let trace = Trace::read(Path::new(&r.trace))?;
-                Ok(HandStream::replay(
-                    trace,
-                    r.speed,
-                    r.repeat,
-                    options.capacity,
-                ))
+                // An interrupted recording plays its complete frames, with a warning saying so.
+                let recovered = Trace::read_recovering(Path::new(&r.trace))?;
+                let mut stream =
+                    HandStream::replay(recovered.trace, r.speed, r.repeat, options.capacity);
+                if let Some(i) = recovered.interrupted {
+                    stream.warnings.push(format!("{}: {i}", r.trace));
+                }
+                Ok(stream)
             }
             Input::Mouse(_) => Err(DeviceError::Unsupported(
                 "the mouse hand is driven by the window (MouseDevice), not opened as a stream"
@@ -528,7 +540,7 @@ impl HandStream {
                 Source::Tracker(_) => merge.tracker = state,
             }
         }
-        let shared = Arc::new(Shared::new(tx, merge));
+        let shared = Arc::new(Shared::new(tx, merge, joints.clone()));
         for (s, failure) in sources.iter().zip(&failures) {
             let description = s.describe();
             shared.role(s.role(), |r| {
@@ -577,7 +589,11 @@ impl HandStream {
     /// backend. With `repeat`, it starts over at the end with timestamps continuing.
     pub fn replay(trace: Trace, speed: f64, repeat: bool, capacity: usize) -> HandStream {
         let (tx, rx) = sync_channel(capacity.max(1));
-        let shared = Arc::new(Shared::new(tx, Merge::default()));
+        let shared = Arc::new(Shared::new(
+            tx,
+            Merge::default(),
+            trace.header.joints.clone(),
+        ));
         for role in [DeviceRole::Glove, DeviceRole::Tracker] {
             shared.role(role, |r| {
                 r.present = true;
@@ -802,10 +818,11 @@ impl HandStream {
 }
 
 impl Shared {
-    fn new(tx: SyncSender<HandFrame>, merge: Merge) -> Shared {
+    fn new(tx: SyncSender<HandFrame>, merge: Merge, joints: Vec<Joint>) -> Shared {
         Shared {
             merge: Mutex::new(merge),
             tx,
+            joints,
             stop: AtomicBool::new(false),
             finished: AtomicBool::new(false),
             frames: AtomicU64::new(0),

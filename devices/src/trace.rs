@@ -38,8 +38,24 @@
 //!   - `buttons` is the decimal button mask;
 //!   - `P` is followed by `x y z qw qx qy qz` (metres, unit quaternion) or by `-`;
 //!   - `J` is followed by one column per header joint (radians, `?` for a joint missing in this
-//!     frame) or by a single `-` when the frame has no glove data.
+//!     frame) or by a single `-` when the frame has no glove data;
+//!   - then optional **per-frame fields**, each one word `name=value` (`name` lowercase ASCII
+//!     letters, digits and `_`, starting with a letter; `value` not empty). They are the
+//!     format's extension point for what a frame may come to carry besides its samples (such
+//!     as marks on samples a plausibility gate rejected). No joint column, `-` or `?` holds an
+//!     `=`, so the first word that does starts them. This version of the format defines no
+//!     field, and its reader refuses any it does not know ([`FrameError::UnknownField`])
+//!     instead of replaying a frame without what it says.
 //! - `end N` closes the trace and repeats the number of frames, so truncation is detected.
+//!
+//! **Interrupted recordings.** A recording ([`TraceRecorder`], module `recorder`) writes its
+//! header first and appends each frame line as it comes, so a recording that is killed, cut
+//! by a power failure or stopped by a full disk is a trace without its `end` line, perhaps
+//! ending in a torn line. [`Trace::parse`] and [`Trace::read`] refuse it (as truncated);
+//! [`Trace::parse_recovering`] and [`Trace::read_recovering`] read it up to its last complete
+//! frame and say so ([`Recovered`], [`Interrupted`]: how many frames, which lines were
+//! dropped). A finished trace reads the same either way, and a bad line in one is an error
+//! either way: only the end of an unfinished trace is ever dropped.
 //!
 //! Version 1 is version 2 without the `scene` line: its frames read the same, and its header
 //! reads with no scene. Writing a parsed version-1 trace writes it as version 2 (with
@@ -48,7 +64,9 @@
 //! Every number is written with exactly six decimals (1 µm, 1 µrad, 10⁻⁶ of a quaternion) and
 //! read back only in that form, so traces diff cleanly and parse back bit-exactly: writing a
 //! parsed (version-2) trace reproduces its text, and parsing a written trace reproduces its
-//! frames rounded to six decimals ([`quantize`]); the scene is carried as its exact text.
+//! frames rounded to six decimals ([`quantize_frame`], the one rounding of frames, which a
+//! [`crate::HandStream`] applies to every frame it delivers — so a live session and the
+//! replay of its recording see the same numbers); the scene is carried as its exact text.
 //! Reading errors carry the 1-based line number; a file whose last line is cut short (no
 //! final newline, and the line does not read) is reported as truncated.
 
@@ -60,9 +78,15 @@ use std::path::{Path, PathBuf};
 use glam::{DQuat, DVec3};
 
 use crate::profile::{HandSize, WorldFromTracker};
+
+mod recorder;
+mod recover;
 use crate::{
     DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose,
 };
+pub use nendo_file::Existing;
+pub use recorder::{SYNC_INTERVAL, TraceRecorder};
+pub use recover::{DroppedTail, Interrupted, Recovered};
 
 /// The format name on the first line.
 pub const TRACE_FORMAT: &str = "nendo-hand-trace";
@@ -153,8 +177,12 @@ pub fn quantize(x: f64) -> f64 {
 }
 
 /// A frame as it will read back from a trace with these header joints: numbers rounded to six
-/// decimals, joints outside the header dropped, values of a source that is not `ok` withdrawn
-/// (as [`format_frame`] writes them).
+/// decimals, joints outside the header dropped, values of a source that is not `ok` withdrawn.
+///
+/// The one rounding of frames: [`format_frame`] writes exactly this frame, and a
+/// [`crate::HandStream`] delivers its frames through it, so whatever consumes a stream (the
+/// window's hand loop, `nendo record`) sees the numbers a recording of it stores, bit for bit.
+/// It is idempotent.
 pub fn quantize_frame(frame: &HandFrame, joints: &[Joint]) -> HandFrame {
     let mut f = withdraw_stale(frame);
     if let Some(p) = &mut f.pose {
@@ -200,10 +228,11 @@ pub fn withdraw_stale(frame: &HandFrame) -> HandFrame {
     f
 }
 
-/// Appends one frame line (with its newline). Values of a source that is not `ok` are not
+/// Appends one frame line (with its newline): the frame as [`quantize_frame`] makes it, so
+/// the line reads back as exactly that frame. Values of a source that is not `ok` are not
 /// written (`P -`, `J -`; see [`withdraw_stale`]).
 pub fn format_frame(joints: &[Joint], f: &HandFrame, out: &mut String) {
-    let f = &withdraw_stale(f);
+    let f = &quantize_frame(f, joints);
     let _ = write!(out, "{} ", f.time.as_micros());
     state_token(f.status.tracker, f.status.tracker_fresh, out);
     out.push(' ');
@@ -278,11 +307,26 @@ impl Trace {
         s
     }
 
-    /// Parses a trace; errors name the 1-based line. An error on a last line that has no
-    /// final newline says the trace is truncated: that is what a file cut mid-write (or
-    /// mid-copy) looks like.
+    /// Parses a whole trace; errors name the 1-based line. A trace without its `end` line is
+    /// refused (see [`Trace::parse_recovering`] for reading an interrupted recording); an error
+    /// on a last line that has no final newline says the trace is truncated: that is what a
+    /// file cut mid-write (or mid-copy) looks like.
     pub fn parse(text: &str) -> Result<Trace, DeviceError> {
-        Trace::parse_lines(text).map_err(|e| match e {
+        Trace::parse_lines(text, false).map(|r| r.trace)
+    }
+
+    /// Parses a trace, recovering an interrupted recording: a trace whose `end` line is
+    /// missing reads up to its last frame line that reads, and says so
+    /// ([`Recovered::interrupted`]). The lines from the first one that does not read on (a
+    /// line cut short by a kill or a full disk, blocks a power cut left unwritten) are
+    /// dropped — but only when no `end` line follows: a finished trace with a bad line is an
+    /// error, as for [`Trace::parse`]. A header that does not read is an error either way.
+    pub fn parse_recovering(text: &str) -> Result<Recovered, DeviceError> {
+        Trace::parse_lines(text, true)
+    }
+
+    fn parse_lines(text: &str, recover: bool) -> Result<Recovered, DeviceError> {
+        let truncated = |e| match e {
             DeviceError::TraceSyntax { line, message }
                 if !text.is_empty() && !text.ends_with('\n') && line == text.lines().count() =>
             {
@@ -294,10 +338,11 @@ impl Trace {
                 }
             }
             other => other,
-        })
+        };
+        Trace::parse_text(text, recover).map_err(truncated)
     }
 
-    fn parse_lines(text: &str) -> Result<Trace, DeviceError> {
+    fn parse_text(text: &str, recover: bool) -> Result<Recovered, DeviceError> {
         let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
         let err = |line: usize, message: String| DeviceError::TraceSyntax { line, message };
         let first = lines.next().map(|(_, l)| l).unwrap_or("");
@@ -389,7 +434,8 @@ impl Trace {
         }
         let mut frames = Vec::new();
         let mut last = 0u64;
-        for (n, line) in lines.by_ref() {
+        let last_line = text.lines().count();
+        while let Some((n, line)) = lines.next() {
             if let Some(count) = line.strip_prefix("end ") {
                 let count: usize = count
                     .trim()
@@ -404,22 +450,62 @@ impl Trace {
                 if let Some((m, extra)) = lines.find(|(_, l)| !l.trim().is_empty()) {
                     return Err(err(m, format!("text after the end line: `{extra}`")));
                 }
-                return Ok(Trace { header, frames });
+                return Ok(Recovered {
+                    trace: Trace { header, frames },
+                    interrupted: None,
+                });
             }
-            let frame = parse_frame(&header.joints, line).map_err(|e| err(n, e.to_string()))?;
-            if frame.time.as_micros() < last {
-                return Err(err(n, "time goes backwards".into()));
+            // The last line of an unfinished file without its newline was cut mid-write: it
+            // is dropped even if what is left of it reads (a frame cut after `J` reads as one
+            // without joints), since the writer ends every frame line with its newline.
+            if recover && n == last_line && !text.ends_with('\n') {
+                let tail = DroppedTail {
+                    line: n,
+                    lines: 1,
+                    cut_short: true,
+                    reason: "no newline".into(),
+                };
+                return Ok(Recovered::interrupted(header, frames, Some(tail)));
             }
-            last = frame.time.as_micros();
-            frames.push(frame);
+            let frame = parse_frame(&header.joints, line)
+                .map_err(|e| e.to_string())
+                .and_then(|f| {
+                    if f.time.as_micros() < last {
+                        Err("time goes backwards".to_owned())
+                    } else {
+                        Ok(f)
+                    }
+                });
+            match frame {
+                Ok(f) => {
+                    last = f.time.as_micros();
+                    frames.push(f);
+                }
+                // The damaged end of an interrupted recording: nothing after it says the
+                // trace was finished.
+                Err(reason) if recover && !lines.clone().any(|(_, l)| l.starts_with("end ")) => {
+                    let after = lines.count();
+                    let tail = DroppedTail {
+                        line: n,
+                        lines: after + 1,
+                        cut_short: after == 0 && !text.ends_with('\n'),
+                        reason,
+                    };
+                    return Ok(Recovered::interrupted(header, frames, Some(tail)));
+                }
+                Err(reason) => return Err(err(n, reason)),
+            }
+        }
+        if recover {
+            return Ok(Recovered::interrupted(header, frames, None));
         }
         Err(err(
             text.lines().count() + 1,
-            "the trace is truncated (no `end` line)".into(),
+            "the trace is truncated (no `end` line): an interrupted recording? `nendo replay` recovers its complete frames".into(),
         ))
     }
 
-    /// Reads a trace file.
+    /// Reads a whole trace file (see [`Trace::parse`]).
     pub fn read(path: &Path) -> Result<Trace, DeviceError> {
         let text = std::fs::read_to_string(path).map_err(|error| DeviceError::File {
             path: path.to_path_buf(),
@@ -496,6 +582,13 @@ pub enum FrameError {
     /// A joint angle does not validate; the message is the validation's.
     #[error("{0}")]
     BadJoint(String),
+    /// A word after the joint columns is not a per-frame field `name=value` (or a joint
+    /// column follows a field).
+    #[error("`{0}` is not a per-frame field `name=value`")]
+    BadField(String),
+    /// A per-frame field this version of the format does not know.
+    #[error("unknown per-frame field `{0}` (a trace from a newer nendo?)")]
+    UnknownField(String),
 }
 
 fn parse_number(word: Option<&str>) -> Result<f64, FrameError> {
@@ -525,6 +618,24 @@ fn parse_state(word: Option<&str>) -> Result<(SourceState, bool), FrameError> {
     let state =
         SourceState::from_token(token).ok_or_else(|| FrameError::UnknownState(w.to_owned()))?;
     Ok((state, fresh))
+}
+
+/// Reads one per-frame field `name=value` (see the module docs: the format's extension
+/// point). The fields a version of the format defines are matched here by name; this version
+/// defines none, so every well-formed field is refused as unknown rather than ignored — a frame
+/// whose meaning depends on a field (a sample marked rejected, say) must not be replayed as if
+/// it had none.
+fn read_field(word: &str) -> Result<(), FrameError> {
+    let bad = || FrameError::BadField(word.to_owned());
+    let (name, value) = word.split_once('=').ok_or_else(bad)?;
+    let name_ok = name.starts_with(|c: char| c.is_ascii_lowercase())
+        && name
+            .bytes()
+            .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit() || b == b'_');
+    if !name_ok || value.is_empty() {
+        return Err(bad());
+    }
+    Err(FrameError::UnknownField(name.to_owned()))
 }
 
 /// Parses one frame line given the header's joint columns.
@@ -568,7 +679,17 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, FrameError
     if w.next() != Some("J") {
         return Err(FrameError::MissingJointMarker);
     }
-    let rest: Vec<&str> = w.collect();
+    let words: Vec<&str> = w.collect();
+    // Optional per-frame fields follow the joint columns: the first word holding `=` starts
+    // them (no joint column, `-` or `?` holds one).
+    let split = words
+        .iter()
+        .position(|w| w.contains('='))
+        .unwrap_or(words.len());
+    let (rest, fields) = words.split_at(split);
+    for field in fields {
+        read_field(field)?;
+    }
     let angles = if rest == ["-"] {
         None
     } else if glove != SourceState::Ok {
@@ -580,7 +701,7 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, FrameError
         });
     } else {
         let mut a = JointAngles::new();
-        for (&j, word) in joints.iter().zip(&rest) {
+        for (&j, word) in joints.iter().zip(rest) {
             if *word != "?" {
                 a.set(j, parse_number(Some(word))?)
                     .map_err(|e| FrameError::BadJoint(e.to_string()))?;
@@ -602,10 +723,12 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, FrameError
     })
 }
 
-/// Writes a trace frame by frame with the one safe writer ([`nendo_file::AtomicFile`]): into a
-/// temporary file beside the target, renamed into place by [`TraceWriter::finish`] (through a
-/// symbolic link, keeping the replaced file's permissions); dropped unfinished, or on a stop
-/// signal handled by the binary, the temporary file is removed.
+/// Writes a whole trace frame by frame with the one safe writer ([`nendo_file::AtomicFile`]):
+/// into a temporary file beside the target, renamed into place by [`TraceWriter::finish`]
+/// (through a symbolic link, keeping the replaced file's permissions); dropped unfinished, or
+/// on a stop signal handled by the binary, the temporary file is removed. For traces made of
+/// frames already at hand; a live recording, which must survive being killed, is written by
+/// [`TraceRecorder`].
 #[derive(Debug)]
 pub struct TraceWriter {
     out: Option<nendo_file::AtomicFile>,

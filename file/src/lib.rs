@@ -24,6 +24,13 @@
 //!   the same directory) that nobody holds locked: those of a run that was killed. The live
 //!   temporaries of other writers, in this process or another, are locked and left alone.
 //!
+//!
+//! Recordings are the one kind of file not written atomically: [`AppendFile`] grows a file
+//! under its own name, record by record, so that whatever ends the program (a SIGKILL, a power
+//! cut, a full disk) leaves every complete record readable. Its head still appears whole
+//! through a temporary and a rename, and it never replaces an existing file unless asked to
+//! ([`Existing`]); see [`append`] for its reasoning.
+//!
 //! Limits: the locks are advisory `flock` locks, which network file systems may emulate
 //! poorly; the directory sync is skipped where the file system does not support it; a
 //! target name longer than 200 bytes is shortened in its temporary's name, so temporaries of
@@ -35,6 +42,9 @@ use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, PoisonError};
+
+pub mod append;
+pub use append::{AppendFile, Existing};
 
 /// The marker between a target's name and the random part of its temporaries' names.
 pub const TEMP_MARKER: &str = ".nendo-tmp-";
@@ -78,6 +88,13 @@ pub enum WriteError {
         /// The target asked for.
         path: PathBuf,
     },
+    /// A file is already at the target, and the write was asked never to replace one
+    /// ([`Existing::Refuse`]).
+    #[error("{}: a file is already there, and it is not replaced", path.display())]
+    Exists {
+        /// The target asked for.
+        path: PathBuf,
+    },
     /// The process is ending ([`remove_live_temporaries`] has run): nothing is written.
     #[error("{}: not written, the program is stopping", path.display())]
     Stopping {
@@ -104,6 +121,7 @@ impl WriteError {
             | WriteError::NotRegularFile { path }
             | WriteError::NoFileName { path }
             | WriteError::SymlinkLoop { path }
+            | WriteError::Exists { path }
             | WriteError::Stopping { path }
             | WriteError::Io { path, .. } => path,
         }
@@ -144,6 +162,10 @@ impl WriteError {
             WriteError::SymlinkLoop { .. } => io::Error::new(
                 io::ErrorKind::InvalidInput,
                 "too many levels of symbolic links",
+            ),
+            WriteError::Exists { .. } => io::Error::new(
+                io::ErrorKind::AlreadyExists,
+                "a file is already there, and it is not replaced",
             ),
             WriteError::Stopping { .. } => io::Error::new(
                 io::ErrorKind::Interrupted,

@@ -5,7 +5,7 @@
 use crate::support::random;
 use glam::{DVec2, DVec3};
 use nendo::curve::edit::{
-    Follow, Grab, GrabMethod, GrabOptions, Side, control_weights, derivative, grab,
+    Follow, Grab, GrabMethod, GrabOptions, JointSide, control_weights, derivative, grab,
     insert_control_point, joint, move_joint, split, tangent_edit,
 };
 use nendo::curve::{Bezier, Curve, CurveError, Point};
@@ -313,20 +313,20 @@ fn tangent_edit_keeps_the_joint_collinear() {
         let t = rng.gen_range(0.1..0.9);
         let (l, r) = split(&c, t).expect("inside");
         let (ql, q, qr) = joint(&l, &r).expect("a joint");
-        for side in [Side::Left, Side::Right] {
+        for side in [JointSide::Left, JointSide::Right] {
             for follow in [Follow::KeepLength, Follow::KeepRatio] {
                 let target = q + random::point::<DVec3>(&mut rng, 1.0);
                 let (nl, nr) = tangent_edit(&l, &r, side, target, follow).expect("edit");
                 let (nql, nq, nqr) = joint(&nl, &nr).expect("still a joint");
                 assert_eq!(nq, q);
-                assert_eq!(if side == Side::Left { nql } else { nqr }, target);
+                assert_eq!(if side == JointSide::Left { nql } else { nqr }, target);
                 // Collinear, on opposite sides of Q.
                 let (a, b) = (nq - nql, nqr - nq);
                 assert!(a.cross(b).length() <= 1e-12 * a.length() * b.length());
                 assert!(a.dot(b) > 0.0);
                 match follow {
                     Follow::KeepLength => {
-                        let (other_new, other_old) = if side == Side::Left {
+                        let (other_new, other_old) = if side == JointSide::Left {
                             (b, qr - q)
                         } else {
                             (a, q - ql)
@@ -349,7 +349,7 @@ fn tangent_edit_keeps_the_joint_collinear() {
                 assert_eq!(&nr.points()[2..], &r.points()[2..]);
             }
         }
-        assert!(tangent_edit(&l, &r, Side::Left, q, Follow::KeepLength).is_err());
+        assert!(tangent_edit(&l, &r, JointSide::Left, q, Follow::KeepLength).is_err());
         assert!(matches!(joint(&r, &l), Err(CurveError::Edit(_))));
         let moved = q + DVec3::new(0.1, -0.2, 0.3);
         let (ml, mr) = move_joint(&l, &r, moved).expect("joint");
@@ -379,7 +379,7 @@ fn split_bsplines_have_joints_too() {
     let (nl, nr) = tangent_edit(
         &l,
         &r,
-        Side::Right,
+        JointSide::Right,
         q + DVec2::new(0.3, 0.1),
         Follow::KeepLength,
     )

@@ -235,7 +235,7 @@ fn stop_recording_with(signal: &str) {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    // Wait until recording has begun (its temporary file exists) and the glove has streamed
+    // Wait until recording has begun (its trace exists) and the glove has streamed
     // records to it; the deadline only guards against a hang.
     let begun = Instant::now() + Duration::from_secs(60);
     while (std::fs::read_dir(&dir).unwrap().count() == 0 || glove.records_sent() < 40)

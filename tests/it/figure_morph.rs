@@ -7,8 +7,8 @@ use std::process::Command;
 use crate::support::temp_dir as scratch;
 use nendo::figure::iso::polyline_distance;
 use nendo::figure::morph::{Morph, MorphOptions};
-use nendo::figure::picture::{PictureOptions, Scene, draw};
-use nendo::figure::{FigureDocument, Rgb, View};
+use nendo::figure::picture::{Backdrop, PictureOptions, draw};
+use nendo::figure::{FigureDocument, RasterView, Rgb};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -23,14 +23,14 @@ fn load(name: &str) -> FigureDocument {
 #[test]
 fn end_frames_are_the_source_and_the_destination() {
     let (src, dst) = (load("horse.json"), load("tiger.json"));
-    let view = View {
+    let view = RasterView {
         origin: glam::DVec2::ZERO,
         scale: 1.0,
     };
     let options = PictureOptions::default();
-    let scene = Scene {
+    let backdrop = Backdrop {
         background: Some(Rgb::WHITE),
-        ..Scene::default()
+        ..Backdrop::default()
     };
     for skeleton in [false, true] {
         let morph = Morph::new(
@@ -43,8 +43,8 @@ fn end_frames_are_the_source_and_the_destination() {
         )
         .unwrap();
         for (t, doc) in [(0.0, &src), (1.0, &dst)] {
-            let frame = draw(&morph.at(t).unwrap(), &scene, &view, &options).unwrap();
-            let truth = draw(&doc.figure, &scene, &view, &options).unwrap();
+            let frame = draw(&morph.at(t).unwrap(), &backdrop, &view, &options).unwrap();
+            let truth = draw(&doc.figure, &backdrop, &view, &options).unwrap();
             let iso = polyline_distance(&frame.boundary, &truth.boundary)
                 .max(polyline_distance(&truth.boundary, &frame.boundary));
             let differing = frame
@@ -145,7 +145,7 @@ fn morph_cli_writes_frames_whose_ends_match_the_figures() {
         size: nendo::figure::ImageSize::new(256, 256).unwrap(),
         ..PictureOptions::default()
     };
-    let view = View::fit(
+    let view = RasterView::fit(
         glam::DVec2::ZERO,
         glam::DVec2::splat(512.0),
         options.size,
@@ -153,9 +153,9 @@ fn morph_cli_writes_frames_whose_ends_match_the_figures() {
     );
     let truth = draw(
         &src.figure,
-        &Scene {
+        &Backdrop {
             background: Some(Rgb::WHITE),
-            ..Scene::default()
+            ..Backdrop::default()
         },
         &view,
         &options,

@@ -225,6 +225,9 @@ fn a_fast_stroke_leaves_no_gaps_and_the_finger_bend_alone_can_press() {
     c.path(8, |s| (DVec3::new(-3.0 + 6.0 * s, -2.0, -0.2), down));
     c.move_to(DVec3::new(3.0, -2.0, 0.5), down, 10);
     let mut s = session(&plane, Regulation::default());
+    // No hand starts at 4.5 m/s from one sample to the next: the plausibility gate would hold
+    // these frames (nendo::hand::filter). The stroke's gap filling is what is tested here.
+    s.set_filter(nendo_devices::FilterSettings::off());
     feed(&mut s, &c.finish("test").unwrap());
     for k in 0..=40 {
         let x = -2.5 + 5.0 * k as f64 / 40.0;
@@ -496,10 +499,11 @@ fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
         panic!("the pinch is a move: {contacts:?}");
     };
     // Taken hold of on the untouched sphere (within its arc error), pulled 1 side along +x: the
-    // pinch point drifts by hundredths while the fingers close and open.
+    // pinch point drifts by hundredths while the fingers close and open (a little more with
+    // the One-Euro filter's lag on the closing and opening joints).
     assert!((at.length() - 3.0).abs() < 1e-4, "held on the sphere: {at}");
     let pull = *to - *at;
-    assert!((pull - DVec3::X).length() < 0.02, "{at} → {to}");
+    assert!((pull - DVec3::X).length() < 0.025, "{at} → {to}");
     // The surface passes through the target exactly, when letting go and at the end.
     let released = released.expect("the pinch let go");
     for (when, g) in [("released", &released), ("end", s.grid())] {

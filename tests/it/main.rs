@@ -19,6 +19,7 @@ mod figure_morph;
 mod figure_shape;
 mod figure_warp;
 mod hand_contact;
+mod hand_filter;
 mod hand_kinematics;
 mod hand_poses;
 mod hand_side;
@@ -27,6 +28,7 @@ mod limits_cli;
 mod memory_limits;
 mod model_cli;
 mod model_file;
+mod record_survives;
 mod refine;
 mod regulation_methods;
 mod regulation_strokes;
@@ -42,6 +44,6 @@ mod surface_deform;
 mod surface_grid;
 mod surface_operations;
 mod svg_import;
-// It measures strokes through `nendo::bench::live`, which times the renderer (`gui`).
+// It measures strokes through `nendo_bench::live`, which times the renderer (`gui`).
 #[cfg(feature = "gui")]
 mod undo_history;

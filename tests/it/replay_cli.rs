@@ -173,18 +173,29 @@ fn bad_input_is_reported_and_nothing_is_written() {
     .unwrap();
     let no_scene = dir.join("no-scene.trace");
     std::fs::write(&no_scene, with_scene(&text, "none")).unwrap();
+    // A trace cut short (no `end` line) is an interrupted recording: it replays its complete
+    // frames, saying how many.
+    let frames = text.lines().take(40).skip_while(|l| *l != "frames").count() - 1;
+    let o = nendo(&[
+        "replay",
+        s(&truncated),
+        "--primitive",
+        "sphere",
+        "--out",
+        s(&out),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains(&format!(
+            "an interrupted recording (no `end` line): recovered its {frames} complete frames"
+        )) && err.contains(&format!(
+            "{frames} frames recovered from an interrupted recording"
+        )),
+        "{err}"
+    );
+    std::fs::remove_file(&out).unwrap();
     for (args, says) in [
-        (
-            vec![
-                "replay",
-                s(&truncated),
-                "--primitive",
-                "sphere",
-                "--out",
-                s(&out),
-            ],
-            "truncated",
-        ),
         (
             vec![
                 "replay",

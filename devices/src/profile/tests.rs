@@ -27,6 +27,41 @@ fn every_shipped_profile_parses_and_validates() {
 }
 
 #[test]
+fn the_filter_has_defaults_and_old_profiles_load_without_it() {
+    // Every shipped profile but one leaves `filter` out: the defaults.
+    let fastrak = resolve("fastrak").unwrap();
+    assert!(!BUILTIN[4].1.contains("\"filter\""));
+    assert_eq!(fastrak.filter, FilterSettings::default());
+    // The paper's set-up writes it out, with the defaults' values.
+    let paper = resolve("cyberglove2-18-fastrak").unwrap();
+    assert!(BUILTIN[6].1.contains("\"filter\""));
+    assert_eq!(paper.filter, FilterSettings::default());
+    // A member of it alone; a bad value names itself; an unknown member is refused.
+    let (_, text) = BUILTIN[4];
+    let with = |filter: &str| text.replacen('{', &format!("{{\"filter\": {filter},"), 1);
+    let p = Profile::from_json(
+        &with(r#"{"position":{"min_cutoff_hz":0.5,"beta":80,"d_cutoff_hz":1}}"#),
+        "f",
+    )
+    .unwrap();
+    assert_eq!(p.filter.position.min_cutoff_hz, 0.5);
+    assert_eq!(p.filter.joints, FilterSettings::default().joints);
+    let e = Profile::from_json(&with(r#"{"gate":{"max_speed_m_s":-5}}"#), "f")
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "profile f: filter.gate.max_speed_m_s is -5; it must be a positive number"
+    );
+    let e = Profile::from_json(&with(r#"{"gate":{"max_speed":5}}"#), "f")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("filter.gate") && e.contains("max_speed"), "{e}");
+    let p = Profile::from_json(&with(r#"{"enabled":false}"#), "f").unwrap();
+    assert!(!p.filter.enabled);
+}
+
+#[test]
 fn profile_errors_name_the_problem() {
     let (_, text) = BUILTIN[0];
     let broken = text.replace("\"sensors\": 18", "\"sensors\": 19");

@@ -143,7 +143,22 @@ proptest! {
         0..12,
     )) {
         let text = lines.join("\n");
-        match nendo_devices::Trace::parse(&text) {
+        let strict = nendo_devices::Trace::parse(&text);
+        // The recovering reader: a whole trace reads the same, with no notice.
+        let recovered = nendo_devices::Trace::parse_recovering(&text);
+        match &recovered {
+            Ok(r) if r.interrupted.is_none() => prop_assert_eq!(strict.as_ref().ok(), Some(&r.trace)),
+            Ok(r) => {
+                prop_assert!(strict.is_err());
+                prop_assert_eq!(r.interrupted.as_ref().map(|i| i.frames), Some(r.trace.frames.len()));
+            }
+            Err(nendo_devices::DeviceError::TraceSyntax { line, .. }) => {
+                prop_assert!(strict.is_err());
+                prop_assert!(*line >= 1 && *line <= lines.len().max(1) + 1);
+            }
+            Err(e) => prop_assert!(false, "unexpected error kind: {e}"),
+        }
+        match strict {
             Ok(t) => prop_assert_eq!(nendo_devices::Trace::parse(&t.to_text()).ok(), Some(t)),
             Err(nendo_devices::DeviceError::TraceSyntax { line, .. }) => prop_assert!(line >= 1 && line <= lines.len().max(1) + 1),
             Err(e) => prop_assert!(false, "unexpected error kind: {e}"),

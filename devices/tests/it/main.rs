@@ -4,6 +4,7 @@
 mod corruption;
 mod emulated_devices;
 mod fuzz;
+mod recording;
 mod startup;
 mod stream;
 mod support;

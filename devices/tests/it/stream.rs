@@ -206,10 +206,11 @@ fn corrupt_records_on_a_live_line_are_dropped_and_counted() {
     let stats = stream.close();
     assert!(frames.iter().filter(|f| f.status.glove_fresh).count() > 20);
     assert!(frames.iter().filter(|f| f.status.tracker_fresh).count() > 20);
-    // Every delivered value passed validation.
+    // Every delivered value passed validation (the quaternion unit to the six decimals a
+    // stream rounds its frames to, as a trace stores them).
     for f in &frames {
         if let Some(p) = f.pose {
-            assert!(p.position.is_finite() && (p.orientation.length() - 1.0).abs() < 1e-9);
+            assert!(p.position.is_finite() && (p.orientation.length() - 1.0).abs() < 2e-6);
         }
         if let Some(a) = f.joints {
             assert!(

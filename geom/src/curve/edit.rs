@@ -489,7 +489,7 @@ pub fn check_extent<P: Point>(curve: &Curve<P>) -> Result<(), CurveError> {
 
 /// Which neighbour of a joint the user moves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Side {
+pub enum JointSide {
     /// `Q_L`, the left curve's last-but-one control point.
     Left,
     /// `Q_R`, the right curve's second control point.
@@ -539,14 +539,14 @@ pub fn joint<P: Point>(left: &Curve<P>, right: &Curve<P>) -> Result<(P, P, P), C
 pub fn tangent_edit<P: Point>(
     left: &Curve<P>,
     right: &Curve<P>,
-    side: Side,
+    side: JointSide,
     target: P,
     follow: Follow,
 ) -> Result<(Curve<P>, Curve<P>), CurveError> {
     let (ql, q, qr) = joint(left, right)?;
     let (moved_old, other_old) = match side {
-        Side::Left => (ql, qr),
-        Side::Right => (qr, ql),
+        JointSide::Left => (ql, qr),
+        JointSide::Right => (qr, ql),
     };
     let arm = q - target;
     let arm_len = arm.length();
@@ -562,8 +562,8 @@ pub fn tangent_edit<P: Point>(
     }
     let other = q + arm * (other_len / arm_len);
     let (new_l, new_r) = match side {
-        Side::Left => (target, other),
-        Side::Right => (other, target),
+        JointSide::Left => (target, other),
+        JointSide::Right => (other, target),
     };
     let mut lp = left.points().to_vec();
     let n = lp.len();

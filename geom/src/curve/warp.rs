@@ -126,7 +126,7 @@ impl WarpParams {
 
 /// The spaces curves warp in: `DVec2` (normal frames) and `DVec3` (rotation-minimising frames).
 /// Sealed: implemented for those two only.
-pub trait WarpSpace: Point + frames::Framing {}
+pub trait WarpSpace: Point + frames::FrameConstruction {}
 impl WarpSpace for DVec2 {}
 impl WarpSpace for DVec3 {}
 
@@ -703,7 +703,7 @@ mod frames {
     }
 
     /// Frame construction for one space (sealed into [`super::WarpSpace`]).
-    pub trait Framing: Point {
+    pub trait FrameConstruction: Point {
         /// Whatever the frames along a curve need precomputed.
         type Frames: Clone + Debug + Send + Sync;
         /// The frames along `track`; `like` gives the original curve's track and frames when
@@ -727,7 +727,7 @@ mod frames {
         }
     }
 
-    impl Framing for DVec2 {
+    impl FrameConstruction for DVec2 {
         type Frames = ();
         fn frames(_: &Track<Self>, _: Option<(&Track<Self>, &())>) {}
         #[inline]
@@ -776,7 +776,7 @@ mod frames {
         r - t1 * r.dot(t1)
     }
 
-    impl Framing for DVec3 {
+    impl FrameConstruction for DVec3 {
         type Frames = Rmf;
 
         fn frames(track: &Track<Self>, like: Option<(&Track<Self>, &Rmf)>) -> Rmf {

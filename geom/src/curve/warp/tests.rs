@@ -14,11 +14,11 @@ fn rmf_of_a_planar_arc_is_orthonormal_and_keeps_the_plane_normal() {
     ])
     .into();
     let track = Track::new(&arc);
-    let rmf = <DVec3 as frames::Framing>::frames(&track, None);
-    let f0 = <DVec3 as frames::Framing>::frame_at(&track, &rmf, 0.0);
+    let rmf = <DVec3 as frames::FrameConstruction>::frames(&track, None);
+    let f0 = <DVec3 as frames::FrameConstruction>::frame_at(&track, &rmf, 0.0);
     let normal_axis = if f0[1].z.abs() > 0.5 { 1 } else { 2 };
     for k in 0..=20 {
-        let f = <DVec3 as frames::Framing>::frame_at(&track, &rmf, k as f64 / 20.0);
+        let f = <DVec3 as frames::FrameConstruction>::frame_at(&track, &rmf, k as f64 / 20.0);
         for i in 0..3 {
             assert!((f[i].length() - 1.0).abs() < 1e-12);
             for j in i + 1..3 {

@@ -1,0 +1,345 @@
+//! Every key and mouse binding of the window, in one table: the shortcuts are read from it,
+//! the help overlay (F1 or `?`) lists it, and the README's "Using the window" section is the
+//! table [`markdown`] prints (a test compares them), so none of them can drift.
+//!
+//! The keys follow Blender's sculpt mode where they do not clash: F then a move sets the
+//! finger radius, Shift+F the depth, Ctrl inverts a stroke, Shift smooths, X toggles
+//! symmetry, G picks Move, Home frames the model, number keys pick tools. The orbit button is a setting ([`OrbitButton`]): the right button (nendo's
+//! default) or the middle one (Blender's). Each key gives the modeller a [`Command`]
+//! ([`KeyAction::command`]).
+
+use egui::{Key, Modifiers};
+
+use crate::editor::command::{Command, DialogPurpose};
+use crate::editor::input::OrbitButton;
+use crate::editor::tools::Tool;
+
+/// What a key does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KeyAction {
+    /// Undo the last edit.
+    Undo,
+    /// Redo the last undone edit.
+    Redo,
+    /// Save the model.
+    Save,
+    /// Open a model file.
+    Open,
+    /// Frame the whole model.
+    FrameAll,
+    /// Open or close the help overlay.
+    Help,
+    /// Cancel the stroke or the adjustment in progress, or close the help or the dialog.
+    Cancel,
+    /// Set the finger radius by moving the mouse (click to keep, Esc to restore).
+    AdjustRadius,
+    /// Set the depth by moving the mouse (click to keep, Esc to restore).
+    AdjustDepth,
+    /// Turn symmetry (the mirror across x = 0) on or off.
+    ToggleSymmetry,
+    /// Pick a tool.
+    Tool(Tool),
+}
+
+impl KeyAction {
+    /// The command the key gives the modeller.
+    #[must_use]
+    pub fn command(self) -> Command {
+        match self {
+            KeyAction::Undo => Command::Undo,
+            KeyAction::Redo => Command::Redo,
+            KeyAction::Save => Command::Save,
+            KeyAction::Open => Command::ShowDialog(DialogPurpose::OpenModel),
+            KeyAction::FrameAll => Command::FrameAll,
+            KeyAction::Help => Command::ToggleHelp,
+            KeyAction::Cancel => Command::Cancel,
+            KeyAction::AdjustRadius => Command::AdjustRadius,
+            KeyAction::AdjustDepth => Command::AdjustDepth,
+            KeyAction::ToggleSymmetry => Command::ToggleSymmetry,
+            KeyAction::Tool(tool) => Command::SelectTool(tool),
+        }
+    }
+
+    /// What the action does, in plain words (the help overlay and the README).
+    #[must_use]
+    pub fn describe(self) -> String {
+        match self {
+            KeyAction::Undo => "undo".into(),
+            KeyAction::Redo => "redo".into(),
+            KeyAction::Save => "save".into(),
+            KeyAction::Open => "open a model".into(),
+            KeyAction::FrameAll => "frame the model".into(),
+            KeyAction::Help => "this help".into(),
+            KeyAction::Cancel => {
+                "cancel the stroke (the surface comes back exactly) or the radius / depth change; close the help or the file dialog".into()
+            }
+            KeyAction::AdjustRadius => {
+                "finger radius: move the mouse right to grow it, left to shrink it; click to keep, Esc or right click to restore".into()
+            }
+            KeyAction::AdjustDepth => {
+                "depth (a click's push, a line's groove): move the mouse; click to keep, Esc or right click to restore".into()
+            }
+            KeyAction::ToggleSymmetry => {
+                "symmetry on / off: every stroke mirrored across x = 0 (offered for a model symmetric about it)".into()
+            }
+            KeyAction::Tool(tool) => format!("tool: {}", tool.label()),
+        }
+    }
+}
+
+/// One key binding.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KeyBinding {
+    /// The key.
+    pub key: Key,
+    /// The modifiers (Ctrl is egui's `COMMAND`).
+    pub modifiers: Modifiers,
+    /// What it does.
+    pub action: KeyAction,
+}
+
+impl KeyBinding {
+    const fn new(modifiers: Modifiers, key: Key, action: KeyAction) -> Self {
+        Self {
+            key,
+            modifiers,
+            action,
+        }
+    }
+
+    /// The keys as written in the help: `Ctrl+Shift+Z`.
+    #[must_use]
+    pub fn keys(&self) -> String {
+        let mut s = String::new();
+        if self.modifiers.command || self.modifiers.ctrl {
+            s.push_str("Ctrl+");
+        }
+        if self.modifiers.alt {
+            s.push_str("Alt+");
+        }
+        if self.modifiers.shift {
+            s.push_str("Shift+");
+        }
+        s.push_str(match self.key {
+            Key::Questionmark => "?",
+            Key::Escape => "Esc",
+            k => k.name(),
+        });
+        s
+    }
+}
+
+/// The number keys, for the tools in panel order.
+const NUMBER_KEYS: [Key; 9] = [
+    Key::Num1,
+    Key::Num2,
+    Key::Num3,
+    Key::Num4,
+    Key::Num5,
+    Key::Num6,
+    Key::Num7,
+    Key::Num8,
+    Key::Num9,
+];
+
+/// Every key binding, in the order they are matched: a binding with more modifiers comes
+/// before the same key with fewer (egui matches Shift loosely: `F` would take Shift+F).
+#[must_use]
+pub fn keys() -> Vec<KeyBinding> {
+    let cmd = Modifiers::COMMAND;
+    let mut keys = vec![
+        KeyBinding::new(cmd | Modifiers::SHIFT, Key::Z, KeyAction::Redo),
+        KeyBinding::new(cmd, Key::Y, KeyAction::Redo),
+        KeyBinding::new(cmd, Key::Z, KeyAction::Undo),
+        KeyBinding::new(cmd, Key::S, KeyAction::Save),
+        KeyBinding::new(cmd, Key::O, KeyAction::Open),
+        KeyBinding::new(Modifiers::SHIFT, Key::F, KeyAction::AdjustDepth),
+        KeyBinding::new(Modifiers::NONE, Key::F, KeyAction::AdjustRadius),
+        KeyBinding::new(Modifiers::NONE, Key::Home, KeyAction::FrameAll),
+        KeyBinding::new(Modifiers::NONE, Key::F1, KeyAction::Help),
+        KeyBinding::new(Modifiers::NONE, Key::Questionmark, KeyAction::Help),
+        KeyBinding::new(Modifiers::NONE, Key::Escape, KeyAction::Cancel),
+        KeyBinding::new(Modifiers::NONE, Key::X, KeyAction::ToggleSymmetry),
+        KeyBinding::new(Modifiers::NONE, Key::G, KeyAction::Tool(Tool::Move)),
+    ];
+    keys.extend(
+        Tool::ALL
+            .iter()
+            .zip(NUMBER_KEYS)
+            .map(|(tool, key)| KeyBinding::new(Modifiers::NONE, key, KeyAction::Tool(*tool))),
+    );
+    keys
+}
+
+/// The actions of the keys pressed this frame, in the order they were pressed (each press
+/// once, matched against the table in order; the matched key events are taken out of the
+/// input).
+#[must_use]
+pub fn pressed(input: &mut egui::InputState) -> Vec<KeyAction> {
+    let table = keys();
+    let mut actions = Vec::new();
+    input.events.retain(|event| {
+        if let egui::Event::Key {
+            key,
+            pressed: true,
+            modifiers,
+            ..
+        } = event
+            && let Some(binding) = table
+                .iter()
+                .find(|b| b.key == *key && modifiers.matches_logically(b.modifiers))
+        {
+            actions.push(binding.action);
+            return false;
+        }
+        true
+    });
+    actions
+}
+
+/// The mouse bindings under an orbit setting: `(input, what it does)`.
+#[must_use]
+pub fn mouse(orbit: OrbitButton) -> Vec<(&'static str, &'static str)> {
+    let mut rows = vec![
+        (
+            "Left drag",
+            "the active tool (Push / Pull / Draw a line / Move / Smooth deform live while held)",
+        ),
+        (
+            "Ctrl + Left drag",
+            "the tool inverted: Push pulls, Pull pushes, a groove becomes a ridge",
+        ),
+        (
+            "Shift + Left drag",
+            "with Push, Pull or Draw a line: smooth (as the Smooth tool)",
+        ),
+        (
+            "Wheel while pressing",
+            "the stroke's depth (Move and the curve grab: nearer / farther)",
+        ),
+        ("Right click while pressing", "cancel the stroke"),
+    ];
+    rows.extend(match orbit {
+        OrbitButton::Right => [
+            ("Right drag", "orbit"),
+            ("Middle drag, Shift + Right drag", "pan"),
+        ],
+        OrbitButton::Middle => [
+            ("Middle drag", "orbit"),
+            ("Shift + Middle drag, Right drag", "pan"),
+        ],
+    });
+    rows.push(("Wheel", "zoom toward the point under the cursor"));
+    rows
+}
+
+/// The keys and the mouse as a Markdown table (the README's, for the default orbit button).
+#[must_use]
+pub fn markdown(orbit: OrbitButton) -> String {
+    let mut s = String::from("| input | does |\n|---|---|\n");
+    for (input, does) in mouse(orbit) {
+        s.push_str(&format!("| {input} | {does} |\n"));
+    }
+    let keys = keys();
+    let mut seen: Vec<KeyAction> = Vec::new();
+    for binding in &keys {
+        if seen.contains(&binding.action) {
+            continue;
+        }
+        seen.push(binding.action);
+        let all: Vec<String> = keys
+            .iter()
+            .filter(|k| k.action == binding.action)
+            .map(KeyBinding::keys)
+            .collect();
+        s.push_str(&format!(
+            "| {} | {} |\n",
+            all.join(", "),
+            binding.action.describe()
+        ));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The README's table is this module's: the help cannot drift from the keys.
+    #[test]
+    fn the_readme_lists_the_keymap() {
+        let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
+            .expect("README.md");
+        let table = markdown(OrbitButton::Right);
+        assert!(
+            readme.contains(&table),
+            "README.md's \"Using the window\" table must be keymap::markdown's:\n{table}"
+        );
+    }
+
+    /// No two bindings share a key and modifiers, every tool has a number key, and a
+    /// shifted binding comes before the same key unshifted (egui matches Shift loosely).
+    #[test]
+    fn bindings_are_distinct_and_ordered() {
+        let keys = keys();
+        for (i, a) in keys.iter().enumerate() {
+            for b in &keys[i + 1..] {
+                assert!(
+                    !(a.key == b.key && a.modifiers == b.modifiers),
+                    "{} twice",
+                    a.keys()
+                );
+                if a.key == b.key {
+                    assert!(
+                        !b.modifiers.shift || a.modifiers.shift,
+                        "{} after {}",
+                        b.keys(),
+                        a.keys()
+                    );
+                }
+            }
+        }
+        for tool in Tool::ALL {
+            assert!(keys.iter().any(|k| k.action == KeyAction::Tool(tool)));
+        }
+        assert_eq!(
+            keys.iter()
+                .find(|k| k.action == KeyAction::Redo)
+                .map(KeyBinding::keys),
+            Some("Ctrl+Shift+Z".to_string())
+        );
+    }
+
+    /// Keys pressed within one frame all count, in order; Shift+F is the depth, not the radius.
+    #[test]
+    fn every_key_press_of_a_frame_counts() {
+        let ctx = egui::Context::default();
+        let press = |key, modifiers| egui::Event::Key {
+            key,
+            physical_key: None,
+            pressed: true,
+            repeat: false,
+            modifiers,
+        };
+        let raw = egui::RawInput {
+            events: vec![
+                press(Key::Num3, Modifiers::NONE),
+                press(Key::F, Modifiers::SHIFT),
+                press(Key::Z, Modifiers::COMMAND),
+                press(Key::Z, Modifiers::COMMAND),
+            ],
+            ..egui::RawInput::default()
+        };
+        let mut got = Vec::new();
+        let _ = ctx.run_ui(raw, |ui| got = ui.input_mut(pressed));
+        assert_eq!(
+            got,
+            vec![
+                KeyAction::Tool(Tool::ALL[2]),
+                KeyAction::AdjustDepth,
+                KeyAction::Undo,
+                KeyAction::Undo,
+            ]
+        );
+    }
+}

@@ -1,0 +1,181 @@
+//! `nendo export MODEL.json OUT.(obj|stl|glb|step|stp|igs|iges) [--tolerance T]
+//! [--max-triangles N] [--up y|z] [--scale S]`.
+//!
+//! - Meshes (`.obj`, `.stl`, `.glb`): the model's surface tessellated by the library's own
+//!   mesher within the tolerance. Memory is bounded: the size of the mesh is computed from the
+//!   per-patch segment counts before anything is allocated, and a mesh of more than
+//!   `--max-triangles` triangles (default [`Tessellation::DEFAULT_MAX_TRIANGLES`]) is refused
+//!   with its size. Up axes: OBJ +Y by default (`--up z` keeps Z-up), GLB always +Y (glTF),
+//!   STL always +Z ([`crate::mesh::up`]).
+//! - CAD (`.step`/`.stp`, `.igs`/`.iges`): the exact patches and the curves ([`crate::cad`]),
+//!   in millimetres, `--scale` millimetres per model unit (default 1); no tessellation, so
+//!   `--tolerance` and `--max-triangles` do not apply. Z-up as the model (CAD's convention).
+//!
+//! `--tolerance` and `--scale` are checked whatever the format (a positive finite number
+//! each): a `--tolerance nan` given with a `.step` is refused, not silently ignored.
+
+use clap::Args as ClapArgs;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use crate::cad::{CadFormat, save_cad};
+use crate::mesh::{MeshFormat, Tessellation, UpAxis, save_mesh_up, try_tessellate};
+use crate::model::Model;
+
+/// Arguments of `nendo export`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct ExportArgs {
+    /// The model (nendo-model JSON).
+    pub model: PathBuf,
+    /// The output file; its extension chooses the format: .obj, .stl, .glb (meshes), .step /
+    /// .stp (STEP AP214), .igs / .iges (IGES 5.3).
+    pub out: PathBuf,
+    /// Meshes: largest distance between the mesh and the surface, in model units (sides).
+    #[arg(long, default_value_t = Tessellation::EXPORT.tolerance, allow_hyphen_values = true)]
+    pub tolerance: f64,
+    /// Meshes: refuse meshes of more triangles than this (counted before welding, before
+    /// anything is allocated; 20 million take about 1 GB at the peak of writing).
+    #[arg(long, default_value_t = Tessellation::DEFAULT_MAX_TRIANGLES)]
+    pub max_triangles: u64,
+    /// Meshes: the file's up axis, y or z. OBJ: y by default (model (x, y, z) written as
+    /// (x, z, -y)), z keeps the model's coordinates; GLB is always y (glTF), STL always z.
+    #[arg(long)]
+    pub up: Option<UpAxis>,
+    /// STEP / IGES: millimetres per model unit (the files are always in millimetres).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub scale: f64,
+}
+
+/// Runs `nendo export`.
+pub fn run(args: ExportArgs) -> ExitCode {
+    if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
+        eprintln!(
+            "nendo export: --tolerance must be a positive number, not {}",
+            crate::num::Compact(args.tolerance)
+        );
+        return ExitCode::from(2);
+    }
+    if !(args.scale.is_finite() && args.scale > 0.0) {
+        eprintln!(
+            "nendo export: --scale must be a positive number (millimetres per model unit), not {}",
+            crate::num::Compact(args.scale)
+        );
+        return ExitCode::from(2);
+    }
+    if let Err(e) =
+        super::paths::check(&[("OUT", Some(&args.out))], &[("model", Some(&args.model))])
+    {
+        eprintln!("nendo export: {e}");
+        return ExitCode::from(2);
+    }
+    if let Some(format) = CadFormat::from_path(&args.out) {
+        return run_cad(&args, format);
+    }
+    let format = match MeshFormat::from_path(&args.out) {
+        Ok(f) => f,
+        Err(_) => {
+            let ext = args
+                .out
+                .extension()
+                .and_then(|e| e.to_str())
+                .unwrap_or("")
+                .to_ascii_lowercase();
+            eprintln!(
+                "nendo export: unknown format {ext:?}: use .obj, .stl, .glb, .step, .stp, .igs or .iges"
+            );
+            return ExitCode::from(2);
+        }
+    };
+    let up = args.up.unwrap_or(format.default_up());
+    if let Err(e) = format.check_up(up) {
+        eprintln!("nendo export: --up {up}: {e}");
+        return ExitCode::from(2);
+    }
+    let loaded = match Model::read(&args.model) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("nendo export: {}", e.in_file(&args.model));
+            return ExitCode::FAILURE;
+        }
+    };
+    let patches = loaded.model.surface.patches();
+    let settings = Tessellation::with_tolerance(args.tolerance);
+    let raw = match try_tessellate(&patches, &settings, args.max_triangles) {
+        Ok(raw) => raw,
+        Err(e) => {
+            eprintln!(
+                "nendo export: {e}; raise --max-triangles or the --tolerance (now {})",
+                crate::num::Compact(args.tolerance)
+            );
+            return ExitCode::FAILURE;
+        }
+    };
+    let mesh = raw.welded();
+    if let Err(e) = save_mesh_up(&args.out, format, &mesh, up) {
+        eprintln!("nendo export: {}: {e}", args.out.display());
+        return ExitCode::FAILURE;
+    }
+    let summary = format!(
+        "{}: {} patches, {} vertices, {} triangles, error bound {:.3e} (tolerance {}), +{} up",
+        args.out.display(),
+        patches.len(),
+        mesh.positions.len(),
+        mesh.triangle_count(),
+        raw.error_bound,
+        crate::num::Compact(args.tolerance),
+        up.name().to_ascii_uppercase()
+    );
+    if let Err(super::output::StdoutError(e)) = super::output::println(summary) {
+        return super::output::stdout_failed("nendo export", &e);
+    }
+    if raw.error_bound > args.tolerance {
+        eprintln!(
+            "nendo export: warning: {} segments per patch edge could not reach the tolerance",
+            settings.max_segments
+        );
+    }
+    ExitCode::SUCCESS
+}
+
+/// `nendo export` to STEP or IGES.
+fn run_cad(args: &ExportArgs, format: CadFormat) -> ExitCode {
+    if let Some(up) = args.up.filter(|&u| u != UpAxis::Z) {
+        eprintln!(
+            "nendo export: --up {up}: {} is written +Z up, as the model",
+            format.name()
+        );
+        return ExitCode::from(2);
+    }
+    let loaded = match Model::read(&args.model) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("nendo export: {}", e.in_file(&args.model));
+            return ExitCode::FAILURE;
+        }
+    };
+    let started = Instant::now();
+    let model = &loaded.model;
+    let bytes = match save_cad(&args.out, format, model, args.scale) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("nendo export: {}: {e}", args.out.display());
+            return ExitCode::FAILURE;
+        }
+    };
+    let summary = format!(
+        "{}: {}, {} patches ({} surface), {} curves, {} bytes, scale {} mm per unit, {:.0} ms",
+        args.out.display(),
+        format.name(),
+        model.surface.patch_count(),
+        model.surface.topology(),
+        model.curves.len(),
+        bytes,
+        crate::num::Compact(args.scale),
+        started.elapsed().as_secs_f64() * 1e3
+    );
+    if let Err(super::output::StdoutError(e)) = super::output::println(summary) {
+        return super::output::stdout_failed("nendo export", &e);
+    }
+    ExitCode::SUCCESS
+}

@@ -1,0 +1,170 @@
+//! `nendo render MODEL.json --png OUT.png [--size WxH] [--view iso]`: draws a model headless
+//! with the window's renderer (offscreen, on any wgpu adapter — Mesa's lavapipe without a GPU).
+
+use clap::Args as ClapArgs;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use super::arg_error::ArgError;
+use crate::editor::ViewPreset;
+use crate::editor::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
+use crate::mesh::Tessellation;
+use crate::model::Model;
+use crate::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
+
+/// Arguments of `nendo render`.
+#[derive(Debug, Clone, ClapArgs)]
+pub struct RenderArgs {
+    /// The model (nendo-model JSON).
+    pub model: PathBuf,
+    /// Where to write the image.
+    #[arg(long, value_name = "OUT.png")]
+    pub png: PathBuf,
+    /// Image size in pixels, `WIDTHxHEIGHT`.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Where to look from: front, back, left, right, top, bottom, iso.
+    #[arg(long, default_value = "iso")]
+    pub view: ViewPreset,
+    /// Colour the seams by their G1 error.
+    #[arg(long)]
+    pub heat: bool,
+    /// Seam angle drawn red, degrees.
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub heat_max: f32,
+    /// Draw the control net.
+    #[arg(long)]
+    pub control_net: bool,
+    /// Leave out the patch boundaries.
+    #[arg(long)]
+    pub no_edges: bool,
+    /// Samples per pixel (1 or 4).
+    #[arg(long, default_value_t = 4, value_parser = parse_samples)]
+    pub samples: u32,
+}
+
+/// Parses a sample count: 1 or 4 (what every adapter supports).
+fn parse_samples(s: &str) -> Result<u32, ArgError> {
+    match s.trim() {
+        "1" => Ok(1),
+        "4" => Ok(4),
+        _ => Err(ArgError::Samples(s.to_owned())),
+    }
+}
+
+/// Parses `WIDTHxHEIGHT` (each 1..=8192).
+fn parse_size(s: &str) -> Result<(u32, u32), ArgError> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| ArgError::NotASize {
+        value: s.to_owned(),
+        example: "1280x720",
+    })?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=8192).contains(n))
+    };
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => Err(ArgError::RenderSize(s.to_owned())),
+    }
+}
+
+/// Runs `nendo render`.
+pub fn run(args: RenderArgs) -> ExitCode {
+    match render(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("nendo render: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn render(args: &RenderArgs) -> anyhow::Result<()> {
+    if !(args.heat_max.is_finite() && args.heat_max > 0.0) {
+        anyhow::bail!(
+            "--heat-max must be a positive angle in degrees, not {}",
+            crate::num::Compact(f64::from(args.heat_max))
+        );
+    }
+    super::paths::check(
+        &[("--png", Some(&args.png))],
+        &[("model", Some(&args.model))],
+    )?;
+    let loaded = Model::read(&args.model).map_err(|e| anyhow::anyhow!(e.in_file(&args.model)))?;
+    let model = loaded.model;
+    let patches = model.surface.patches();
+    let display = SurfaceDisplay::new(&patches, &Tessellation::DISPLAY);
+    let overlays = Overlays {
+        patch_edges: !args.no_edges,
+        control_net: args.control_net,
+        heat_map: args.heat,
+        heat_max_deg: args.heat_max,
+        control_polygons: true,
+    };
+    let mut lines = LineBatch::new();
+    model_lines(&model, &patches, &display, &overlays, &mut lines);
+
+    let start = Instant::now();
+    let gpu = GpuContext::headless()?;
+    let mut renderer = Renderer::new(&gpu.device, OFFSCREEN_FORMAT, args.samples);
+    renderer.set_surface(&gpu.device, &gpu.queue, &display.mesh, &display.seam_heat);
+    renderer.set_lines(&gpu.device, &gpu.queue, &lines);
+    let (w, h) = args.size;
+    let aspect = w as f32 / h as f32;
+    let points = framing_points(&model, &patches, &display, &overlays);
+    let camera = crate::editor::OrbitCamera::framing(args.view, &points, aspect);
+    let style = Style {
+        heat_map: args.heat,
+        heat_max_deg: args.heat_max,
+        ..Style::default()
+    };
+    renderer.prepare(
+        &gpu.queue,
+        &camera.view(aspect),
+        &style,
+        [w as f32, h as f32],
+    );
+    let image = Offscreen::new(&gpu.device, [w, h], args.samples).render(&gpu, &renderer)?;
+    image.save_png(&args.png)?;
+    eprintln!(
+        "{}: {}x{} from {}, {} patches, {} triangles, on {} in {:.0} ms",
+        args.png.display(),
+        w,
+        h,
+        args.view,
+        patches.len(),
+        display.mesh.triangle_count(),
+        gpu.describe(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn size_and_samples_fail_with_typed_errors_and_the_same_messages() {
+        let e = parse_samples("2").unwrap_err();
+        assert!(matches!(e, ArgError::Samples(_)), "{e:?}");
+        assert_eq!(e.to_string(), "\"2\": samples per pixel must be 1 or 4");
+        assert_eq!(parse_samples("4").ok(), Some(4));
+        let e = parse_size("1280").unwrap_err();
+        assert!(matches!(e, ArgError::NotASize { .. }), "{e:?}");
+        assert_eq!(
+            e.to_string(),
+            "\"1280\": expected WIDTHxHEIGHT, e.g. 1280x720"
+        );
+        let e = parse_size("9000x10").unwrap_err();
+        assert!(matches!(e, ArgError::RenderSize(_)), "{e:?}");
+        assert_eq!(
+            e.to_string(),
+            "\"9000x10\": width and height must be whole numbers from 1 to 8192"
+        );
+        assert_eq!(parse_size("640x480").ok(), Some((640, 480)));
+    }
+}

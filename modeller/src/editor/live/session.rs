@@ -1,0 +1,334 @@
+//! The device session: connecting the selected profile's devices (or replaying a trace),
+//! recording, each window frame's samples run through the hand loop on the document, the
+//! hand drawn, and what the panel shows of it.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+use nendo_devices::profile::{Input, MouseProfile};
+use nendo_devices::{DeviceStatus, HandStream, Profile, StreamOptions, Trace, TrackerPose};
+
+use crate::editor::document::Document;
+use crate::editor::hand_input::HandDriver;
+use crate::hand::scene::Scene;
+use crate::hand::{DEFAULT_FINGER_RADIUS, FingerModel};
+use crate::render::{LineBatch, SphereInstance};
+use crate::surface::SurfaceError;
+
+use super::inbox::*;
+use super::*;
+
+impl LiveInput {
+    /// True while a session runs.
+    #[must_use]
+    pub fn is_connected(&self) -> bool {
+        self.session.is_some()
+    }
+
+    /// Stops the session, if any (ending its hand's contact in `doc`).
+    pub fn disconnect_from(&mut self, doc: &mut Document) {
+        self.end_contact(doc);
+        self.disconnect();
+    }
+
+    /// Ends the hand's contact in progress (before another edit of the surface).
+    pub fn end_contact(&mut self, doc: &mut Document) {
+        if let Some(d) = &mut self.driver {
+            d.end_contact(doc);
+        }
+    }
+
+    /// Stops the session, if any.
+    pub fn disconnect(&mut self) {
+        self.driver = None;
+        self.running = None;
+        self.calibration.capturing = None;
+        if let Some(mut s) = self.session.take() {
+            s.stop();
+            if let Some(r) = lock(&s.shared.recorded).take() {
+                let to = s
+                    .recording
+                    .as_ref()
+                    .map(|p| format!(" to {}", p.display()))
+                    .unwrap_or_default();
+                self.message = Some(match r {
+                    Ok(n) => format!("trace recorded{to}: {n} frames"),
+                    Err(e) => format!("trace recording failed: {e}"),
+                });
+            }
+        }
+        self.write_status(true);
+    }
+
+    /// The trace to record to, if recording is on and a path is given.
+    pub(super) fn record_path(&self) -> Option<PathBuf> {
+        let t = self.record_to.trim();
+        (self.record && !t.is_empty()).then(|| PathBuf::from(t))
+    }
+
+    /// The Connect button: opens the devices of the selected profile, or, for the mouse
+    /// profile, returns its settings for the Hand tool (stopping any device session).
+    pub(crate) fn connect_or_mouse(&mut self, doc: &mut Document) -> Option<MouseProfile> {
+        if let Some(mouse) = self.selected_mouse() {
+            self.disconnect_from(doc);
+            self.message = Some("the mouse drives the hand (Hand tool)".into());
+            return Some(mouse);
+        }
+        self.connect(doc);
+        None
+    }
+
+    /// Opens the devices of the selected profile — unless the recording would replace an
+    /// existing file: then the panel asks first ([`LiveInput::confirm_overwrite`]).
+    pub fn connect(&mut self, doc: &mut Document) {
+        let record = self.record_path();
+        if let Some(path) = &record
+            && std::fs::symlink_metadata(path).is_ok()
+        {
+            self.confirm_overwrite = Some(path.clone());
+            return;
+        }
+        self.connect_recording(doc, record);
+    }
+
+    /// Connects recording to `record` (an answer to the overwrite question, or no question).
+    pub(crate) fn connect_recording(&mut self, doc: &mut Document, record: Option<PathBuf>) {
+        self.confirm_overwrite = None;
+        let Some(profile) = self.selected_profile() else {
+            return;
+        };
+        self.disconnect_from(doc);
+        if let Some(path) = &record {
+            self.record_to = path.display().to_string();
+        }
+        // A device that is off now is retried until it answers, as one unplugged mid-session.
+        let stream = match HandStream::connect(&profile, &StreamOptions::default()) {
+            Ok(stream) => stream,
+            Err(e) => {
+                self.message = Some(e.to_string());
+                return;
+            }
+        };
+        let replay = match &profile.input {
+            Input::Replay(r) => Some(PathBuf::from(&r.trace)),
+            _ => None,
+        };
+        let Some((driver, finger, radius)) = self.driver_for(&stream, &profile) else {
+            return;
+        };
+        // Mismatches the devices worked around (a glove for the other hand) stay on show.
+        let warnings = (!stream.warnings().is_empty()).then(|| stream.warnings().join("; "));
+        // The recording names the scene it is made on: the document's model as it is now, and
+        // the hand's finger, radius and filter.
+        let scene = Scene {
+            filter: Some(*driver.hand_loop().filter().settings()),
+            ..Scene::of_window(doc.model(), finger, radius)
+        };
+        let record = match record {
+            Some(path) => match scene.to_text() {
+                Ok(scene) => Some((path, &profile, Some(scene))),
+                Err(e) => {
+                    self.message = Some(format!("cannot record the scene: {e}"));
+                    return;
+                }
+            },
+            None => None,
+        };
+        match DeviceSession::start(stream, record) {
+            Ok(mut s) => {
+                s.replay = replay;
+                self.session = Some(s);
+                self.driver = Some(driver);
+                self.running = Some(profile);
+                self.message = warnings;
+            }
+            Err(e) => self.message = Some(e.to_string()),
+        }
+        self.rate = (0, Some(Instant::now()), 0.0);
+        self.write_status(true);
+    }
+
+    /// The hand for a stream: a replay reads its frames with the trace's header (its hand
+    /// and transform), as `nendo replay` does; live devices with the profile's.
+    pub(super) fn driver_for(
+        &mut self,
+        stream: &HandStream,
+        profile: &Profile,
+    ) -> Option<(HandDriver, FingerModel, f64)> {
+        let (driver, finger, radius) = match stream.source_header() {
+            Some(h) => {
+                let finger = trace_finger(h);
+                let radius = self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS);
+                let filter = crate::hand::filter::for_trace(h, finger);
+                (
+                    HandDriver::new(h.hand, h.world_from_tracker, finger, radius)
+                        .map(|d| d.with_filter(filter)),
+                    finger,
+                    radius,
+                )
+            }
+            None => {
+                let finger = FingerModel::for_profile(profile);
+                let radius = self.radius(profile, false);
+                (
+                    HandDriver::new(profile.hand, profile.world_from_tracker, finger, radius)
+                        .map(|d| d.with_filter(profile.filter)),
+                    finger,
+                    radius,
+                )
+            }
+        };
+        match driver {
+            Ok(d) => Some((d, finger, radius)),
+            Err(e) => {
+                self.message = Some(e.to_string());
+                None
+            }
+        }
+    }
+
+    /// The finger radius of a session: set, or following the hand (a replay: the default).
+    #[must_use]
+    pub fn radius(&self, profile: &Profile, replay: bool) -> f64 {
+        self.radius_set.unwrap_or_else(|| {
+            if replay {
+                DEFAULT_FINGER_RADIUS
+            } else {
+                following_radius(&profile.hand, &profile.world_from_tracker)
+            }
+        })
+    }
+
+    /// Plays a recorded trace as if it came from the devices.
+    pub(crate) fn replay(&mut self, path: &Path, doc: &mut Document) {
+        self.disconnect_from(doc);
+        match Trace::read_recovering(path) {
+            Ok(recovered) => {
+                let trace = recovered.trace;
+                let h = &trace.header;
+                let finger = FingerModel::for_profile_name(h.profile.as_deref());
+                let driver = HandDriver::new(
+                    h.hand,
+                    h.world_from_tracker,
+                    finger,
+                    self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS),
+                )
+                .map(|d| d.with_filter(crate::hand::filter::for_trace(h, finger)));
+                let driver = match driver {
+                    Ok(d) => d,
+                    Err(e) => {
+                        self.message = Some(e.to_string());
+                        return;
+                    }
+                };
+                let stream = HandStream::replay(trace, 1.0, false, 1024);
+                match DeviceSession::start(stream, None) {
+                    Ok(mut s) => {
+                        s.replay = Some(path.to_path_buf());
+                        self.session = Some(s);
+                        self.driver = Some(driver);
+                        // An interrupted recording plays its complete frames, saying so.
+                        if let Some(i) = recovered.interrupted {
+                            self.message = Some(format!("{}: {i}", path.display()));
+                        }
+                    }
+                    Err(e) => self.message = Some(e.to_string()),
+                }
+            }
+            Err(e) => self.message = Some(format!("{}: {e}", path.display())),
+        }
+        self.rate = (0, Some(Instant::now()), 0.0);
+    }
+
+    /// Takes every frame the loop received since the last call and runs them, in order,
+    /// through the hand against `doc`; returns why the surface refused a frame, if it did.
+    pub fn poll(&mut self, doc: &mut Document) -> Option<SurfaceError> {
+        let Some(session) = &self.session else {
+            self.write_status(false);
+            return None;
+        };
+        let frames = std::mem::take(&mut *lock(&session.shared.inbox));
+        let finished = lock(&session.shared.status).finished;
+        let mut refused = None;
+        if let Some(driver) = &mut self.driver {
+            for f in &frames {
+                driver.feed(doc, f);
+            }
+            refused = driver.take_refused();
+            self.contacts = driver.contacts();
+        }
+        if let Some(pose) = frames.iter().rev().find_map(|f| f.pose) {
+            self.last_pose = Some(pose);
+        }
+        self.capture(&frames);
+        let (count, since, _) = &mut self.rate;
+        *count += frames.len() as u64;
+        if let Some(t) = since {
+            let secs = t.elapsed().as_secs_f64();
+            if secs >= 1.0 {
+                self.rate = (0, Some(Instant::now()), *count as f64 / secs);
+            }
+        }
+        if finished {
+            self.message = Some("the stream ended".into());
+            self.end_contact(doc);
+            if let Some(mut s) = self.session.take() {
+                s.stop();
+            }
+        }
+        self.write_status(finished);
+        refused
+    }
+
+    /// Draws the hand the frames drive (it stays in place after a trace ends, until the next
+    /// session).
+    pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
+        if let Some(d) = &self.driver {
+            d.draw(lines, spheres);
+        }
+    }
+
+    /// The session's devices as the panel shows them, and whether it is a replay.
+    pub(crate) fn device_status(&self) -> Option<(Vec<DeviceStatus>, Option<String>, bool)> {
+        let s = self.session.as_ref()?;
+        let status = lock(&s.shared.status);
+        Some((
+            status.devices.clone(),
+            status.recording_error.clone(),
+            s.replay.is_some(),
+        ))
+    }
+
+    /// `describe — N s; frames, rate`, for the panel.
+    pub(crate) fn session_line(&self) -> Option<String> {
+        let s = self.session.as_ref()?;
+        let what = match &s.replay {
+            Some(p) => format!("replaying {}", p.display()),
+            None => s.describe.clone(),
+        };
+        let recording = s
+            .recording
+            .as_ref()
+            .map(|p| format!("; recording to {}", p.display()))
+            .unwrap_or_default();
+        Some(format!(
+            "{what} — {:.0} s, {} frames, {:.1} frames/s{recording}",
+            s.started.elapsed().as_secs_f64(),
+            s.shared.frames.load(Ordering::Relaxed),
+            self.rate.2
+        ))
+    }
+
+    /// The running live profile (devices, not a replay).
+    pub(crate) fn running_devices(&self) -> Option<&Profile> {
+        self.running
+            .as_ref()
+            .filter(|p| matches!(p.input, Input::Devices { .. }))
+    }
+
+    /// The last tracker pose.
+    pub(crate) fn last_pose(&self) -> Option<TrackerPose> {
+        self.last_pose
+    }
+}

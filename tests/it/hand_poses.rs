@@ -464,6 +464,8 @@ struct Tally {
     /// Their fingertips' entries, each after a part of the finger's own body.
     tips_in_after_their_body: usize,
     held: usize,
+    /// Cases held off the clay by the clutch (a fist), which left it as it was.
+    clutched: usize,
     samples: usize,
     /// The largest move of a sample over the deepest penetration of the parts near it.
     worst_move: f64,
@@ -507,6 +509,17 @@ fn random_hand_poses_never_pull_the_clay_nor_press_deeper_than_they_went() {
                 }
                 s.finish();
                 let held = s.hand_loop().stats().holds > 0;
+                if s.hand_loop().stats().clutched > 0 {
+                    // A fist (rule 10, the clutch: every finger but the thumb bent past
+                    // 1.3 rad) moves the hand without touching: the clay stays as it was.
+                    tally.clutched += 1;
+                    assert_eq!(
+                        deviation::samples(s.grid(), 10),
+                        before,
+                        "a fist moved the clay"
+                    );
+                    continue;
+                }
                 let parts = penetrations(&case);
                 let deepest = parts.iter().map(|p| p.1).fold(0.0, f64::max);
                 let after = deviation::samples(s.grid(), 10);
@@ -583,7 +596,7 @@ fn random_hand_poses_never_pull_the_clay_nor_press_deeper_than_they_went() {
     );
     assert!(tally.skipped * 10 <= tally.cases, "{tally:?}");
     assert!(
-        tally.pressed * 2 >= tally.cases,
+        tally.pressed * 2 >= tally.cases - tally.clutched,
         "most cases press: {tally:?}"
     );
     assert!(

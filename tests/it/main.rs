@@ -18,6 +18,7 @@ mod figure_fit;
 mod figure_morph;
 mod figure_shape;
 mod figure_warp;
+mod hand_clutch;
 mod hand_contact;
 mod hand_filter;
 mod hand_kinematics;

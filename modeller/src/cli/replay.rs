@@ -397,7 +397,7 @@ fn setup(args: &ReplayArgs, trace: &Trace) -> anyhow::Result<Setup> {
     })
 }
 
-fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
+pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     // `--out` may replace the `--model` read (a model either way), not the trace or profile.
     super::paths::check(
         &[("--out", Some(&args.out))],
@@ -544,8 +544,12 @@ fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             format!("{gate} — frames {}{more}", first.join(", "))
         }
     };
+    let clutched = match st.clutched {
+        0 => String::new(),
+        n => format!(", {n} frames clutched (the clutch key or a fist)"),
+    };
     Ok(format!(
-        "{total} frames{} ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes, {} grabs (pinches); regulation {regulation}{gate}{refinement}{scene}; {:.3} s -> {}",
+        "{total} frames{} ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes, {} grabs (pinches){clutched}; regulation {regulation}{gate}{refinement}{scene}; {:.3} s -> {}",
         interrupted.unwrap_or_default(),
         st.frames_with_finger,
         st.contacts,

@@ -128,6 +128,14 @@
 //!    `d` apart at an earlier frame since the hand appeared and have not closed since (tips
 //!    together already — a fist, a pinch closed in the air — press like any other part). Opening the pinch ends it: one operation, one undo step, committed as that one
 //!    `move`.
+//! 10. **The clutch** (`hand_loop/clutch.rs`). While the frame's buttons hold
+//!     [`nendo_devices::buttons::CLUTCH`] (the window's clutch key), or — a glove's hand —
+//!     while the hand makes a fist (the index, middle, ring and little fingers each flexed by
+//!     at least 1.3 rad, the mean of MCP and PIP; open again when any is below 1.1 rad), the
+//!     hand moves and is drawn but does not act: as rule 1 without a finger, the contact or
+//!     pinch in progress ends and where the parts were is forgotten — so a part that is in the
+//!     clay when the clutch lets go did not enter it, and presses only once it has come out
+//!     and gone back in. The hand can be carried to another place, or back, through the clay.
 //!
 //! Everything runs in a fixed order on `f64`: the outcome is a pure function of the frames,
 //! the starting grid and the options.
@@ -144,6 +152,7 @@ use super::parts::{FingerModel, Fingers, Part};
 use super::press::{Placement, Presser, Stroke, describe};
 use crate::surface::{Grid, LiveOperation, Op, Regulation};
 
+pub mod clutch;
 mod pinch;
 mod side;
 mod track;
@@ -174,6 +183,8 @@ pub struct HandLoop {
     /// Whether thumb and index have been apart since the hand appeared or they last closed:
     /// the next closing may take hold (rule 9).
     pinch_armed: bool,
+    /// Whether the hand made a fist at the last frame (rule 10's hysteresis).
+    fist: bool,
     stats: LoopStats,
     /// The plausibility gate and One-Euro filter every frame goes through first
     /// ([`super::filter`]).
@@ -213,6 +224,7 @@ impl HandLoop {
             sides: [None; 6],
             near: Vec::new(),
             pinch_armed: false,
+            fist: false,
             stats: LoopStats::default(),
             filter: FrameFilter::new(super::filter::default_for(options.finger)),
         })
@@ -264,6 +276,25 @@ impl HandLoop {
             }
         }
         set
+    }
+
+    /// The part deepest in the clay now and how deep its tip is past the surface before the
+    /// contact (`h` of rule 3; a gripping part's may be negative), among the parts of the
+    /// contact in progress still in it. `None` when no part is in the clay.
+    #[must_use]
+    pub fn deepest(&self) -> Option<(Part, f64)> {
+        let c = self.contact.as_ref()?;
+        c.tracks
+            .iter()
+            .filter(|t| t.active)
+            .map(|t| (t.part, t.penetration))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Whether the hand made a fist at the last frame (rule 10's gesture: the clutch).
+    #[must_use]
+    pub fn fist(&self) -> bool {
+        self.fist
     }
 
     /// The hand's state.
@@ -561,9 +592,15 @@ impl HandLoop {
             .find(|(p, _)| *p == primary)
             .or_else(|| self.tips.first())
             .map(|(_, t)| *t);
-        let Some(((_, tips), grip)) = parts.zip(self.acting(frame)) else {
-            // No hand: where the parts were is not known any more (rule 3), nor whether the
-            // pinch was open (rule 9).
+        let (clutched, fist) = self.clutch(frame);
+        self.fist = fist;
+        if clutched && parts.is_some() {
+            self.stats.clutched += 1;
+        }
+        let acting = self.acting(frame).filter(|_| !clutched);
+        let Some(((_, tips), grip)) = parts.zip(acting) else {
+            // No hand, or the clutch held (rule 10): where the parts were is not known any
+            // more (rule 3), nor whether the pinch was open (rule 9).
             self.sides = [None; 6];
             self.pinch_armed = false;
             out.committed = self.close();
@@ -699,6 +736,17 @@ impl HandLoop {
         tracks
     }
 
+    /// Rule 10: whether the clutch holds the hand off the clay in `frame`, and whether the
+    /// hand makes a fist (from the fist at the last frame). Changes nothing.
+    fn clutch(&self, frame: &HandFrame) -> (bool, bool) {
+        let joints = match (self.options.finger, frame.status.glove) {
+            (FingerModel::Hand(_), SourceState::Ok) => frame.joints.as_ref(),
+            _ => None,
+        };
+        let fist = clutch::fist(self.fist, joints);
+        (fist || clutch::key(frame.buttons), fist)
+    }
+
     /// Rule 2: whether the finger acts in `frame` (`None`: it does not), and whether the grip
     /// is held.
     fn acting(&self, frame: &HandFrame) -> Option<bool> {
@@ -722,7 +770,7 @@ impl HandLoop {
         // The frame as HandLoop::frame will see it (super::filter), the filter untouched.
         let frame = &self.filter.peek(frame);
         let (_, tips) = self.parts_of(frame)?;
-        let grip = self.acting(frame)?;
+        let grip = self.acting(frame).filter(|_| !self.clutch(frame).0)?;
         if let Some((thumb, index)) = pinch_pair(&tips)
             && let Some((at, _)) = self.takes_hold(&thumb, &index, grid)
         {

@@ -9,6 +9,8 @@
 #    autosaved model apart from the plane).
 # 3. The glove emulator is stopped: the glove reads Disconnected with an error.
 # 4. It is started again on the same path: the glove is Ok again and its error is gone.
+# In 2, the desk: Space held (the clutch) keeps the hand off the clay for two press gestures;
+# let go, the press's contact feedback is shown.
 #
 # The window reports its device status in a file (NENDO_STATUS_FILE, a test aid: one JSON
 # object, rewritten four times a second); screenshots judge the view.
@@ -103,13 +105,25 @@ echo "both devices off: Connect started, glove $(state glove), tracker $(state t
 sleep 1
 view_shot before
 
-# --- 2: the devices come; both Ok, the hand drawn, the clay pressed.
+# --- 2: the devices come with Space held (the clutch): both Ok, the hand drawn, and no
+# contact through two whole press gestures (3 s each). Space let go: the next press is shown
+# (the clay's displacement under it, the contact feedback) and deforms the clay.
+xdotool windowfocus --sync "$WID"
+xdotool keydown space
 start_emulator tracker fastrak
 start_emulator glove cyberglove
 wait_status 30 "the devices did not both reach Ok" \
   '([.devices[] | select(.state == "ok" and .last_error == null)] | length) == 2'
 echo "emulators started: glove $(state glove), tracker $(state tracker), no error"
 wait_status 15 "the hand was not drawn" '.hand_drawn == true'
+wait_status 5 "Space held did not clutch the hand" '.clutched == true'
+sleep 6.5
+status '.clutched == true and .contacts == 0' || { xdotool keyup space; fail "the hand touched the clay while Space was held"; }
+xdotool keyup space
+echo "clutch: 6.5 s of press gestures with Space held, no contact"
+wait_status 5 "Space let go did not release the clutch" '.clutched == false'
+wait_status 20 "no contact feedback while pressing" '.clay_moved != null and .clay_moved > 0.05'
+echo "contact feedback: the clay moved $(jq .clay_moved "$WORK/status.json") sides under the press"
 wait_status 20 "the press gesture made no contact" '.contacts >= 1'
 sleep 1.5
 view_shot pressed

@@ -338,6 +338,9 @@ pub mod buttons {
     pub const SECONDARY: u32 = 2;
     /// Middle mouse button.
     pub const MIDDLE: u32 = 4;
+    /// The clutch: while held, the hand moves without touching the clay (the window's
+    /// clutch key, stamped on the samples as they arrive so that a recording carries it).
+    pub const CLUTCH: u32 = 8;
 }
 
 /// One hand frame: emitted at every device sample, holding the latest value of each source.

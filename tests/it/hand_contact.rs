@@ -5,7 +5,7 @@ use glam::DVec3;
 use nendo::hand::script::{self, Choreography};
 use nendo::hand::shipped;
 use nendo::hand::{
-    DEFAULT_PINCH_DISTANCE, Digit, FingerModel, Fingers, Hand, HandLoop, HandOptions, HandSession,
+    DEFAULT_PINCH_CLOSED, Digit, FingerModel, Fingers, Hand, HandLoop, HandOptions, HandSession,
     Part, Probe, Touch,
 };
 use nendo::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, continuity};
@@ -282,7 +282,9 @@ fn a_fast_stroke_leaves_no_gaps_and_the_finger_bend_alone_can_press() {
 }
 
 /// A flat hand (every joint straight) lowered onto the default plane at `degrees` to it, its
-/// index fingertip `depth` into the clay at (0.3, 0.2), and held: the trace.
+/// index fingertip `depth` into the clay at (0.3, 0.2), and held: the trace. It comes from
+/// 0.4 side above the plane and 0.4 back along the finger's up direction: every fingertip
+/// enters the clay from above (rule 3: a hand put down inside the clay presses nothing).
 fn flat_hand_at(degrees: f64, depth: f64) -> Trace {
     let a = degrees.to_radians();
     let axis = DVec3::new(a.cos(), 0.0, -a.sin());
@@ -292,7 +294,7 @@ fn flat_hand_at(degrees: f64, depth: f64) -> Trace {
     let mut c = Choreography::new(Choreography::WORLD, 120.0).unwrap();
     let flat: Vec<(Joint, f64)> = Joint::ALL.iter().map(|&j| (j, 0.0)).collect();
     c.set_angles(&flat);
-    c.place(tip + 0.4 * up, axis, up);
+    c.place(tip + 0.4 * up + 0.4 * DVec3::Z, axis, up);
     c.move_to(tip, axis, 30).hold(20);
     c.finish("test").unwrap()
 }
@@ -475,7 +477,9 @@ fn a_pinch_takes_hold_of_the_clay_and_pulls_it_with_the_hand() {
         - hand.local_finger(Digit::Index, Some(&angles)).tip())
     .length()
         * hand.scale();
-    assert!(gap < 0.5 * DEFAULT_PINCH_DISTANCE, "the tips meet: {gap}");
+    let pinch_distance = DEFAULT_PINCH_CLOSED * hand.finger_length(Digit::Index);
+    assert!((pinch_distance - 0.405).abs() < 1e-9, "{pinch_distance}");
+    assert!(gap < 0.5 * pinch_distance, "the tips meet: {gap}");
 
     let t = shipped::sphere_pinch_pull().unwrap();
     let mut s = session_with(&sphere, FingerModel::Hand(PINCH_FINGERS)).logging_contacts();

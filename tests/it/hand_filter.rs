@@ -189,6 +189,8 @@ fn a_press_comes_to_rest_as_deep_as_without_the_filter() {
     c.hold(120);
     let t = c.finish("test").unwrap();
     let mut settled = [0usize; 2];
+    let mut last_change = [0usize; 2];
+    let mut applications = [0u64; 2];
     let mut finals = Vec::new();
     for (i, filter) in [FilterSettings::off(), FilterSettings::default()]
         .into_iter()
@@ -205,8 +207,24 @@ fn a_press_comes_to_rest_as_deep_as_without_the_filter() {
             .iter()
             .rposition(|g| max_gap(g, &last) > 1e-4)
             .map_or(0, |k| k + 1);
+        // The last frame that changed the surface at all: a press re-applied for depth
+        // changes below the loop's smallest step would go on changing it long after.
+        last_change[i] = grids
+            .windows(2)
+            .rposition(|w| w[0] != w[1])
+            .map_or(0, |k| k + 1);
+        applications[i] = s.hand_loop().stats().applications;
         finals.push(last);
     }
+    eprintln!(
+        "press held still: the surface last changed {} frames after the hand stops unfiltered, {} filtered; {applications:?} applications",
+        last_change[0].saturating_sub(24),
+        last_change[1].saturating_sub(24)
+    );
+    assert!(
+        last_change[1] <= 24 + 36,
+        "the filtered press stops re-applying within 0.3 s: {last_change:?}"
+    );
     let gap = max_gap(&finals[0], &finals[1]);
     eprintln!(
         "press held still: the surface within 1e-4 side of its end {} frames after the hand stops unfiltered, {} filtered (120 Hz); the dents {gap:.2e} side apart",
@@ -381,7 +399,12 @@ fn the_lag_on_the_shipped_traces_is_small_and_nothing_is_held() {
     for (name, rms, max, gap) in figures {
         assert!(rms < 0.075, "{name}: {rms}");
         assert!(max < 0.25, "{name}: {max}");
-        assert!(gap < 0.1, "{name}: {gap}");
+        // The pot's 60 Hz pecks: 0.10 side between the filtered and the raw pot since a press
+        // re-applies only when it goes more than `min_depth` deeper (issue 25's desk branch;
+        // 0.1 before) — fewer applications of the filter's creeping tail, each adjusting
+        // the rule-7 correction.
+        let most = if name == "tube-pot" { 0.11 } else { 0.1 };
+        assert!(gap < most, "{name}: {gap}");
     }
     // The emulators' gestures at both shipped scales pass the gate untouched.
     for world in [

@@ -94,9 +94,11 @@ fn sphere_push_at_the_pole_and_pull_at_the_equator() {
     assert!((top - 2.4).abs() < 0.01, "pole at z = {top}");
     let out = 10.0 - along(&g, DVec3::new(10.0, 0.0, 0.0), -DVec3::X);
     assert!((out - 3.6).abs() < 0.01, "equator at x = {out}");
-    // The far side did not move at all.
+    // The far side did not move (to the probe's rounding: from −10 z the line meets the south
+    // pole, where eight patches meet, each solving for the same point).
     for d in [DVec3::X, DVec3::Y, -DVec3::Y, DVec3::Z] {
-        assert_eq!(along(&g, -10.0 * d, d), along(&sphere, -10.0 * d, d), "{d}");
+        let (a, b) = (along(&g, -10.0 * d, d), along(&sphere, -10.0 * d, d));
+        assert!((a - b).abs() < 1e-12, "{d}: {a} {b}");
     }
     assert_g1("sphere", &g);
     let south = g.pole(nendo::surface::PoleEnd::Start).unwrap();
@@ -171,7 +173,11 @@ fn tube_becomes_a_pot() {
     assert!(belly > 2.6, "belly {belly}");
     assert!(shoulder > 2.1 && shoulder < belly, "shoulder {shoulder}");
     assert!(neck < 1.45, "neck {neck}");
-    assert!(neck_spread < 0.15, "neck roundness {neck_spread}");
+    // Round to 0.17 (0.11 when a push went along the normal where the finger's axis crossed
+    // the surface; since issue 25 along the normal through the fingertip, the tip's true
+    // depth: on the sloping shoulder the two differ by 15°, and the 16 pushes of the neck
+    // ring leave slightly deeper scallops; the belly came out rounder, 0.04 from 0.06).
+    assert!(neck_spread < 0.17, "neck roundness {neck_spread}");
     assert!(lip > neck + 0.5, "lip {lip}");
     // The round bottom below the belly's reach (and one row of regulated groups) did not move.
     for z in [0.2, 0.4] {

@@ -144,6 +144,8 @@ impl LiveInput {
         if self.entries.is_empty() {
             self.rescan();
         }
+        // What the automatic fit of a first connect aims at.
+        self.set_view_anchor(*anchor);
         self.profile_ui(ui, &mut commands);
         ui.separator();
         self.connect_ui(ui, doc, &mut commands);
@@ -350,6 +352,21 @@ impl LiveInput {
         });
     }
 
+    /// The parts of the hand that press, by name (every finger by default; remembered).
+    fn pressing_ui(&mut self, ui: &mut Ui, doc: &mut Document) {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("presses with")
+                .on_hover_text("the parts of the glove's hand that press the clay");
+            let set = self.pressing();
+            for part in crate::hand::Part::ALL {
+                let mut on = set.contains(part);
+                if ui.checkbox(&mut on, part.name()).changed() {
+                    self.toggle_pressing(doc, part);
+                }
+            }
+        });
+    }
+
     fn alignment_ui(&mut self, ui: &mut Ui, doc: &mut Document, anchor: &ViewAnchor) {
         egui::CollapsingHeader::new("Alignment and hand")
             .default_open(true)
@@ -396,6 +413,7 @@ impl LiveInput {
                         self.set_scale(doc, s);
                     }
                 });
+                self.pressing_ui(ui, doc);
                 let radius = self.radius(&profile, false);
                 ui.horizontal(|ui| {
                     let mut follow = self.radius_set.is_none();

@@ -233,6 +233,30 @@ pub fn mouse(orbit: OrbitButton) -> Vec<(&'static str, &'static str)> {
     rows
 }
 
+/// The clutch key: held, a glove's hand (a device session, a replay) moves without touching
+/// the clay. Space, free in the key map; held rather than pressed, as the clutch of a 3D
+/// mouse or a VR sculpting controller's grip, and as Blender's held keys (Ctrl, Shift) that
+/// change what a stroke does while they are down.
+pub const CLUTCH_KEY: Key = Key::Space;
+
+/// The keys that act while held: `(keys, what they do)` (the help and the README list them
+/// after the shortcuts).
+#[must_use]
+pub fn held() -> Vec<(&'static str, &'static str)> {
+    vec![(
+        "Space (held)",
+        "the clutch: the glove's hand moves without touching the clay (a fist does the same: index, middle, ring and little finger each bent past 1.3 rad)",
+    )]
+}
+
+/// Takes the clutch key's events out of the frame's input (the key is read as held, with
+/// `key_down`): a button with the keyboard focus would otherwise take Space for a click.
+pub fn take_clutch_events(input: &mut egui::InputState) {
+    input
+        .events
+        .retain(|e| !matches!(e, egui::Event::Key { key, .. } if *key == CLUTCH_KEY));
+}
+
 /// The keys and the mouse as a Markdown table (the README's, for the default orbit button).
 #[must_use]
 pub fn markdown(orbit: OrbitButton) -> String {
@@ -257,6 +281,9 @@ pub fn markdown(orbit: OrbitButton) -> String {
             all.join(", "),
             binding.action.describe()
         ));
+    }
+    for (keys, does) in held() {
+        s.push_str(&format!("| {keys} | {does} |\n"));
     }
     s
 }
@@ -302,6 +329,10 @@ mod tests {
         for tool in Tool::ALL {
             assert!(keys.iter().any(|k| k.action == KeyAction::Tool(tool)));
         }
+        assert!(
+            keys.iter().all(|k| k.key != CLUTCH_KEY),
+            "the clutch key is held, never a shortcut"
+        );
         assert_eq!(
             keys.iter()
                 .find(|k| k.action == KeyAction::Redo)

@@ -29,6 +29,9 @@ use crate::surface::{Primitive, Regulation, Topology};
 
 const ERROR: Color32 = Color32::from_rgb(235, 95, 75);
 
+/// The status line's hand feedback (the touched region's orange).
+const HAND: Color32 = Color32::from_rgb(255, 140, 40);
+
 /// Width of the tool panel, points (`.ci/checks/window.sh` clicks right of it).
 pub(super) const PANEL_WIDTH: f32 = 290.0;
 
@@ -47,6 +50,7 @@ pub(super) fn shortcuts_ui(ui: &mut Ui) -> Vec<KeyAction> {
     if ui.ctx().egui_wants_keyboard_input() {
         return Vec::new();
     }
+    ui.input_mut(keymap::take_clutch_events);
     ui.input_mut(keymap::pressed)
 }
 
@@ -86,6 +90,11 @@ pub(super) fn help_ui(ctx: &egui::Context, orbit: OrbitButton) -> bool {
                             .collect();
                         ui.strong(all.join(", "));
                         ui.add(egui::Label::new(binding.action.describe()).wrap());
+                        ui.end_row();
+                    }
+                    for (keys, does) in keymap::held() {
+                        ui.strong(keys);
+                        ui.add(egui::Label::new(does).wrap());
                         ui.end_row();
                     }
                 });
@@ -686,9 +695,19 @@ pub(super) fn record_ui(
     commands
 }
 
-/// The status line: the last message and the autosave's file or error.
-pub(super) fn status_ui(ui: &mut Ui, status: Option<&Status>, autosave: Option<&Autosave>) {
+/// The status line: the hand's contact or clutch, the last message and the autosave's file or
+/// error.
+pub(super) fn status_ui(
+    ui: &mut Ui,
+    hand: Option<&str>,
+    status: Option<&Status>,
+    autosave: Option<&Autosave>,
+) {
     ui.horizontal(|ui| {
+        if let Some(h) = hand {
+            ui.label(RichText::new(h).strong().color(HAND));
+            ui.separator();
+        }
         if let Some(s) = status {
             let text = RichText::new(&s.text);
             ui.label(if s.error { text.color(ERROR) } else { text });

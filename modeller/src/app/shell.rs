@@ -26,6 +26,10 @@ impl Shell {
             let m = ui.input(|i| i.modifiers);
             modeller.set_modifiers(m.shift, m.command || m.ctrl);
         }
+        // The clutch is the key held (never while a text field takes the keyboard).
+        let clutch = !ui.ctx().egui_wants_keyboard_input()
+            && ui.input(|i| i.key_down(crate::app::keymap::CLUTCH_KEY));
+        modeller.set_clutch(clutch);
         let mut commands: Vec<Command> = keys.into_iter().map(|k| k.command()).collect();
         egui::Panel::top("nendo top").show(ui, |ui| {
             ui.horizontal(|ui| {
@@ -56,7 +60,13 @@ impl Shell {
                 });
         }
         egui::Panel::bottom("nendo status").show(ui, |ui| {
-            panels::status_ui(ui, modeller.status(), modeller.session().autosave());
+            let hand = modeller.hand_status();
+            panels::status_ui(
+                ui,
+                hand.as_deref(),
+                modeller.status(),
+                modeller.session().autosave(),
+            );
         });
         let ctx = ui.ctx().clone();
         if let Some(prompt) = modeller.session().prompt() {

@@ -45,6 +45,9 @@
 //! is not refined further while it lasts (its reference surface is fixed when it starts), nor
 //! is a contact that starts on the very frame the previous one ends. A refinement stopped by
 //! the grid limit is reported on standard error, and the contact goes on.
+//! The summary on standard error counts the contacts and what they ended as: pushes, pulls
+//! (the grip drawing the clay out), draw-a-line strokes, and grabs — pinches of thumb and
+//! index that took hold of the clay (rule 9 of [`crate::hand::hand_loop`]), each one `move`.
 //! Every frame goes through the hand loop's plausibility gate and One-Euro filter
 //! ([`crate::hand::filter`]) with the settings of the trace's scene (what the recording was
 //! made with), else `--profile`'s, else the defaults for the finger; `--no-filter` replays the
@@ -394,7 +397,7 @@ fn setup(args: &ReplayArgs, trace: &Trace) -> anyhow::Result<Setup> {
     })
 }
 
-fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
+pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     // `--out` may replace the `--model` read (a model either way), not the trace or profile.
     super::paths::check(
         &[("--out", Some(&args.out))],
@@ -541,14 +544,19 @@ fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             format!("{gate} — frames {}{more}", first.join(", "))
         }
     };
+    let clutched = match st.clutched {
+        0 => String::new(),
+        n => format!(", {n} frames clutched (the clutch key or a fist)"),
+    };
     Ok(format!(
-        "{total} frames{} ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes; regulation {regulation}{gate}{refinement}{scene}; {:.3} s -> {}",
+        "{total} frames{} ({} with a hand): {} contacts — {} pushes, {} pulls, {} strokes, {} grabs (pinches){clutched}; regulation {regulation}{gate}{refinement}{scene}; {:.3} s -> {}",
         interrupted.unwrap_or_default(),
         st.frames_with_finger,
         st.contacts,
         st.pushes,
         st.pulls,
         st.strokes,
+        st.holds,
         elapsed.as_secs_f64(),
         args.out.display()
     ))

@@ -27,7 +27,132 @@ use crate::hand::{FingerModel, Hand, HandError, HandLoop, HandOptions, MouseFing
 use crate::mesh::Ray;
 use crate::model::Model;
 use crate::render::{LineBatch, Rgba, SphereInstance};
-use crate::surface::{SurfaceError, Symmetry};
+use crate::surface::{Patch, SurfaceError, Symmetry};
+
+/// Samples per patch side the contact feedback measures the clay's displacement on.
+const FEEDBACK_SAMPLES: usize = 9;
+
+/// A patch whose clay moved by at least this fraction of the contact's largest displacement
+/// is in the touched region.
+const FEEDBACK_REGION: f64 = 0.1;
+
+/// The touched region's colour.
+const TOUCHED: Rgba = Rgba([1.0, 0.45, 0.1, 0.95]);
+
+/// The contact in progress as the window shows it: where the clay moved and by how much,
+/// measured on the surface itself — each changed patch sampled on a
+/// [`FEEDBACK_SAMPLES`]² grid of parameters, `δ = max |S(u,v) − S₀(u,v)|` against the
+/// surface before the contact `S₀` — and the part deepest in the clay.
+#[derive(Debug, Clone, Default)]
+pub struct Feedback {
+    /// The surface before the contact.
+    reference: Option<crate::surface::Grid>,
+    /// Every patch the contact changed, with its largest displacement and where (on the
+    /// surface now).
+    moved: std::collections::BTreeMap<usize, (f64, DVec3)>,
+    /// Patches changed since the last measure.
+    pending: Vec<usize>,
+    /// The touched region's iso-parameter lines, for drawing.
+    lines: Vec<Vec<glam::Vec3>>,
+    /// The part deepest in the clay and its depth (`h` of the hand loop's rule 3).
+    pub deepest: Option<(crate::hand::Part, f64)>,
+}
+
+impl Feedback {
+    /// The largest displacement of the clay since the contact began, and where it is.
+    #[must_use]
+    pub fn moved(&self) -> Option<(f64, DVec3)> {
+        self.moved
+            .values()
+            .copied()
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+    }
+
+    /// The patches of the touched region: moved by at least a tenth of the largest
+    /// displacement ([`FEEDBACK_REGION`]), in index order.
+    #[must_use]
+    pub fn region(&self) -> Vec<usize> {
+        let most = self.moved().map_or(0.0, |m| m.0);
+        self.moved
+            .iter()
+            .filter(|(_, (d, _))| most > 0.0 && *d >= FEEDBACK_REGION * most)
+            .map(|(k, _)| *k)
+            .collect()
+    }
+
+    /// The status line's words: `index 0.31 in · clay moved 0.30 over 6 patches`.
+    #[must_use]
+    pub fn describe(&self) -> String {
+        let part = match self.deepest {
+            Some((part, h)) if h >= 0.0 => format!("{} {h:.3} in", part.name()),
+            Some((part, h)) => format!("{} {:.3} out (gripping)", part.name(), -h),
+            None => "holding".into(),
+        };
+        let moved = self.moved().map_or(0.0, |m| m.0);
+        format!(
+            "{part} · clay moved {moved:.3} over {} patches",
+            self.region().len()
+        )
+    }
+
+    /// Measures the patches changed since the last call on `grid` (the surface now) and
+    /// rebuilds the region's lines.
+    fn measure(&mut self, grid: &crate::surface::Grid) {
+        let Some(reference) = &self.reference else {
+            return;
+        };
+        if reference.patch_count() != grid.patch_count() {
+            self.pending.clear();
+            return;
+        }
+        self.pending.sort_unstable();
+        self.pending.dedup();
+        let k = FEEDBACK_SAMPLES;
+        let at = |i: usize| i as f64 / (k - 1) as f64;
+        for &p in &self.pending {
+            let (now, before) = (
+                Patch::new(grid.patch_at(p)),
+                Patch::new(reference.patch_at(p)),
+            );
+            let mut most = (0.0, now.eval(0.5, 0.5));
+            for s in 0..k * k {
+                let (u, v) = (at(s / k), at(s % k));
+                let x = now.eval(u, v);
+                let d = (x - before.eval(u, v)).length();
+                if d > most.0 {
+                    most = (d, x);
+                }
+            }
+            self.moved.insert(p, most);
+        }
+        self.pending.clear();
+        self.lines.clear();
+        for p in self.region() {
+            let patch = Patch::new(grid.patch_at(p));
+            for i in [0, k / 2, k - 1] {
+                self.lines
+                    .push((0..k).map(|j| patch.eval(at(i), at(j)).as_vec3()).collect());
+                self.lines
+                    .push((0..k).map(|j| patch.eval(at(j), at(i)).as_vec3()).collect());
+            }
+        }
+    }
+
+    fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>, radius: f64) {
+        for l in &self.lines {
+            lines.polyline(l.iter().copied(), TOUCHED);
+        }
+        if let Some((d, x)) = self.moved()
+            && d > 0.0
+        {
+            spheres.push(SphereInstance {
+                center: x.as_vec3().to_array(),
+                radius: (0.08 * radius) as f32,
+                colour: TOUCHED.0,
+            });
+        }
+    }
+}
 
 /// A hand loop feeding a document.
 #[derive(Debug, Clone)]
@@ -41,6 +166,8 @@ pub struct HandDriver {
     refused: Option<SurfaceError>,
     /// Contacts that changed the surface (one undoable edit each).
     contacts: u64,
+    /// The contact in progress as the window shows it.
+    feedback: Option<Feedback>,
 }
 
 impl HandDriver {
@@ -67,6 +194,7 @@ impl HandDriver {
             recorded: false,
             refused: None,
             contacts: 0,
+            feedback: None,
         })
     }
 
@@ -120,10 +248,20 @@ impl HandDriver {
         });
         if !outcome.changed.is_empty() && !self.recorded {
             if let Some(before) = self.before.take() {
+                self.feedback = Some(Feedback {
+                    reference: Some(before.surface.clone()),
+                    ..Feedback::default()
+                });
                 doc.record_undo("hand", before);
             }
             self.recorded = true;
             self.contacts += 1;
+        }
+        if let Some(f) = &mut self.feedback {
+            f.pending.extend_from_slice(&outcome.changed);
+        }
+        if self.hand_loop.touch() == Touch::Free {
+            self.feedback = None;
         }
         if let Some(ops) = outcome.committed {
             doc.record_ops(&ops);
@@ -131,6 +269,23 @@ impl HandDriver {
         if let Some(e) = outcome.refused {
             self.refused = Some(e);
         }
+    }
+
+    /// Measures the contact's feedback on `doc`'s surface as it is now (once per window frame,
+    /// after the frames are fed: [`HandDriver::feed`] only notes the changed patches).
+    pub fn measure(&mut self, doc: &Document) {
+        let deepest = self.hand_loop.deepest();
+        if let Some(f) = &mut self.feedback {
+            f.deepest = deepest;
+            f.measure(&doc.model().surface);
+        }
+    }
+
+    /// The contact in progress as the window shows it (after [`HandDriver::measure`]); `None`
+    /// while the hand does not touch.
+    #[must_use]
+    pub fn feedback(&self) -> Option<&Feedback> {
+        self.feedback.as_ref()
     }
 
     /// Why the surface refused a frame since the last call (the latest refusal), if it did: the
@@ -146,11 +301,15 @@ impl HandDriver {
         }
         self.before = None;
         self.recorded = false;
+        self.feedback = None;
     }
 
     /// Draws the hand: palm, fingers as joint chains, the capsule of every pressing part (the
     /// fingers and palm in the loop's set), those in the clay highlighted.
     pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
+        if let Some(f) = &self.feedback {
+            f.draw(lines, spheres, self.hand_loop.options().finger_radius);
+        }
         let Some(pose) = self.hand_loop.pose() else {
             return;
         };
@@ -305,6 +464,7 @@ impl MouseHandTool {
             }
             self.driver.feed(doc, f);
         }
+        self.driver.measure(doc);
         Ok(())
     }
 

@@ -6,7 +6,8 @@
 //! {"format":"nendo-settings","version":1,"profile":"/home/me/.config/nendo/profiles/mine.json",
 //!  "ports":{"mine":{"glove":"/dev/ttyUSB1","tracker":"/dev/ttyUSB0"}},
 //!  "record":true,"record_folder":"/home/me/traces","trace_folder":"/home/me/traces",
-//!  "orbit":"right","finger_radius":null,"devices_open":true}
+//!  "orbit":"right","finger_radius":null,"devices_open":true,"pressing":"index,middle",
+//!  "fitted":["cyberglove2-18-fastrak","/home/me/.config/nendo/profiles/cyberglove2-18-fastrak-mine.json"]}
 //! ```
 //!
 //! Every member is optional (a missing one takes its default); unknown members are ignored,
@@ -55,6 +56,12 @@ pub struct Settings {
     pub finger_radius: Option<f64>,
     /// The Devices panel is shown.
     pub devices_open: bool,
+    /// The parts of the hand that press in device sessions, as `--finger` writes them
+    /// (`all`, `index,middle`, `thumb,index,palm`, …); `None`: every finger.
+    pub pressing: Option<String>,
+    /// The profiles (keyed like `profile`) whose hand has been fitted to the model: their
+    /// next connects keep the profile's scale instead of fitting it again.
+    pub fitted: Vec<String>,
 }
 
 impl Default for Settings {
@@ -70,6 +77,8 @@ impl Default for Settings {
             orbit: None,
             finger_radius: None,
             devices_open: false,
+            pressing: None,
+            fitted: Vec::new(),
         }
     }
 }
@@ -185,6 +194,8 @@ mod tests {
             orbit: Some("middle".into()),
             finger_radius: Some(0.5),
             devices_open: true,
+            pressing: Some("index,middle,palm".into()),
+            fitted: vec!["cyberglove2-18-fastrak".into()],
             ..Settings::default()
         };
         s.ports.insert(

@@ -17,13 +17,27 @@
 //!    in the box of its control points);
 //! 2. those patches tessellated coarsely together (watertight across their shared edges) and
 //!    picked by [`crate::mesh::pick`], which refines the nearest triangle hit on the exact
-//!    patch by Newton's method on `S(u, v) = O + t·d̂`.
+//!    patch by Newton's method on `S(u, v) = O + t·d̂`;
+//! 3. the triangles lie up to the tessellation's error (10⁻² side) off the patches, so a
+//!    segment that starts or ends that close to the surface may cross the triangles where the
+//!    surface has no crossing, or miss them where it has one. The triangles are therefore
+//!    searched from a slack (0.05 side) before the segment to one past it, every hit refined
+//!    onto the exact patch, and a crossing behind the origin passed over; a hit that did not
+//!    refine onto the line (the pick then returns the tessellation's point) is redone
+//!    exactly: Newton with `t` free over every candidate
+//!    patch, from the pick's parameters and a 3 × 3 grid of starts on each; the smallest
+//!    solution with `0 ≤ t ≤ t_max` is the crossing, and none is none. So the probe decides
+//!    on the exact surface whether a segment crosses it, however close to the surface the
+//!    segment ends (the hand loop's rule 3 asks exactly that of a fingertip's path resting on
+//!    the clay).
 //!
-//! The session then reads the penetration `p = (E − S)·d̂` off the hit `S`.
+//! The hand loop uses the probe on short segments: the tip's path between two frames, the
+//! segments of a part's body, the normal line through a tip in the clay (rule 3 of
+//! [`super::hand_loop`]); the mouse's view ray is searched along its axis.
 
 use glam::DVec3;
 
-use crate::mesh::{PatchPoints, Ray, Tessellation, pick, tessellate};
+use crate::mesh::{PatchPoints, Ray, Tessellation, eval_patch, patch_normal, pick, tessellate};
 use crate::surface::Grid;
 
 /// The fingertip capsule: radius `radius` around the segment from `tip − length·axis` to
@@ -40,12 +54,12 @@ pub struct Fingertip {
     pub radius: f64,
     /// How far back from the tip the capsule's axis runs (`ℓ`).
     pub length: f64,
-    /// How far behind the tip, along the axis, the part's own body reaches: for a finger
-    /// `max_k (E − p_k)·d̂` over its knuckle and two inner joints `p_k` (its length when
-    /// straight, less when curled), for the palm the capsule's length. The axis crossing the
-    /// surface farther back than this is only the straight capsule running on past a curled
-    /// finger's joints, and does not press (rule 3 of [`super::session`]).
-    pub body: f64,
+    /// The part's body, from the back of the hand to the tip: for a finger the hand's sensor
+    /// (on the back of the hand), the finger's knuckle, its two inner joints and its tip; for
+    /// the palm the sensor (repeated) and the centre of the palm's face. A part presses only
+    /// where its tip entered the clay while this body was out of it (rule 3 of
+    /// [`super::hand_loop`]): the side of the clay the tip came from is the hand's.
+    pub body: [DVec3; 5],
 }
 
 impl Fingertip {
@@ -118,9 +132,14 @@ impl Probe {
         }
         // Pad the boxes by a hair so that a segment along a flat patch's plane still finds it.
         let pad = 1e-9 * grid.bounds().half_extents().max_element().max(1.0);
+        // The tessellation is searched from `SLACK` before the origin to `SLACK` past the end
+        // (step 3 of the module docs): a segment ending, or starting, within the
+        // tessellation's error of the surface crosses the triangles there or not at all.
+        let start = origin - SLACK * dir;
+        let span = t_max + 2.0 * SLACK;
         self.candidates.clear();
         grid.patches_where(
-            |b| b.inflated(pad).clip_line(origin, dir, 0.0, t_max).is_some(),
+            |b| b.inflated(pad).clip_line(start, dir, 0.0, span).is_some(),
             &mut self.candidates,
         );
         if self.candidates.is_empty() {
@@ -130,22 +149,140 @@ impl Probe {
         self.patches
             .extend(self.candidates.iter().map(|&p| grid.patch_at(p)));
         let mesh = tessellate(&self.patches, &CONTACT_TESSELLATION);
-        let hit = pick(
-            &self.patches,
-            &mesh,
-            &Ray {
-                origin,
-                direction: dir,
-            },
-        )?;
-        (hit.t <= t_max && hit.point.is_finite()).then(|| AxisHit {
-            t: hit.t,
-            point: hit.point,
-            patch: self.candidates[hit.patch],
-            uv: (hit.u, hit.v),
-            normal: hit.normal,
-        })
+        // The nearest triangle hit from `start + from·d̂` on; a crossing found behind the
+        // origin, or a triangle with no crossing of the patch near it, sends the search on
+        // past it.
+        let mut from = 0.0;
+        for _ in 0..PASSES {
+            let hit = pick(
+                &self.patches,
+                &mesh,
+                &Ray {
+                    origin: start + from * dir,
+                    direction: dir,
+                },
+            )?;
+            if !hit.point.is_finite() {
+                return None;
+            }
+            let along = from + hit.t;
+            if along > span {
+                return None;
+            }
+            let scale = 1.0 + hit.point.abs().max_element() + origin.abs().max_element();
+            let off_line = (start + along * dir - hit.point).length();
+            let exact = if off_line <= ON_LINE * scale {
+                Some((along - SLACK, hit.patch, (hit.u, hit.v)))
+            } else {
+                // The triangle's hit did not refine onto the line: the line meets the surface
+                // within the tessellation's error of it, or not at all.
+                self.exact_crossing(origin, dir, t_max, hit.patch, (hit.u, hit.v), scale)
+            };
+            let Some((t, patch, uv)) = exact.filter(|e| e.0 >= 0.0) else {
+                // Behind the origin, or no crossing there: on to the next triangle.
+                from = along + 1e-9 * (1.0 + span);
+                continue;
+            };
+            if t > t_max {
+                return None;
+            }
+            let p = &self.patches[patch];
+            let point = eval_patch(p, uv.0, uv.1).0;
+            return Some(AxisHit {
+                t,
+                point,
+                patch: self.candidates[patch],
+                uv,
+                normal: patch_normal(p, uv.0, uv.1),
+            });
+        }
+        None
     }
+
+    /// Newton's method on `S(u, v) = O + t·d̂` over every candidate patch, from the
+    /// tessellation's hit `(patch, uv)` and a 3 × 3 grid of starts on each patch, `t` free:
+    /// the smallest `t ≥ 0` at which the line meets the exact surface, or `None` when every
+    /// solution found lies behind the origin (or none is found).
+    fn exact_crossing(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        t_max: f64,
+        patch: usize,
+        uv: (f64, f64),
+        scale: f64,
+    ) -> Option<(f64, usize, (f64, f64))> {
+        let mut best: Option<(f64, usize, (f64, f64))> = None;
+        let mut consider = |k: usize, start: (f64, f64)| {
+            if let Some((t, u, v)) = newton(&self.patches[k], origin, dir, start, scale)
+                && t >= 0.0
+                && t <= t_max
+                && best.is_none_or(|(b, ..)| t < b)
+            {
+                best = Some((t, k, (u, v)));
+            }
+        };
+        consider(patch, uv);
+        for k in 0..self.patches.len() {
+            for i in 0..3 {
+                for j in 0..3 {
+                    consider(k, (0.1 + 0.4 * f64::from(i), 0.1 + 0.4 * f64::from(j)));
+                }
+            }
+        }
+        best
+    }
+}
+
+/// How many triangle hits the probe passes over (crossings behind the origin, triangles with no
+/// crossing of the patch near them) before it gives up.
+const PASSES: usize = 8;
+
+/// How far off the line (relative to the coordinates' size) a hit may be and still be on it.
+const ON_LINE: f64 = 1e-9;
+
+/// How far before and past a segment the tessellation is searched (side): several times the
+/// contact tessellation's tolerance ([`CONTACT_TESSELLATION`], 10⁻²), its triangles' largest
+/// distance from the patches.
+const SLACK: f64 = 0.05;
+
+/// Newton's method on `S(u, v) − (O + t·d̂) = 0` from `start`, `t` free, `(u, v)` kept in the
+/// patch (a step leaving it by more than a hair fails): `(t, u, v)` when it converges onto
+/// the line.
+fn newton(
+    p: &PatchPoints,
+    origin: DVec3,
+    dir: DVec3,
+    start: (f64, f64),
+    scale: f64,
+) -> Option<(f64, f64, f64)> {
+    let (mut u, mut v) = start;
+    let s0 = eval_patch(p, u, v).0;
+    let mut t = (s0 - origin).dot(dir);
+    for _ in 0..20 {
+        let (s, su, sv) = eval_patch(p, u, v);
+        let f = s - (origin + t * dir);
+        let d = -dir;
+        let det = su.dot(sv.cross(d));
+        if det.is_nan() || det.abs() <= 1e-300 {
+            return None;
+        }
+        let du = -f.dot(sv.cross(d)) / det;
+        let dv = -su.dot(f.cross(d)) / det;
+        let dt = -su.dot(sv.cross(f)) / det;
+        u += du;
+        v += dv;
+        t += dt;
+        if !(-1e-9..=1.0 + 1e-9).contains(&u) || !(-1e-9..=1.0 + 1e-9).contains(&v) {
+            return None;
+        }
+        if du.abs().max(dv.abs()) < 1e-13 {
+            let (u, v) = (u.clamp(0.0, 1.0), v.clamp(0.0, 1.0));
+            let s = eval_patch(p, u, v).0;
+            return ((origin + t * dir - s).length() <= ON_LINE * scale).then_some((t, u, v));
+        }
+    }
+    None
 }
 
 #[cfg(test)]
@@ -183,6 +320,69 @@ mod tests {
         }
     }
 
+    /// Segments ending (or starting) within 10⁻⁷ to 10⁻³ side of a surface point, well inside
+    /// the tessellation's 10⁻² error, on the curved primitives: the probe says they cross the
+    /// surface exactly when they pass the point, and where (the point evaluated on the patch
+    /// is the reference).
+    #[test]
+    fn a_segment_crosses_the_surface_exactly_when_it_passes_it_however_close_it_ends() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(2501);
+        let mut probe = Probe::new();
+        for primitive in [Primitive::Sphere, Primitive::Tube, Primitive::Torus] {
+            let grid = primitive.build(&PrimitiveParams::default()).unwrap();
+            for case in 0..200 {
+                let patch = rng.gen_range(0..grid.patch_count());
+                let (u, v) = (rng.gen_range(0.05..0.95), rng.gen_range(0.05..0.95));
+                let points = grid.patch_at(patch);
+                let at = eval_patch(&points, u, v).0;
+                let n = patch_normal(&points, u, v);
+                let d = loop {
+                    let d = DVec3::new(
+                        rng.gen_range(-1.0..1.0),
+                        rng.gen_range(-1.0..1.0),
+                        rng.gen_range(-1.0..1.0),
+                    );
+                    if let Some(d) = d.try_normalize()
+                        && d.dot(n).abs() > 0.3
+                    {
+                        break d;
+                    }
+                };
+                let before = rng.gen_range(0.001..0.1);
+                let past = 10f64.powf(rng.gen_range(-7.0..-3.0));
+                let label = format!("{primitive} case {case}");
+                // Ending just past the point, and just short of it.
+                let hit = probe.first_crossing(&grid, at - before * d, d, before + past);
+                let hit = hit.unwrap_or_else(|| panic!("{label}: missed ({past} past)"));
+                assert!(
+                    (hit.t - before).abs() < 1e-9,
+                    "{label}: {} vs {before}",
+                    hit.t
+                );
+                assert!((hit.point - at).length() < 1e-9, "{label}");
+                assert!(
+                    probe
+                        .first_crossing(&grid, at - before * d, d, before - past)
+                        .is_none(),
+                    "{label}: crossed {past} short of the surface"
+                );
+                // Starting just short of the point, and just past it.
+                let hit = probe.first_crossing(&grid, at - past * d, d, before);
+                assert!(
+                    hit.is_some_and(|h| (h.t - past).abs() < 1e-9),
+                    "{label}: {hit:?} from {past} before"
+                );
+                assert!(
+                    probe
+                        .first_crossing(&grid, at + past * d, d, before)
+                        .is_none(),
+                    "{label}: crossed from {past} past the surface"
+                );
+            }
+        }
+    }
+
     #[test]
     fn capsule_distance_is_the_shape_functions_near_the_tip() {
         let f = Fingertip {
@@ -191,7 +391,13 @@ mod tests {
             base: DVec3::Z,
             radius: 1.0,
             length: 2.0,
-            body: 2.0,
+            body: [
+                DVec3::Z * 3.0,
+                DVec3::Z * 2.0,
+                DVec3::Z * 2.0,
+                DVec3::Z,
+                DVec3::ZERO,
+            ],
         };
         assert_eq!(f.distance_sq(DVec3::new(0.5, 0.0, 1.5)), 0.25);
         assert_eq!(f.distance_sq(DVec3::new(0.0, 0.0, -2.0)), 4.0);

@@ -25,43 +25,61 @@
 //! keeps what it pressed; the contact ends when no part is in the clay. Two fingers pinching a
 //! wall from both sides each press their side.
 //!
-//! **The contact rule in one line:** the clay never moves farther than the finger penetrated
-//! it — it is pressed along the surface normal by the depth of the fingertip below the
-//! surface, whatever the finger's angle (rule 3). The mouse's finger ([`FingerModel::Ray`])
-//! is the exception: its depth is chosen along the view ray, and it presses along it.
+//! **The contact rule:** a part presses only where its tip *entered* the clay from the side
+//! its hand is on, along the surface normal, and no deeper than the tip went. Entering is
+//! read off the tip's motion — its path from the last frame to this one crossing the surface
+//! as it was before the contact — and the side off where the part *was*: at the last frame
+//! its whole body, from the back of the hand through knuckle and joints to the tip, was out
+//! of the clay, so the tip came in from the hand's side; where the part is now says nothing
+//! about which side of a sheet it came from. The clay is then pressed away from that side,
+//! along `m̂`, by the tip's depth `h` past the surface (rule 3). Why: the hand is one body;
+//! a fingertip can only reach the clay through the air the hand is in, so clay in front of a
+//! moving tip is pushed away from the hand, never toward it. Every way a part could push
+//! clay toward the hand comes from deciding the side from the pose alone — a curled finger
+//! whose straight capsule runs back through the clay from a tip in the air (it used to raise
+//! the plane 0.8 side under a fist), a tip that appears inside the clay (a hand put down in
+//! it, an undo that puts clay back over a resting finger) and then comes out through the
+//! sheet toward the hand. None of them entered the clay, so none presses. Clay moves toward
+//! the hand only when the hand holds it: the grip (the glove's switch, rule 4) and the pinch
+//! (rule 9). The mouse's finger ([`FingerModel::Ray`]) is the exception: its tip is put at
+//! a depth along the view ray (click depth, wheel), so it presses along the ray by that
+//! depth, always from the viewer's side.
 //!
 //! 1. **Finger.** A frame whose tracker is not `ok`, or without a pose, has no finger; nor has
 //!    a frame whose glove is silent or lost, or `ok` without joint angles; without a glove in
 //!    the profile (`none`) the hand is flat. Values a frame carries for a source that is not
-//!    `ok` are never used. No finger: the contact ends. A frame carrying a skeleton (a VMC
-//!    source in the tracker's slot) takes the hand from its joints ([`super::skeleton`]); a
-//!    skeleton missing a joint of the finger chains has no finger.
+//!    `ok` are never used. No finger: the contact ends, and where the parts were is
+//!    forgotten (the next frame with a hand is the parts' first). A frame carrying a skeleton
+//!    (a VMC source in the tracker's slot) takes the hand from its joints
+//!    ([`super::skeleton`]); a skeleton missing a joint of the finger chains has no finger.
 //! 2. **Activation** ([`Activation`](super::Activation)). The glove's finger always acts;
 //!    its switch ([`nendo_devices::buttons::PRIMARY`]) is the grip. The mouse finger acts
 //!    only while a button is held: the left button presses, the right one grips.
-//! 3. **Penetration: as deep as the finger went.** The [`Probe`] finds the first crossing `S`
-//!    of the finger's axis, from `E − ℓ·d̂` to `E` (to `E + ℓ·d̂` while gripping), with a
-//!    surface. The clay is pressed along `m̂`, the surface normal at `S` turned to the
-//!    finger's side (`m̂·d̂ > 0`), by `h`, the signed depth of the fingertip past the surface
-//!    along `m̂` (the surface met on the line `E − t·m̂`; positive: the tip is in the clay).
-//!    So a tip that pokes straight in (`d̂ = m̂`) presses along the finger by how far it went
-//!    in, and a finger lying on the clay presses with its side, into the surface, by how deep
-//!    its tip is — never shoving the clay along the finger: with the finger at angle `θ` to a
-//!    plane, the penetration along the axis is `h / sin θ` (1 side for a tip 0.05 below at 3°),
-//!    which pressed along `d̂` would move the clay that far sideways. The clay moves by at most
-//!    `h` at the samples (the shape function's `(1 − r²/r_f²)·h`), its control points by at
-//!    most about 1.5 `h` (tests/it/hand_contact.rs, a flat hand at 3° to 90°).
-//!    **The finger's body reaches the crossing:** `S` counts only if it is no farther
-//!    behind the tip than the finger's own joints reach along the axis,
-//!    `(E − S)·d̂ ≤ max_k (E − p_k)·d̂` ([`Fingertip::body`]; the finger's length when it is
-//!    straight). The capsule is straight and `ℓ` long (at least `2·r_f`, 2 side by default),
-//!    but a curled finger is not: out of a pointing fist the ring finger's tip points back
-//!    up, 1.5 side above the plane the index presses, its joints higher still, while its
-//!    capsule runs 2 side straight down through the plane; without this test it "pressed"
-//!    the plane from below by the tip's height (a dent 2.4 deep for the index's 0.3).
-//! 4. **A contact starts** when, on the surface as it is, `h > min_depth` (pressing) — or,
-//!    with the grip held, `h ≥ −grip_distance` (the tip touching, or within a hair): the clay
-//!    sticks to it.
+//! 3. **In the clay: entered from the hand's side, as deep as the tip went** (the reasoning
+//!    and the searches: `hand_loop/side.rs`). A part is *in the clay* from the frame its tip's path
+//!    `E₀ → E` crosses the surface (before the contact; the grid as it is when none is in
+//!    progress) while, at the frame before, its body ([`Fingertip::body`]) crossed no surface,
+//!    until its tip's path crosses back or no surface is behind it; a part seen for the first
+//!    time is not in the clay. While it is, the clay is pressed along `m̂` — the surface
+//!    normal, at first at the crossing turned the way the tip went, then at the surface found
+//!    behind the tip along the last `m̂`, turned to agree with it — by `h`, the depth of the
+//!    tip past the surface along `m̂`. So a tip that pokes straight in presses along the
+//!    finger by how far it went in, and a finger lying on the clay presses with its side, into
+//!    the surface, by how deep its tip is — never shoving the clay along the finger: with the
+//!    finger at angle `θ` to a plane, the penetration along the axis is `h / sin θ` (1 side for
+//!    a tip 0.05 below at 3°), which pressed along `d̂` would move the clay that far sideways.
+//!    The clay moves by at most `h` at the samples (the shape function's
+//!    `(1 − r²/r_f²)·h`), its control points by at most about 1.5 `h` (tests/it/hand_contact.rs,
+//!    a flat hand at 3° to 90°; the random poses of tests/it/hand_poses.rs). The capsule
+//!    (`ℓ` long along `d̂`) is the reach the clay is searched behind the tip; a curled finger's
+//!    straight capsule may run through the clay while its tip is in the air — the tip did not
+//!    enter, so it does not press.
+//! 4. **A contact starts** when, on the surface as it is, a part is in the clay by
+//!    `h > min_depth` (pressing) — or, with the grip held, when it is in the clay, or the
+//!    surface ahead of its tip along the finger (within `ℓ`) is within `grip_distance` of the
+//!    tip along its normal (`h ≥ −grip_distance`: the tip touching, or within a hair): the
+//!    clay sticks to it. A gripping part is measured along its `m̂` either way (in the clay or
+//!    out of it, pulling).
 //! 5. **During a contact** `h` and `m̂` are measured on the surface *as it was before the
 //!    contact* (kept aside): how far the finger is in the clay. The contact is a list of
 //!    placements ([`Placement`]): the first a push ending at the fingertip with `M = h·m̂`
@@ -88,22 +106,38 @@
 //!    the finger. A stroke's segments press by the penetration itself (the draw-a-line
 //!    shape function as the paper has it): along a stroke the clay at the fingertip is also
 //!    shaped by the earlier segments, so a miss there does not measure the live one.
-//! 8. **A contact ends** when the finger goes back out of the clay as it was before the contact
-//!    (pressing: `h ≤ 0`; gripping: the grip released and `h ≤ 0`, or no surface within
-//!    reach), or the finger disappears or stops acting. Its result is then the surface the next
+//! 8. **A contact ends** when every part is back out of the clay as it was before the contact
+//!    (pressing: out by rule 3; gripping: the grip released and out, or no surface within
+//!    reach), or the hand disappears or stops acting. A contact ended from outside
+//!    ([`HandLoop::end_contact`]: an undo, a mouse tool) takes every part out of the clay: a
+//!    part still in it presses again only once it has come out and gone back in. Its result is then the surface the next
 //!    contact starts from. A contact is one operation in the paper's sense (its Fig. 15 pot
 //!    took 152).
 //! 9. **Pinch to grab.** With thumb and index both in the set (a glove; never the mouse), when
-//!    their fingertips come closer than [`HandOptions::pinch_distance`] (0.4 side by default)
-//!    *on the same side of the clay* (the segment between the tips does not cross the
-//!    surface) and the surface point `S` nearest the pinch point `P` (midway between the tips,
-//!    [`crate::surface::nearest`]) is within `r_f` of `P`, they take hold of the clay at `S`
-//!    instead of pressing (a press in progress ends first). While the tips
-//!    stay within 1.5 × the pinch distance, every frame the surface is the surface before the
-//!    pinch moved by `{"op":"move","at":S,"to":S + (P − P₀),"radius":r_f}` ([`Op::Move`],
+//!    their fingertips come closer than the pinch distance `d` — [`HandOptions::pinch_closed`]
+//!    of the hand's index finger length, a quarter by default: 2 cm of the default hand, so
+//!    0.4 side at 20 sides per metre and 0.02 side at 1 (`hand_loop/pinch.rs`) — *on the same side of the
+//!    clay* (the segment between the tips does not cross the surface), each tip within `d` of
+//!    the surface (both within reach of it), they take hold of the clay at `S`, the surface
+//!    point nearest the pinch point `P` (midway between the tips,
+//!    [`crate::surface::nearest`]), instead of pressing (a press in progress ends first).
+//!    While the tips stay within [`HandOptions::pinch_open`] of the index's length (three
+//!    eighths: 1.5 `d`), every frame the surface is the surface before the pinch moved by
+//!    `{"op":"move","at":S,"to":S + (P − P₀),"radius":r_f}` ([`Op::Move`],
 //!    [`crate::surface::grab`]: the held point lands exactly on the target), `P₀` the pinch
-//!    point when it took hold; nothing presses meanwhile. Opening the pinch ends it: one
-//!    operation, one undo step, committed as that one `move`.
+//!    point when it took hold; nothing presses meanwhile, and no part is in the clay when it
+//!    lets go. The tips must *close* on the clay: they take hold only if they were at least
+//!    `d` apart at an earlier frame since the hand appeared and have not closed since (tips
+//!    together already — a fist, a pinch closed in the air — press like any other part). Opening the pinch ends it: one operation, one undo step, committed as that one
+//!    `move`.
+//! 10. **The clutch** (`hand_loop/clutch.rs`). While the frame's buttons hold
+//!     [`nendo_devices::buttons::CLUTCH`] (the window's clutch key), or — a glove's hand —
+//!     while the hand makes a fist (the index, middle, ring and little fingers each flexed by
+//!     at least 1.3 rad, the mean of MCP and PIP; open again when any is below 1.1 rad), the
+//!     hand moves and is drawn but does not act: as rule 1 without a finger, the contact or
+//!     pinch in progress ends and where the parts were is forgotten — so a part that is in the
+//!     clay when the clutch lets go did not enter it, and presses only once it has come out
+//!     and gone back in. The hand can be carried to another place, or back, through the clay.
 //!
 //! Everything runs in a fixed order on `f64`: the outcome is a pure function of the frames,
 //! the starting grid and the options.
@@ -120,22 +154,14 @@ use super::parts::{FingerModel, Fingers, Part};
 use super::press::{Placement, Presser, Stroke, describe};
 use crate::surface::{Grid, LiveOperation, Op, Regulation};
 
+pub mod clutch;
 mod pinch;
+mod side;
 mod track;
 
 use pinch::{Hold, pinch_pair};
+use side::{Place, Press, Side, slot};
 use track::{Contact, Track, extend};
-
-/// How the fingertip presses the clay (rule 3): along `dir`, `depth` past the surface.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Press {
-    /// The unit direction `m̂` the clay is pressed in: the surface normal, turned to the
-    /// finger's side.
-    dir: DVec3,
-    /// The signed depth `h` of the fingertip past the surface along `m̂` (positive: in the
-    /// clay).
-    depth: f64,
-}
 
 /// Frames → contact → operations on a grid (see the module docs).
 #[derive(Debug, Clone)]
@@ -151,6 +177,16 @@ pub struct HandLoop {
     pose: Option<HandPose>,
     fingertip: Option<Fingertip>,
     tips: Vec<(Part, Fingertip)>,
+    /// Every part's place at the last frame with a hand, and whether it is in the clay
+    /// (rule 3), by [`slot`].
+    sides: [Option<Side>; 6],
+    /// Scratch: patches near a pinching tip (rule 9).
+    near: Vec<usize>,
+    /// Whether thumb and index have been apart since the hand appeared or they last closed:
+    /// the next closing may take hold (rule 9).
+    pinch_armed: bool,
+    /// Whether the hand made a fist at the last frame (rule 10's hysteresis).
+    fist: bool,
     stats: LoopStats,
     /// The plausibility gate and One-Euro filter every frame goes through first
     /// ([`super::filter`]).
@@ -187,6 +223,10 @@ impl HandLoop {
             pose: None,
             fingertip: None,
             tips: Vec::new(),
+            sides: [None; 6],
+            near: Vec::new(),
+            pinch_armed: false,
+            fist: false,
             stats: LoopStats::default(),
             filter: FrameFilter::new(super::filter::default_for(options.finger)),
         })
@@ -238,6 +278,25 @@ impl HandLoop {
             }
         }
         set
+    }
+
+    /// The part deepest in the clay now and how deep its tip is past the surface before the
+    /// contact (`h` of rule 3; a gripping part's may be negative), among the parts of the
+    /// contact in progress still in it. `None` when no part is in the clay.
+    #[must_use]
+    pub fn deepest(&self) -> Option<(Part, f64)> {
+        let c = self.contact.as_ref()?;
+        c.tracks
+            .iter()
+            .filter(|t| t.active)
+            .map(|t| (t.part, t.penetration))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Whether the hand made a fist at the last frame (rule 10's gesture: the clutch).
+    #[must_use]
+    pub fn fist(&self) -> bool {
+        self.fist
     }
 
     /// The hand's state.
@@ -295,8 +354,19 @@ impl HandLoop {
 
     /// Ends the contact or the pinch in progress, keeping what it did; returns the operations
     /// it stands for. Call it before the grid is changed by anything else (an undo, a mouse
-    /// tool): a contact recomputes the patches it touches from the surface before it.
+    /// tool): a contact recomputes the patches it touches from the surface before it. A part
+    /// still in the clay is then taken to be out of it: it presses again only after it has
+    /// come out and gone back in (rule 3: the clay it is in may not be there any more).
     pub fn end_contact(&mut self) -> Option<Vec<Op>> {
+        for s in self.sides.iter_mut().flatten() {
+            s.stop_pressing();
+        }
+        self.close()
+    }
+
+    /// Ends the contact or the pinch in progress (rules 8 and 9), keeping what it did; the
+    /// operations it stands for.
+    fn close(&mut self) -> Option<Vec<Op>> {
         if let Some(h) = self.hold.take() {
             self.stats.holds += 1;
             return Some(vec![Op::Move {
@@ -363,10 +433,13 @@ impl HandLoop {
                         base: chain.points[2],
                         radius: self.options.finger_radius,
                         length: self.reach_of(part),
-                        body: chain.points[..3]
-                            .iter()
-                            .map(|&p| (chain.tip() - p).dot(chain.direction()))
-                            .fold(0.0, f64::max),
+                        body: [
+                            placed.sensor,
+                            chain.points[0],
+                            chain.points[1],
+                            chain.points[2],
+                            chain.points[3],
+                        ],
                     }
                 }
                 Part::Palm => {
@@ -377,11 +450,20 @@ impl HandLoop {
                         base: palm.centre - self.reach_of(part) * palm.normal,
                         radius: self.palm_radius(),
                         length: self.reach_of(part),
-                        body: self.reach_of(part),
+                        body: [
+                            placed.sensor,
+                            placed.sensor,
+                            placed.sensor,
+                            placed.sensor,
+                            palm.centre,
+                        ],
                     }
                 }
             };
-            if !(tip.tip.is_finite() && tip.axis.is_finite()) {
+            if !(tip.tip.is_finite()
+                && tip.axis.is_finite()
+                && tip.body.iter().all(|p| p.is_finite()))
+            {
                 return None;
             }
             tips.push((part, tip));
@@ -420,44 +502,80 @@ impl HandLoop {
         Some(reach - hit.t)
     }
 
-    /// Rule 3: how the capsule of `finger` (ending at its tip, pointing along its axis, its
-    /// `length` long) presses `grid` — the direction `m̂` (the surface normal at the axis's
-    /// crossing, turned to the finger's side) and the signed depth `h` of the tip past the
-    /// surface along it. `ahead` is how far past the tip the surface may be. `None` when the
-    /// axis does not reach the surface, or meets it farther behind the tip than the finger's
-    /// `body` reaches.
-    fn press(&mut self, grid: &Grid, finger: &Fingertip, ahead: f64) -> Option<Press> {
-        let (tip, axis, reach, body) = (finger.tip, finger.axis, finger.length, finger.body);
+    /// The mouse's finger ([`FingerModel::Ray`]): the view ray, its depth chosen along it
+    /// (click depth, wheel), pressing along it — the depth `h` of the tip past the first
+    /// crossing of the ray, from `E − ℓ·d̂` (the viewer's side) to `E + ahead·d̂`.
+    fn ray_press(&mut self, grid: &Grid, finger: &Fingertip, ahead: f64) -> Option<Press> {
+        let (tip, axis, reach) = (finger.tip, finger.axis, finger.length);
         let hit = self
             .probe
             .first_crossing(grid, tip - reach * axis, axis, reach + ahead)?;
-        let along_axis = reach - hit.t;
+        Some(Press {
+            dir: axis,
+            depth: reach - hit.t,
+        })
+    }
+
+    /// Rule 3 for every part of a frame, on the surface before the contact (the grid itself
+    /// when none is in progress): where each part is and how it presses, by [`slot`]. Reads
+    /// where the parts were at the last frame; changes nothing but the probe's buffers. The
+    /// mouse's ray has no sides (it is measured along the ray, [`HandLoop::ray_press`]).
+    fn sides_now(
+        &mut self,
+        tips: &[(Part, Fingertip)],
+        grid: &Grid,
+    ) -> ([Place; 6], [Option<Press>; 6]) {
+        let mut places = [Place::Unknown; 6];
+        let mut now = [None; 6];
         if self.options.finger == FingerModel::Ray {
-            // The mouse's finger is the view ray, its depth chosen along it (click depth, wheel):
-            // it presses along the ray.
-            return Some(Press {
-                dir: axis,
-                depth: along_axis,
+            return (places, now);
+        }
+        let contact = self.contact.take();
+        let reference = contact.as_ref().map_or(grid, |c| &c.reference);
+        for (part, finger) in tips {
+            let k = slot(*part);
+            let was = self.sides[k];
+            (places[k], now[k]) = self.side_press(reference, was.as_ref(), finger);
+        }
+        self.contact = contact;
+        (places, now)
+    }
+
+    /// Keeps where every part is now and which side of the clay it is on (`places`, by
+    /// [`slot`]), for the next frame's rule 3.
+    fn remember(&mut self, tips: &[(Part, Fingertip)], places: &[Place; 6]) {
+        let mut sides = [None; 6];
+        for (part, finger) in tips {
+            let k = slot(*part);
+            sides[k] = Some(Side {
+                tip: finger.tip,
+                body: finger.body,
+                place: places[k],
             });
         }
-        let n = hit.normal.try_normalize().unwrap_or(axis);
-        let dir = if n.dot(axis) < 0.0 { -n } else { n };
-        // The finger's own body reaches the crossing: past it the straight capsule runs on
-        // where a curled finger is not (a fingertip curled back out of a fist points out of
-        // the clay its capsule crosses).
-        if along_axis > body {
-            return None;
+        self.sides = sides;
+    }
+
+    /// How a part that is not in the contact yet would start one on `grid` (rule 4): in the
+    /// clay (rule 3, `side`), or — with the grip held — the surface just ahead of its tip.
+    /// The mouse's ray is measured along the ray, looking `reach` past the tip while
+    /// gripping.
+    fn joining(
+        &mut self,
+        grid: &Grid,
+        finger: &Fingertip,
+        side: Option<Press>,
+        grip: bool,
+    ) -> Option<Press> {
+        if self.options.finger == FingerModel::Ray {
+            let ahead = if grip { finger.length } else { 0.0 };
+            return self.ray_press(grid, finger, ahead);
         }
-        // Below the tangent plane at the crossing: exact on a plane, the fallback elsewhere.
-        let tangent_depth = along_axis * dir.dot(axis);
-        // Along m̂ through the tip itself, searched a little beyond that depth either way, so
-        // a wall further behind (the far side of a pot) is not taken for this one.
-        let back = 2.0 * tangent_depth.abs() + self.options.grip_distance;
-        let depth = self
-            .probe
-            .first_crossing(grid, tip - back * dir, dir, back + ahead.min(back))
-            .map_or(tangent_depth, |h| back - h.t);
-        Some(Press { dir, depth })
+        match side {
+            Some(p) => Some(p),
+            None if grip => self.grip_start(grid, finger),
+            None => None,
+        }
     }
 
     /// Feeds one frame: finds the contact and deforms `grid` by it.
@@ -486,28 +604,64 @@ impl HandLoop {
             .find(|(p, _)| *p == primary)
             .or_else(|| self.tips.first())
             .map(|(_, t)| *t);
-        let Some(((_, tips), grip)) = parts.zip(self.acting(frame)) else {
-            out.committed = self.end_contact();
+        let (clutched, fist) = self.clutch(frame);
+        self.fist = fist;
+        if clutched && parts.is_some() {
+            self.stats.clutched += 1;
+        }
+        let acting = self.acting(frame).filter(|_| !clutched);
+        let Some(((_, tips), grip)) = parts.zip(acting) else {
+            // No hand, or the clutch held (rule 10): where the parts were is not known any
+            // more (rule 3), nor whether the pinch was open (rule 9).
+            self.sides = [None; 6];
+            self.pinch_armed = false;
+            out.committed = self.close();
             return out;
         };
         self.stats.frames_with_finger += 1;
 
         // Rule 9: thumb and index together on the clay hold it.
         if self.pinch(&tips, grid, regulation, &mut out) {
+            // Nothing presses while the pinch holds the clay; where the parts go is followed
+            // on the surface the pinch moves.
+            let (mut places, _) = self.sides_now(&tips, grid);
+            for place in &mut places {
+                if let Place::Far { pressing, .. } = place {
+                    *pressing = false;
+                }
+            }
+            self.remember(&tips, &places);
             out.touch = self.touch();
             return out;
         }
 
+        // Rule 3: where every part is, relative to the clay before the contact.
+        let (places, now) = self.sides_now(&tips, grid);
+        self.remember(&tips, &places);
+
         let o = self.options;
+        let ray = o.finger == FingerModel::Ray;
         if let Some(mut c) = self.contact.take() {
             let mut seen = Fingers(0);
             for &(part, finger) in &tips {
                 seen = seen.with(part);
                 let (e, axis) = (finger.tip, finger.axis);
                 let reach = finger.length;
+                let side = now[slot(part)];
                 if let Some(k) = c.active(part) {
                     // Rule 5: how far the part is in the clay as it was before the contact.
-                    let p0 = self.press(&c.reference, &finger, reach);
+                    let (held, live) = {
+                        let t = &c.tracks[k];
+                        (t.grip, t.placements[t.placements.len() - 1].dir)
+                    };
+                    let p0 = if ray {
+                        self.ray_press(&c.reference, &finger, reach)
+                    } else if held && grip {
+                        // The clay sticks to a gripping part, in the clay or out of it.
+                        self.grip_press(&c.reference, e, live, reach)
+                    } else {
+                        side
+                    };
                     let t = &mut c.tracks[k];
                     if t.grip && !grip {
                         t.grip = false;
@@ -526,8 +680,7 @@ impl HandLoop {
                     }
                 } else {
                     // A part joining the contact (rule 4, on the surface before it).
-                    let ahead = if grip { reach } else { 0.0 };
-                    let press = self.press(&c.reference, &finger, ahead);
+                    let press = self.joining(&c.reference, &finger, side, grip);
                     if part == primary {
                         out.penetration = press.map(|p| p.depth);
                     }
@@ -548,12 +701,12 @@ impl HandLoop {
                 .is_some_and(|c| c.tracks.iter().all(|t| !t.active))
             {
                 // Rule 8: every part is out of the clay.
-                out.committed = self.end_contact();
+                out.committed = self.close();
             }
         }
         if self.contact.is_none() {
             // Rule 4: a new contact?
-            let tracks = self.new_tracks(&tips, grid, grip, &mut out.penetration);
+            let tracks = self.new_tracks(&tips, grid, grip, &now, &mut out.penetration);
             if tracks.is_empty() {
                 return out;
             }
@@ -569,22 +722,22 @@ impl HandLoop {
         out
     }
 
-    /// Rule 4 for every part of a frame, on `grid` as it is: the tracks of the parts that
-    /// start a contact (none: no contact starts). Sets `penetration` to the primary part's
-    /// depth when its axis meets the surface.
+    /// Rule 4 for every part of a frame, on `grid` as it is (`now`: rule 3's presses, by
+    /// [`slot`]): the tracks of the parts that start a contact (none: no contact starts).
+    /// Sets `penetration` to the primary part's depth when it is in the clay (or, gripping,
+    /// when the grip finds the surface).
     fn new_tracks(
         &mut self,
         tips: &[(Part, Fingertip)],
         grid: &Grid,
         grip: bool,
+        now: &[Option<Press>; 6],
         penetration: &mut Option<f64>,
     ) -> Vec<Track> {
         let primary = Part::Digit(self.options.finger.primary());
         let mut tracks = Vec::new();
         for &(part, finger) in tips {
-            let reach = finger.length;
-            let ahead = if grip { reach } else { 0.0 };
-            let Some(press) = self.press(grid, &finger, ahead) else {
+            let Some(press) = self.joining(grid, &finger, now[slot(part)], grip) else {
                 continue;
             };
             if part == primary {
@@ -593,6 +746,17 @@ impl HandLoop {
             tracks.extend(self.start(part, &finger, press, grip));
         }
         tracks
+    }
+
+    /// Rule 10: whether the clutch holds the hand off the clay in `frame`, and whether the
+    /// hand makes a fist (from the fist at the last frame). Changes nothing.
+    fn clutch(&self, frame: &HandFrame) -> (bool, bool) {
+        let joints = match (self.options.finger, frame.status.glove) {
+            (FingerModel::Hand(_), SourceState::Ok) => frame.joints.as_ref(),
+            _ => None,
+        };
+        let fist = clutch::fist(self.fist, joints);
+        (fist || clutch::key(frame.buttons), fist)
     }
 
     /// Rule 2: whether the finger acts in `frame` (`None`: it does not), and whether the grip
@@ -606,10 +770,10 @@ impl HandLoop {
     /// [`HandLoop::frame`] follows (rules 1–4 and 9, the same code) without feeding it: the
     /// operations the new contact's first frame stands for — a pinch taking hold of the clay
     /// (rule 9) as a `move` of its held point to itself, else the first placement of every
-    /// part that starts pressing (rule 4: only where the part's own joints reach, by `h`
-    /// along `m̂`) as a push each ([`super::press::describe`]). `None` when a contact or a
-    /// pinch is in progress, the frame has no acting finger, or nothing starts. The loop
-    /// itself is not changed. `nendo replay --auto-refine` refines the grid for these
+    /// part that starts pressing (rule 4: a part whose tip entered the clay from its hand's
+    /// side, by `h` along `m̂`) as a push each ([`super::press::describe`]). `None` when a
+    /// contact or a pinch is in progress, the frame has no acting finger, or nothing starts.
+    /// The loop itself is not changed. `nendo replay --auto-refine` refines the grid for these
     /// operations before the frame.
     pub fn starting(&mut self, frame: &HandFrame, grid: &Grid) -> Option<Vec<Op>> {
         if self.touch() != Touch::Free {
@@ -618,7 +782,7 @@ impl HandLoop {
         // The frame as HandLoop::frame will see it (super::filter), the filter untouched.
         let frame = &self.filter.peek(frame);
         let (_, tips) = self.parts_of(frame)?;
-        let grip = self.acting(frame)?;
+        let grip = self.acting(frame).filter(|_| !self.clutch(frame).0)?;
         if let Some((thumb, index)) = pinch_pair(&tips)
             && let Some((at, _)) = self.takes_hold(&thumb, &index, grid)
         {
@@ -628,7 +792,8 @@ impl HandLoop {
                 radius: self.options.finger_radius,
             }]);
         }
-        let tracks = self.new_tracks(&tips, grid, grip, &mut None);
+        let (_, now) = self.sides_now(&tips, grid);
+        let tracks = self.new_tracks(&tips, grid, grip, &now, &mut None);
         (!tracks.is_empty()).then(|| {
             tracks
                 .iter()

@@ -38,9 +38,13 @@
 //!   sideways by `h / sin θ`. A flat hand 0.05 side into the plane moves no control point
 //!   more than 1.5 × 0.05 at any angle from 3° to 90° (tests/it/hand_contact.rs). The mouse's
 //!   ray is the exception: its depth is chosen along the ray, and it presses along it.
-//! - **Only where the finger is.** A crossing counts only if the finger's own joints reach
-//!   back along its axis that far: a fingertip curled back out of a fist, whose straight
-//!   capsule runs on through the clay below, points out of the clay and does not press it.
+//! - **Only where the hand went in, from the hand's side.** A part presses only once its tip
+//!   has entered the clay — its path between two frames crossed the surface while its body
+//!   (back of the hand, knuckle, joints) was out of the clay — and only away from the side
+//!   it came from. A curled fingertip in the air never presses, however its straight capsule
+//!   would run through the clay; a tip that appears inside the clay, or is left there by an
+//!   undo, does not press when it comes out. Clay moves toward the hand only through the grip
+//!   and the pinch.
 //! - **Every finger presses, and the palm.** Each part of the hand in the set
 //!   ([`Fingers`]; `--finger all`, the default for gloves, is the five fingers; `palm` adds
 //!   the palm as a wide capsule under the palm's centre) ends in a capsule — radius `r_f`
@@ -55,8 +59,9 @@
 //!   applied, and clay already pressed is not pressed again.
 //! - While the grip is held (the glove's switch; the right mouse button) the clay sticks to
 //!   the fingertips: withdrawing pulls, moving draws a ridge.
-//! - **Pinch to grab.** Thumb and index tips meeting (closer than 0.4 side) on the clay from
-//!   the same side take hold of the clay nearest the pinch point and, while they stay
+//! - **Pinch to grab.** Thumb and index tips meeting (closer than a quarter of the index
+//!   finger's length, both within that of the clay: the same pinch at any tracker scale) on
+//!   the clay from the same side take hold of the clay nearest the pinch point and, while they stay
 //!   together, move it with the pinch point (the surface's exact `move`, live from the surface
 //!   before the pinch, one undo step: after letting go the surface passes through the last
 //!   target to rounding); a wall pinched from both sides is pressed on both sides instead.
@@ -88,7 +93,7 @@ pub use contact::{AxisHit, Fingertip, Probe};
 pub use hand_loop::HandLoop;
 pub use kinematics::{Digit, FingerChain, Hand, HandPose, Palm};
 pub use mouse::MouseFinger;
-pub use options::{DEFAULT_FINGER_RADIUS, DEFAULT_PINCH_DISTANCE, HandOptions};
+pub use options::{DEFAULT_FINGER_RADIUS, DEFAULT_PINCH_CLOSED, DEFAULT_PINCH_OPEN, HandOptions};
 pub use outcome::{FrameOutcome, LoopStats, Touch};
 pub use parts::{Activation, FingerModel, Fingers, Part};
 pub use press::Placement;

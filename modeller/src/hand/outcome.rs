@@ -64,6 +64,9 @@ pub struct LoopStats {
     pub patch_updates: u64,
     /// Pinches ended: the clay held between thumb and index and moved (one `move` each).
     pub holds: u64,
+    /// Frames with a hand that the clutch held off the clay (the clutch key, or a fist:
+    /// rule 10 of [`super::hand_loop`]).
+    pub clutched: u64,
 }
 
 impl LoopStats {

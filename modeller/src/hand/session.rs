@@ -123,7 +123,7 @@ mod tests {
     use crate::surface::{Primitive, PrimitiveParams};
     use glam::DVec3;
     use nendo_devices::SourceState;
-    use nendo_devices::{HandSize, WorldFromTracker};
+    use nendo_devices::{HandFrame, HandSize, WorldFromTracker};
 
     fn plane_session(regulation: Regulation) -> HandSession {
         let grid = Primitive::Plane.build(&PrimitiveParams::default()).unwrap();
@@ -210,36 +210,87 @@ mod tests {
         }
     }
 
+    /// A frame with the fingertip 0.3 above the plane at the origin, and the next with it
+    /// 0.2 into the plane: the tip crosses the plane from above between them.
+    fn above_and_in() -> (HandFrame, HandFrame) {
+        let mut c = Choreography::new(Choreography::WORLD, 120.0).unwrap();
+        c.place(DVec3::new(0.0, 0.0, 0.3), -DVec3::Z, DVec3::Y);
+        c.hold(1);
+        c.move_to(DVec3::new(0.0, 0.0, -0.2), -DVec3::Z, 1);
+        let t = c.finish("test").unwrap();
+        (t.frames[0], t.frames[t.frames.len() - 1])
+    }
+
     #[test]
     fn no_pose_or_a_silent_glove_means_no_finger() {
-        let mut c = Choreography::new(Choreography::WORLD, 120.0).unwrap();
-        c.place(DVec3::new(0.0, 0.0, -0.2), -DVec3::Z, DVec3::Y);
-        c.hold(1);
-        let mut frame = c.finish("test").unwrap().frames[0];
+        let (above, mut frame) = above_and_in();
         let mut s = plane_session(Regulation::default());
         let mut lost = frame;
         lost.pose = None;
+        assert_eq!(s.feed(&above).touch, Touch::Free);
         assert_eq!(s.feed(&lost).touch, Touch::Free);
         let mut silent = frame;
         silent.joints = None;
         silent.status.glove = SourceState::Silent;
         assert!(s.feed(&silent).changed.is_empty());
         assert_eq!(s.grid(), plane_session(Regulation::default()).grid());
+        // The hand back in the clay without having been seen to enter it: where it came from
+        // is not known, so it does not press (rule 3).
         frame.time.0 += 1;
+        let out = s.feed(&frame);
+        assert_eq!(out.touch, Touch::Free);
+        assert!(out.changed.is_empty());
+        // Seen above the clay, then in it: it presses.
+        assert_eq!(s.feed(&above).touch, Touch::Free);
         let out = s.feed(&frame);
         assert!(!out.changed.is_empty());
         assert_eq!(out.touch, Touch::Pressing);
-        assert_eq!(s.hand_loop().stats().frames_with_finger, 1);
+        assert_eq!(s.hand_loop().stats().frames_with_finger, 4);
         // The glove going silent mid-contact ends the contact.
         assert!(s.feed(&silent).committed.is_some());
     }
 
+    /// A jump of the hand (a tracker glitch, two recordings joined) from below the paper's
+    /// sphere to above it: the fingertip's path passes through the clay and out again, so it
+    /// is still outside, and pressing down from there dents the north pole to the fingertip
+    /// (counting only the first crossing, the tip would have been taken for in the clay from
+    /// below, pushing the pole up by the 1 side between it and the tip).
+    #[test]
+    fn a_jump_through_the_clay_and_out_leaves_the_finger_outside() {
+        let sphere = Primitive::Sphere
+            .build(&PrimitiveParams::default())
+            .unwrap();
+        let hand = Hand::new(HandSize::default(), Choreography::WORLD).unwrap();
+        let mut s =
+            HandSession::new(sphere, Regulation::default(), hand, HandOptions::default()).unwrap();
+        let mut c = Choreography::new(Choreography::WORLD, 120.0).unwrap();
+        // Below, pointing up at the sphere (the whole hand below it); then above, pointing
+        // down at it.
+        c.place(DVec3::new(0.0, 0.0, -4.0), DVec3::Z, DVec3::Y);
+        c.hold(2);
+        c.place(DVec3::new(0.0, 0.0, 4.0), -DVec3::Z, -DVec3::Y);
+        c.hold(2);
+        c.move_to(DVec3::new(0.0, 0.0, 2.8), -DVec3::Z, 20);
+        c.hold(10);
+        let t = c.finish("test").unwrap();
+        for (k, f) in t.frames.iter().enumerate() {
+            let out = s.feed(f);
+            if k < 4 {
+                assert_eq!(out.touch, Touch::Free, "frame {k}");
+            }
+        }
+        assert_eq!(s.hand_loop().touch(), Touch::Pressing);
+        let top = 10.0
+            - Probe::new()
+                .first_crossing(s.grid(), DVec3::new(0.0, 0.0, 10.0), -DVec3::Z, 20.0)
+                .unwrap()
+                .t;
+        assert!((top - 2.8).abs() < 2e-3, "the pole at {top}");
+    }
+
     #[test]
     fn values_of_a_source_that_is_not_ok_never_act() {
-        let mut c = Choreography::new(Choreography::WORLD, 120.0).unwrap();
-        c.place(DVec3::new(0.0, 0.0, -0.2), -DVec3::Z, DVec3::Y);
-        c.hold(1);
-        let frame = c.finish("test").unwrap().frames[0];
+        let (above, frame) = above_and_in();
         let untouched = plane_session(Regulation::default());
         // The pressing frame with its pose and angles kept, but a source not delivering.
         let mut stale = Vec::new();
@@ -260,13 +311,15 @@ mod tests {
         for f in &stale {
             let mut s = plane_session(Regulation::default());
             assert!(s.hand_loop().finger_of(f).is_none(), "{:?}", f.status);
+            s.feed(&above);
             let out = s.feed(f);
             assert_eq!(out.touch, Touch::Free, "{:?}", f.status);
             assert!(out.changed.is_empty(), "{:?}", f.status);
             assert_eq!(s.grid(), untouched.grid());
         }
-        // The same frame from delivering sources presses.
+        // The same frames from delivering sources press.
         let mut s = plane_session(Regulation::default());
+        s.feed(&above);
         assert_eq!(s.feed(&frame).touch, Touch::Pressing);
     }
 
@@ -284,6 +337,14 @@ mod tests {
             },
             HandOptions {
                 grip_distance: -1.0,
+                ..HandOptions::default()
+            },
+            HandOptions {
+                pinch_closed: 0.0,
+                ..HandOptions::default()
+            },
+            HandOptions {
+                pinch_open: 0.2,
                 ..HandOptions::default()
             },
         ] {

@@ -10,7 +10,6 @@ use nendo_devices::{HandFrame, HandSize, WorldFromTracker, alignment, profile};
 
 use crate::editor::document::Document;
 use crate::editor::hand_input::HandDriver;
-use crate::hand::FingerModel;
 
 use super::*;
 
@@ -51,9 +50,10 @@ impl LiveInput {
         let driver = HandDriver::new(
             profile.hand,
             profile.world_from_tracker,
-            FingerModel::for_profile(&profile),
+            self.finger_for(&profile),
             self.radius(&profile, false),
-        );
+        )
+        .map(|d| d.with_filter(profile.filter));
         match driver {
             Ok(d) => self.driver = Some(d.with_contacts(self.contacts)),
             Err(e) => self.message = Some(e.to_string()),
@@ -94,8 +94,16 @@ impl LiveInput {
         let Some(entry) = self.entries.get(self.selected) else {
             return;
         };
+        let key = entry.key();
         match alignment::fit_scale(&entry.profile.hand, anchor.extent) {
-            Ok(s) => self.set_scale(doc, s),
+            Ok(s) => {
+                self.set_scale(doc, s);
+                // Fitted by hand: no automatic fit at this profile's (or its copy's) connect.
+                self.fitted.insert(key);
+                if let Some(e) = self.entries.get(self.selected) {
+                    self.fitted.insert(e.key());
+                }
+            }
             Err(e) => self.message = Some(format!("fit the hand: {e}")),
         }
     }

@@ -21,6 +21,10 @@ use nendo_devices::{
 pub(super) struct Shared {
     pub(super) inbox: Mutex<Vec<HandFrame>>,
     pub(super) stop: AtomicBool,
+    /// The clutch key is held: every frame taken from now on carries
+    /// [`nendo_devices::buttons::CLUTCH`] (in the recording too, so a replay does what the
+    /// window did).
+    pub(super) clutch: AtomicBool,
     pub(super) frames: AtomicU64,
     pub(super) status: Mutex<LoopStatus>,
     /// The recording's outcome (frames written), once the loop has ended.
@@ -103,6 +107,11 @@ impl DeviceSession {
                     if let Some(first) = stream.next_timeout(Duration::from_millis(20)) {
                         batch.push(first);
                         batch.extend(stream.drain());
+                    }
+                    if worker.clutch.load(Ordering::Relaxed) {
+                        for f in &mut batch {
+                            f.buttons |= nendo_devices::buttons::CLUTCH;
+                        }
                     }
                     if let Some(w) = &mut writer {
                         let written = batch

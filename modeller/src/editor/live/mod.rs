@@ -24,10 +24,15 @@
 //! large with half of it. A replayed trace is read with `DEFAULT_FINGER_RADIUS` unless set, as
 //! `nendo replay` reads it.
 //!
+//! The desk's aids — the hand fitted on a profile's first connect, the pressing parts chosen,
+//! the clutch key, the contact feedback — are in `desk`.
+//!
 //! Test aid: with `NENDO_STATUS_FILE=PATH` the window rewrites PATH (atomically, at most four
 //! times a second) with one JSON object: the session (`none`, `devices`, `replay`), each
 //! device's status as the panel shows it, whether the hand is drawn and how many contacts it
-//! has made — what `.ci/checks/window-devices.sh` waits on.
+//! has made, whether the clutch holds it (`clutched`) and how far the contact in progress has
+//! moved the clay (`clay_moved`, `null` when none) — what `.ci/checks/window-devices.sh` waits
+//! on.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -42,6 +47,9 @@ use crate::hand::scene::Scene;
 use crate::hand::{DEFAULT_FINGER_RADIUS, FingerModel};
 
 mod calibration;
+mod desk;
+#[cfg(test)]
+mod desk_tests;
 mod inbox;
 mod profiles;
 mod session;
@@ -117,6 +125,14 @@ pub struct LiveInput {
     status_written: Option<Instant>,
     /// Contacts the device hand has made (one undoable edit each).
     contacts: u64,
+    /// The parts that press, chosen in the panel (`None`: every finger).
+    pressing: Option<crate::hand::Fingers>,
+    /// The profiles (keys) whose hand has been fitted: no automatic fit on their connect.
+    fitted: std::collections::BTreeSet<String>,
+    /// The view's anchor, for the automatic fit of a first connect.
+    anchor: Option<ViewAnchor>,
+    /// The clutch key is held.
+    clutch: bool,
 }
 
 /// The fingers a replayed trace presses with: those its scene names, else those of the

@@ -221,6 +221,7 @@ impl LiveInput {
             .filter(|d| !d.as_os_str().is_empty())
             .map(Path::to_path_buf);
         settings.finger_radius = self.radius_set;
+        self.store_desk(settings);
     }
 
     /// Takes the remembered settings (before the first frame).
@@ -234,6 +235,7 @@ impl LiveInput {
             self.trace_path = dir.display().to_string();
         }
         self.radius_set = settings.finger_radius.filter(|r| r.is_finite() && *r > 0.0);
+        self.apply_desk(settings);
         let wanted = settings.profile.as_deref();
         let found = wanted.and_then(|k| self.entries.iter().position(|e| e.key() == k));
         // The ports shown so far are the defaults, not the user's: nothing to keep.

@@ -95,6 +95,9 @@ impl LiveInput {
     /// Connects recording to `record` (an answer to the overwrite question, or no question).
     pub(crate) fn connect_recording(&mut self, doc: &mut Document, record: Option<PathBuf>) {
         self.confirm_overwrite = None;
+        // The first connect of a glove profile fits the hand to the model (desk.rs); the
+        // fit may select the user's copy it was saved to.
+        let fitted = self.fit_on_first_connect();
         let Some(profile) = self.selected_profile() else {
             return;
         };
@@ -141,7 +144,11 @@ impl LiveInput {
                 self.session = Some(s);
                 self.driver = Some(driver);
                 self.running = Some(profile);
-                self.message = warnings;
+                self.message = match (fitted, warnings) {
+                    (Some(f), Some(w)) => Some(format!("{f}; {w}")),
+                    (f, w) => f.or(w),
+                };
+                self.set_clutch(self.clutch);
             }
             Err(e) => self.message = Some(e.to_string()),
         }
@@ -169,7 +176,7 @@ impl LiveInput {
                 )
             }
             None => {
-                let finger = FingerModel::for_profile(profile);
+                let finger = self.finger_for(profile);
                 let radius = self.radius(profile, false);
                 (
                     HandDriver::new(profile.hand, profile.world_from_tracker, finger, radius)
@@ -228,6 +235,7 @@ impl LiveInput {
                         s.replay = Some(path.to_path_buf());
                         self.session = Some(s);
                         self.driver = Some(driver);
+                        self.set_clutch(self.clutch);
                         // An interrupted recording plays its complete frames, saying so.
                         if let Some(i) = recovered.interrupted {
                             self.message = Some(format!("{}: {i}", path.display()));
@@ -255,6 +263,7 @@ impl LiveInput {
             for f in &frames {
                 driver.feed(doc, f);
             }
+            driver.measure(doc);
             refused = driver.take_refused();
             self.contacts = driver.contacts();
         }

@@ -1,6 +1,7 @@
 //! The status file, a test aid: with `NENDO_STATUS_FILE=PATH` the window rewrites PATH
 //! (atomically, at most four times a second) with one JSON object — the session, each
-//! device's status, whether the hand is drawn and how many contacts it has made.
+//! device's status, whether the hand is drawn and how many contacts it has made, whether the
+//! clutch holds it and how far the contact in progress moved the clay.
 
 use std::time::{Duration, Instant};
 
@@ -53,6 +54,8 @@ impl LiveInput {
             "devices": devices,
             "hand_drawn": hand_drawn,
             "contacts": self.contacts,
+            "clutched": self.clutched(),
+            "clay_moved": self.feedback().and_then(|f| f.moved()).map(|m| m.0),
         });
         let text = format!("{line}\n");
         if let Err(e) = nendo_file::write_bytes(&path, text.as_bytes()) {

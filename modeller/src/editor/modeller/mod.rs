@@ -313,6 +313,8 @@ impl Modeller {
     ) -> Result<(), nendo_devices::DeviceError> {
         self.live.select_profile(name_or_path)?;
         self.panel.devices_open = true;
+        let anchor = self.view_anchor();
+        self.live.set_view_anchor(anchor);
         if let Some(mouse) = self.live.connect_or_mouse(&mut self.session.doc) {
             self.apply(Command::UseMouseHand(mouse));
         }
@@ -388,6 +390,28 @@ impl Modeller {
             self.tools.state.set_invert(ctrl);
             self.stroke_dirty |= self.stroke.is_some();
         }
+    }
+
+    /// Holds the clutch key or lets it go: a device hand moves without touching the clay
+    /// while it is held (see [`LiveInput::set_clutch`]).
+    pub fn set_clutch(&mut self, held: bool) {
+        self.live.set_clutch(held);
+    }
+
+    /// The status line's hand part, while a device hand is clutched or presses: `clutch
+    /// (Space held)`, `clutch (fist)`, or the contact's feedback
+    /// ([`crate::editor::hand_input::Feedback::describe`]).
+    #[must_use]
+    pub fn hand_status(&self) -> Option<String> {
+        if self.live.clutched() {
+            let why = if self.live.clutch_key() {
+                "Space held"
+            } else {
+                "fist"
+            };
+            return Some(format!("clutch ({why}): the hand moves without touching"));
+        }
+        self.live.feedback().map(|f| f.describe())
     }
 
     /// Which mouse button orbits.

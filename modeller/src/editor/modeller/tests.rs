@@ -919,3 +919,42 @@ fn the_cursor_label_follows_the_gesture() {
     m.apply(Command::Cancel);
     assert_eq!(m.cursor_label(), None);
 }
+
+/// The clutch through the modeller, as the shell gives it (the key held, read each frame): no
+/// hand status without a device session; with the shipped groove replayed and the key held,
+/// the status line says the hand is clutched and the clay stays as it was.
+#[test]
+fn the_clutch_key_holds_the_device_hand_off_the_clay() {
+    let dir = std::env::temp_dir().join(format!("nendo-modeller-clutch-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temporary folder");
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("../devices/traces/plane-groove.trace");
+    let profile = dir.join("replay.json");
+    let json = serde_json::json!({
+        "format": "nendo-device-profile",
+        "version": 1,
+        "name": "groove-replay",
+        "input": {"replay": {"trace": source, "speed": 40.0}},
+    });
+    std::fs::write(&profile, json.to_string()).expect("profile written");
+    let mut m = Modeller::new(plane_doc(), None, false);
+    let start = m.document().model().clone();
+    m.set_clutch(true);
+    assert_eq!(m.hand_status(), None, "no device hand: no clutch to show");
+    m.connect_profile(&profile.display().to_string())
+        .expect("the replay profile");
+    let deadline = Instant::now() + std::time::Duration::from_secs(60);
+    let mut shown = Vec::new();
+    while m.live.is_connected() && Instant::now() < deadline {
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        m.set_clutch(true);
+        m.tick(Instant::now());
+        shown.extend(m.hand_status());
+    }
+    assert!(!m.live.is_connected(), "the replay ended");
+    assert!(
+        shown.iter().any(|s| s.starts_with("clutch (Space held)")),
+        "{shown:?}"
+    );
+    assert_eq!(m.document().model(), &start, "the clay untouched");
+    let _ = std::fs::remove_dir_all(&dir);
+}

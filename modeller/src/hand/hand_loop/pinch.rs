@@ -1,6 +1,24 @@
 //! Pinch to grab (rule 9 of [`super`]): thumb and index meeting on the clay take hold of it
 //! and, while they stay together, move it with the pinch point — one `move` of the surface
 //! before the pinch, one undo step.
+//!
+//! The distances are the hand's own: the tips take hold closer than
+//! [`HandOptions::pinch_closed`] (a quarter) of the index finger's length apart, both within
+//! that of the surface, and let go beyond [`HandOptions::pinch_open`] (three eighths) of it.
+//! A tracker-to-world scale makes the hand, its gestures and these distances alike larger or
+//! smaller, so the same gesture pinches, or does not, at any scale: at 1 side per metre the
+//! default hand's index is 0.081 side long and pinches within 0.02 side; at 20 sides per metre
+//! within 0.4 side. A fixed distance in sides would be 5 times the whole hand at the first
+//! scale — every touch a pinch.
+//!
+//! A pinch is a closing: the tips take hold only when they come together within reach of the
+//! clay, having been apart since the hand appeared. Tips that are together already — a hand
+//! that appears pinched, a fist (the thumb folded over the index), fingers closed in the air
+//! and then brought to the clay — take hold of nothing and press like any other part, so a
+//! fist pushed into the clay dents it instead of drawing it out as it withdraws.
+//!
+//! [`HandOptions::pinch_closed`]: crate::hand::HandOptions::pinch_closed
+//! [`HandOptions::pinch_open`]: crate::hand::HandOptions::pinch_open
 
 use glam::DVec3;
 
@@ -22,29 +40,45 @@ pub(super) struct Hold {
     pub(super) to: DVec3,
 }
 
-/// A pinch lets go when the tips are this many times the pinch distance apart (so that a
-/// pinch held at the threshold does not flicker).
-const PINCH_RELEASE: f64 = 1.5;
-
 impl HandLoop {
+    /// The pinch distance in world units: [`HandOptions::pinch_closed`] of the index finger's
+    /// length.
+    ///
+    /// [`HandOptions::pinch_closed`]: crate::hand::HandOptions::pinch_closed
+    #[must_use]
+    pub fn pinch_distance(&self) -> f64 {
+        self.options.pinch_closed * self.hand.finger_length(Digit::Index)
+    }
+
+    /// The distance at which a pinch lets go, in world units: [`HandOptions::pinch_open`] of
+    /// the index finger's length.
+    ///
+    /// [`HandOptions::pinch_open`]: crate::hand::HandOptions::pinch_open
+    #[must_use]
+    pub fn pinch_release_distance(&self) -> f64 {
+        self.options.pinch_open * self.hand.finger_length(Digit::Index)
+    }
+
     /// Rule 9: where thumb and index, not holding yet, take hold of `grid` — the point of the
-    /// clay held and the pinch point — or `None`: their tips closer than the pinch distance on
-    /// the same side of the clay, the clay within `r_f` of the pinch point.
+    /// clay held and the pinch point — or `None`. They take hold when their tips *close* to
+    /// less than the pinch distance `d` ([`HandLoop::pinch_distance`]) — they were at least
+    /// `d` apart at a frame since the hand appeared, and have not closed since — on the same
+    /// side of the clay, each tip within `d` of the surface (both within reach of it); the
+    /// clay nearest the pinch point is taken hold of.
     pub(super) fn takes_hold(
         &mut self,
         thumb: &Fingertip,
         index: &Fingertip,
         grid: &Grid,
     ) -> Option<(DVec3, DVec3)> {
-        let o = self.options;
+        let d = self.pinch_distance();
         let gap = (thumb.tip - index.tip).length();
         let mid = 0.5 * (thumb.tip + index.tip);
-        if gap >= o.pinch_distance {
+        if gap >= d || !self.pinch_armed {
             return None;
         }
         // Both tips on the same side of the clay (the segment between them does not cross it:
-        // a wall pinched from both sides is pressed, not held), the pinch point within a
-        // finger radius of the surface: the clay nearest it is taken hold of.
+        // a wall pinched from both sides is pressed, not held).
         if self
             .probe
             .first_crossing(grid, thumb.tip, index.tip - thumb.tip, gap)
@@ -52,8 +86,29 @@ impl HandLoop {
         {
             return None;
         }
-        let hit = crate::surface::nearest(grid, mid)
-            .filter(|s| (s.point - mid).length() <= o.finger_radius)?;
+        // Both tips within reach of the surface: first a patch box within `d` of each (the
+        // box pyramid: cheap when the hand is away from the clay), then the nearest point.
+        for tip in [thumb.tip, index.tip] {
+            let mut near = std::mem::take(&mut self.near);
+            near.clear();
+            grid.patches_where(
+                |b| {
+                    let b = b.inflated(d);
+                    tip.cmpge(b.min).all() && tip.cmple(b.max).all()
+                },
+                &mut near,
+            );
+            let any = !near.is_empty();
+            self.near = near;
+            if !any {
+                return None;
+            }
+            let s = crate::surface::nearest(grid, tip)?;
+            if (s.point - tip).length() > d {
+                return None;
+            }
+        }
+        let hit = crate::surface::nearest(grid, mid)?;
         Some((hit.point, mid))
     }
 
@@ -69,16 +124,16 @@ impl HandLoop {
         let o = self.options;
         let Some((thumb, index)) = pinch_pair(tips) else {
             if self.hold.is_some() {
-                out.committed = self.end_contact();
+                out.committed = self.close();
             }
             return false;
         };
         let gap = (thumb.tip - index.tip).length();
         let mid = 0.5 * (thumb.tip + index.tip);
         if let Some(mut h) = self.hold.take() {
-            if gap > PINCH_RELEASE * o.pinch_distance {
+            if gap > self.pinch_release_distance() {
                 self.hold = Some(h);
-                out.committed = self.end_contact();
+                out.committed = self.close();
                 return false;
             }
             let to = h.at + (mid - h.start);
@@ -107,12 +162,21 @@ impl HandLoop {
             self.hold = Some(h);
             return true;
         }
+        if gap >= self.pinch_distance() {
+            // Open: the next closing of the tips may take hold.
+            self.pinch_armed = true;
+            return false;
+        }
         let Some((at, mid)) = self.takes_hold(&thumb, &index, grid) else {
+            // Closed without taking hold (away from the clay, or across it): the tips must
+            // open again before they can.
+            self.pinch_armed = false;
             return false;
         };
+        self.pinch_armed = false;
         // A press in progress ends here; the pinch holds the surface it left.
         if self.contact.is_some() {
-            out.committed = self.end_contact();
+            out.committed = self.close();
         }
         self.stats.contacts += 1;
         // The surface as it is now is the start the pinch's moves are applied to.

@@ -123,8 +123,11 @@ pub(super) fn extend(o: &HandOptions, c: &mut Track, e: DVec3, finger: DVec3, ax
         c.dirty = true;
     } else if c.grip {
         c.penetration = p;
-    } else if gained > 0.0 {
-        // Pressing deeper: the live placement follows the fingertip.
+    } else if gained > o.min_depth {
+        // Pressing deeper: the live placement follows the fingertip. Deeper by more than
+        // `min_depth` only: a filtered fingertip coming to rest creeps in by ever smaller
+        // steps (the One-Euro filter's tail), and each would apply the contact again for a
+        // change too small to see; the creep adds up until it passes `min_depth`.
         c.anchor = e - p * axis;
         c.penetration = p;
         let depth = (p + c.correction).max(0.0);

@@ -9,6 +9,7 @@
 //!
 //! | module | what it is |
 //! |---|---|
+//! | [`arrival`] | [`Arrival`]: when a sample reached the host (the port read that completed it), carried beside each frame as a [`StampedFrame`] |
 //! | [`frame`] | the frame types and their units: [`HandFrame`], [`TrackerPose`], [`JointAngles`], [`Joint`] |
 //! | [`decode`] | the incremental, resynchronising byte-stream decoder shared by every protocol |
 //! | [`cyberglove`], [`fivedt`], [`fastrak`], [`flock`] | one module per protocol: record formats, commands, framing, encoders |
@@ -46,6 +47,7 @@
 #![warn(missing_docs)]
 
 pub mod alignment;
+pub mod arrival;
 pub mod cyberglove;
 pub mod decode;
 pub mod device;
@@ -65,6 +67,7 @@ pub mod stream;
 pub mod throughput;
 pub mod trace;
 
+pub use arrival::{Arrival, StampedFrame};
 pub use decode::DecodeStats;
 pub use device::{DeviceStats, Glove, Tracker, open_glove, open_glove_for_hand, open_tracker};
 pub use error::DeviceError;

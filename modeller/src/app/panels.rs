@@ -20,6 +20,7 @@ use crate::editor::export_job::{ExportJob, TOLERANCE_RANGE};
 use crate::editor::history::History;
 use crate::editor::input::OrbitButton;
 use crate::editor::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
+use crate::editor::live::LatencySummary;
 use crate::editor::modeller::Status;
 use crate::editor::scene::{Overlays, SurfaceDisplay};
 use crate::editor::symmetry::MirrorToggle;
@@ -686,9 +687,19 @@ pub(super) fn record_ui(
     commands
 }
 
-/// The status line: the last message and the autosave's file or error.
-pub(super) fn status_ui(ui: &mut Ui, status: Option<&Status>, autosave: Option<&Autosave>) {
+/// The status line: the last message, the autosave's file or error, and while a device session
+/// runs, the device samples' latency to the frame that shows them.
+pub(super) fn status_ui(
+    ui: &mut Ui,
+    status: Option<&Status>,
+    autosave: Option<&Autosave>,
+    latency: Option<&LatencySummary>,
+) {
     ui.horizontal(|ui| {
+        if let Some(l) = latency {
+            ui.small(l.line());
+            ui.separator();
+        }
         if let Some(s) = status {
             let text = RichText::new(&s.text);
             ui.label(if s.error { text.color(ERROR) } else { text });

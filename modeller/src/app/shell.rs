@@ -56,7 +56,13 @@ impl Shell {
                 });
         }
         egui::Panel::bottom("nendo status").show(ui, |ui| {
-            panels::status_ui(ui, modeller.status(), modeller.session().autosave());
+            let latency = modeller.hand_latency();
+            panels::status_ui(
+                ui,
+                modeller.status(),
+                modeller.session().autosave(),
+                latency.as_ref(),
+            );
         });
         let ctx = ui.ctx().clone();
         if let Some(prompt) = modeller.session().prompt() {

@@ -21,6 +21,7 @@ mod figure_warp;
 mod hand_contact;
 mod hand_filter;
 mod hand_kinematics;
+mod hand_latency;
 mod hand_poses;
 mod hand_side;
 mod hand_traces;

@@ -6,7 +6,7 @@
 # 1. The window starts with both devices off: Connect still starts, both read Disconnected.
 # 2. The emulators start: both devices reach Ok (the window retries them), the hand is drawn,
 #    and the press gesture deforms the clay (a contact counted, the 3D view changed, the
-#    autosaved model apart from the plane).
+#    autosaved model apart from the plane); the status carries the hand's latency figure.
 # 3. The glove emulator is stopped: the glove reads Disconnected with an error.
 # 4. It is started again on the same path: the glove is Ok again and its error is gone.
 # In 2, the desk: Space held (the clutch) keeps the hand off the clay for two press gestures;
@@ -125,6 +125,11 @@ wait_status 5 "Space let go did not release the clutch" '.clutched == false'
 wait_status 20 "no contact feedback while pressing" '.clay_moved != null and .clay_moved > 0.05'
 echo "contact feedback: the clay moved $(jq .clay_moved "$WORK/status.json") sides under the press"
 wait_status 20 "the press gesture made no contact" '.contacts >= 1'
+wait_status 10 "the window shows no hand latency figure" \
+  '.latency.samples > 0 and .latency.cpu_median_ms >= 0 and .latency.cpu_p95_ms >= .latency.cpu_median_ms'
+echo "hand latency (median / p95 of $(jq -r .latency.samples "$WORK/status.json") samples):" \
+  "CPU $(jq -r '"\(.latency.cpu_median_ms) / \(.latency.cpu_p95_ms)"' "$WORK/status.json") ms," \
+  "shown $(jq -r '"\(.latency.presented_median_ms) / \(.latency.presented_p95_ms)"' "$WORK/status.json") ms"
 sleep 1.5
 view_shot pressed
 pressed="$(differ before pressed)"

@@ -25,7 +25,7 @@ pub enum Suite {
     Curves,
     /// One push on planes and spheres of growing size: median time and the 40x40 / 10x10 ratio.
     Sculpt,
-    /// Decode throughput per device protocol; device sample -> regulated surface latency on a 1 600-patch sphere.
+    /// Decode throughput per device protocol; device sample -> regulated surface latency on a 1 600-patch sphere; sample -> frame latency (CPU side, presented) through the editor on a 1 600-patch plane.
     Input,
     /// The paper's deviation experiment for every regulation method, and G1 after 10 000 random strokes.
     Regulation,

@@ -17,6 +17,11 @@
 //!   (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`, [`super::sculpt::thread_cpu_ns`]), so that
 //!   other processes on a shared machine do not inflate them (the loop runs on one thread and
 //!   does not wait, so on an idle machine this is its latency); elsewhere wall time.
+//! - **Sample → frame latency** ([`super::latency`], feature `gui`): emulated devices on ptys
+//!   through the window's editor into offscreen frames on a 1 600-patch plane; per sample the
+//!   CPU side (port read → `queue.submit`) and the presented figure, median and p95, and the
+//!   stages between. The table above times the hand loop alone, in CPU time; this one the
+//!   whole way, in wall time.
 //! - **Every finger:** each gesture runs twice in the same run, with the index finger alone
 //!   (the one-finger baseline) and with all five fingers active (`--finger all`, the gloves'
 //!   default: every fingertip probed every frame, every one that reaches the clay pressing,
@@ -343,7 +348,12 @@ pub fn decode_table(scale: f64) -> String {
 pub fn report(scale: f64) -> String {
     let repeats = ((5.0 * scale).round() as usize).max(1);
     let latency = latency_table(repeats).unwrap_or_else(|e| format!("latency: {e}\n"));
-    format!("{}\n{}", decode_table(scale), latency)
+    #[cfg(feature = "gui")]
+    let frame = super::latency::report(scale);
+    #[cfg(not(feature = "gui"))]
+    let frame =
+        "Device sample -> frame latency: needs the `gui` feature (the renderer)\n".to_string();
+    format!("{}\n{}\n{}", decode_table(scale), latency, frame)
 }
 
 #[cfg(test)]

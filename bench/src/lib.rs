@@ -26,6 +26,8 @@ pub mod curves;
 pub mod figures;
 pub mod input;
 #[cfg(feature = "gui")]
+pub mod latency;
+#[cfg(feature = "gui")]
 pub mod live;
 pub mod reference;
 pub mod regulation;

@@ -8,7 +8,7 @@
 //!
 //! [`open_glove`] and [`open_tracker`] build the backend a profile names.
 
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use crate::cyberglove::{
     self, CyberGloveDecoder, CyberGloveFraming, CyberRecord, GloveFault, SensorCount,
@@ -72,6 +72,12 @@ pub trait Glove: Send {
     fn stop(&mut self);
     /// Counters.
     fn stats(&self) -> DeviceStats;
+    /// When the bytes of the samples the last [`read`](Self::read) appended arrived: the
+    /// moment the port read that completed them returned (see [`crate::arrival`]). `None`:
+    /// the backend does not say, and the stream stamps the moment `read` returned.
+    fn arrived(&self) -> Option<Instant> {
+        None
+    }
     /// Mismatches between the device found at the last start and its profile that were
     /// worked around (for people: printed by `nendo record`, shown by the window).
     fn warnings(&self) -> Vec<String> {
@@ -91,6 +97,12 @@ pub trait Tracker: Send {
     fn stop(&mut self);
     /// Counters.
     fn stats(&self) -> DeviceStats;
+    /// When the bytes of the samples the last [`read`](Self::read) appended arrived: the
+    /// moment the port read that completed them returned (see [`crate::arrival`]). `None`:
+    /// the backend does not say, and the stream stamps the moment `read` returned.
+    fn arrived(&self) -> Option<Instant> {
+        None
+    }
 }
 
 /// A serial protocol: handshake, stop, and turning records into samples.
@@ -123,6 +135,8 @@ struct SerialDevice<P: SerialProtocol> {
     decoder: StreamDecoder<P::Framing>,
     stats: DeviceStats,
     records: Vec<<P::Framing as Framing>::Record>,
+    /// When the last read that returned bytes returned.
+    arrived: Option<Instant>,
 }
 
 impl<P: SerialProtocol> SerialDevice<P> {
@@ -135,6 +149,7 @@ impl<P: SerialProtocol> SerialDevice<P> {
             decoder: StreamDecoder::new(framing),
             stats: DeviceStats::default(),
             records: Vec::new(),
+            arrived: None,
         }
     }
 
@@ -183,6 +198,10 @@ impl<P: SerialProtocol> SerialDevice<P> {
         };
         let mut buf = [0u8; 1024];
         let n = link.read_some(&mut buf, timeout)?;
+        if n > 0 {
+            // The bytes that complete a record arrive now: its samples' arrival.
+            self.arrived = Some(Instant::now());
+        }
         self.records.clear();
         self.decoder.push(&buf[..n], &mut self.records);
         let mut failure = None;
@@ -235,6 +254,9 @@ where
     fn stats(&self) -> DeviceStats {
         self.device_stats()
     }
+    fn arrived(&self) -> Option<Instant> {
+        self.arrived
+    }
 }
 
 impl<P: SerialProtocol<Sample = TrackerPose>> Tracker for SerialDevice<P> {
@@ -252,6 +274,9 @@ impl<P: SerialProtocol<Sample = TrackerPose>> Tracker for SerialDevice<P> {
     }
     fn stats(&self) -> DeviceStats {
         self.device_stats()
+    }
+    fn arrived(&self) -> Option<Instant> {
+        self.arrived
     }
 }
 

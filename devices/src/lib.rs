@@ -9,6 +9,7 @@
 //!
 //! | module | what it is |
 //! |---|---|
+//! | [`arrival`] | [`Arrival`]: when a sample reached the host (the port read that completed it), carried beside each frame as a [`StampedFrame`] |
 //! | [`frame`] | the frame types and their units: [`HandFrame`], [`TrackerPose`], [`JointAngles`], [`Joint`] |
 //! | [`decode`] | the incremental, resynchronising byte-stream decoder shared by every protocol |
 //! | [`cyberglove`], [`fivedt`], [`fastrak`], [`flock`] | one module per protocol: record formats, commands, framing, encoders |
@@ -48,6 +49,7 @@
 #![warn(missing_docs)]
 
 pub mod alignment;
+pub mod arrival;
 pub mod cyberglove;
 pub mod decode;
 pub mod device;
@@ -69,6 +71,7 @@ pub mod throughput;
 pub mod trace;
 pub mod vmc;
 
+pub use arrival::{Arrival, StampedFrame};
 pub use decode::DecodeStats;
 pub use device::{DeviceStats, Glove, Tracker, open_glove, open_glove_for_hand, open_tracker};
 pub use error::DeviceError;

@@ -29,6 +29,10 @@
 //! surface bit for bit. (One micrometre and one microradian lie far below what any of these
 //! devices resolves.)
 //!
+//! **Every frame carries its arrival** ([`crate::arrival`]): when the port read that completed
+//! its newest sample returned, and when it entered the channel. [`HandStream::drain_stamped`]
+//! and [`HandStream::next_stamped_timeout`] hand it on; the other readers see frames only.
+//!
 //! Nothing here panics on device input; a poisoned lock is recovered, not unwrapped.
 
 use std::path::Path;
@@ -43,8 +47,8 @@ use crate::profile::{Input, Profile, SkeletonProfile};
 use crate::skeleton::{Skeleton, SkeletonSource};
 use crate::trace::{Trace, TraceHeader, quantize_frame};
 use crate::{
-    DeviceError, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, SourceState, Timestamp,
-    TrackerPose, buttons,
+    Arrival, DeviceError, FrameStatus, GloveSample, HandFrame, Joint, JointAngles, SourceState,
+    StampedFrame, Timestamp, TrackerPose, buttons,
 };
 
 /// How a device thread waits for data before checking its stop flag and watchdog.
@@ -109,7 +113,7 @@ struct Merge {
 
 struct Shared {
     merge: Mutex<Merge>,
-    tx: SyncSender<HandFrame>,
+    tx: SyncSender<StampedFrame>,
     /// The glove's joints: the columns a trace of the stream has, by which frames are rounded.
     joints: Vec<Joint>,
     stop: AtomicBool,
@@ -132,8 +136,13 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 impl Shared {
     /// Sends a frame as a trace stores it ([`quantize_frame`]): the one place where frames are
     /// rounded on their way to the hand loop and to a recording, so both see the same numbers.
-    fn send(&self, frame: HandFrame) {
-        match self.tx.try_send(quantize_frame(&frame, &self.joints)) {
+    fn send(&self, frame: HandFrame, read: Instant) {
+        let frame = quantize_frame(&frame, &self.joints);
+        let stamped = StampedFrame {
+            frame,
+            arrival: Arrival::read_at(read),
+        };
+        match self.tx.try_send(stamped) {
             Ok(()) => {
                 self.frames.fetch_add(1, Ordering::Relaxed);
             }
@@ -144,7 +153,7 @@ impl Shared {
         }
     }
 
-    fn emit(&self, m: &Merge, tracker_fresh: bool, glove_fresh: bool) {
+    fn emit(&self, m: &Merge, tracker_fresh: bool, glove_fresh: bool, read: Instant) {
         let frame = HandFrame {
             time: Timestamp::since(self.start),
             pose: if m.tracker == SourceState::Ok {
@@ -170,7 +179,7 @@ impl Shared {
             },
             skeleton: m.skeleton.filter(|_| m.tracker == SourceState::Ok),
         };
-        self.send(frame);
+        self.send(frame, read);
     }
 
     fn note_error(&self, e: &DeviceError) {
@@ -247,31 +256,35 @@ impl Source {
             Source::Glove(g) => {
                 gloves.clear();
                 let r = g.read(POLL, gloves);
+                let read = g.arrived().unwrap_or_else(Instant::now);
                 *lock(&shared.glove_stats) = g.stats();
                 for s in gloves.iter() {
                     let mut m = lock(&shared.merge);
                     m.angles = Some(s.angles);
                     m.switch = s.switch.unwrap_or(false);
                     m.glove = SourceState::Ok;
-                    shared.emit(&m, false, true);
+                    shared.emit(&m, false, true, read);
                 }
                 r.map(|()| gloves.len())
             }
             Source::Tracker(t) => {
                 poses.clear();
                 let r = t.read(POLL, poses);
+                let read = t.arrived().unwrap_or_else(Instant::now);
                 *lock(&shared.tracker_stats) = t.stats();
                 for p in poses.iter() {
                     let mut m = lock(&shared.merge);
                     m.pose = Some(*p);
                     m.tracker = SourceState::Ok;
-                    shared.emit(&m, true, false);
+                    shared.emit(&m, true, false, read);
                 }
                 r.map(|()| poses.len())
             }
             Source::Skeleton(s) => {
                 hands.clear();
                 let r = s.read(POLL, hands);
+                // The receive that completed these hands has just returned: its arrival.
+                let read = Instant::now();
                 *lock(&shared.tracker_stats) = s.stats();
                 let seen = s.seen();
                 shared.role(DeviceRole::Tracker, |r| r.seen = seen);
@@ -279,7 +292,7 @@ impl Source {
                     let mut m = lock(&shared.merge);
                     m.skeleton = Some(*h);
                     m.tracker = SourceState::Ok;
-                    shared.emit(&m, true, false);
+                    shared.emit(&m, true, false, read);
                 }
                 r.map(|()| hands.len())
             }
@@ -294,7 +307,7 @@ impl Source {
         };
         if *slot != state {
             *slot = state;
-            shared.emit(&m, false, false);
+            shared.emit(&m, false, false, Instant::now());
         }
     }
 }
@@ -402,7 +415,7 @@ fn run_source(
 /// A running stream of hand frames (see the module docs). Dropping it stops the device threads
 /// and closes the devices.
 pub struct HandStream {
-    rx: Receiver<HandFrame>,
+    rx: Receiver<StampedFrame>,
     shared: Arc<Shared>,
     threads: Vec<JoinHandle<()>>,
     joints: Vec<Joint>,
@@ -648,16 +661,26 @@ impl HandStream {
 
     /// The next frame, if one is waiting.
     pub fn try_next(&self) -> Option<HandFrame> {
-        self.rx.try_recv().ok()
+        self.rx.try_recv().ok().map(|s| s.frame)
     }
 
     /// The next frame, waiting at most `timeout`.
     pub fn next_timeout(&self, timeout: Duration) -> Option<HandFrame> {
-        self.rx.recv_timeout(timeout).ok()
+        self.next_stamped_timeout(timeout).map(|s| s.frame)
     }
 
     /// Every frame waiting now (call once per UI frame).
     pub fn drain(&self) -> Vec<HandFrame> {
+        self.rx.try_iter().map(|s| s.frame).collect()
+    }
+
+    /// The next frame with its arrival ([`crate::arrival`]), waiting at most `timeout`.
+    pub fn next_stamped_timeout(&self, timeout: Duration) -> Option<StampedFrame> {
+        self.rx.recv_timeout(timeout).ok()
+    }
+
+    /// Every frame waiting now, with its arrival.
+    pub fn drain_stamped(&self) -> Vec<StampedFrame> {
         self.rx.try_iter().collect()
     }
 
@@ -750,7 +773,7 @@ impl HandStream {
 }
 
 impl Shared {
-    fn new(tx: SyncSender<HandFrame>, merge: Merge, joints: Vec<Joint>) -> Shared {
+    fn new(tx: SyncSender<StampedFrame>, merge: Merge, joints: Vec<Joint>) -> Shared {
         Shared {
             merge: Mutex::new(merge),
             tx,

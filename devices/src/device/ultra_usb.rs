@@ -24,6 +24,8 @@ pub struct UltraUsbGlove {
     warnings: Vec<String>,
     device: Option<hidapi::HidDevice>,
     stats: DeviceStats,
+    /// When the last report arrived.
+    arrived: Option<std::time::Instant>,
 }
 
 impl UltraUsbGlove {
@@ -45,6 +47,7 @@ impl UltraUsbGlove {
             warnings: Vec::new(),
             device: None,
             stats: DeviceStats::default(),
+            arrived: None,
         }
     }
 
@@ -140,6 +143,7 @@ impl Glove for UltraUsbGlove {
             .read_timeout(&mut buf, timeout.as_millis().min(i32::MAX as u128) as i32)
             .map_err(Self::hid)?;
         if n > 0 {
+            self.arrived = Some(std::time::Instant::now());
             self.decode_report(&buf[..n.min(buf.len())], out);
         }
         Ok(())
@@ -155,5 +159,9 @@ impl Glove for UltraUsbGlove {
 
     fn warnings(&self) -> Vec<String> {
         self.warnings.clone()
+    }
+
+    fn arrived(&self) -> Option<std::time::Instant> {
+        self.arrived
     }
 }

@@ -70,10 +70,14 @@ impl HandStream {
                         if f.status.glove_fresh {
                             worker.role(DeviceRole::Glove, |r| r.samples(1));
                         }
-                        worker.send(HandFrame {
-                            time: Timestamp(t),
-                            ..*f
-                        });
+                        // No port: the frame arrives as it is sent.
+                        worker.send(
+                            HandFrame {
+                                time: Timestamp(t),
+                                ..*f
+                            },
+                            Instant::now(),
+                        );
                     }
                     if !repeat {
                         break;

@@ -67,6 +67,39 @@ fn frames_merge_glove_and_tracker_with_increasing_timestamps() {
     assert!(stats.glove.decode.records > 20 && stats.tracker.decode.records > 20);
 }
 
+/// Every frame from real ports carries its arrival: the port read that completed it came
+/// after the stream opened and before it was sent; the channel's order is the order of
+/// sending; and the device samples were stamped by the backend at the read (distinct reads
+/// of a 120 Hz tracker and a 100 Hz glove: the read instants spread over the run, not one
+/// per batch).
+#[test]
+fn frames_carry_monotone_arrivals_from_the_port_reads() {
+    let (_g, _t, profile, options) = glove_and_tracker();
+    let opened = Instant::now();
+    let stream = HandStream::open(&profile, &options).unwrap();
+    let end = Instant::now() + Duration::from_millis(400);
+    let mut stamped = Vec::new();
+    while Instant::now() < end {
+        stamped.extend(stream.next_stamped_timeout(Duration::from_millis(20)));
+        stamped.extend(stream.drain_stamped());
+    }
+    let taken = Instant::now();
+    assert!(stamped.len() > 40, "{} frames in 0.4 s", stamped.len());
+    for s in &stamped {
+        assert!(opened <= s.arrival.read, "read before the stream opened");
+        assert!(s.arrival.read <= s.arrival.sent && s.arrival.sent <= taken);
+        assert_eq!(s.arrival.parse(), s.arrival.sent - s.arrival.read);
+    }
+    assert!(
+        stamped
+            .windows(2)
+            .all(|w| w[0].arrival.sent <= w[1].arrival.sent && w[0].frame.time <= w[1].frame.time)
+    );
+    let mut reads: Vec<Instant> = stamped.iter().map(|s| s.arrival.read).collect();
+    reads.dedup();
+    assert!(reads.len() > 20, "{} distinct read instants", reads.len());
+}
+
 #[test]
 fn a_silent_device_trips_the_watchdog_and_resumes_when_it_speaks_again() {
     let (glove, _t, profile, options) = glove_and_tracker();

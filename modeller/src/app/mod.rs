@@ -87,3 +87,20 @@ pub fn run(options: WindowOptions) -> anyhow::Result<()> {
     }
     WindowApp::new(modeller).run()
 }
+
+/// Applies egui's texture changes (and frees) when a frame is skipped, so none is lost.
+pub(crate) fn apply_textures(
+    renderer: &mut egui_wgpu::Renderer,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    delta: &egui::TexturesDelta,
+) {
+    for (id, deltas) in &delta.set {
+        for d in deltas {
+            renderer.update_texture(device, queue, *id, d);
+        }
+    }
+    for id in &delta.free {
+        renderer.free_texture(id);
+    }
+}

@@ -20,6 +20,7 @@ use crate::editor::export_job::{ExportJob, TOLERANCE_RANGE};
 use crate::editor::history::History;
 use crate::editor::input::OrbitButton;
 use crate::editor::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
+use crate::editor::live::LatencySummary;
 use crate::editor::modeller::Status;
 use crate::editor::scene::{Overlays, SurfaceDisplay};
 use crate::editor::symmetry::MirrorToggle;
@@ -695,17 +696,23 @@ pub(super) fn record_ui(
     commands
 }
 
-/// The status line: the hand's contact or clutch, the last message and the autosave's file or
-/// error.
+/// The status line: the hand's contact or clutch, the last message, the autosave's file or
+/// error, and while a device session runs, the device samples' latency to the frame that shows
+/// them.
 pub(super) fn status_ui(
     ui: &mut Ui,
     hand: Option<&str>,
     status: Option<&Status>,
     autosave: Option<&Autosave>,
+    latency: Option<&LatencySummary>,
 ) {
     ui.horizontal(|ui| {
         if let Some(h) = hand {
             ui.label(RichText::new(h).strong().color(HAND));
+            ui.separator();
+        }
+        if let Some(l) = latency {
+            ui.small(l.line());
             ui.separator();
         }
         if let Some(s) = status {

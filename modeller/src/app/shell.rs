@@ -61,11 +61,13 @@ impl Shell {
         }
         egui::Panel::bottom("nendo status").show(ui, |ui| {
             let hand = modeller.hand_status();
+            let latency = modeller.hand_latency();
             panels::status_ui(
                 ui,
                 hand.as_deref(),
                 modeller.status(),
                 modeller.session().autosave(),
+                latency.as_ref(),
             );
         });
         let ctx = ui.ctx().clone();

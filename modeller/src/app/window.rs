@@ -54,6 +54,8 @@
 //! Test aid: `NENDO_FRAME_DELAY_MS=250` makes every frame sleep that long after presenting
 //! (`.ci/checks/window-live.sh` uses it to check the above at 4 frames per second).
 
+use super::apply_textures;
+use crate::editor::live::DeviceWaker;
 use anyhow::{Context as _, anyhow};
 use glam::Vec2;
 use std::sync::Arc;
@@ -528,8 +530,12 @@ impl WindowApp {
             gfx.egui_renderer.free_texture(id);
         }
         queue.submit(extra.into_iter().chain([encoder.finish()]));
+        // The device samples this frame shows: their latency to the submission, then to the
+        // moment `present` returns (`editor::live` latency module docs say why that moment).
+        self.modeller.frame_submitted(Instant::now());
         gfx.window.pre_present_notify();
         queue.present(frame);
+        self.modeller.frame_presented(Instant::now());
 
         self.modeller
             .record_frame_time(start.elapsed().as_secs_f64() * 1e3);
@@ -562,23 +568,6 @@ impl WindowApp {
     }
 }
 
-/// Applies egui's texture changes (and frees) when a frame is skipped, so none is lost.
-fn apply_textures(
-    renderer: &mut egui_wgpu::Renderer,
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    delta: &egui::TexturesDelta,
-) {
-    for (id, deltas) in &delta.set {
-        for d in deltas {
-            renderer.update_texture(device, queue, *id, d);
-        }
-    }
-    for id in &delta.free {
-        renderer.free_texture(id);
-    }
-}
-
 impl ApplicationHandler for WindowApp {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.gfx.is_some() {
@@ -587,6 +576,15 @@ impl ApplicationHandler for WindowApp {
         match self.create_gfx(event_loop) {
             Ok(gfx) => {
                 gfx.window.request_redraw();
+                // Device samples ask for a frame as they arrive (`editor::live`).
+                let window = Arc::downgrade(&gfx.window);
+                let wake = move || {
+                    window
+                        .upgrade()
+                        .into_iter()
+                        .for_each(|w| w.request_redraw())
+                };
+                self.modeller.set_device_waker(DeviceWaker(Arc::new(wake)));
                 self.gfx = Some(gfx);
             }
             Err(e) => {

@@ -43,7 +43,7 @@ use crate::hand::script::Gesture;
 const MAX_SECONDS: f64 = 86_400.0;
 
 /// The rate the gestures are scripted at; each device samples them at its own period.
-pub(crate) const GESTURE_RATE_HZ: f64 = 240.0;
+pub const GESTURE_RATE_HZ: f64 = 240.0;
 
 /// The devices `nendo emulate` runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -159,7 +159,7 @@ pub fn run(args: EmulateArgs) -> ExitCode {
 }
 
 /// The gesture sampled at record `k` of a device with this period.
-pub(crate) fn frame_at(frames: &[HandFrame], period: Duration, k: u64) -> &HandFrame {
+pub fn frame_at(frames: &[HandFrame], period: Duration, k: u64) -> &HandFrame {
     let i = (k as f64 * period.as_secs_f64() * GESTURE_RATE_HZ).round() as u64;
     // `frames` is never empty (checked by the caller).
     &frames[(i % frames.len() as u64) as usize]
@@ -168,7 +168,7 @@ pub(crate) fn frame_at(frames: &[HandFrame], period: Duration, k: u64) -> &HandF
 /// The raw sensor values a calibration table reads back as the frame's angles
 /// (`raw = offset + angle / gain`, rounded into `lo..=255`); a sensor without a joint, or
 /// a joint the frame lacks, reads its offset.
-pub(crate) fn raw_values(table: &[SensorCalibration], frame: &HandFrame, lo: u8) -> Vec<u8> {
+pub fn raw_values(table: &[SensorCalibration], frame: &HandFrame, lo: u8) -> Vec<u8> {
     table
         .iter()
         .map(|c| {

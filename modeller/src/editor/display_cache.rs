@@ -14,7 +14,7 @@
 //! (tested). The vertices of `R`'s blocks are what changed for the renderer:
 //! [`DisplayCache::vertex_ranges_since`] gives them, so the window re-uploads only those.
 //!
-//! A full rebuild happens when the document cannot say (a new model, the hand loop), when
+//! A full rebuild happens when the document cannot say (a new model, an undo of a whole model), when
 //! more than half the patches changed, or when a changed patch needs another segment count
 //! and no gesture is in progress: the counts are tied along whole rows and columns of the
 //! grid (see [`crate::mesh::LiveTessellation`]), so reserving room per patch would not spare

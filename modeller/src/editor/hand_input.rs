@@ -241,9 +241,10 @@ impl HandDriver {
             self.recorded = false;
         }
         let hand_loop = &mut self.hand_loop;
-        let outcome = doc.sculpt_surface(|grid, regulation| {
+        // The loop says which patches it changed: the display re-tessellates only those.
+        let outcome = doc.sculpt_patches(|grid, regulation| {
             let out = hand_loop.frame(frame, grid, regulation);
-            let changed = out.changed.len();
+            let changed = out.changed.clone();
             (out, changed)
         });
         if !outcome.changed.is_empty() && !self.recorded {

@@ -150,6 +150,36 @@ impl Offscreen {
         self.size
     }
 
+    /// Encodes the renderer's frame into the target and submits it, without reading it
+    /// back: a window's submission without a swapchain (`nendo bench input` times a device
+    /// sample's way up to here). [`Offscreen::wait`] then waits for the frame to be drawn.
+    pub fn submit(&self, gpu: &GpuContext, renderer: &Renderer) -> wgpu::SubmissionIndex {
+        let mut encoder = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("nendo offscreen frame"),
+            });
+        {
+            let mut pass = self.targets.begin_pass(&mut encoder, &self.view);
+            renderer.draw(&mut pass);
+        }
+        gpu.queue.submit([encoder.finish()])
+    }
+
+    /// Waits until the device has done the work of `submission` (the frame drawn).
+    ///
+    /// # Errors
+    /// [`RenderError::Readback`] when the device is lost or the wait fails.
+    pub fn wait(gpu: &GpuContext, submission: wgpu::SubmissionIndex) -> Result<(), RenderError> {
+        gpu.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(submission),
+                timeout: None,
+            })
+            .map(|_| ())
+            .map_err(|e| RenderError::Readback(e.to_string()))
+    }
+
     /// Draws one frame with `renderer` (already given its scene and prepared) and reads it back.
     ///
     /// # Errors

@@ -3,7 +3,8 @@
 //! crash keeps what was recorded: [`TraceRecorder`]), so a slow window frame never drops a
 //! sample; the window takes everything in the inbox once per frame. The frames are the
 //! stream's, already rounded as the trace stores them, so the hand loop and the recording see
-//! the same numbers.
+//! the same numbers. Each frame keeps its arrival stamp ([`StampedFrame`]) for the latency
+//! figure.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -13,13 +14,27 @@ use std::time::{Duration, Instant};
 
 use nendo_devices::trace::Existing;
 use nendo_devices::{
-    DeviceError, DeviceStatus, HandFrame, HandStream, Profile, SceneText, TraceRecorder,
+    DeviceError, DeviceStatus, HandStream, Profile, SceneText, StampedFrame, TraceRecorder,
 };
+
+/// What the loop thread calls when it has put samples into the inbox: the window asks for a
+/// redraw, so a sample is taken by the next frame at once rather than at the next scheduled
+/// one (a bench waiting for samples is woken the same way).
+#[derive(Clone)]
+pub struct DeviceWaker(pub Arc<dyn Fn() + Send + Sync>);
+
+impl std::fmt::Debug for DeviceWaker {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("DeviceWaker")
+    }
+}
 
 /// What the loop thread shares with the window.
 #[derive(Debug, Default)]
 pub(super) struct Shared {
-    pub(super) inbox: Mutex<Vec<HandFrame>>,
+    pub(super) inbox: Mutex<Vec<StampedFrame>>,
+    /// Called after samples went into the inbox.
+    pub(super) waker: Mutex<Option<DeviceWaker>>,
     pub(super) stop: AtomicBool,
     /// The clutch key is held: every frame taken from now on carries
     /// [`nendo_devices::buttons::CLUTCH`] (in the recording too, so a replay does what the
@@ -104,19 +119,19 @@ impl DeviceSession {
                     // so the drain below still takes every frame sent before.
                     let finished = stream.finished();
                     let mut batch = Vec::new();
-                    if let Some(first) = stream.next_timeout(Duration::from_millis(20)) {
+                    if let Some(first) = stream.next_stamped_timeout(Duration::from_millis(20)) {
                         batch.push(first);
-                        batch.extend(stream.drain());
+                        batch.extend(stream.drain_stamped());
                     }
                     if worker.clutch.load(Ordering::Relaxed) {
-                        for f in &mut batch {
-                            f.buttons |= nendo_devices::buttons::CLUTCH;
+                        for s in &mut batch {
+                            s.frame.buttons |= nendo_devices::buttons::CLUTCH;
                         }
                     }
                     if let Some(w) = &mut writer {
                         let written = batch
                             .iter()
-                            .try_for_each(|f| w.push(f))
+                            .try_for_each(|f| w.push(&f.frame))
                             .and_then(|()| w.sync_if_due());
                         // A failed write (a full disk) stops the recording, keeping the frames
                         // before it; the hand goes on.
@@ -130,7 +145,11 @@ impl DeviceSession {
                     worker
                         .frames
                         .fetch_add(batch.len() as u64, Ordering::Relaxed);
+                    let arrived = !batch.is_empty();
                     lock(&worker.inbox).extend(batch);
+                    if arrived && let Some(w) = lock(&worker.waker).clone() {
+                        (w.0)();
+                    }
                     let devices = stream.status();
                     let mut status = lock(&worker.status);
                     status.devices = devices;

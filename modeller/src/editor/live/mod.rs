@@ -27,6 +27,10 @@
 //! The desk's aids — the hand fitted on a profile's first connect, the pressing parts chosen,
 //! the clutch key, the contact feedback — are in `desk`.
 //!
+//! Each sample's latency, from its arrival on the port to the frame that shows it, is kept by
+//! a [`LatencyMeter`] (see `latency`): the window marks the display refresh, the frame's GPU
+//! submission and its presentation; the status bar and the status file show the figure.
+//!
 //! Test aid: with `NENDO_STATUS_FILE=PATH` the window rewrites PATH (atomically, at most four
 //! times a second) with one JSON object: the session (`none`, `devices`, `replay`), each
 //! device's status as the panel shows it, whether the hand is drawn and how many contacts it
@@ -51,6 +55,7 @@ mod desk;
 #[cfg(test)]
 mod desk_tests;
 mod inbox;
+mod latency;
 mod profiles;
 mod session;
 mod status;
@@ -59,6 +64,8 @@ mod tests;
 
 pub(crate) use calibration::CalibrationCapture;
 use inbox::DeviceSession;
+pub use inbox::DeviceWaker;
+pub use latency::{LATENCY_WINDOW, LatencyMeter, LatencySummary, Quantiles, SampleLatency, Stages};
 pub(crate) use profiles::{ProfileEntry, ProfileSource};
 
 /// The environment variable naming the machine-readable status file (a test aid).
@@ -133,6 +140,10 @@ pub struct LiveInput {
     anchor: Option<ViewAnchor>,
     /// The clutch key is held.
     clutch: bool,
+    /// Each sample's way from the port to the frame that shows it.
+    latency: LatencyMeter,
+    /// Called by the loop thread when samples arrive (the window's redraw request).
+    waker: Option<DeviceWaker>,
 }
 
 /// The fingers a replayed trace presses with: those its scene names, else those of the

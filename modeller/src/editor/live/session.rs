@@ -7,7 +7,9 @@ use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use nendo_devices::profile::{Input, MouseProfile};
-use nendo_devices::{DeviceStatus, HandStream, Profile, StreamOptions, Trace, TrackerPose};
+use nendo_devices::{
+    DeviceStatus, HandFrame, HandStream, Profile, StreamOptions, Trace, TrackerPose,
+};
 
 use crate::editor::document::Document;
 use crate::editor::hand_input::HandDriver;
@@ -24,6 +26,15 @@ impl LiveInput {
     #[must_use]
     pub fn is_connected(&self) -> bool {
         self.session.is_some()
+    }
+
+    /// True while the device hand is in a contact (the display then keeps its segment counts,
+    /// as during a mouse gesture, and re-tessellates only the changed patches).
+    #[must_use]
+    pub fn in_contact(&self) -> bool {
+        self.driver
+            .as_ref()
+            .is_some_and(|d| d.hand_loop().touch() != crate::hand::Touch::Free)
     }
 
     /// Stops the session, if any (ending its hand's contact in `doc`).
@@ -140,6 +151,8 @@ impl LiveInput {
         };
         match DeviceSession::start(stream, record) {
             Ok(mut s) => {
+                *lock(&s.shared.waker) = self.waker.clone();
+                self.latency.clear();
                 s.replay = replay;
                 self.session = Some(s);
                 self.driver = Some(driver);
@@ -232,6 +245,8 @@ impl LiveInput {
                 let stream = HandStream::replay(trace, 1.0, false, 1024);
                 match DeviceSession::start(stream, None) {
                     Ok(mut s) => {
+                        *lock(&s.shared.waker) = self.waker.clone();
+                        self.latency.clear();
                         s.replay = Some(path.to_path_buf());
                         self.session = Some(s);
                         self.driver = Some(driver);
@@ -256,17 +271,25 @@ impl LiveInput {
             self.write_status(false);
             return None;
         };
-        let frames = std::mem::take(&mut *lock(&session.shared.inbox));
+        // `finished` first: the loop thread sets it after putting the last frames in the
+        // inbox, so a session seen finished here has nothing left behind the take below.
         let finished = lock(&session.shared.status).finished;
+        let stamped = std::mem::take(&mut *lock(&session.shared.inbox));
+        let taken = Instant::now();
         let mut refused = None;
         if let Some(driver) = &mut self.driver {
-            for f in &frames {
-                driver.feed(doc, f);
+            let mut samples = Vec::with_capacity(stamped.len());
+            for s in &stamped {
+                let revision = doc.revision();
+                driver.feed(doc, &s.frame);
+                samples.push((s.arrival, Instant::now(), doc.revision() != revision));
             }
             driver.measure(doc);
+            self.latency.took(taken, &samples, Instant::now());
             refused = driver.take_refused();
             self.contacts = driver.contacts();
         }
+        let frames: Vec<HandFrame> = stamped.iter().map(|s| s.frame).collect();
         // A skeleton source's hand is where its palm is (for Recenter).
         let palm = |f: &nendo_devices::HandFrame| {
             let s = f.skeleton.as_ref()?;
@@ -345,5 +368,31 @@ impl LiveInput {
     /// The last tracker pose.
     pub(crate) fn last_pose(&self) -> Option<TrackerPose> {
         self.last_pose
+    }
+
+    /// Calls `waker` whenever device samples arrive (the window: a redraw request), for this
+    /// session and the next ones.
+    pub fn set_waker(&mut self, waker: DeviceWaker) {
+        if let Some(s) = &self.session {
+            *lock(&s.shared.waker) = Some(waker.clone());
+        }
+        self.waker = Some(waker);
+    }
+
+    /// Contacts the device hand has made in this session (one undoable edit each).
+    #[must_use]
+    pub fn contacts(&self) -> u64 {
+        self.contacts
+    }
+
+    /// The device samples' latency record (see [`LatencyMeter`]).
+    #[must_use]
+    pub fn latency(&self) -> &LatencyMeter {
+        &self.latency
+    }
+
+    /// The latency record, for the window to mark a frame's steps (or a bench to widen it).
+    pub fn latency_mut(&mut self) -> &mut LatencyMeter {
+        &mut self.latency
     }
 }

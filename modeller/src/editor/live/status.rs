@@ -1,7 +1,9 @@
 //! The status file, a test aid: with `NENDO_STATUS_FILE=PATH` the window rewrites PATH
 //! (atomically, at most four times a second) with one JSON object — the session, each
 //! device's status, whether the hand is drawn and how many contacts it has made, whether the
-//! clutch holds it and how far the contact in progress moved the clay.
+//! clutch holds it and how far the contact in progress moved the clay, and the device
+//! samples' latency figure (`latency`: CPU side and presented, median and p95, in ms; `null`
+//! before the first sample shown).
 
 use std::time::{Duration, Instant};
 
@@ -49,6 +51,16 @@ impl LiveInput {
             .driver
             .as_ref()
             .is_some_and(|d| d.hand_loop().pose().is_some());
+        let ms = |d: std::time::Duration| (d.as_secs_f64() * 1e5).round() / 100.0;
+        let latency = self.latency.summary().map(|l| {
+            serde_json::json!({
+                "samples": l.samples,
+                "cpu_median_ms": ms(l.cpu.median),
+                "cpu_p95_ms": ms(l.cpu.p95),
+                "presented_median_ms": l.presented.map(|p| ms(p.median)),
+                "presented_p95_ms": l.presented.map(|p| ms(p.p95)),
+            })
+        });
         let line = serde_json::json!({
             "session": session,
             "devices": devices,
@@ -56,6 +68,7 @@ impl LiveInput {
             "contacts": self.contacts,
             "clutched": self.clutched(),
             "clay_moved": self.feedback().and_then(|f| f.moved()).map(|m| m.0),
+            "latency": latency,
         });
         let text = format!("{line}\n");
         if let Err(e) = nendo_file::write_bytes(&path, text.as_bytes()) {

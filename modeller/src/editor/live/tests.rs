@@ -35,7 +35,11 @@ fn a_slow_window_frame_drops_no_sample() {
     }
     let got = std::mem::take(&mut *lock(&session.shared.inbox));
     assert_eq!(got.len() as u64, n, "every sample arrives");
-    assert!(got.windows(2).all(|w| w[0].time < w[1].time), "in order");
+    assert!(
+        got.windows(2)
+            .all(|w| w[0].frame.time < w[1].frame.time && w[0].arrival.sent <= w[1].arrival.sent),
+        "in order"
+    );
 }
 
 /// A recording that cannot start is refused with the trace writer's error, and a finished
@@ -399,6 +403,7 @@ fn window_recording_under_a_size_limit() {
     let recovered = Trace::read_recovering(&path).expect("the file reads");
     assert_eq!(recovered.trace.frames.len() as u64, kept);
     assert!(kept > 100 && kept < n, "{kept} frames kept");
+    let got: Vec<HandFrame> = got.iter().map(|s| s.frame).collect();
     assert_eq!(recovered.trace.frames[..], got[..kept as usize]);
     println!("window recording stopped after {kept} frames: {error}");
 }

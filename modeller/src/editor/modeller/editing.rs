@@ -15,8 +15,12 @@ impl Modeller {
     /// Brings the cached tessellation, patches and continuity up to the document's revision.
     pub fn refresh(&mut self) {
         self.update_stroke();
-        let busy = self.gesture_busy() || self.replay.is_some();
+        self.poll_devices();
+        let busy = self.gesture_busy() || self.replay.is_some() || self.live.in_contact();
         self.cache.refresh(&self.session.doc, busy);
+        self.live
+            .latency_mut()
+            .display_refreshed(std::time::Instant::now());
         if self.frame_pending {
             self.frame_all();
             self.frame_pending = false;

@@ -29,7 +29,7 @@ use super::export_job::ExportJob;
 use super::hand_input::HandToolState;
 use super::input::{OrbitButton, PointerInput};
 use super::lifecycle::{DocumentSession, Pending, PrimitiveForm};
-use super::live::{LiveInput, ViewAnchor};
+use super::live::{LatencySummary, LiveInput, ViewAnchor};
 use super::reach::ReachedPatches;
 use super::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
 use super::settings::Settings;
@@ -512,9 +512,7 @@ impl Modeller {
                 }
             }
         }
-        if let Some(e) = self.live.poll(&mut self.session.doc) {
-            self.set_status(format!("stroke refused: {e}"), true);
-        }
+        self.poll_devices();
         if let Some(outcome) = self.export_job.as_ref().and_then(ExportJob::poll) {
             self.export_job = None;
             match outcome {
@@ -537,6 +535,41 @@ impl Modeller {
             None => t.second_started = Some(now),
             _ => {}
         }
+    }
+
+    /// Runs the device samples received so far through the hand: at the frame's start
+    /// ([`Modeller::tick`]) and again just before the display refresh ([`Modeller::refresh`]),
+    /// so that a sample arriving during the UI pass is shown by this frame.
+    pub(super) fn poll_devices(&mut self) {
+        if let Some(e) = self.live.poll(&mut self.session.doc) {
+            self.set_status(format!("stroke refused: {e}"), true);
+        }
+    }
+
+    /// Calls `waker` whenever device samples arrive (the window asks for a redraw, so that
+    /// the next frame takes them at once).
+    pub fn set_device_waker(&mut self, waker: super::live::DeviceWaker) {
+        self.live.set_waker(waker);
+    }
+
+    /// The frame was submitted to the GPU at `at` (the window, once `queue.submit` returned):
+    /// the device samples it shows have their CPU-side latency ([`super::live::LatencyMeter`]).
+    pub fn frame_submitted(&mut self, at: Instant) {
+        self.live.latency_mut().submitted(at);
+    }
+
+    /// The frame submitted last was presented at `at` (once `queue.present` returned).
+    pub fn frame_presented(&mut self, at: Instant) {
+        self.live.latency_mut().presented(at);
+    }
+
+    /// The device samples' latency over the latest samples shown, while a device session runs.
+    #[must_use]
+    pub fn hand_latency(&self) -> Option<LatencySummary> {
+        self.live
+            .is_connected()
+            .then(|| self.live.latency().summary())
+            .flatten()
     }
 
     /// Records the CPU time of a frame.

@@ -19,6 +19,8 @@
 //! - [`limits`]: how large a coordinate may grow ([`COORDINATE_LIMIT`]) and how much crease
 //!   the exact regulation may leave ([`G1_TOLERANCE_DEG`]).
 //! - [`Grid::patches_where`]: the patches whose boxes a geometric test accepts (contact queries).
+//! - [`Grid::one_spline`]: the whole grid as one bicubic B-spline surface with double interior
+//!   knots spaced by the patch widths, exact for a grid the `exact` regulation keeps ([`spline`]).
 //! - [`refine`]: more patches, the same surface (de Casteljau splits of whole patch columns /
 //!   rows, uniform ×K, and the refinement a finger needs), spacing ratios carried over.
 //! - [`deviation`]: distances between surfaces sample by sample, and to the ideal shape.
@@ -51,7 +53,7 @@ mod operation;
 // Every module by its own name inside the crate (`crate::surface::grid`, …).
 pub(crate) use base::{bounds, error, limits, marks, patch, plane_fit, topology};
 pub(crate) use constraint::{mirror, verify};
-pub(crate) use net::{grid, group, primitive};
+pub(crate) use net::{grid, group, primitive, spline};
 pub(crate) use operation::{grab, nearest, shape_fn, smooth};
 // The namespaces the workspace uses as modules.
 pub use constraint::{continuity, regulate};
@@ -76,5 +78,6 @@ pub use refine::{FingerRefinement, RefineError, Refinement, for_finger};
 pub use regulate::{Regulation, regulate_all};
 pub use shape_fn::{Dirs, Finger, Op};
 pub use smooth::{EnergyDrop, thin_plate_energy};
+pub use spline::{GridSpline, NotOneSpline, ONE_SPLINE_TOLERANCE};
 pub use topology::{Topology, UnknownTopology};
 pub use verify::verify;

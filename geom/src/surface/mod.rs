@@ -9,7 +9,8 @@
 //!   [`Finger`]: the shape functions ([`shape_fn`]); [`nearest`]: the surface point nearest a
 //!   point; [`grab`]: the exact landing of a move; [`smooth`]: the thin-plate energy a
 //!   smoothing stroke lowers; [`mirror`]: symmetry about `x = 0`, `y = 0` or `z = 0`.
-//! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]).
+//! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]);
+//!   [`curvature::g2_report`]: the curvature mismatch (G2) across every seam and at poles.
 //! - The deformation engine ([`engine`]): one pipeline — displacement field → reachable
 //!   patches → envelope flows → Bernstein inverse ([`inverse`]) → [`Regulation`]
 //!   ([`regulate`]) → mirror → [`verify()`] or an exact rollback — with two drivers:
@@ -56,7 +57,7 @@ pub(crate) use constraint::{mirror, verify};
 pub(crate) use net::{grid, group, primitive, spline};
 pub(crate) use operation::{grab, nearest, shape_fn, smooth};
 // The namespaces the workspace uses as modules.
-pub use constraint::{continuity, regulate};
+pub use constraint::{continuity, curvature, regulate};
 pub use operation::{deviation, inverse, refine};
 
 pub use bounds::Aabb;

@@ -3,7 +3,7 @@
 //! 1001-sample search and Newton from 8 seeds, on the same random cases in one run.
 //!
 //! `cargo bench --bench closest` first prints the comparison table of
-//! `nendo::bench::closest::report` with kurbo added as a baseline (the library itself does not
+//! `nendo_bench::closest::report` with kurbo added as a baseline (the library itself does not
 //! depend on kurbo), then runs the criterion groups on the same case sets (same seeds and
 //! counts). Both sides get their inputs ready before timing: kurbo its `CubicBez` and `Point`,
 //! clipping its `Bezier` and query. With `--profile-time` (e.g. under callgrind) the table is
@@ -12,11 +12,11 @@
 use criterion::{BenchmarkId, Criterion, criterion_group};
 use glam::{DVec2, DVec3};
 use kurbo::{CubicBez, ParamCurveNearest, Point as KPoint};
-use nendo::bench::closest::{
+use nendo::curve::{Bezier, CurveSet, closest_bezier, ray_closest_bezier, sphere_intervals_bezier};
+use nendo_bench::closest::{
     Baseline, Batch, ClosestCase, Prepared, SEEDS, Spread, case_count, cases, pick_setup,
     probe_setup, report,
 };
-use nendo::curve::{Bezier, CurveSet, closest_bezier, ray_closest_bezier, sphere_intervals_bezier};
 use std::hint::black_box;
 
 fn to_kurbo(c: &Bezier<DVec2>) -> CubicBez {
@@ -143,11 +143,11 @@ fn profile(set: &str) {
     let c2 = || cases::<DVec2>(n, 3, Spread::Close, SEEDS[1]);
     let s3 = || cases::<DVec3>(n, 3, Spread::Around, SEEDS[2]);
     let batch: Box<dyn Batch> = match set {
-        "spread" => nendo::bench::closest::clipping_batch(&s2()),
-        "close" => nendo::bench::closest::clipping_batch(&c2()),
-        "3d" => nendo::bench::closest::clipping_batch(&s3()),
+        "spread" => nendo_bench::closest::clipping_batch(&s2()),
+        "close" => nendo_bench::closest::clipping_batch(&c2()),
+        "3d" => nendo_bench::closest::clipping_batch(&s3()),
         "nonic" => {
-            nendo::bench::closest::clipping_batch(&cases::<DVec2>(n, 9, Spread::Around, SEEDS[3]))
+            nendo_bench::closest::clipping_batch(&cases::<DVec2>(n, 9, Spread::Around, SEEDS[3]))
         }
         "kurbo-spread" => Box::new(Prepared::new(kurbo_inputs(&s2()), kurbo_query)),
         "kurbo-close" => Box::new(Prepared::new(kurbo_inputs(&c2()), kurbo_query)),

@@ -6,10 +6,10 @@
 //! accuracy figures), then runs the criterion groups on the same cases.
 
 use criterion::{BenchmarkId, Criterion, criterion_group};
-use nendo::bench::curves::{grab_cases, grab_once, refine_cases, refine_once, warp_case};
 use nendo::curve::edit::{GrabMethod, split};
 use nendo::curve::refine::Similarity;
 use nendo::curve::warp::{CurveWarp, WarpParams};
+use nendo_bench::curves::{grab_cases, grab_once, refine_cases, refine_once, warp_case};
 use std::hint::black_box;
 
 fn edits(c: &mut Criterion) {
@@ -73,7 +73,7 @@ fn warping(c: &mut Criterion) {
 criterion_group!(group, edits, warping);
 
 fn main() {
-    print!("{}", nendo::bench::curves::report(0.5));
+    print!("{}", nendo_bench::curves::report(0.5));
     group();
     Criterion::default().configure_from_args().final_summary();
 }

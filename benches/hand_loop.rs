@@ -18,7 +18,7 @@ fn hand_loop(c: &mut Criterion) {
         .expect("a 40 x 40 sphere");
     let mut group = c.benchmark_group("hand_loop");
     group.sample_size(10);
-    for (name, trace) in nendo::bench::input::gestures().expect("the fixed gestures") {
+    for (name, trace) in nendo_bench::input::gestures().expect("the fixed gestures") {
         let hand = Hand::new(trace.header.hand, trace.header.world_from_tracker).expect("a hand");
         group.throughput(Throughput::Elements(trace.frames.len() as u64));
         group.bench_function(name, |b| {

@@ -7,9 +7,9 @@
 //! groups.
 
 use criterion::{BenchmarkId, Criterion, criterion_group};
-use nendo::bench::regulation::Strokes;
-use nendo::bench::sculpt::{cases, reversed};
 use nendo::surface::{Primitive, PrimitiveParams, Regulation, Sculptor, regulate_all};
+use nendo_bench::regulation::Strokes;
+use nendo_bench::sculpt::{cases, reversed};
 use std::hint::black_box;
 
 fn benches(c: &mut Criterion) {
@@ -60,7 +60,7 @@ fn benches(c: &mut Criterion) {
 criterion_group!(group, benches);
 
 fn main() {
-    print!("{}", nendo::bench::regulation::report_text(0.1));
+    print!("{}", nendo_bench::regulation::report_text(0.1));
     group();
     Criterion::default().configure_from_args().final_summary();
 }

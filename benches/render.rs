@@ -7,11 +7,11 @@
 //! `apt-get install mesa-vulkan-drivers`).
 
 use criterion::{BenchmarkId, Criterion, criterion_group};
-use nendo::bench::render::sculpted_plane;
 use nendo::editor::scene::SurfaceDisplay;
 use nendo::editor::{OrbitCamera, ViewPreset};
 use nendo::mesh::{Tessellation, tessellate};
 use nendo::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
+use nendo_bench::render::sculpted_plane;
 use std::hint::black_box;
 
 fn benches(c: &mut Criterion) {
@@ -53,7 +53,7 @@ fn benches(c: &mut Criterion) {
 criterion_group!(group, benches);
 
 fn main() {
-    print!("{}", nendo::bench::render::report(0.5));
+    print!("{}", nendo_bench::render::report(0.5));
     group();
     Criterion::default().configure_from_args().final_summary();
 }

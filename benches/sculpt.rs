@@ -6,8 +6,8 @@
 //! methods, with the 40 × 40 / 10 × 10 ratio), then runs the criterion group.
 
 use criterion::{BenchmarkId, Criterion, criterion_group};
-use nendo::bench::sculpt::{cases, reversed};
 use nendo::surface::{Regulation, Sculptor};
+use nendo_bench::sculpt::{cases, reversed};
 use std::hint::black_box;
 
 fn benches(c: &mut Criterion) {
@@ -36,7 +36,7 @@ fn benches(c: &mut Criterion) {
 criterion_group!(group, benches);
 
 fn main() {
-    print!("{}", nendo::bench::sculpt::report(0.5));
+    print!("{}", nendo_bench::sculpt::report(0.5));
     group();
     Criterion::default().configure_from_args().final_summary();
 }

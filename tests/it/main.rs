@@ -42,6 +42,6 @@ mod surface_deform;
 mod surface_grid;
 mod surface_operations;
 mod svg_import;
-// It measures strokes through `nendo::bench::live`, which times the renderer (`gui`).
+// It measures strokes through `nendo_bench::live`, which times the renderer (`gui`).
 #[cfg(feature = "gui")]
 mod undo_history;

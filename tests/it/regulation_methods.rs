@@ -1,11 +1,11 @@
 //! Regulation methods (docs/design.md §12): the properties each method promises, on the grid.
 
 use glam::DVec3;
-use nendo::bench::regulation::{Strokes, experiment, experiment_cases};
 use nendo::surface::continuity::report;
 use nendo::surface::{
     Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor, deform, regulate_all,
 };
+use nendo_bench::regulation::{Strokes, experiment, experiment_cases};
 use proptest::prelude::*;
 
 fn sine_of_kink(a: DVec3, b: DVec3, c: DVec3) -> f64 {

@@ -3,8 +3,8 @@
 //! (About a second per topology in release mode; the same figures for every method are in
 //! `nendo bench regulation`.)
 
-use nendo::bench::regulation::random_strokes;
 use nendo::surface::{Primitive, Regulation};
+use nendo_bench::regulation::random_strokes;
 
 #[test]
 fn ten_thousand_random_strokes_keep_the_default_method_g1_on_every_topology() {

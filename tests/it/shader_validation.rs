@@ -1,7 +1,7 @@
 //! Every shader program the renderer builds validates with naga as compiled (its `.wgsl` file,
-//! preceded by `shaders/globals.wgsl` where it reads the per-frame uniform), every file in
-//! `shaders/` is used, the `Globals` block is declared once (in `globals.wgsl`), and that block
-//! matches `render::gpu_data::Globals` member by member.
+//! preceded by `modeller/shaders/globals.wgsl` where it reads the per-frame uniform), every file
+//! in `modeller/shaders/` is used, the `Globals` block is declared once (in `globals.wgsl`), and
+//! that block matches `render::gpu_data::Globals` member by member.
 #![cfg(feature = "gui")]
 
 use std::collections::BTreeSet;
@@ -15,9 +15,9 @@ use nendo::render::{GLOBALS_WGSL, SHADERS};
 const GLOBALS_FILE: &str = "globals.wgsl";
 
 fn shader_files() -> Vec<(String, String)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("modeller/shaders");
     let mut files: Vec<(String, String)> = std::fs::read_dir(&dir)
-        .expect("shaders/ exists")
+        .expect("modeller/shaders/ exists")
         .filter_map(Result::ok)
         .map(|e| e.path())
         .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
@@ -64,7 +64,10 @@ fn every_shader_validates_and_is_used() {
     let on_disk: BTreeSet<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
     let mut used: BTreeSet<&str> = SHADERS.iter().map(|(n, _)| *n).collect();
     used.insert(GLOBALS_FILE);
-    assert_eq!(on_disk, used, "shaders/ and render::SHADERS disagree");
+    assert_eq!(
+        on_disk, used,
+        "modeller/shaders/ and render::SHADERS disagree"
+    );
     let file = |name: &str| {
         files
             .iter()

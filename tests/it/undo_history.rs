@@ -3,7 +3,6 @@
 //! what each edit changed, so 1 000 typical strokes on a 256 × 256 grid fit in 100 MB.
 
 use glam::DVec3;
-use nendo::bench::live::{LiveStrokes, typical_stroke};
 use nendo::curve::json::DynCurve;
 use nendo::curve::{Bezier, Curve};
 use nendo::editor::Document;
@@ -11,6 +10,7 @@ use nendo::editor::curve_edit::straight_cubic;
 use nendo::editor::history::History;
 use nendo::model::Model;
 use nendo::surface::{Op, Primitive, PrimitiveParams, Regulation};
+use nendo_bench::live::{LiveStrokes, typical_stroke};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

@@ -1,12 +1,12 @@
 //! Independent references for the curve queries: dense sampling of the curve followed by a
-//! golden-section polish of every sampled local minimum (`nendo::bench::reference`). Nothing
+//! golden-section polish of every sampled local minimum (`nendo_bench::reference`). Nothing
 //! here uses Bezier clipping.
 
 #![allow(dead_code)]
 
 use nendo::curve::{Curve, Point};
 
-pub use nendo::bench::reference::sampled_min;
+pub use nendo_bench::reference::sampled_min;
 
 /// Reference closest distance from `q` to the curve.
 pub fn closest<P: Point>(c: &Curve<P>, q: P) -> (f64, f64) {

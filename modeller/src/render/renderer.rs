@@ -8,11 +8,11 @@ use super::scene::{LineBatch, Style, View};
 use super::targets::DEPTH_FORMAT;
 use crate::mesh::TriMesh;
 
-/// The `Globals` uniform block and its binding, defined once (`shaders/globals.wgsl`) and
-/// prepended to every shader that reads it. Its layout is [`Globals`]'s.
+/// The `Globals` uniform block and its binding, defined once (`modeller/shaders/globals.wgsl`)
+/// and prepended to every shader that reads it. Its layout is [`Globals`]'s.
 pub const GLOBALS_WGSL: &str = include_str!("../../shaders/globals.wgsl");
 
-/// `shaders/globals.wgsl` followed by `shaders/$file`, as one WGSL source.
+/// `modeller/shaders/globals.wgsl` followed by `modeller/shaders/$file`, as one WGSL source.
 macro_rules! with_globals {
     ($file:literal) => {
         concat!(

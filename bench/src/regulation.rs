@@ -23,11 +23,11 @@
 //!   sample whose starting position lies within 2 r_f of the push point, whatever moved, so that
 //!   a method that moves more samples is not flattered; per depth, pooled over the 5 positions.
 //!   Next to `none`, `g1`, `exact` (the coupled projection, the default) and `exact` group by
-//!   group ([`crate::surface::Sculptor::with_group_by_group_exact`]) stands the **floor**: the
+//!   group ([`nendo::surface::Sculptor::with_group_by_group_exact`]) stands the **floor**: the
 //!   least-squares G1 fit of the
 //!   ideal samples on the same grid, every group free ([`g1_fit`]). The targets checked for
 //!   the default `exact`: mean ≤ max(1.25 × none, 1.1 × floor), max ≤ none max + 0.01.
-//!   The same table on the plane refined ×2 and ×4 ([`crate::surface::refine::uniform`], the
+//!   The same table on the plane refined ×2 and ×4 ([`nendo::surface::refine::uniform`], the
 //!   same surface on a finer grid, `40 / K` samples per patch so the samples sit at the same points):
 //!   adding a grid is one line of [`report_text`].
 //!
@@ -57,12 +57,12 @@ use std::time::Instant;
 
 use super::Table;
 use super::rng::Seeded;
-use crate::surface::continuity::report;
-use crate::surface::deviation::{DeviationStats, ideal_samples, samples};
-use crate::surface::inverse;
-use crate::surface::refine;
-use crate::surface::regulate::exact_group_by_group;
-use crate::surface::{
+use nendo::surface::continuity::report;
+use nendo::surface::deviation::{DeviationStats, ideal_samples, samples};
+use nendo::surface::inverse;
+use nendo::surface::refine;
+use nendo::surface::regulate::exact_group_by_group;
+use nendo::surface::{
     Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor, Topology, deform,
 };
 
@@ -587,7 +587,7 @@ pub fn poles_degenerate(grid: &Grid) -> bool {
     let (m, n) = (grid.patches_u(), grid.patches_v());
     grid.poles().iter().all(|pole| {
         let o = grid.nodes()[pole.node];
-        let (iv, j) = if pole.end == crate::surface::PoleEnd::Start {
+        let (iv, j) = if pole.end == nendo::surface::PoleEnd::Start {
             (0, 0)
         } else {
             (n - 1, 3)
@@ -639,7 +639,7 @@ pub fn report_text(scale: f64) -> String {
          mean / share over those, pooled.\n\
          moved 4x4: the same count on the inverse mapping's 16 samples per patch (none: those the finger moved).\n\
          Paper: C1 208 samples, mean 0.10 side, 79.7 % within 0.15; G1 115 samples, 0.07 side, 86.1 %; \
-         inverse alone 80 samples (ours: the \"none\" row's moved 4x4). How they compare: module docs of src/bench/regulation.rs.\n{}",
+         inverse alone 80 samples (ours: the \"none\" row's moved 4x4). How they compare: module docs of bench/src/regulation.rs.\n{}",
         100 * SAMPLES * SAMPLES,
         t.render()
     ));

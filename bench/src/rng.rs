@@ -2,7 +2,7 @@
 //! (`rand_chacha`), the same numbers on every platform and in every run, so a suite measures
 //! the same cases each time.
 
-use crate::curve::Point;
+use nendo::curve::Point;
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{RngCore, SeedableRng};
 

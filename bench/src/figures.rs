@@ -32,15 +32,15 @@
 use std::hint::black_box;
 
 use super::{Table, cpu_median_ns, format_ns};
-use crate::curve::warp::WarpParams;
-use crate::figure::fit::{FitOptions, FitReport, fit_contour, measure};
-use crate::figure::marching::{MeshOptions, iso_surface};
-use crate::figure::morph::{Morph, MorphOptions};
-use crate::figure::optimise::Stopping;
-use crate::figure::picture::{Backdrop, PictureOptions, draw};
-use crate::figure::raster::{RasterStyle, render};
-use crate::figure::shape::{ShapeFitOptions, ShapeFitReport, deform, fit_sections};
-use crate::figure::{FigureDocument, FigureError, ImageSize, RasterView, ShapeDocument};
+use nendo::curve::warp::WarpParams;
+use nendo::figure::fit::{FitOptions, FitReport, fit_contour, measure};
+use nendo::figure::marching::{MeshOptions, iso_surface};
+use nendo::figure::morph::{Morph, MorphOptions};
+use nendo::figure::optimise::Stopping;
+use nendo::figure::picture::{Backdrop, PictureOptions, draw};
+use nendo::figure::raster::{RasterStyle, render};
+use nendo::figure::shape::{ShapeFitOptions, ShapeFitReport, deform, fit_sections};
+use nendo::figure::{FigureDocument, FigureError, ImageSize, RasterView, ShapeDocument};
 
 /// The shipped horse figure file.
 pub const HORSE: &str = include_str!("../../tests/data/figures/horse.json");

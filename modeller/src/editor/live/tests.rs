@@ -104,8 +104,8 @@ fn a_window_recording_replays_to_the_windows_surface() {
     use crate::hand::scene::{Scene, Start};
     let dir = std::env::temp_dir().join(format!("nendo-live-scene-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let source =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("devices/traces/plane-groove.trace");
+    let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../devices/traces/plane-groove.trace");
     let profile_path = dir.join("replay.json");
     let json = serde_json::json!({
         "format": "nendo-device-profile",

@@ -440,7 +440,7 @@ pub(super) fn display_ui(
     .on_hover_text("Which mouse button orbits the view; the other one pans");
 }
 
-/// The heat map's colours from 0° to `max_deg` (the shader's ramp, `shaders/clay.wgsl`).
+/// The heat map's colours from 0° to `max_deg` (the shader's ramp, `modeller/shaders/clay.wgsl`).
 fn heat_legend_ui(ui: &mut Ui, max_deg: f32) {
     let ramp = |t: f32| {
         let c = [

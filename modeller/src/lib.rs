@@ -11,8 +11,10 @@
 //! The geometry is its own crate, [`nendo_geom`], which depends on nothing of files, devices,
 //! GPU or UI; this crate re-exports its modules as [`curve`], [`surface`], [`mesh`] and [`num`]
 //! and adds what the application needs around them. The device crate, `nendo-devices` (`devices/`),
-//! knows nothing of geometry. The compiler holds these boundaries; inside this crate the table
-//! below does.
+//! knows nothing of geometry. This crate is the package `nendo-modeller` (`modeller/`); above it
+//! sit only the measurement suites behind `nendo bench` (`nendo-bench`, `bench/`) and the
+//! `nendo` binary (the root package), which joins the two. The compiler holds these boundaries;
+//! inside this crate the table below does.
 //!
 //! | part | what it is | may use |
 //! |---|---|---|
@@ -24,8 +26,7 @@
 //! | [`render`] | what the renderer is handed (view, style, line and sphere batches, the GPU data layouts) and, with feature `gui`, the wgpu renderer (CPU tessellation from `mesh`, drawn as clay) | everything above; wgpu only with `gui` |
 //! | [`editor`] | the headless editor: the modeller (commands carried out, the pointer state machine on plain input events), document, history, lifecycle, live strokes, symmetry, camera, scene, display cache, settings (and the device loop); builds without `gui` | everything above |
 //! | `app` | the thin egui / winit shell around the editor: the window (winit events into the editor's input), the panels and dialogs drawn with egui, returning commands; feature `gui` | everything above; nothing depends on it but the window's entry (`nendo window`) |
-//! | [`cli`] | the headless subcommands of the `nendo` binary | everything |
-//! | [`bench`] | the measurement suites behind `nendo bench` | everything |
+//! | [`cli`] | the subcommands of the `nendo` binary (the headless ones and the window's entry; `nendo bench` is `nendo-bench`'s) | everything |
 //!
 //! No module imports one below it in this table. Nothing but `app` (and the one entry that opens
 //! the window, `cli::window`) uses winit or egui, and nothing outside `render` and `app` uses wgpu.
@@ -33,7 +34,6 @@
 
 #[cfg(feature = "gui")]
 pub mod app;
-pub mod bench;
 pub mod cad;
 pub mod cli;
 pub mod curve;

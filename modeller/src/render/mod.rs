@@ -8,8 +8,9 @@
 //! It knows nothing of the application above it: it is handed a [`TriMesh`](crate::mesh::TriMesh)
 //! (the library's own tessellation, done on the CPU — see [`crate::mesh`]), a [`LineBatch`],
 //! [`SphereInstance`]s, a [`View`] and a [`Style`], and draws them. The shaders are in
-//! `shaders/*.wgsl`, the per-frame uniform block once in `shaders/globals.wgsl` (prepended to
-//! the shaders that read it); the data they read is in [`gpu_data`].
+//! `modeller/shaders/*.wgsl`, the per-frame uniform block once in
+//! `modeller/shaders/globals.wgsl` (prepended to the shaders that read it); the data they read is
+//! in [`gpu_data`].
 //!
 //! Headless use:
 //!

@@ -11,21 +11,21 @@
 //! thread** on Linux (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`), so that other processes on a
 //! shared machine do not inflate them; elsewhere in wall time ([`super::Stopwatch`]). The last
 //! column is the exact regulation projecting group by group, for comparison with the default
-//! coupled projection ([`crate::surface::Sculptor::with_group_by_group_exact`]).
+//! coupled projection ([`nendo::surface::Sculptor::with_group_by_group_exact`]).
 //!
 //! **Refinement** ([`refinement_report`], issue 13): the time of uniform refinement ×2 of the
 //! 40 × 40 plane and a 40 × 40 sphere (radius 3) — every patch split into 2 × 2, ratios
 //! carried over, the grid rebuilt with its box pyramid — with the counts before and after,
 //! the cost of the same push (exact regulation) on the refined grids next to the unrefined
-//! ones, and the time of the finger's refinement rule ([`crate::surface::refine::for_finger`])
+//! ones, and the time of the finger's refinement rule ([`nendo::surface::refine::for_finger`])
 //! and of applying it for the paper's push (r_f 1.25) on the 10 × 10 plane.
 
 use glam::DVec3;
 use std::hint::black_box;
 
 use super::{Stopwatch, Table, cpu_median_ns, format_ns, median};
-use crate::surface::refine;
-use crate::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor};
+use nendo::surface::refine;
+use nendo::surface::{Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor};
 
 /// One benchmark case: a grid and the push applied to it.
 #[derive(Debug, Clone)]

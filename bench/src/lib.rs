@@ -1,12 +1,26 @@
-//! `nendo bench <suite>`: measurements printed as tables, on the same cases in one run, so that
-//! ratios against a baseline are meaningful on a noisy machine. Criterion benches under
-//! `benches/` measure the same code paths; these suites add accuracy figures, counts and the
-//! comparisons each issue asks for.
+#![forbid(unsafe_code)]
+//! # nendo-bench
 //!
-//! One module per suite. Timing is by medians of repeated batches ([`Stopwatch`]).
+//! The measurement suites behind `nendo bench <suite>`: measurements printed as tables, on the
+//! same cases in one run, so that ratios against a baseline are meaningful on a noisy machine.
+//! Criterion benches under `benches/` (in the root package) measure the same code paths and
+//! share their cases from here; these suites add accuracy figures, counts and the comparisons
+//! each issue asks for.
+//!
+//! The suites measure the library ([`nendo`], package `nendo-modeller`): its editor, renderer,
+//! figures and hand loop, so this crate depends on it and not the other way round; only the
+//! binary (which adds [`cli`] as `nendo bench`), the criterion benches and the integration
+//! tests use it. Feature `gui` (on by default) adds the `live` suite and the GPU frames of the
+//! `render` suite.
+//!
+//! One module per suite, [`cli`] for the subcommand, [`rng`] for the suites' one seeded
+//! generator and [`reference`] for slow independent references. Timing is by medians of
+//! repeated batches ([`Stopwatch`]).
+#![warn(missing_docs)]
 
 use std::time::Instant;
 
+pub mod cli;
 pub mod closest;
 pub mod curves;
 pub mod figures;

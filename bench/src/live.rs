@@ -32,7 +32,7 @@
 //! **Undo memory.** Typical strokes — half live pushes or pulls (the default finger, depth up
 //! to 0.3, redone three times with a growing depth as the window does), half lines of three
 //! segments — at random points of planes of 10 × 10, 40 × 40 and 256 × 256 unit patches; the
-//! history's bytes per stroke ([`crate::editor::history::History::bytes`]), how many strokes fit
+//! history's bytes per stroke ([`nendo::editor::history::History::bytes`]), how many strokes fit
 //! in its 100 MB, the base model it keeps, and the median CPU time of one undo.
 
 use glam::DVec3;
@@ -40,15 +40,15 @@ use std::hint::black_box;
 use std::ops::Range;
 
 use super::{Table, cpu_median_ns, format_ns};
-use crate::editor::Document;
-use crate::editor::display_cache::DisplayCache;
-use crate::editor::history::History;
-use crate::editor::scene::SurfaceDisplay;
-use crate::editor::stroke::LiveStroke;
-use crate::mesh::Tessellation;
-use crate::model::Model;
-use crate::render::{GpuContext, OFFSCREEN_FORMAT, Renderer, surface_vertices};
-use crate::surface::{Dirs, Op, Primitive, PrimitiveParams};
+use nendo::editor::Document;
+use nendo::editor::display_cache::DisplayCache;
+use nendo::editor::history::History;
+use nendo::editor::scene::SurfaceDisplay;
+use nendo::editor::stroke::LiveStroke;
+use nendo::mesh::Tessellation;
+use nendo::model::Model;
+use nendo::render::{GpuContext, OFFSCREEN_FORMAT, Renderer, surface_vertices};
+use nendo::surface::{Dirs, Op, Primitive, PrimitiveParams};
 
 /// The suite's tables.
 #[must_use]
@@ -365,7 +365,7 @@ fn undo_memory(strokes: usize) -> String {
                 })
                 .unwrap_or_else(|e| panic!("plane {n}: {e}")),
         );
-        let snapshot = crate::editor::history::model_bytes(&model);
+        let snapshot = nendo::editor::history::model_bytes(&model);
         let mut doc = Document::new(model);
         let mut rng = LiveStrokes::new(n as u64);
         for _ in 0..strokes {

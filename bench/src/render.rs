@@ -16,8 +16,8 @@ use glam::DVec3;
 use std::hint::black_box;
 
 use super::{Stopwatch, Table};
-use crate::mesh::{PatchPoints, Tessellation, seam_angles_deg, seam_bands, tessellate};
-use crate::surface::{Grid, Op, Primitive, PrimitiveParams, Sculptor};
+use nendo::mesh::{PatchPoints, Tessellation, seam_angles_deg, seam_bands, tessellate};
+use nendo::surface::{Grid, Op, Primitive, PrimitiveParams, Sculptor};
 
 /// A sculpted plane of `n × n` unit patches (see the module docs).
 ///
@@ -114,9 +114,9 @@ pub fn report(scale: f64) -> String {
 /// Headless frame times at 1280 × 720.
 #[cfg(feature = "gui")]
 fn frames(planes: &[(usize, Vec<PatchPoints>)], batches: usize) -> String {
-    use crate::editor::scene::SurfaceDisplay;
-    use crate::editor::{OrbitCamera, ViewPreset};
-    use crate::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
+    use nendo::editor::scene::SurfaceDisplay;
+    use nendo::editor::{OrbitCamera, ViewPreset};
+    use nendo::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
 
     let gpu = match GpuContext::headless() {
         Ok(g) => g,

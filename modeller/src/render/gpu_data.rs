@@ -2,16 +2,16 @@
 //! The layouts build without the `gui` feature (the editor fills line and sphere batches); the
 //! `Pod` derives and the wgpu vertex attributes come with it.
 //!
-//! **Keep in sync with the `.wgsl` files in `shaders/`.** `tests/it/shader_validation.rs` checks
-//! `Globals` member by member (offsets and size) against naga's layout of the one WGSL block,
-//! `shaders/globals.wgsl`.
+//! **Keep in sync with the `.wgsl` files in `modeller/shaders/`.**
+//! `tests/it/shader_validation.rs` checks `Globals` member by member (offsets and size) against
+//! naga's layout of the one WGSL block, `modeller/shaders/globals.wgsl`.
 
 #[cfg(feature = "gui")]
 use bytemuck::{Pod, Zeroable};
 
 /// Per-frame uniform shared by every pass (`@group(0) @binding(0)`).
-/// Keep in sync with `struct Globals` in `shaders/globals.wgsl` (the one definition, prepended
-/// to the clay, lines and spheres shaders).
+/// Keep in sync with `struct Globals` in `modeller/shaders/globals.wgsl` (the one definition,
+/// prepended to the clay, lines and spheres shaders).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "gui", derive(Pod, Zeroable))]
@@ -45,7 +45,8 @@ pub struct Globals {
 }
 const _: () = assert!(std::mem::size_of::<Globals>() == 160);
 
-/// A vertex of the tessellated surface. Keep in sync with `VertexIn` in `shaders/clay.wgsl`.
+/// A vertex of the tessellated surface. Keep in sync with `VertexIn` in
+/// `modeller/shaders/clay.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "gui", derive(Pod, Zeroable))]
@@ -67,7 +68,7 @@ impl SurfaceVertex {
         wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
 }
 
-/// An end of a line segment. Keep in sync with `VertexIn` in `shaders/lines.wgsl`.
+/// An end of a line segment. Keep in sync with `VertexIn` in `modeller/shaders/lines.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "gui", derive(Pod, Zeroable))]
@@ -86,7 +87,8 @@ impl LineVertex {
         wgpu::vertex_attr_array![0 => Float32x3, 1 => Unorm8x4];
 }
 
-/// A vertex of the unit sphere mesh. Keep in sync with `VertexIn.unit` in `shaders/spheres.wgsl`.
+/// A vertex of the unit sphere mesh. Keep in sync with `VertexIn.unit` in
+/// `modeller/shaders/spheres.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "gui", derive(Pod, Zeroable))]
@@ -102,7 +104,8 @@ impl SphereVertex {
     pub const ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![0 => Float32x3];
 }
 
-/// One sphere to draw. Keep in sync with `VertexIn` locations 1–3 in `shaders/spheres.wgsl`.
+/// One sphere to draw. Keep in sync with `VertexIn` locations 1–3 in
+/// `modeller/shaders/spheres.wgsl`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "gui", derive(Pod, Zeroable))]

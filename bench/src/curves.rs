@@ -19,12 +19,12 @@
 
 use super::rng::Seeded;
 use super::{Table, cpu_median_ns, format_ns};
-use crate::curve::edit::{Grab, GrabMethod, GrabOptions, split};
-use crate::curve::refine::{Constraint, Similarity, refine, refine_piecewise};
-use crate::curve::warp::{CurveWarp, WarpParams};
-use crate::curve::{BSpline, Bezier, Curve, Point};
-use crate::surface::{Primitive, PrimitiveParams};
 use glam::{DMat2, DVec2, DVec3};
+use nendo::curve::edit::{Grab, GrabMethod, GrabOptions, split};
+use nendo::curve::refine::{Constraint, Similarity, refine, refine_piecewise};
+use nendo::curve::warp::{CurveWarp, WarpParams};
+use nendo::curve::{BSpline, Bezier, Curve, Point};
+use nendo::surface::{Primitive, PrimitiveParams};
 use std::hint::black_box;
 
 /// A curve with bend: control points along a wavy line, plus noise.

@@ -1,4 +1,5 @@
-//! `nendo bench <suite>`: prints the measurement tables of [`crate::bench`].
+//! `nendo bench <suite>`: its arguments, and the run that prints one suite's table. The binary
+//! (the root package `nendo`) adds this subcommand beside the library's ([`nendo::cli`]).
 
 use clap::{Args as ClapArgs, ValueEnum};
 use std::process::ExitCode;
@@ -45,7 +46,7 @@ pub fn run(args: BenchArgs) -> ExitCode {
     if !(args.scale.is_finite() && args.scale > 0.0 && args.scale <= MAX_SCALE) {
         eprintln!(
             "nendo bench: --scale must be a positive number of at most {MAX_SCALE}, got {}",
-            crate::num::Compact(args.scale)
+            nendo::num::Compact(args.scale)
         );
         return ExitCode::from(2);
     }
@@ -53,30 +54,30 @@ pub fn run(args: BenchArgs) -> ExitCode {
         Suite::Closest => (
             format!(
                 "{}(kurbo's CubicBez::nearest joins this table in `cargo bench --bench closest`.)\n",
-                crate::bench::closest::report(args.scale, &[])
+                crate::closest::report(args.scale, &[])
             ),
             true,
         ),
-        Suite::Curves => (crate::bench::curves::report(args.scale), true),
-        Suite::Sculpt => (crate::bench::sculpt::report(args.scale), true),
-        Suite::Input => (crate::bench::input::report(args.scale), true),
-        Suite::Regulation => (crate::bench::regulation::report_text(args.scale), true),
-        Suite::Render => (crate::bench::render::report(args.scale), true),
+        Suite::Curves => (crate::curves::report(args.scale), true),
+        Suite::Sculpt => (crate::sculpt::report(args.scale), true),
+        Suite::Input => (crate::input::report(args.scale), true),
+        Suite::Regulation => (crate::regulation::report_text(args.scale), true),
+        Suite::Render => (crate::render::report(args.scale), true),
         #[cfg(feature = "gui")]
-        Suite::Live => (crate::bench::live::report(args.scale), true),
+        Suite::Live => (crate::live::report(args.scale), true),
         #[cfg(not(feature = "gui"))]
         Suite::Live => (
             "nendo bench live: needs the `gui` feature\n".to_string(),
             false,
         ),
         Suite::Figures => {
-            let text = crate::bench::figures::report(args.scale);
+            let text = crate::figures::report(args.scale);
             let ok = !text.starts_with("nendo bench figures:");
             (text, ok)
         }
     };
-    if let Err(super::output::StdoutError(e)) = super::output::print(text) {
-        return super::output::stdout_failed("nendo bench", &e);
+    if let Err(nendo::cli::output::StdoutError(e)) = nendo::cli::output::print(text) {
+        return nendo::cli::output::stdout_failed("nendo bench", &e);
     }
     if ok {
         ExitCode::SUCCESS

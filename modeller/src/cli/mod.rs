@@ -1,9 +1,10 @@
 //! The `nendo` command line: one module per subcommand, each with its own clap arguments.
-
-use clap::Parser;
+//!
+//! The binary (`src/main.rs` of the root package `nendo`) parses the top level: the window's
+//! options ([`window::WindowArgs`]), these subcommands ([`Subcommand`]) and `nendo bench`, whose suites
+//! are their own crate (`nendo-bench`, which depends on this one).
 
 pub mod arg_error;
-pub mod bench;
 pub mod check;
 pub mod closest;
 pub mod curve;
@@ -27,23 +28,9 @@ pub mod signal;
 pub mod window;
 use std::process::ExitCode;
 
-/// nendo (粘土) — a clay-like modeller of exact Bezier surfaces and curves.
-#[derive(Debug, Parser)]
-#[command(name = "nendo", version, about, long_about = None, args_conflicts_with_subcommands = true)]
-pub struct Cli {
-    /// The subcommand; without one, the modeller window opens.
-    #[command(subcommand)]
-    pub command: Option<Subcommand>,
-    /// The window's options (without a subcommand).
-    #[command(flatten)]
-    pub window: window::WindowArgs,
-}
-
-/// Every subcommand of the `nendo` binary.
+/// Every subcommand of the `nendo` binary but `nendo bench` (the binary adds it).
 #[derive(Debug, clap::Subcommand)]
 pub enum Subcommand {
-    /// Run a measurement suite and print its table.
-    Bench(bench::BenchArgs),
     /// Print a model's continuity report (G0 gap, G1 angles, pole spread) as JSON.
     Check(check::CheckArgs),
     /// Closest point, pick, probe sphere and ray queries on curves, as JSON Lines (`--batch`).
@@ -78,27 +65,25 @@ pub enum Subcommand {
     Sculpt(sculpt::SculptArgs),
 }
 
-/// Parses the process arguments and runs the chosen subcommand.
-pub fn run() -> ExitCode {
-    let cli = Cli::parse();
-    // One handler for the whole binary: a stop signal removes unfinished writes' temporaries.
-    signal::install();
-    match cli.command {
-        None => window::run(cli.window),
-        Some(Subcommand::Bench(args)) => bench::run(args),
-        Some(Subcommand::Check(args)) => check::run(args),
-        Some(Subcommand::Closest(args)) => closest::run(args),
-        Some(Subcommand::Curve(args)) => curve::run(args),
-        Some(Subcommand::Devices(args)) => devices::run(args),
-        Some(Subcommand::Emulate(args)) => emulate::run(args),
-        Some(Subcommand::Export(args)) => export::run(args),
-        Some(Subcommand::Figure(args)) => figure::run(args),
-        Some(Subcommand::Morph(args)) => morph::run(args),
-        Some(Subcommand::Record(args)) => record::run(args),
-        Some(Subcommand::Refine(args)) => refine::run(args),
-        Some(Subcommand::Replay(args)) => replay::run(args),
-        #[cfg(feature = "gui")]
-        Some(Subcommand::Render(args)) => render::run(args),
-        Some(Subcommand::Sculpt(args)) => sculpt::run(args),
+impl Subcommand {
+    /// Runs the subcommand. The binary installs the stop-signal handler first
+    /// ([`signal::install`]).
+    pub fn run(self) -> ExitCode {
+        match self {
+            Subcommand::Check(args) => check::run(args),
+            Subcommand::Closest(args) => closest::run(args),
+            Subcommand::Curve(args) => curve::run(args),
+            Subcommand::Devices(args) => devices::run(args),
+            Subcommand::Emulate(args) => emulate::run(args),
+            Subcommand::Export(args) => export::run(args),
+            Subcommand::Figure(args) => figure::run(args),
+            Subcommand::Morph(args) => morph::run(args),
+            Subcommand::Record(args) => record::run(args),
+            Subcommand::Refine(args) => refine::run(args),
+            Subcommand::Replay(args) => replay::run(args),
+            #[cfg(feature = "gui")]
+            Subcommand::Render(args) => render::run(args),
+            Subcommand::Sculpt(args) => sculpt::run(args),
+        }
     }
 }

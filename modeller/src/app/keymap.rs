@@ -268,7 +268,7 @@ mod tests {
     /// The README's table is this module's: the help cannot drift from the keys.
     #[test]
     fn the_readme_lists_the_keymap() {
-        let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md"))
+        let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
             .expect("README.md");
         let table = markdown(OrbitButton::Right);
         assert!(

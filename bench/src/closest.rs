@@ -17,11 +17,11 @@
 use super::reference::sampled_min;
 use super::rng::Seeded;
 use super::{Table, median};
-use crate::curve::{
+use glam::{DVec2, DVec3};
+use nendo::curve::{
     Bezier, ClipStats, Curve, CurveSet, Point, closest_bezier, closest_bezier_with_stats,
     ray_closest_bezier, sphere_intervals_bezier,
 };
-use glam::{DVec2, DVec3};
 use std::hint::black_box;
 use std::time::Instant;
 

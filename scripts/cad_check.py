@@ -19,10 +19,11 @@ along the edge) within 0.01 degrees; every face oriented outward as written: OCC
 FORWARD as explored from the shape (its shape healing flips a face or a whole shell it finds
 reversed, which would show as REVERSED here) with normals that agree with nendo's S_u x S_v, and,
 read from the file's own data with a small parser (no healing at all), every ADVANCED_FACE is
-same-sense with its loop running counter-clockwise in (u, v) from the surface's corner P00, and
-each shared EDGE_CURVE is used once in each direction.
+same-sense with its loop running counter-clockwise in (u, v) from the surface's corner P00 (a pole
+side left out, as OCC writes it: no zero-length edges), and each shared EDGE_CURVE is used once in
+each direction.
 
-IGES checks: one face per patch, each a B-spline surface of degree 3x3 with the patch's control
+IGES checks: one top-level entity (the group, 402), one face per patch, each a B-spline surface of degree 3x3 with the patch's control
 points and points that agree to 1e-9, BRepCheck_Analyzer valid (IGES gets no topology: no shell).
 
 Both: each model curve is one free edge whose B-spline has the curve's degree, knots and control
@@ -309,21 +310,27 @@ def orientation_from_file(path, topology):
         p00, p30 = surf_pts[0], surf_pts[12]
         loop = refs(ents[bound])[0]
         oes = refs(ents[loop])
-        if len(oes) != 4:
+        # A side collapsed into a pole is left out (OCC's own style): three edges, and the
+        # loop then starts along u = 1 from the pole P00 = P30 when the pole is at v = 0.
+        pole_at_start = point[p00] == point[p30]
+        pole_at_end = point[surf_pts[3]] == point[surf_pts[15]]
+        if len(oes) != 4 - pole_at_start - pole_at_end:
             fail(f"{path}: face #{k} has {len(oes)} edges in its loop")
+        if pole_at_start:
+            p00, p30 = surf_pts[12], surf_pts[15]
         starts = []
         for oe in oes:
             body_oe = ents[oe]
             edge = refs(body_oe)[0]
             forward = body_oe.endswith(".T.)")
             v0, v1, curve, = refs(ents[edge])
-            degenerate = v0 == v1 and len(set(point[p] for p in refs(ents[curve]))) == 1
-            if not degenerate:
-                uses.setdefault(edge, []).append(forward)
+            if len(set(point[p] for p in refs(ents[curve]))) == 1:
+                fail(f"{path}: face #{k} has a zero-length edge (a pole side written out)")
+            uses.setdefault(edge, []).append(forward)
             a, b = (v0, v1) if forward else (v1, v0)
             starts.append((refs(ents[a])[0], refs(ents[b])[0]))
-        # The first oriented edge runs from P00 to P30 (v = 0, increasing u), and the loop
-        # is connected head to tail.
+        # The first oriented edge runs from P00 to P30 (v = 0, increasing u; from P30 to P33
+        # at a pole at v = 0), and the loop is connected head to tail.
         if point[starts[0][0]] != point[p00] or point[starts[0][1]] != point[p30]:
             fail(f"{path}: face #{k}'s loop does not start along v = 0 from P00 to P30")
         for (a, b), (c, _) in zip(starts, starts[1:] + starts[:1]):
@@ -436,15 +443,25 @@ def check_step(model_path, path, report):
         f" ({file_faces} same-sense faces in the file), {curves} curves exact")
 
 
+def one_root(reader, path):
+    """The file's entities are in one group (entity 402): one root to transfer."""
+    if reader.ReadFile(path) != IFSelect_RetDone:
+        fail(f"{path}: OCC cannot read the file")
+    roots = reader.NbRootsForTransfer()
+    if roots != 1:
+        fail(f"{path}: {roots} top-level entities, expected 1 (the group, entity 402)")
+
+
 def check_iges(model_path, path, report):
     topology, m, n, patches = load_model(model_path)
+    one_root(IGESControl_Reader(), path)
     shape = read(IGESControl_Reader(), path)
     if not BRepCheck_Analyzer(shape).IsValid():
         fail(f"{path}: BRepCheck_Analyzer: the shape is not valid")
     faces = match_faces(shape, patches, path)
     curves = check_curves(shape, model_path, path)
-    report.append(f"{path}: valid, {len(faces)} faces (B-spline 3x3, poles = control points, "
-                  f"points within 1e-9), {curves} curves exact")
+    report.append(f"{path}: valid, one group, {len(faces)} faces (B-spline 3x3, poles = control "
+                  f"points, points within 1e-9), {curves} curves exact")
 
 
 def main():

@@ -11,11 +11,13 @@
 use std::collections::HashMap;
 
 use glam::DVec3;
-use nendo::cad::{CadFormat, CurveSpline};
+use nendo::cad::{CadFormat, CadOptions, CadUnit, CurveSpline};
 use nendo::curve::json::DynCurve;
 use nendo::curve::{BSpline, Bezier, Curve};
 use nendo::model::Model;
-use nendo::surface::{Grid, Op, Primitive, PrimitiveParams, Topology, deform};
+use nendo::surface::{
+    Grid, ONE_SPLINE_TOLERANCE, Op, Primitive, PrimitiveParams, Regulation, Topology, deform,
+};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -328,8 +330,12 @@ fn border_sides(grid: &Grid) -> usize {
 }
 
 /// Reads a STEP export back and checks it against `model` (coordinates times `scale`).
-fn check_step(text: &str, model: &Model, scale: f64) {
+fn check_step(text: &str, model: &Model, scale: f64, name: &str) {
     let (header, data) = parse_step(text);
+    // The product is named after the model.
+    let products: Vec<_> = of_kind(&data, "PRODUCT").collect();
+    assert_eq!(products.len(), 1);
+    assert_eq!(products[0].1.params[0], Param::Str(name.into()));
     assert!(header.contains("FILE_SCHEMA(('AUTOMOTIVE_DESIGN { 1 0 10303 214 1 1 1 1 }'));"));
     // Every reference resolves.
     for (id, inst) in &data {
@@ -367,7 +373,7 @@ fn check_step(text: &str, model: &Model, scale: f64) {
     }
     let mut seen = vec![false; grid.patch_count()];
     let mut uses: HashMap<usize, Vec<bool>> = HashMap::new();
-    let mut degenerate = 0;
+    let mut pole_faces = 0;
     for (id, face) in &faces {
         assert!(face.params[3].flag(), "#{id} same sense");
         let surface = &data[&face.params[2].reference()];
@@ -401,7 +407,16 @@ fn check_step(text: &str, model: &Model, scale: f64) {
         let edge_loop = &data[&bound.params[1].reference()];
         assert_eq!(edge_loop.kind, "EDGE_LOOP");
         let oriented = edge_loop.params[1].list();
-        assert_eq!(oriented.len(), 4);
+        // A side collapsed into a pole is left out, as OpenCASCADE writes it.
+        let pole_start = pts[0] == pts[12];
+        let pole_end = pts[3] == pts[15];
+        assert_eq!(
+            oriented.len(),
+            4 - usize::from(pole_start) - usize::from(pole_end)
+        );
+        if pole_start || pole_end {
+            pole_faces += 1;
+        }
         let mut ends = Vec::new();
         for oe in oriented {
             let oe = &data[&oe.reference()];
@@ -429,17 +444,21 @@ fn check_step(text: &str, model: &Model, scale: f64) {
                 (a, b),
                 "the edge's curve joins its vertices"
             );
-            if cps.iter().all(|&q| q == cps[0]) {
-                degenerate += 1;
-            } else {
-                uses.entry(edge_id).or_default().push(forward);
-            }
+            assert!(
+                cps.iter().any(|&q| q != cps[0]),
+                "#{id}: no zero-length edge"
+            );
+            uses.entry(edge_id).or_default().push(forward);
             ends.push(if forward { (a, b) } else { (b, a) });
         }
+        let first = if pole_start {
+            (pts[12], pts[15])
+        } else {
+            (pts[0], pts[12])
+        };
         assert_eq!(
-            ends[0],
-            (pts[0], pts[12]),
-            "#{id}: the loop starts along v = 0"
+            ends[0], first,
+            "#{id}: the loop starts along v = 0 (u = 1 from a pole)"
         );
         for (this, next) in ends.iter().zip(ends.iter().cycle().skip(1)) {
             assert_eq!(this.1, next.0, "#{id}: the loop is connected");
@@ -466,13 +485,13 @@ fn check_step(text: &str, model: &Model, scale: f64) {
     let poles =
         usize::from(grid.topology().pole_at_start()) + usize::from(grid.topology().pole_at_end());
     assert_eq!(
-        degenerate,
+        pole_faces,
         poles * grid.patches_u(),
-        "one degenerate edge per pole patch"
+        "three edges on each pole patch"
     );
     assert_eq!(
         of_kind(&data, "EDGE_CURVE").count(),
-        uses.len() + degenerate,
+        uses.len(),
         "each edge written once"
     );
     if closed {
@@ -641,16 +660,25 @@ fn iges_real(s: &str) -> f64 {
     s.parse().expect("a real")
 }
 
-fn check_iges(text: &str, model: &Model, scale: f64) {
+fn check_iges(text: &str, model: &Model, scale: f64, name: &str) {
     let iges = parse_iges(text);
+    assert_eq!(iges.global[3], name, "the file name is the model's");
     assert_eq!(iges.global[0], ",");
     assert_eq!(iges.global[1], ";");
     assert_eq!(iges.global[13], "2", "unit flag: millimetres");
     assert_eq!(iges.global[14], "MM");
     assert_eq!(iges.global[22], "11", "IGES 5.3");
     let grid = &model.surface;
-    assert_eq!(iges.entities.len(), grid.patch_count() + model.curves.len());
-    for (k, (kind, p, label, subscript)) in iges.entities.iter().enumerate() {
+    let members = grid.patch_count() + model.curves.len();
+    assert_eq!(iges.entities.len(), members + 1);
+    // The last entity is the group of all the others (directory lines 1, 3, 5, …).
+    let (kind, group, label, _) = &iges.entities[members];
+    assert_eq!((*kind, label.as_str()), (402, "MODEL"));
+    let want: Vec<String> = std::iter::once(members.to_string())
+        .chain((0..members).map(|k| (2 * k + 1).to_string()))
+        .collect();
+    assert_eq!(group, &want);
+    for (k, (kind, p, label, subscript)) in iges.entities[..members].iter().enumerate() {
         if k < grid.patch_count() {
             assert_eq!((*kind, label.as_str()), (128, "PATCH"));
             assert_eq!(subscript, &k.to_string());
@@ -782,6 +810,14 @@ fn with_curves(mut model: Model) -> Model {
     model
 }
 
+/// Per patch, millimetres, for the model called `x`.
+fn options(scale: f64) -> CadOptions {
+    CadOptions {
+        scale,
+        ..CadOptions::named("x")
+    }
+}
+
 #[test]
 fn step_and_iges_of_every_topology_read_back_exactly() {
     let primitives = [
@@ -796,25 +832,25 @@ fn step_and_iges_of_every_topology_read_back_exactly() {
         let model = with_curves(sculpted(primitive, seed as u64));
         for scale in [1.0, 25.4] {
             let step = CadFormat::Step
-                .encode(&model, scale, "x.step")
+                .encode(&model, &options(scale), "x.step")
                 .expect("STEP");
-            check_step(&String::from_utf8(step).expect("ASCII"), &model, scale);
+            check_step(&String::from_utf8(step).expect("ASCII"), &model, scale, "x");
             let iges = CadFormat::Iges
-                .encode(&model, scale, "x.igs")
+                .encode(&model, &options(scale), "x.igs")
                 .expect("IGES");
-            check_iges(&String::from_utf8(iges).expect("ASCII"), &model, scale);
+            check_iges(&String::from_utf8(iges).expect("ASCII"), &model, scale, "x");
         }
     }
     for seed in 0..8 {
         let model = wild_plane(100 + seed);
         let step = CadFormat::Step
-            .encode(&model, 1.0, "wild.step")
+            .encode(&model, &options(1.0), "wild.step")
             .expect("STEP");
-        check_step(&String::from_utf8(step).expect("ASCII"), &model, 1.0);
+        check_step(&String::from_utf8(step).expect("ASCII"), &model, 1.0, "x");
         let iges = CadFormat::Iges
-            .encode(&model, 1.0, "wild.igs")
+            .encode(&model, &options(1.0), "wild.igs")
             .expect("IGES");
-        check_iges(&String::from_utf8(iges).expect("ASCII"), &model, 1.0);
+        check_iges(&String::from_utf8(iges).expect("ASCII"), &model, 1.0, "x");
     }
 }
 
@@ -843,9 +879,9 @@ fn export_command_writes_step_and_iges_and_refuses_bad_options() {
         );
         let text = std::fs::read_to_string(&out).expect("written");
         if step {
-            check_step(&text, &read, 2.0);
+            check_step(&text, &read, 2.0, "sphere");
         } else {
-            check_iges(&text, &read, 2.0);
+            check_iges(&text, &read, 2.0, "sphere");
         }
     }
     for (args, code) in [
@@ -860,6 +896,9 @@ fn export_command_writes_step_and_iges_and_refuses_bad_options() {
         (vec!["export", m, "x.igs", "--tolerance", "-1"], 2),
         (vec!["export", m, "x.obj", "--scale", "inf"], 2),
         (vec!["export", m, "x.stl", "--scale", "0"], 2),
+        (vec!["export", m, "x.obj", "--one-surface"], 2),
+        (vec!["export", m, "x.stl", "--units", "cm"], 2),
+        (vec!["export", m, "x.step", "--units", "ft"], 2),
     ] {
         let o = crate::support::nendo()
             .args(&args)
@@ -879,6 +918,230 @@ fn export_command_writes_step_and_iges_and_refuses_bad_options() {
         for name in ["x.step", "x.igs", "x.obj", "x.stl"] {
             assert!(!dir.join(name).exists(), "{args:?} wrote {name}");
         }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// ------------------------------------------------------------------ one surface per model
+
+/// Checks a one-surface STEP file: one face on one B-spline whose control points are the
+/// grid's spline's (bit for bit, times the scale) on its knots, a loop of the grid's sides
+/// (pole sides left out, a closed direction's seam used once each way), a solid when closed.
+fn check_step_one(text: &str, model: &Model, scale: f64) {
+    let (_, data) = parse_step(text);
+    let grid = &model.surface;
+    let spline = grid
+        .one_spline(ONE_SPLINE_TOLERANCE)
+        .expect("an exact grid is one spline");
+    let faces: Vec<_> = of_kind(&data, "ADVANCED_FACE").collect();
+    assert_eq!(faces.len(), 1, "one face");
+    let face = faces[0].1;
+    let surface = &data[&face.params[2].reference()];
+    assert_eq!(surface.kind, "B_SPLINE_SURFACE_WITH_KNOTS");
+    let p = &surface.params;
+    assert_eq!((p[1].int(), p[2].int()), (3, 3));
+    let rows = p[3].list();
+    assert_eq!(rows.len(), 2 * grid.patches_u() + 2);
+    for (i, row) in rows.iter().enumerate() {
+        let row = row.list();
+        assert_eq!(row.len(), 2 * grid.patches_v() + 2);
+        for (j, q) in row.iter().enumerate() {
+            assert_eq!(point(&data, q.reference()), spline.point(i, j) * scale);
+        }
+    }
+    let closed = |b: bool| Param::Enum(if b { "T" } else { "F" }.into());
+    assert_eq!(p[5], closed(grid.topology().closed_u()));
+    assert_eq!(p[6], closed(grid.topology().closed_v()));
+    for (mults, values, breaks) in [
+        (&p[8], &p[10], &spline.breaks_u),
+        (&p[9], &p[11], &spline.breaks_v),
+    ] {
+        let m: Vec<i64> = mults.list().iter().map(Param::int).collect();
+        let mut want = vec![2; breaks.len()];
+        want[0] = 4;
+        want[breaks.len() - 1] = 4;
+        assert_eq!(m, want);
+        let v: Vec<f64> = values.list().iter().map(Param::real).collect();
+        assert_eq!(&v, breaks);
+    }
+    let bound = &data[&face.params[1].list()[0].reference()];
+    let edge_loop = &data[&bound.params[1].reference()];
+    let oriented = edge_loop.params[1].list();
+    let t = grid.topology();
+    assert_eq!(oriented.len(), 4 - t.pole_count());
+    let mut uses: HashMap<usize, Vec<bool>> = HashMap::new();
+    for oe in oriented {
+        let oe = &data[&oe.reference()];
+        uses.entry(oe.params[3].reference())
+            .or_default()
+            .push(oe.params[4].flag());
+    }
+    let seams = usize::from(t.closed_u()) + usize::from(t.closed_v());
+    assert_eq!(uses.values().filter(|u| u.len() == 2).count(), seams);
+    for senses in uses.values().filter(|u| u.len() == 2) {
+        assert_ne!(senses[0], senses[1], "a seam is used once each way");
+    }
+    let solid = matches!(t, Topology::Sphere | Topology::Torus);
+    assert_eq!(
+        of_kind(&data, "MANIFOLD_SOLID_BREP").count(),
+        usize::from(solid)
+    );
+    assert_eq!(of_kind(&data, "OPEN_SHELL").count(), usize::from(!solid));
+}
+
+/// Checks a one-surface IGES file: one entity 128 with the spline, the curves, the group.
+fn check_iges_one(text: &str, model: &Model, scale: f64) {
+    let iges = parse_iges(text);
+    let grid = &model.surface;
+    let spline = grid
+        .one_spline(ONE_SPLINE_TOLERANCE)
+        .expect("an exact grid is one spline");
+    assert_eq!(iges.entities.len(), 1 + model.curves.len() + 1);
+    let (kind, p, label, _) = &iges.entities[0];
+    assert_eq!((*kind, label.as_str()), (128, "SURFACE"));
+    let (cu, cv) = (spline.count_u(), spline.count_v());
+    let t = grid.topology();
+    assert_eq!(
+        &p[..9],
+        [
+            (cu - 1).to_string(),
+            (cv - 1).to_string(),
+            "3".into(),
+            "3".into(),
+            u32::from(t.closed_u()).to_string(),
+            u32::from(t.closed_v()).to_string(),
+            "1".into(),
+            "0".into(),
+            "0".into()
+        ]
+    );
+    let knots: Vec<f64> = p[9..9 + cu + 4].iter().map(|s| iges_real(s)).collect();
+    let mut want = Vec::new();
+    for (k, &b) in spline.breaks_u.iter().enumerate() {
+        let copies = if k == 0 || k + 1 == spline.breaks_u.len() {
+            4
+        } else {
+            2
+        };
+        want.extend(std::iter::repeat_n(b, copies));
+    }
+    assert_eq!(knots, want);
+    let at = 9 + cu + 4 + cv + 4 + cu * cv;
+    for j in 0..cv {
+        for i in 0..cu {
+            let k = at + 3 * (j * cu + i);
+            let got = DVec3::new(iges_real(&p[k]), iges_real(&p[k + 1]), iges_real(&p[k + 2]));
+            assert_eq!(got, spline.point(i, j) * scale, "({i}, {j})");
+        }
+    }
+    assert_eq!(p.len(), at + 3 * cu * cv + 4);
+    let (kind, _, label, _) = iges.entities.last().expect("the group");
+    assert_eq!((*kind, label.as_str()), (402, "MODEL"));
+}
+
+#[test]
+fn one_surface_step_and_iges_of_every_topology() {
+    let primitives = [
+        Primitive::Sphere,
+        Primitive::Torus,
+        Primitive::Cylinder,
+        Primitive::Hemisphere,
+        Primitive::Plane,
+        Primitive::Tube,
+    ];
+    for (seed, primitive) in primitives.into_iter().enumerate() {
+        let model = with_curves(sculpted(primitive, 40 + seed as u64));
+        let spline = model
+            .surface
+            .one_spline(ONE_SPLINE_TOLERANCE)
+            .expect("one spline");
+        assert!(spline.max_deviation < 1e-12, "{primitive:?}");
+        for scale in [1.0, 25.4] {
+            let opts = CadOptions {
+                one_surface: true,
+                ..options(scale)
+            };
+            let step = CadFormat::Step
+                .encode(&model, &opts, "x.step")
+                .expect("STEP");
+            check_step_one(&String::from_utf8(step).expect("ASCII"), &model, scale);
+            let iges = CadFormat::Iges
+                .encode(&model, &opts, "x.igs")
+                .expect("IGES");
+            check_iges_one(&String::from_utf8(iges).expect("ASCII"), &model, scale);
+        }
+    }
+}
+
+#[test]
+fn units_are_declared_as_chosen() {
+    let model = sculpted(Primitive::Sphere, 3);
+    for (unit, step_unit, flag, name) in [
+        (CadUnit::Millimetre, "SI_UNIT(.MILLI.,.METRE.)", "2", "MM"),
+        (CadUnit::Centimetre, "SI_UNIT(.CENTI.,.METRE.)", "10", "CM"),
+        (CadUnit::Metre, "SI_UNIT($,.METRE.)", "6", "M"),
+        (CadUnit::Inch, "CONVERSION_BASED_UNIT('INCH',", "1", "IN"),
+    ] {
+        let opts = CadOptions {
+            unit,
+            ..options(1.0)
+        };
+        let step = String::from_utf8(
+            CadFormat::Step
+                .encode(&model, &opts, "u.step")
+                .expect("STEP"),
+        )
+        .expect("ASCII");
+        assert!(step.contains(step_unit), "{unit}");
+        let iges = parse_iges(
+            &String::from_utf8(
+                CadFormat::Iges
+                    .encode(&model, &opts, "u.igs")
+                    .expect("IGES"),
+            )
+            .expect("ASCII"),
+        );
+        assert_eq!(
+            (iges.global[13].as_str(), iges.global[14].as_str()),
+            (flag, name)
+        );
+        assert_eq!(unit.name().parse::<CadUnit>().ok(), Some(unit));
+    }
+    assert!("ft".parse::<CadUnit>().is_err());
+}
+
+#[test]
+fn one_surface_of_a_grid_not_regulated_exactly_is_refused() {
+    let dir = temp_dir("cad-one");
+    let mut grid = Primitive::Plane
+        .build(&PrimitiveParams::default())
+        .expect("plane");
+    let op = Op::Push {
+        at: DVec3::new(0.3, 0.2, 0.0),
+        dir: DVec3::NEG_Z,
+        depth: 0.5,
+        radius: 1.3,
+    };
+    deform(&mut grid, &op, Regulation::None).expect("push");
+    let path = dir.join("dented.json");
+    Model::new(grid).write(&path).expect("write");
+    let m = path.to_str().expect("utf-8");
+    for out in ["x.step", "x.igs"] {
+        let o = crate::support::nendo()
+            .args(["export", m, out, "--one-surface"])
+            .current_dir(&dir)
+            .output()
+            .expect("runs");
+        assert_eq!(o.status.code(), Some(1));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("not one B-spline") && err.contains("line"),
+            "{err}"
+        );
+        assert!(!dir.join(out).exists());
+        // Per patch it is written.
+        let o = run(&["export", m, dir.join(out).to_str().expect("utf-8")]);
+        assert!(o.status.success());
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -434,3 +434,56 @@ fn render_and_export_name_a_model_they_cannot_read_once() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn check_reports_g2_on_the_sphere_primitive_and_a_sculpted_plane() {
+    let dir = temp_dir("check-g2");
+    let sculpt = |primitive: &str, ops: &str, name: &str| {
+        let ops_path = dir.join(format!("{name}.jsonl"));
+        std::fs::write(&ops_path, ops).unwrap();
+        let out_path = dir.join(format!("{name}.json"));
+        let out = nendo()
+            .args(["sculpt", "--primitive", primitive, "--ops"])
+            .arg(&ops_path)
+            .arg("--out")
+            .arg(&out_path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        check(&out_path)
+    };
+    // The sphere primitive: its seams match in curvature to rounding, both poles nearly.
+    let r = sculpt("sphere", "", "sphere");
+    let g2 = &r["g2"];
+    assert_eq!(g2["seams"], r["shared_edges"]);
+    assert!(g2["relative_max"].as_f64().unwrap() < 1e-9, "{g2}");
+    assert_eq!(g2["poles"].as_array().unwrap().len(), 2);
+    for pole in g2["poles"].as_array().unwrap() {
+        assert!(pole["relative"].as_f64().unwrap() < 1e-3, "{pole}");
+        // Outward normals, radius 3: both principal curvatures near −1/3.
+        for k in pole["principal_curvatures"].as_array().unwrap() {
+            assert!((k.as_f64().unwrap() + 1.0 / 3.0).abs() < 0.01, "{pole}");
+        }
+    }
+    // A dent in the plane (exact, G1): curvature jumps across the seams around it, and the
+    // worst seams are listed worst first.
+    let r = sculpt(
+        "plane",
+        "{\"op\":\"push\",\"at\":[0.5,0.5,0],\"dir\":[0,0,-1],\"depth\":0.5,\"radius\":1.25}\n",
+        "plane",
+    );
+    let g2 = &r["g2"];
+    assert!(r["g1_max_deg"].as_f64().unwrap() < 1e-6);
+    assert!(g2["relative_max"].as_f64().unwrap() > 0.1, "{g2}");
+    let worst = g2["worst"].as_array().unwrap();
+    assert_eq!(worst.len(), 5);
+    assert_eq!(worst[0]["relative"], g2["relative_max"]);
+    for pair in worst.windows(2) {
+        assert!(pair[0]["relative"].as_f64() >= pair[1]["relative"].as_f64());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

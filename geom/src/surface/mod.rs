@@ -9,7 +9,8 @@
 //!   [`Finger`]: the shape functions ([`shape_fn`]); [`nearest`]: the surface point nearest a
 //!   point; [`grab`]: the exact landing of a move; [`smooth`]: the thin-plate energy a
 //!   smoothing stroke lowers; [`mirror`]: symmetry about `x = 0`, `y = 0` or `z = 0`.
-//! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]).
+//! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]);
+//!   [`curvature::g2_report`]: the curvature mismatch (G2) across every seam and at poles.
 //! - The deformation engine ([`engine`]): one pipeline — displacement field → reachable
 //!   patches → envelope flows → Bernstein inverse ([`inverse`]) → [`Regulation`]
 //!   ([`regulate`]) → mirror → [`verify()`] or an exact rollback — with two drivers:
@@ -19,6 +20,8 @@
 //! - [`limits`]: how large a coordinate may grow ([`COORDINATE_LIMIT`]) and how much crease
 //!   the exact regulation may leave ([`G1_TOLERANCE_DEG`]).
 //! - [`Grid::patches_where`]: the patches whose boxes a geometric test accepts (contact queries).
+//! - [`Grid::one_spline`]: the whole grid as one bicubic B-spline surface with double interior
+//!   knots spaced by the patch widths, exact for a grid the `exact` regulation keeps ([`spline`]).
 //! - [`refine`]: more patches, the same surface (de Casteljau splits of whole patch columns /
 //!   rows, uniform ×K, and the refinement a finger needs), spacing ratios carried over.
 //! - [`deviation`]: distances between surfaces sample by sample, and to the ideal shape.
@@ -51,10 +54,10 @@ mod operation;
 // Every module by its own name inside the crate (`crate::surface::grid`, …).
 pub(crate) use base::{bounds, error, limits, marks, patch, plane_fit, topology};
 pub(crate) use constraint::{mirror, verify};
-pub(crate) use net::{grid, group, primitive};
+pub(crate) use net::{grid, group, primitive, spline};
 pub(crate) use operation::{grab, nearest, shape_fn, smooth};
 // The namespaces the workspace uses as modules.
-pub use constraint::{continuity, regulate};
+pub use constraint::{continuity, curvature, regulate};
 pub use operation::{deviation, inverse, refine};
 
 pub use bounds::Aabb;
@@ -76,5 +79,6 @@ pub use refine::{FingerRefinement, RefineError, Refinement, for_finger};
 pub use regulate::{Regulation, regulate_all};
 pub use shape_fn::{Dirs, Finger, Op};
 pub use smooth::{EnergyDrop, thin_plate_energy};
+pub use spline::{GridSpline, NotOneSpline, ONE_SPLINE_TOLERANCE};
 pub use topology::{Topology, UnknownTopology};
 pub use verify::verify;

@@ -1,4 +1,5 @@
-//! IGES 5.3 export: the surface's patches as entity 128 and the model's curves as entity 126.
+//! IGES 5.3 export: the surface's patches as entity 128 and the model's curves as entity 126,
+//! all in one group, entity 402.
 //!
 //! ## What becomes what
 //! - Patch `(iu, iv)` (in index order `iv·M + iu`) is a rational B-spline surface, entity 128
@@ -10,9 +11,21 @@
 //!   its knot vector (a Bezier curve's `d+1` zeros and `d+1` ones), weights 1, the control
 //!   points (a planar curve at `z = 0`, flagged planar with normal `+z`), the parameter range
 //!   its domain. Entity label `CURVE`, subscript `k`.
-//! - Units millimetres (global unit flag 2, `MM`), coordinates times the scale.
+//! - With [`super::CadOptions::one_surface`] the whole grid is one entity 128 instead
+//!   ([`GridSpline`]): `K1 = 2M + 1`, `K2 = 2N + 1`, the knots the break points with
+//!   multiplicities `4, 2, …, 2, 4`, `PROP1` / `PROP2` = 1 along a closed direction (clamped,
+//!   its first and last control columns the same points, so `PROP4` / `PROP5` = 0: not
+//!   periodic), the parameter range `[0, M] × [0, N]`. Label `SURFACE`, subscript 0.
+//! - **One group** (entity 402 form 7, an unordered group without back pointers, label
+//!   `MODEL`) holds every surface and curve, which are flagged logically dependent
+//!   (subordinate switch `02`): a reader finds one root, as in OpenCASCADE's own files
+//!   (headless FreeCAD 0.20 crashed on files of loose top-level patches).
+//! - The unit is the one chosen ([`super::CadUnit`]: flag 2 `MM`, 10 `CM`, 6 `M`, 1 `IN`),
+//!   coordinates times the scale; the global section's file name and product identifications
+//!   are the model's name.
 //!
-//! No topology entities (186/514 shells) are written: a reader gets one face per patch.
+//! No topology entities (186/514 shells) are written: a reader gets one face per patch (one
+//! in all with the one-surface export).
 //!
 //! ## The fixed format
 //! Every record is 80 columns: data in 1–72, the section letter (`S`, `G`, `D`, `P`, `T`) in 73
@@ -27,8 +40,9 @@
 use std::fmt::Write;
 
 use super::real::{push_real, real};
-use super::{CurveSpline, HeaderTimestamp};
+use super::{CadOptions, CurveSpline, HeaderTimestamp};
 use crate::model::Model;
+use crate::surface::GridSpline;
 
 /// One record line of 80 columns: `data` (at most 72 columns) padded, the section letter, the
 /// sequence number.
@@ -84,14 +98,71 @@ fn reals(out: &mut Vec<String>, xs: impl IntoIterator<Item = f64>) {
     out.extend(xs.into_iter().map(real));
 }
 
-/// The IGES file of `model`, coordinates times `scale` (millimetres per model unit). The model
-/// must pass [`super::check`].
+/// Knots `4, 2, …, 2, 4` copies of the break points.
+fn full_knots(breaks: &[f64]) -> Vec<f64> {
+    let n = breaks.len();
+    let mut knots = Vec::with_capacity(2 * n + 4);
+    for (k, &b) in breaks.iter().enumerate() {
+        let copies = if k == 0 || k + 1 == n { 4 } else { 2 };
+        knots.extend(std::iter::repeat_n(b, copies));
+    }
+    knots
+}
+
+/// Entity 128 of the whole grid as one B-spline (see the module docs).
+fn one_surface(spline: &GridSpline, scale: f64, max_coord: &mut f64) -> Entity {
+    let (cu, cv) = (spline.count_u(), spline.count_v());
+    let mut params: Vec<String> = vec![
+        (cu - 1).to_string(),
+        (cv - 1).to_string(),
+        "3".into(),
+        "3".into(),
+        u32::from(spline.closed_u).to_string(),
+        u32::from(spline.closed_v).to_string(),
+        "1".into(),
+        "0".into(),
+        "0".into(),
+    ];
+    reals(&mut params, full_knots(&spline.breaks_u));
+    reals(&mut params, full_knots(&spline.breaks_v));
+    reals(&mut params, std::iter::repeat_n(1.0, cu * cv));
+    for j in 0..cv {
+        for i in 0..cu {
+            let x = spline.point(i, j) * scale;
+            *max_coord = max_coord.max(x.abs().max_element());
+            reals(&mut params, x.to_array());
+        }
+    }
+    let (bu, bv) = (&spline.breaks_u, &spline.breaks_v);
+    reals(
+        &mut params,
+        [bu[0], bu[bu.len() - 1], bv[0], bv[bv.len() - 1]],
+    );
+    Entity {
+        kind: 128,
+        label: "SURFACE",
+        subscript: 0,
+        params,
+    }
+}
+
+/// The IGES file of `model` as `options` say (one entity 128 per patch, or `spline` as one).
+/// The model must pass [`super::check`].
 #[must_use]
-pub fn encode(model: &Model, scale: f64, name: &str, stamp: &HeaderTimestamp) -> String {
+pub fn encode(
+    model: &Model,
+    options: &CadOptions,
+    spline: Option<&GridSpline>,
+    stamp: &HeaderTimestamp,
+) -> String {
     let grid = &model.surface;
-    let mut entities = Vec::with_capacity(grid.patch_count() + model.curves.len());
+    let scale = options.scale;
+    let mut entities = Vec::with_capacity(grid.patch_count() + model.curves.len() + 1);
     let mut max_coord = 0.0f64;
-    for index in 0..grid.patch_count() {
+    if let Some(spline) = spline {
+        entities.push(one_surface(spline, scale, &mut max_coord));
+    }
+    for index in (0..grid.patch_count()).filter(|_| spline.is_none()) {
         let p = grid.patch_at(index);
         let mut params: Vec<String> = ["3", "3", "3", "3", "0", "0", "1", "0", "0"]
             .map(String::from)
@@ -143,14 +214,31 @@ pub fn encode(model: &Model, scale: f64, name: &str, stamp: &HeaderTimestamp) ->
             params,
         });
     }
+    // The group of them all, last: members are entities 1, 3, 5, … (directory lines).
+    let members = entities.len();
+    let mut group = vec![members.to_string()];
+    group.extend((0..members).map(|k| (2 * k + 1).to_string()));
+    entities.push(Entity {
+        kind: 402,
+        label: "MODEL",
+        subscript: 0,
+        params: group,
+    });
 
     let mut out = String::new();
     // Start section.
-    let start = format!(
-        "nendo exact surface: {} bicubic Bezier patches (entity 128), {} curves (126)",
-        grid.patch_count(),
-        model.curves.len()
-    );
+    let start = match spline {
+        Some(_) => format!(
+            "nendo exact surface: one B-spline surface (entity 128) joining {} bicubic Bezier patches, {} curves (126), in a group (402)",
+            grid.patch_count(),
+            model.curves.len()
+        ),
+        None => format!(
+            "nendo exact surface: {} bicubic Bezier patches (entity 128), {} curves (126), in a group (402)",
+            grid.patch_count(),
+            model.curves.len()
+        ),
+    };
     let start_lines = pack(
         &start
             .split(' ')
@@ -169,14 +257,15 @@ pub fn encode(model: &Model, scale: f64, name: &str, stamp: &HeaderTimestamp) ->
         hms: (h, mi, s),
     } = *stamp;
     let date = format!("{year:04}{month:02}{day:02}.{h:02}{mi:02}{s:02}");
-    let file_name: String = name.chars().take(60).collect();
+    let name: String = options.name.chars().take(60).collect();
+    let (unit_flag, unit_name) = options.unit.iges_flag();
     let mut resolution = String::new();
     push_real(&mut resolution, 1e-7);
     let global = delimited(vec![
         "1H,".into(),
         "1H;".into(),
-        hollerith("nendo"),
-        hollerith(&file_name),
+        hollerith(&name),
+        hollerith(&name),
         hollerith("nendo"),
         hollerith(&format!("nendo {}", env!("CARGO_PKG_VERSION"))),
         "32".into(),
@@ -184,10 +273,10 @@ pub fn encode(model: &Model, scale: f64, name: &str, stamp: &HeaderTimestamp) ->
         "6".into(),
         "308".into(),
         "15".into(),
-        hollerith("nendo"),
+        hollerith(&name),
         real(1.0),
-        "2".into(),
-        hollerith("MM"),
+        unit_flag.to_string(),
+        hollerith(unit_name),
         "1".into(),
         real(1.0),
         hollerith(&date),
@@ -217,10 +306,16 @@ pub fn encode(model: &Model, scale: f64, name: &str, stamp: &HeaderTimestamp) ->
             let _ = writeln!(parameters, "{line:<64}{de:>8}P{p_seq:>7}");
             p_seq += 1;
         }
+        // The group is the one independent entity; its members depend on it logically.
+        let (status, form) = if e.kind == 402 {
+            ("00000000", 7)
+        } else {
+            ("00020000", 0)
+        };
         let _ = writeln!(
             directory,
             "{:>8}{first:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}D{de:>7}",
-            e.kind, 0, 0, 0, 0, 0, 0, "00000000"
+            e.kind, 0, 0, 0, 0, 0, 0, status
         );
         let _ = writeln!(
             directory,
@@ -229,7 +324,7 @@ pub fn encode(model: &Model, scale: f64, name: &str, stamp: &HeaderTimestamp) ->
             0,
             0,
             lines.len(),
-            0,
+            form,
             "",
             "",
             e.label,

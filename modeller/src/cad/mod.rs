@@ -5,21 +5,34 @@
 //! points, so each patch is written as such a surface carrying its own 16 control points;
 //! a Bezier curve of degree `d` is the B-spline on `d+1` zeros and `d+1` ones, and a
 //! B-spline curve is written with its own knots. Coordinates are multiplied by the scale
-//! (millimetres per model unit) and nothing else; units are always declared millimetres.
+//! (file units per model unit) and nothing else; the file's unit is chosen ([`CadUnit`]:
+//! millimetres by default, centimetres, metres or inches).
+//!
+//! With [`CadOptions::one_surface`] the whole grid is written as **one** bicubic B-spline
+//! surface instead: the exact regulation keeps every grid line at a constant spacing ratio, so
+//! the grid is exactly one B-spline with double interior knots spaced by the patch widths
+//! ([`crate::surface::GridSpline`], whose module docs carry the proof); a grid that is not
+//! (regulated another way) is refused ([`CadError::NotOneSurface`]).
+//!
+//! The model's name ([`CadOptions::name`], the model file's stem) names the STEP product and
+//! the IGES file.
 //!
 //! - [`step`]: one `ADVANCED_FACE` per patch, sewn into one shell (each shared boundary curve
 //!   one `EDGE_CURVE` used by the two faces), a closed shell and a `MANIFOLD_SOLID_BREP` for
-//!   closed topologies (sphere, torus), an open shell otherwise.
-//! - [`iges`]: entity 128 (rational B-spline surface, weights 1) per patch and 126 per curve.
+//!   closed topologies (sphere, torus), an open shell otherwise; [`step_one`]: the one face.
+//! - [`iges`]: entity 128 (rational B-spline surface, weights 1) per patch (or one for the
+//!   whole grid) and 126 per curve, all in one group (entity 402).
 //! - [`real`]: the number syntax both formats share (`3.`, `2.08E-17`).
 
 pub mod iges;
 pub mod real;
 pub mod step;
+pub mod step_one;
 
 use std::path::Path;
 
 use crate::model::{Model, first_non_finite};
+use crate::surface::{GridSpline, NotOneSpline, ONE_SPLINE_TOLERANCE};
 
 /// What can go wrong writing a CAD file.
 #[derive(Debug, thiserror::Error)]
@@ -51,6 +64,135 @@ pub enum CadError {
         crate::num::Compact(*.0)
     )]
     BadScale(f64),
+    /// `--one-surface` on a grid that is not one B-spline surface.
+    #[error("cannot write one surface: {0}; export per patch instead")]
+    NotOneSurface(#[from] NotOneSpline),
+}
+
+/// The length unit a CAD file declares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum CadUnit {
+    /// Millimetres (the default).
+    #[default]
+    Millimetre,
+    /// Centimetres.
+    Centimetre,
+    /// Metres.
+    Metre,
+    /// Inches (25.4 mm).
+    Inch,
+}
+
+impl CadUnit {
+    /// Every unit, in the order of the option's help.
+    pub const ALL: [CadUnit; 4] = [
+        CadUnit::Millimetre,
+        CadUnit::Centimetre,
+        CadUnit::Metre,
+        CadUnit::Inch,
+    ];
+
+    /// The name on the command line and in IGES's global section (`mm`, `cm`, `m`, `in`).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            CadUnit::Millimetre => "mm",
+            CadUnit::Centimetre => "cm",
+            CadUnit::Metre => "m",
+            CadUnit::Inch => "in",
+        }
+    }
+
+    /// STEP's SI prefix of the metre (`None`: the metre itself; the inch is not SI).
+    #[must_use]
+    pub fn si_prefix(self) -> Option<&'static str> {
+        match self {
+            CadUnit::Millimetre => Some(".MILLI."),
+            CadUnit::Centimetre => Some(".CENTI."),
+            CadUnit::Metre | CadUnit::Inch => None,
+        }
+    }
+
+    /// IGES's unit flag (global parameter 14) and name (15): 2 `MM`, 10 `CM`, 6 `M`, 1 `IN`.
+    #[must_use]
+    pub fn iges_flag(self) -> (u32, &'static str) {
+        match self {
+            CadUnit::Millimetre => (2, "MM"),
+            CadUnit::Centimetre => (10, "CM"),
+            CadUnit::Metre => (6, "M"),
+            CadUnit::Inch => (1, "IN"),
+        }
+    }
+
+    /// Millimetres per unit.
+    #[must_use]
+    pub fn millimetres(self) -> f64 {
+        match self {
+            CadUnit::Millimetre => 1.0,
+            CadUnit::Centimetre => 10.0,
+            CadUnit::Metre => 1000.0,
+            CadUnit::Inch => 25.4,
+        }
+    }
+}
+
+impl std::fmt::Display for CadUnit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The error of parsing a [`CadUnit`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown unit {0:?}: expected mm, cm, m or in")]
+pub struct UnknownCadUnit(pub String);
+
+impl std::str::FromStr for CadUnit {
+    type Err = UnknownCadUnit;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let lower = s.to_ascii_lowercase();
+        CadUnit::ALL
+            .into_iter()
+            .find(|u| u.name() == lower)
+            .ok_or_else(|| UnknownCadUnit(s.to_owned()))
+    }
+}
+
+/// How a CAD file is written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CadOptions {
+    /// File units per model unit (a positive number).
+    pub scale: f64,
+    /// The file's length unit.
+    pub unit: CadUnit,
+    /// The model's name: the STEP product and the IGES file name.
+    pub name: String,
+    /// The whole grid as one B-spline surface instead of one per patch.
+    pub one_surface: bool,
+}
+
+impl CadOptions {
+    /// Per patch, millimetres, scale 1, for the model called `name`.
+    #[must_use]
+    pub fn named(name: &str) -> Self {
+        Self {
+            scale: 1.0,
+            unit: CadUnit::Millimetre,
+            name: name.to_owned(),
+            one_surface: false,
+        }
+    }
+
+    /// The model name of a model file: its stem (`nendo` if it has none).
+    #[must_use]
+    pub fn name_of(path: &Path) -> String {
+        path.file_stem()
+            .and_then(|n| n.to_str())
+            .filter(|n| !n.is_empty())
+            .unwrap_or("nendo")
+            .to_owned()
+    }
 }
 
 /// A CAD file format.
@@ -97,17 +239,26 @@ impl CadFormat {
         }
     }
 
-    /// The whole file for `model`, coordinates times `scale` (millimetres per model unit);
-    /// `name` is the file name recorded in the header.
+    /// The whole file for `model` as `options` say; `file_name` is the file name recorded in
+    /// STEP's header.
     ///
     /// # Errors
-    /// As [`check`].
-    pub fn encode(self, model: &Model, scale: f64, name: &str) -> Result<Vec<u8>, CadError> {
-        check(model, scale)?;
+    /// As [`check`]; [`CadError::NotOneSurface`] for a one-surface export of a grid that is
+    /// not one B-spline surface.
+    pub fn encode(
+        self,
+        model: &Model,
+        options: &CadOptions,
+        file_name: &str,
+    ) -> Result<Vec<u8>, CadError> {
+        check(model, options.scale)?;
+        let spline = one_surface(model, options)?;
         let stamp = HeaderTimestamp::now();
         Ok(match self {
-            CadFormat::Step => step::encode(model, scale, name, &stamp).into_bytes(),
-            CadFormat::Iges => iges::encode(model, scale, name, &stamp).into_bytes(),
+            CadFormat::Step => {
+                step::encode(model, options, spline.as_ref(), file_name, &stamp).into_bytes()
+            }
+            CadFormat::Iges => iges::encode(model, options, spline.as_ref(), &stamp).into_bytes(),
         })
     }
 }
@@ -144,19 +295,31 @@ pub fn check(model: &Model, scale: f64) -> Result<(), CadError> {
     Ok(())
 }
 
+/// The grid as one B-spline surface when `options` ask for it (checked against the patches
+/// with [`ONE_SPLINE_TOLERANCE`]).
+///
+/// # Errors
+/// [`CadError::NotOneSurface`] when the grid is not one.
+pub fn one_surface(model: &Model, options: &CadOptions) -> Result<Option<GridSpline>, CadError> {
+    if !options.one_surface {
+        return Ok(None);
+    }
+    Ok(Some(model.surface.one_spline(ONE_SPLINE_TOLERANCE)?))
+}
+
 /// Writes `model` to `path` in `format` with the one safe writer ([`nendo_file`]):
 /// atomically, the target untouched on failure. Returns the number of bytes written.
 ///
 /// # Errors
-/// As [`check`], or [`CadError::Write`] from the file system.
+/// As [`CadFormat::encode`], or [`CadError::Write`] from the file system.
 pub fn save_cad(
     path: &Path,
     format: CadFormat,
     model: &Model,
-    scale: f64,
+    options: &CadOptions,
 ) -> Result<usize, CadError> {
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("nendo");
-    let bytes = format.encode(model, scale, name)?;
+    let bytes = format.encode(model, options, name)?;
     nendo_file::write_atomic(path, |file| {
         std::io::Write::write_all(file, &bytes)?;
         Ok::<(), CadError>(())

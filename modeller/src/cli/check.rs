@@ -5,6 +5,12 @@
 //! model with the same topology and patch counts) it adds the deviation between the two
 //! surfaces on 40 × 40 samples per patch at the same parameters (docs/design.md §14).
 //!
+//! `g2`: the curvature mismatch across every seam and at every pole from the patches' exact
+//! derivatives ([`crate::surface::curvature`]): the largest relative `|(R₁ − R₂)/(R₁ + R₂)|` and
+//! absolute `|1/R₁ − 1/R₂|` mismatch of the normal curvature across the seam, their mean, the
+//! [`G2_WORST`] worst seams, and per pole the residual of its meridian curvatures against one
+//! quadratic form with the fitted principal curvatures.
+//!
 //! Memory is bounded: the deviation streams its samples (memory for the two models only), the
 //! edge samples are streamed too, and the one list the report holds — the directions out of a
 //! pole, `patches_u × samples` of them, 24 bytes each — is refused over
@@ -18,6 +24,7 @@ use std::process::ExitCode;
 use crate::model::Model;
 use crate::surface::PoleEnd;
 use crate::surface::continuity::{MIN_SAMPLES_PER_EDGE, report};
+use crate::surface::curvature::g2_report;
 use crate::surface::deviation::{DeviationStats, distance_iter};
 
 /// Arguments of `nendo check`.
@@ -39,6 +46,12 @@ const MAX_SAMPLES_PER_EDGE: usize = 100_000;
 /// Most directions out of a pole (`patches_u × --samples` on a grid with a pole) the report
 /// holds at once: 24 bytes each, about 100 MB.
 pub const MAX_POLE_DIRECTIONS: usize = 1 << 22;
+
+/// Seams listed as the worst in the G2 report.
+pub const G2_WORST: usize = 5;
+
+/// Sample points per seam for the G2 report (the edge's ends left out).
+const G2_SAMPLES: usize = 17;
 
 /// Samples per patch side for `--against`.
 const DEVIATION_SAMPLES: usize = 40;
@@ -116,6 +129,26 @@ pub fn run(args: CheckArgs) -> ExitCode {
             })
         })
         .collect();
+    let g2 = g2_report(g, G2_SAMPLES);
+    let g2 = json!({
+        "samples_per_seam": G2_SAMPLES - 2,
+        "seams": g2.seams.len(),
+        "relative_max": g2.max_relative,
+        "relative_mean": g2.mean_relative,
+        "absolute_max": g2.max_absolute,
+        "worst": g2.worst(G2_WORST).iter().map(|s| json!({
+            "line": format!("{} line {}", s.direction, s.line),
+            "patch_along": s.along,
+            "relative": s.relative,
+            "absolute": s.absolute,
+        })).collect::<Vec<_>>(),
+        "poles": g2.poles.iter().map(|p| json!({
+            "end": if p.end == PoleEnd::Start { "v=0" } else { "v=N" },
+            "relative": p.relative,
+            "absolute": p.absolute,
+            "principal_curvatures": [p.principal.0, p.principal.1],
+        })).collect::<Vec<_>>(),
+    });
     let out = json!({
         "topology": g.topology().name(),
         "patches_u": g.patches_u(),
@@ -132,6 +165,7 @@ pub fn run(args: CheckArgs) -> ExitCode {
         "g1_mean_deg": r.g1_mean_deg,
         "undefined_normals": r.undefined_normals,
         "poles": poles,
+        "g2": g2,
     });
     let out = match (out, deviation) {
         (serde_json::Value::Object(mut o), Some(d)) => {

@@ -1,5 +1,5 @@
 //! `nendo export MODEL.json OUT.(obj|stl|glb|step|stp|igs|iges) [--tolerance T]
-//! [--max-triangles N] [--up y|z] [--scale S]`.
+//! [--max-triangles N] [--up y|z] [--scale S] [--units mm|cm|m|in] [--one-surface]`.
 //!
 //! - Meshes (`.obj`, `.stl`, `.glb`): the model's surface tessellated by the library's own
 //!   mesher within the tolerance. Memory is bounded: the size of the mesh is computed from the
@@ -8,7 +8,10 @@
 //!   with its size. Up axes: OBJ +Y by default (`--up z` keeps Z-up), GLB always +Y (glTF),
 //!   STL always +Z ([`crate::mesh::up`]).
 //! - CAD (`.step`/`.stp`, `.igs`/`.iges`): the exact patches and the curves ([`crate::cad`]),
-//!   in millimetres, `--scale` millimetres per model unit (default 1); no tessellation, so
+//!   in `--units` (millimetres by default), `--scale` file units per model unit (default 1);
+//!   `--one-surface` writes the whole grid as one B-spline surface (refused, with the worst
+//!   grid line, when the grid is not one: a model regulated other than `exact`). The STEP
+//!   product and the IGES file name are the model file's stem. No tessellation, so
 //!   `--tolerance` and `--max-triangles` do not apply. Z-up as the model (CAD's convention).
 //!
 //! `--tolerance` and `--scale` are checked whatever the format (a positive finite number
@@ -19,7 +22,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
-use crate::cad::{CadFormat, save_cad};
+use crate::cad::{CadFormat, CadOptions, CadUnit, save_cad};
 use crate::mesh::{MeshFormat, Tessellation, UpAxis, save_mesh_up, try_tessellate};
 use crate::model::Model;
 
@@ -42,9 +45,16 @@ pub struct ExportArgs {
     /// (x, z, -y)), z keeps the model's coordinates; GLB is always y (glTF), STL always z.
     #[arg(long)]
     pub up: Option<UpAxis>,
-    /// STEP / IGES: millimetres per model unit (the files are always in millimetres).
+    /// STEP / IGES: file units (--units) per model unit.
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub scale: f64,
+    /// STEP / IGES: the file's length unit: mm, cm, m or in.
+    #[arg(long, default_value_t = CadUnit::Millimetre)]
+    pub units: CadUnit,
+    /// STEP / IGES: the whole grid as one B-spline surface (one face) instead of one per
+    /// patch; needs a grid kept by the `exact` regulation.
+    #[arg(long)]
+    pub one_surface: bool,
 }
 
 /// Runs `nendo export`.
@@ -58,7 +68,7 @@ pub fn run(args: ExportArgs) -> ExitCode {
     }
     if !(args.scale.is_finite() && args.scale > 0.0) {
         eprintln!(
-            "nendo export: --scale must be a positive number (millimetres per model unit), not {}",
+            "nendo export: --scale must be a positive number (file units per model unit), not {}",
             crate::num::Compact(args.scale)
         );
         return ExitCode::from(2);
@@ -87,6 +97,12 @@ pub fn run(args: ExportArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if args.one_surface || args.units != CadUnit::Millimetre {
+        eprintln!(
+            "nendo export: --one-surface and --units apply to STEP and IGES; a mesh is written in model units"
+        );
+        return ExitCode::from(2);
+    }
     let up = args.up.unwrap_or(format.default_up());
     if let Err(e) = format.check_up(up) {
         eprintln!("nendo export: --up {up}: {e}");
@@ -156,7 +172,13 @@ fn run_cad(args: &ExportArgs, format: CadFormat) -> ExitCode {
     };
     let started = Instant::now();
     let model = &loaded.model;
-    let bytes = match save_cad(&args.out, format, model, args.scale) {
+    let options = CadOptions {
+        scale: args.scale,
+        unit: args.units,
+        name: CadOptions::name_of(&args.model),
+        one_surface: args.one_surface,
+    };
+    let bytes = match save_cad(&args.out, format, model, &options) {
         Ok(b) => b,
         Err(e) => {
             eprintln!("nendo export: {}: {e}", args.out.display());
@@ -164,14 +186,20 @@ fn run_cad(args: &ExportArgs, format: CadFormat) -> ExitCode {
         }
     };
     let summary = format!(
-        "{}: {}, {} patches ({} surface), {} curves, {} bytes, scale {} mm per unit, {:.0} ms",
+        "{}: {}, {} patches ({} surface{}), {} curves, {} bytes, scale {} {} per unit, {:.0} ms",
         args.out.display(),
         format.name(),
         model.surface.patch_count(),
         model.surface.topology(),
+        if args.one_surface {
+            " as one B-spline face"
+        } else {
+            ""
+        },
         model.curves.len(),
         bytes,
         crate::num::Compact(args.scale),
+        args.units,
         started.elapsed().as_secs_f64() * 1e3
     );
     if let Err(super::output::StdoutError(e)) = super::output::println(summary) {

@@ -196,7 +196,9 @@ impl ExportJob {
         std::thread::Builder::new()
             .name("nendo export".into())
             .spawn(move || {
-                let outcome = save_cad(&target, format, &model, 1.0)
+                let options =
+                    crate::cad::CadOptions::named(&crate::cad::CadOptions::name_of(&target));
+                let outcome = save_cad(&target, format, &model, &options)
                     .map(|_| Exported {
                         path: target.clone(),
                         triangles: 0,

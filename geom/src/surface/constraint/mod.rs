@@ -1,8 +1,10 @@
 //! Constraints and measures on the net: regulation (G1 by the paper's methods and by projection),
-//! verification of an operation's result, continuity measures, mirror symmetry. Uses the net and
+//! verification of an operation's result, continuity measures (G1 and, in [`curvature`], G2),
+//! mirror symmetry. Uses the net and
 //! the base, nothing of the operations or the engine.
 
 pub mod continuity;
+pub mod curvature;
 pub(crate) mod mirror;
 pub mod regulate;
 pub(crate) mod verify;

@@ -4,3 +4,4 @@
 pub(crate) mod grid;
 pub(crate) mod group;
 pub(crate) mod primitive;
+pub(crate) mod spline;

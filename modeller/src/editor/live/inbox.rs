@@ -86,13 +86,17 @@ pub(super) struct DeviceSession {
 impl DeviceSession {
     /// Starts the loop on `stream`; with `record`, every frame also goes to a trace file whose
     /// header names `profile` (or, for a replay, is the replayed trace's own header) and the
-    /// scene the session runs on (see [`crate::hand::scene::Scene::of_window`]).
+    /// scene the session runs on (see [`crate::hand::scene::Scene::of_window`]). `clutch`
+    /// says whether the clutch key is held as it starts: set before the loop thread takes its
+    /// first frame, so a key held from the start marks every frame.
     pub(super) fn start(
         stream: HandStream,
         record: Option<(PathBuf, &Profile, Option<SceneText>)>,
+        clutch: bool,
     ) -> Result<DeviceSession, LiveError> {
         let describe = stream.describe();
         let shared = Arc::new(Shared::default());
+        shared.clutch.store(clutch, Ordering::Relaxed);
         let recording = record.as_ref().map(|(p, _, _)| p.clone());
         let mut writer = match record {
             Some((path, profile, scene)) => {

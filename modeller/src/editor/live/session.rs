@@ -149,7 +149,7 @@ impl LiveInput {
             },
             None => None,
         };
-        match DeviceSession::start(stream, record) {
+        match DeviceSession::start(stream, record, self.clutch) {
             Ok(mut s) => {
                 *lock(&s.shared.waker) = self.waker.clone();
                 self.latency.clear();
@@ -243,7 +243,7 @@ impl LiveInput {
                     }
                 };
                 let stream = HandStream::replay(trace, 1.0, false, 1024);
-                match DeviceSession::start(stream, None) {
+                match DeviceSession::start(stream, None, self.clutch) {
                     Ok(mut s) => {
                         *lock(&s.shared.waker) = self.waker.clone();
                         self.latency.clear();

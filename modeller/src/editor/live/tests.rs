@@ -28,7 +28,7 @@ fn a_slow_window_frame_drops_no_sample() {
     };
     // 100 Hz played 10 times faster: 1 000 frames/s through a 64-frame channel.
     let stream = HandStream::replay(trace, 10.0, false, 64);
-    let session = DeviceSession::start(stream, None).expect("loop thread");
+    let session = DeviceSession::start(stream, None, false).expect("loop thread");
     let deadline = Instant::now() + Duration::from_secs(10);
     while !lock(&session.shared.status).finished && Instant::now() < deadline {
         std::thread::sleep(Duration::from_millis(1100));
@@ -64,7 +64,7 @@ fn session_start_and_recording_report_typed_outcomes() {
     std::fs::create_dir_all(&dir).expect("temp dir");
     let missing = dir.join("no-such-folder").join("t.trace");
     let stream = HandStream::replay(trace(), 100.0, false, 64);
-    let err = DeviceSession::start(stream, Some((missing.clone(), &profile, None)))
+    let err = DeviceSession::start(stream, Some((missing.clone(), &profile, None)), false)
         .map(|_| ())
         .expect_err("no folder to record into");
     assert!(matches!(err, LiveError::Record(_)), "{err:?}");
@@ -75,7 +75,7 @@ fn session_start_and_recording_report_typed_outcomes() {
     let path = dir.join("t.trace");
     let stream = HandStream::replay(trace(), 100.0, false, 64);
     let mut session =
-        DeviceSession::start(stream, Some((path.clone(), &profile, None))).expect("started");
+        DeviceSession::start(stream, Some((path.clone(), &profile, None)), false).expect("started");
     let deadline = Instant::now() + Duration::from_secs(10);
     while !lock(&session.shared.status).finished && Instant::now() < deadline {
         std::thread::sleep(Duration::from_millis(10));
@@ -379,7 +379,7 @@ fn window_recording_under_a_size_limit() {
     // A channel that holds the whole trace: no frame is dropped on overflow.
     let stream = HandStream::replay(trace, 20.0, false, 8192);
     let mut session =
-        DeviceSession::start(stream, Some((path.clone(), &profile, None))).expect("started");
+        DeviceSession::start(stream, Some((path.clone(), &profile, None)), false).expect("started");
     let deadline = Instant::now() + Duration::from_secs(60);
     while !lock(&session.shared.status).finished && Instant::now() < deadline {
         std::thread::sleep(Duration::from_millis(20));

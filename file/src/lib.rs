@@ -31,6 +31,10 @@
 //! through a temporary and a rename, and it never replaces an existing file unless asked to
 //! ([`Existing`]); see [`append`] for its reasoning.
 //!
+//! Read–modify–write runs on one file (`sculpt --model m --out m`, the window's Save) take
+//! turns through [`WriterLock`], a lock file `.NAME.nendo-lock` beside the target held for the
+//! whole run (see [`lock`]).
+//!
 //! Limits: the locks are advisory `flock` locks, which network file systems may emulate
 //! poorly; the directory sync is skipped where the file system does not support it; a
 //! target name longer than 200 bytes is shortened in its temporary's name, so temporaries of
@@ -44,7 +48,9 @@ use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 pub mod append;
+pub mod lock;
 pub use append::{AppendFile, Existing};
+pub use lock::{LockError, WriterLock};
 
 /// The marker between a target's name and the random part of its temporaries' names.
 pub const TEMP_MARKER: &str = ".nendo-tmp-";

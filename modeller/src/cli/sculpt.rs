@@ -22,6 +22,10 @@
 //! mirror image across the plane `x = 0` (`y = 0`, `z = 0`) as one operation, keeping a
 //! symmetric model exactly symmetric; a model that is not symmetric about the plane is
 //! refused.
+//!
+//! The run holds the writer lock of `--out` ([`nendo_file::lock`], `.NAME.nendo-lock` beside
+//! it) from reading `--model` to writing `--out`: concurrent runs on one file (`--model m --out
+//! m`) take turns, and one that waits more than a minute fails with nothing written.
 
 use super::arg_error::{parse_primitive, parse_regulation};
 use super::primitive_args::ShapeArgs;
@@ -68,6 +72,9 @@ pub struct SculptArgs {
     pub out: PathBuf,
 }
 
+/// Longest wait for another writer of `--out` (see [`nendo_file::lock`]).
+const WRITER_WAIT: std::time::Duration = std::time::Duration::from_secs(60);
+
 /// Parses `--mirror`.
 ///
 /// # Errors
@@ -97,6 +104,9 @@ fn sculpt(args: &SculptArgs) -> anyhow::Result<String> {
         &[("operations file", args.ops.as_deref())],
     )?;
     let shape_args = args.shape.given();
+    // Held from the read of `--model` to the write of `--out`: two runs on one file take
+    // turns, so neither update is lost (the later one fails clearly after the wait).
+    let _writer = nendo_file::WriterLock::acquire(&args.out, WRITER_WAIT)?;
     let mut model = match (&args.model, args.primitive) {
         (Some(path), _) => {
             if shape_args {

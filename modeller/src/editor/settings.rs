@@ -11,9 +11,11 @@
 //! ```
 //!
 //! Every member is optional (a missing one takes its default); unknown members are ignored,
-//! so an older nendo reads a newer file. A file that cannot be read or parsed gives a warning
-//! and the defaults, and is replaced at the next change. Writes go through the one atomic
-//! writer (`nendo_file`).
+//! so an older nendo reads a newer file. A file that cannot be parsed (a syntax error, another
+//! format) is first kept as `settings.json.bad` (`settings.json.bad.2`, `.3`, … when that is
+//! taken), then the defaults are used and written at the next change; the warning names the
+//! kept copy. A file that cannot be read, or kept, is never written over: the window then
+//! remembers nothing this session. Writes go through the one atomic writer (`nendo_file`).
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -113,9 +115,78 @@ pub fn profile_dir() -> Option<PathBuf> {
     config_dir().map(|d| d.join("profiles"))
 }
 
+/// The settings as read by [`Settings::load_keeping`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SettingsLoad {
+    /// The settings (the defaults when the file was unusable).
+    pub settings: Settings,
+    /// What was wrong with the file, and where it was kept.
+    pub warning: Option<String>,
+    /// The file may be written: it was missing, read, or kept aside.
+    pub writable: bool,
+}
+
+/// The first of `PATH.bad`, `PATH.bad.2`, `PATH.bad.3`, … that does not exist.
+fn free_bad_path(path: &Path) -> Option<PathBuf> {
+    let mut name = path.file_name()?.to_os_string();
+    name.push(".bad");
+    let first = path.with_file_name(&name);
+    std::iter::once(first)
+        .chain((2..1000).map(|k| {
+            let mut n = name.clone();
+            n.push(format!(".{k}"));
+            path.with_file_name(n)
+        }))
+        .find(|p| std::fs::symlink_metadata(p).is_err())
+}
+
 impl Settings {
+    /// Reads `path` as [`Settings::load`] does, first keeping an unusable file as
+    /// `PATH.bad` (see the module docs).
+    #[must_use]
+    pub fn load_keeping(path: &Path) -> SettingsLoad {
+        let (settings, warning) = Self::load(path);
+        let Some(warning) = warning else {
+            return SettingsLoad {
+                settings,
+                warning: None,
+                writable: true,
+            };
+        };
+        // Read but unusable: keep it aside before anything is written there.
+        if std::fs::read(path).is_err() {
+            return SettingsLoad {
+                settings,
+                warning: Some(format!("{warning}; it is not written this session")),
+                writable: false,
+            };
+        }
+        let kept = free_bad_path(path)
+            .ok_or_else(|| "no free name".to_string())
+            .and_then(|bad| {
+                std::fs::rename(path, &bad)
+                    .map(|()| bad)
+                    .map_err(|e| e.to_string())
+            });
+        match kept {
+            Ok(bad) => SettingsLoad {
+                settings,
+                warning: Some(format!("{warning}; the file is kept as {}", bad.display())),
+                writable: true,
+            },
+            Err(e) => SettingsLoad {
+                settings,
+                warning: Some(format!(
+                    "{warning}; it could not be kept aside ({e}), so it is not written this session"
+                )),
+                writable: false,
+            },
+        }
+    }
+
     /// Reads `path`: the settings and, when the file was there but unusable, a warning (the
-    /// defaults are returned then). A missing file is no warning.
+    /// defaults are returned then). A missing file is no warning. Nothing is moved (see
+    /// [`Settings::load_keeping`]).
     #[must_use]
     pub fn load(path: &Path) -> (Settings, Option<String>) {
         let text = match std::fs::read_to_string(path) {
@@ -235,6 +306,38 @@ mod tests {
         .expect("written");
         let (s, warning) = Settings::load(&path);
         assert!(warning.is_none() && s.record);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A file with a syntax error is kept as `.bad` (then `.bad.2`) before anything is
+    /// written over it; the warning names the copy.
+    #[test]
+    fn a_corrupt_file_is_kept_as_bad_before_the_defaults() {
+        let dir = temp("keep");
+        std::fs::create_dir_all(&dir).expect("dir");
+        let path = dir.join("settings.json");
+        let broken =
+            "{\"format\":\"nendo-settings\",\"profile\":\"/p/mine.json\",\"record\":true,}";
+        std::fs::write(&path, broken).expect("written");
+        let loaded = Settings::load_keeping(&path);
+        assert_eq!(loaded.settings, Settings::default());
+        assert!(loaded.writable);
+        let bad = dir.join("settings.json.bad");
+        let warning = loaded.warning.expect("a warning");
+        assert!(warning.contains(&bad.display().to_string()), "{warning}");
+        assert_eq!(std::fs::read_to_string(&bad).expect("kept"), broken);
+        assert!(!path.exists(), "moved aside");
+        Settings::default().save(&path).expect("defaults written");
+        std::fs::write(&path, "[").expect("written");
+        let again = Settings::load_keeping(&path);
+        assert!(again.writable);
+        assert_eq!(std::fs::read_to_string(&bad).expect("first kept"), broken);
+        assert_eq!(
+            std::fs::read_to_string(dir.join("settings.json.bad.2")).expect("second kept"),
+            "["
+        );
+        // A good file and a missing one move nothing.
+        assert_eq!(Settings::load_keeping(&path).warning, None);
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

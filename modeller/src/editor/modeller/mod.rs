@@ -253,8 +253,11 @@ impl Modeller {
         let Some(path) = path else {
             return self;
         };
-        let (settings, warning) = Settings::load(&path);
-        if let Some(w) = warning {
+        // An unusable file is kept aside as `.bad` first; one that could not be is never
+        // written over (nothing is remembered then).
+        let loaded = Settings::load_keeping(&path);
+        let settings = loaded.settings;
+        if let Some(w) = loaded.warning {
             eprintln!("nendo: {w}");
             self.set_status(w, true);
         }
@@ -266,7 +269,7 @@ impl Modeller {
         };
         // What is in effect now, so only a real change writes the file.
         let current = self.current_settings(&settings);
-        self.settings = Some((path, current));
+        self.settings = loaded.writable.then_some((path, current));
         self
     }
 

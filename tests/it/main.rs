@@ -10,6 +10,7 @@ mod curve_queries;
 mod curve_refine;
 mod curve_refine_svg;
 mod curve_warp;
+mod data_loss;
 mod devices_cli;
 mod documents;
 mod export_cad;

@@ -78,6 +78,11 @@ pub fn run(options: WindowOptions) -> anyhow::Result<()> {
             .clone()
             .or_else(crate::editor::autosave::default_path)
     };
+    // An autosave path holds an autosave or nothing, and is never the model being edited.
+    // (The default path's slots that hold something else are passed over instead.)
+    if let Some(path) = options.autosave.as_ref().filter(|_| !options.no_autosave) {
+        crate::editor::autosave::check_path(path, options.model.as_deref())?;
+    }
     let mut modeller = Modeller::new(doc, autosave, !options.no_recover)
         .with_settings(crate::editor::settings::default_path());
     if let Some(profile) = &options.profile {

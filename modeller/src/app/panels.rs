@@ -19,7 +19,7 @@ use crate::editor::document::OpTiming;
 use crate::editor::export_job::{ExportJob, TOLERANCE_RANGE};
 use crate::editor::history::History;
 use crate::editor::input::OrbitButton;
-use crate::editor::lifecycle::{Pending, PrimitiveForm, Prompt, UnsavedAnswer};
+use crate::editor::lifecycle::{ConflictAnswer, Pending, PrimitiveForm, Prompt, UnsavedAnswer};
 use crate::editor::live::LatencySummary;
 use crate::editor::modeller::Status;
 use crate::editor::scene::{Overlays, SurfaceDisplay};
@@ -745,6 +745,26 @@ pub(super) fn prompt_ui(ctx: &egui::Context, prompt: &Prompt) -> Vec<Command> {
                 }
                 if ui.button("Discard it").clicked() {
                     commands.push(Command::DiscardRecovery);
+                }
+            });
+        }
+        Prompt::ChangedOnDisk(path) => {
+            ui.heading("The file changed on disk");
+            ui.label(format!(
+                "{} was changed by another program since it was opened or saved here.\n\
+                 Saving now would overwrite those changes.",
+                path.display()
+            ));
+            ui.horizontal(|ui| {
+                for (label, answer) in [
+                    ("Overwrite", ConflictAnswer::Overwrite),
+                    ("Save as…", ConflictAnswer::SaveAs),
+                    ("Reload (drop my edits)", ConflictAnswer::Reload),
+                    ("Cancel", ConflictAnswer::Cancel),
+                ] {
+                    if ui.button(label).clicked() {
+                        commands.push(Command::AnswerConflict(answer));
+                    }
                 }
             });
         }

@@ -8,7 +8,7 @@
 use std::path::PathBuf;
 
 use super::camera::ViewPreset;
-use super::lifecycle::{PrimitiveForm, UnsavedAnswer};
+use super::lifecycle::{ConflictAnswer, PrimitiveForm, UnsavedAnswer};
 use super::tools::Tool;
 use crate::surface::Regulation;
 
@@ -67,6 +67,8 @@ pub enum Command {
     StopReplay,
     /// The answer to the unsaved-changes question.
     AnswerUnsaved(UnsavedAnswer),
+    /// The answer to the question about a file changed on disk since it was opened.
+    AnswerConflict(ConflictAnswer),
     /// Recover the earlier session's autosave at this path.
     Recover(PathBuf),
     /// Drop the earlier session's autosave.

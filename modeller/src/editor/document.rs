@@ -20,6 +20,15 @@
 //!   each works on the surface the earlier ones left. Adding makes whatever is shown part of
 //!   the stroke (the live operation settles).
 //!
+//! ## The file on disk
+//!
+//! The document remembers what its file held when it was opened or last saved, as a
+//! [`DiskStamp`]: the length `n` and the 64-bit FNV-1a hash of the bytes,
+//! `h₀ = 0xcbf29ce484222325`, `hₖ₊₁ = (hₖ ⊕ bₖ) · 0x100000001b3 (mod 2⁶⁴)`.
+//! [`Document::changed_on_disk`] compares it with the file now, so a save does not silently
+//! overwrite another program's changes (the modification time is not used: a rewrite with the
+//! same bytes is no change, and a change within the clock's resolution still is one).
+//!
 //! Every change is noted with the patches it changed, so the history compares only those when
 //! the stroke ends and [`Document::surface_changes_since`] tells the display which patches to
 //! re-tessellate.
@@ -37,6 +46,41 @@ use crate::model::{Model, ModelError};
 use crate::surface::{
     Grid, LiveOperation, Op, Regulation, Sculptor, SurfaceError, Symmetry, Touched,
 };
+
+/// What a file held: its length and the FNV-1a hash of its bytes (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DiskStamp {
+    /// Bytes.
+    pub len: u64,
+    /// 64-bit FNV-1a of the bytes.
+    pub hash: u64,
+}
+
+impl DiskStamp {
+    /// The stamp of `bytes`.
+    #[must_use]
+    pub fn of_bytes(bytes: &[u8]) -> Self {
+        let hash = bytes.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+        });
+        Self {
+            len: bytes.len() as u64,
+            hash,
+        }
+    }
+
+    /// The stamp of the file at `path` now; `Ok(None)` when there is no file.
+    ///
+    /// # Errors
+    /// When the file is there but cannot be read.
+    pub fn of_file(path: &Path) -> std::io::Result<Option<Self>> {
+        match std::fs::read(path) {
+            Ok(bytes) => Ok(Some(Self::of_bytes(&bytes))),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(e),
+        }
+    }
+}
 
 /// What the last sculpting operation did and cost.
 #[derive(Debug, Clone, PartialEq)]
@@ -70,6 +114,8 @@ pub struct Document {
     stroke: Option<usize>,
     /// What the last revisions changed on the surface, oldest first.
     surface_log: VecDeque<(u64, SurfaceChange)>,
+    /// The file as it was when opened or last saved, and its stamp then.
+    disk: Option<(PathBuf, DiskStamp)>,
 }
 
 /// What one revision changed on the surface.
@@ -100,6 +146,7 @@ impl Document {
             recording: None,
             stroke: None,
             surface_log: VecDeque::new(),
+            disk: None,
         }
     }
 
@@ -152,10 +199,45 @@ impl Document {
     /// # Errors
     /// As [`Model::read`].
     pub fn open(path: &Path) -> Result<Self, ModelError> {
+        // Taken before the read: a change in between is seen as a change at the next save.
+        let stamp = DiskStamp::of_file(path).ok().flatten();
         let loaded = Model::read(path)?;
         let mut doc = Self::new(loaded.model);
         doc.path = Some(path.to_path_buf());
+        doc.disk = stamp.map(|s| (path.to_path_buf(), s));
         Ok(doc)
+    }
+
+    /// What the document's file held when the document read or wrote it (`None`: not known).
+    #[must_use]
+    pub fn disk_stamp(&self) -> Option<DiskStamp> {
+        self.disk
+            .as_ref()
+            .filter(|(p, _)| self.path.as_deref() == Some(p.as_path()))
+            .map(|(_, s)| *s)
+    }
+
+    /// Sets what the document's file held when its work began (a recovered autosave's
+    /// record of it).
+    pub fn set_disk_stamp(&mut self, stamp: Option<DiskStamp>) {
+        self.disk = self.path.clone().zip(stamp);
+    }
+
+    /// True when `path` is the file the document was opened from or last saved to, and it
+    /// holds something else now (another program wrote it). A file gone since, or one the
+    /// document never read, is no change.
+    #[must_use]
+    pub fn changed_on_disk(&self, path: &Path) -> bool {
+        let Some((file, stamp)) = &self.disk else {
+            return false;
+        };
+        let same = file == path
+            || matches!(
+                (std::fs::canonicalize(file), std::fs::canonicalize(path)),
+                (Ok(a), Ok(b)) if a == b
+            );
+        // A file that cannot be read now is left to the write to report.
+        same && DiskStamp::of_file(path).is_ok_and(|now| now.is_some_and(|n| n != *stamp))
     }
 
     /// Saves the model to `path` (atomically) and remembers it as the document's file.
@@ -166,6 +248,11 @@ impl Document {
         self.model.write(path)?;
         self.path = Some(path.to_path_buf());
         self.saved_revision = Some(self.revision);
+        // Read back (the window's save holds the file's writer lock meanwhile).
+        self.disk = DiskStamp::of_file(path)
+            .ok()
+            .flatten()
+            .map(|s| (path.to_path_buf(), s));
         Ok(())
     }
 

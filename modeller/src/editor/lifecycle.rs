@@ -19,6 +19,15 @@
 //!
 //!   The pending action (Close, Create, Open) lives in the stage, so it survives the file
 //!   dialog that "Save…" opens for a document that has no file yet.
+//!
+//!   A save to the document's own file that finds the file changed on disk since it was
+//!   opened or last saved (another program wrote it: its length or content hash differs,
+//!   see [`DiskStamp`](super::document::DiskStamp)) writes nothing and asks
+//!   ([`Prompt::ChangedOnDisk`]): overwrite it, save as another file, reload the file
+//!   (dropping the edits), or cancel; the action waiting on the save waits on the answer.
+//! - Saves take the file's writer lock ([`nendo_file::lock`]) for the check and the write, so
+//!   a `nendo sculpt --model m --out m` running at the same time is either done before the
+//!   check (and seen by it) or waits for the save.
 //! - [`DocumentSession`] is the document with that machine, its autosave file and the exit rules: the
 //!   autosave is removed only when it is this session's and holds nothing unsaved.
 //!
@@ -28,7 +37,9 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use super::autosave::{Autosave, Recovery};
+use std::collections::VecDeque;
+
+use super::autosave::{Autosave, Orphan, Recovery};
 use super::document::Document;
 use crate::model::ModelError;
 use crate::surface::{Primitive, PrimitiveParams};
@@ -93,6 +104,22 @@ pub enum Prompt {
     Recover(PathBuf),
     /// The model has unsaved changes and the action would drop them.
     Unsaved(Pending),
+    /// The document's file changed on disk since it was opened or saved: a save would
+    /// overwrite another program's work.
+    ChangedOnDisk(PathBuf),
+}
+
+/// The answers to [`Prompt::ChangedOnDisk`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConflictAnswer {
+    /// Save over the file anyway.
+    Overwrite,
+    /// Save to another file (the save dialog).
+    SaveAs,
+    /// Drop the edits and open the file as it is on disk now.
+    Reload,
+    /// Do nothing (the waiting action is dropped).
+    Cancel,
 }
 
 /// The answers to [`Prompt::Unsaved`].
@@ -119,6 +146,9 @@ pub enum Next {
     ChooseSavePath,
     /// Save the document to this file, then report with [`Lifecycle::saved`].
     Save(PathBuf),
+    /// Save the document to this file even though it changed on disk (the user said so),
+    /// then report with [`Lifecycle::saved`].
+    Overwrite(PathBuf),
 }
 
 /// Where the lifecycle is.
@@ -135,6 +165,8 @@ enum Stage {
     ChoosingSavePath(Pending),
     /// Saving to a file, then the action (if any) runs.
     Saving(Option<Pending>),
+    /// The file to save to changed on disk: asking, the action (if any) waiting.
+    Conflict(PathBuf, Option<Pending>),
 }
 
 /// The state machine of unsaved work (see the module docs). No I/O.
@@ -163,6 +195,7 @@ impl Lifecycle {
         match &self.stage {
             Stage::Recover(path) => Some(Prompt::Recover(path.clone())),
             Stage::Unsaved(action) => Some(Prompt::Unsaved(action.clone())),
+            Stage::Conflict(path, _) => Some(Prompt::ChangedOnDisk(path.clone())),
             Stage::Editing | Stage::ChoosingSavePath(_) | Stage::Saving(_) => None,
         }
     }
@@ -171,7 +204,9 @@ impl Lifecycle {
     #[must_use]
     pub fn waiting(&self) -> Option<&Pending> {
         match &self.stage {
-            Stage::ChoosingSavePath(action) | Stage::Saving(Some(action)) => Some(action),
+            Stage::ChoosingSavePath(action)
+            | Stage::Saving(Some(action))
+            | Stage::Conflict(_, Some(action)) => Some(action),
             _ => None,
         }
     }
@@ -243,7 +278,7 @@ impl Lifecycle {
             Stage::ChoosingSavePath(action) => Stage::Saving(Some(action)),
             Stage::Editing | Stage::Saving(_) => Stage::Saving(None),
             // A question that came up while a "Save as…" dialog was open stays open.
-            question @ (Stage::Recover(_) | Stage::Unsaved(_)) => question,
+            question @ (Stage::Recover(_) | Stage::Unsaved(_) | Stage::Conflict(..)) => question,
         };
         Next::Save(path)
     }
@@ -261,6 +296,47 @@ impl Lifecycle {
     pub fn save_dialog_closed(&mut self) {
         if matches!(self.stage, Stage::ChoosingSavePath(_)) {
             self.stage = Stage::Editing;
+        }
+    }
+
+    /// The save asked for by [`Next::Save`] found `path` changed on disk and wrote nothing:
+    /// the user is asked ([`Prompt::ChangedOnDisk`]), the action waiting.
+    pub fn changed_on_disk(&mut self, path: PathBuf) {
+        let then = match std::mem::take(&mut self.stage) {
+            Stage::Saving(then) | Stage::Conflict(_, then) => then,
+            _ => None,
+        };
+        self.stage = Stage::Conflict(path, then);
+    }
+
+    /// The answer to [`Prompt::ChangedOnDisk`]. Nothing happens when that question is not
+    /// open.
+    pub fn answer_conflict(&mut self, answer: ConflictAnswer) -> Next {
+        let Stage::Conflict(path, then) = std::mem::take(&mut self.stage) else {
+            return Next::Wait;
+        };
+        match answer {
+            ConflictAnswer::Overwrite => {
+                self.stage = Stage::Saving(then);
+                Next::Overwrite(path)
+            }
+            ConflictAnswer::SaveAs => {
+                if let Some(action) = then {
+                    self.stage = Stage::ChoosingSavePath(action);
+                }
+                Next::ChooseSavePath
+            }
+            // The file as it is now replaces the edits; the waiting action is dropped.
+            ConflictAnswer::Reload => Next::Proceed(Pending::Open(path)),
+            ConflictAnswer::Cancel => Next::Wait,
+        }
+    }
+
+    /// Asks whether to recover the autosave at `path` (the next one left by an earlier
+    /// session), unless another question is open.
+    pub fn ask_recovery(&mut self, path: PathBuf) {
+        if matches!(self.stage, Stage::Editing) {
+            self.stage = Stage::Recover(path);
         }
     }
 
@@ -300,32 +376,102 @@ pub struct DocumentSession {
     /// wrote it, or the user answered the recovery question. Only then may a clean exit remove
     /// it (an earlier session's autosave nobody looked at stays for the next start).
     owns_autosave: bool,
+    /// Other slots' autosaves left by earlier sessions, offered after the one on screen
+    /// (their locks held meanwhile).
+    orphans: VecDeque<Orphan>,
+    /// Earlier sessions' autosaves left in place for the next start when one was recovered.
+    left_for_next_start: usize,
 }
+
+/// Why a save from the window wrote nothing.
+#[derive(Debug, thiserror::Error)]
+pub enum SaveError {
+    /// The file changed on disk since the document was opened or last saved.
+    #[error(
+        "{} changed on disk since it was opened: overwrite it, save as another file, or reload it",
+        path.display()
+    )]
+    ChangedOnDisk {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file is the window's autosave.
+    #[error("{} is the autosave file: save the model to a file of its own", path.display())]
+    IsTheAutosave {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Another program holds the file's writer lock.
+    #[error(transparent)]
+    Locked(#[from] nendo_file::LockError),
+    /// Writing failed.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+}
+
+/// How long a save from the window waits for another writer of the file (a running
+/// `nendo sculpt --out` on it) before it fails and says so.
+const SAVE_LOCK_WAIT: std::time::Duration = std::time::Duration::from_secs(2);
 
 impl DocumentSession {
     /// A session editing `doc`, autosaving to `autosave` (asking first about an earlier
     /// session's autosave when there is one and `offer_recovery` is set).
+    ///
+    /// Every autosave an earlier session left is offered: this window's own slot's first,
+    /// then every other slot's that no running window holds (see
+    /// [`autosave`](super::autosave)), one question each.
     #[must_use]
     pub fn new(doc: Document, autosave: Option<PathBuf>, offer_recovery: bool) -> Self {
-        let autosave = autosave.map(|path| {
-            // This window's own slot: no other running window's file is ever offered.
-            let mut a = Autosave::claim(&path);
+        let mut orphans = VecDeque::new();
+        let autosave = autosave.map(|base| {
+            // This window's own slot: no other running window's file is ever offered, nor a
+            // file that is not an autosave, nor the document itself.
+            let mut a = Autosave::claim(&base, doc.path.as_deref());
             // The model as opened (or the starting plane) is not worth writing.
             a.mark_saved(doc.revision());
+            if offer_recovery && !a.is_disabled() {
+                orphans.extend(super::autosave::orphans(&base, a.path()));
+            }
             a
         });
         let earlier = autosave.as_ref().and_then(Autosave::pending_recovery);
         let owns_autosave = earlier.is_none();
-        let lifecycle = match earlier.filter(|_| offer_recovery) {
-            Some(Recovery { path, .. }) => Lifecycle::recovering(path),
-            None => Lifecycle::default(),
-        };
+        let mut lifecycle = Lifecycle::default();
+        if offer_recovery {
+            match earlier {
+                Some(Recovery { path, .. }) => lifecycle = Lifecycle::recovering(path),
+                None => {
+                    if let Some(o) = orphans.front() {
+                        lifecycle = Lifecycle::recovering(o.path.clone());
+                    }
+                }
+            }
+        }
         Self {
             doc,
             lifecycle,
             autosave,
             owns_autosave,
+            orphans,
+            left_for_next_start: 0,
         }
+    }
+
+    /// The autosave on screen is answered: offers the next orphan, if any.
+    fn next_recovery(&mut self, answered: &Path) {
+        if self.orphans.front().is_some_and(|o| o.path == answered) {
+            self.orphans.pop_front();
+        }
+        if let Some(o) = self.orphans.front() {
+            self.lifecycle.ask_recovery(o.path.clone());
+        }
+    }
+
+    /// Earlier sessions' autosaves left in place (for the next start) because another was
+    /// recovered.
+    #[must_use]
+    pub fn left_for_next_start(&self) -> usize {
+        self.left_for_next_start
     }
 
     /// The state machine.
@@ -375,11 +521,53 @@ impl DocumentSession {
     }
 
     /// Saves the document to `path` and tells the lifecycle how it went; the next step and
-    /// the save's own outcome.
-    pub fn save_to(&mut self, path: &Path) -> (Next, Result<(), ModelError>) {
-        let result = self.doc.save(path);
+    /// the save's own outcome. A save to the document's own file that changed on disk since
+    /// it was opened or saved writes nothing and asks ([`Prompt::ChangedOnDisk`];
+    /// [`SaveError::ChangedOnDisk`]).
+    pub fn save_to(&mut self, path: &Path) -> (Next, Result<(), SaveError>) {
+        self.save_checked(path, true)
+    }
+
+    /// [`DocumentSession::save_to`] over a file changed on disk (the user chose Overwrite).
+    pub fn save_overwriting(&mut self, path: &Path) -> (Next, Result<(), SaveError>) {
+        self.save_checked(path, false)
+    }
+
+    fn save_checked(&mut self, path: &Path, check: bool) -> (Next, Result<(), SaveError>) {
+        let result = self.try_save(path, check);
+        if matches!(result, Err(SaveError::ChangedOnDisk { .. })) {
+            self.lifecycle.changed_on_disk(path.to_path_buf());
+            return (Next::Wait, result);
+        }
         let next = self.lifecycle.saved(result.is_ok());
         (next, result)
+    }
+
+    fn try_save(&mut self, path: &Path, check: bool) -> Result<(), SaveError> {
+        if let Some(a) = &self.autosave
+            && super::autosave::check_path(a.path(), Some(path)).is_err_and(|e| {
+                matches!(e, super::autosave::AutosavePathError::IsTheDocument { .. })
+            })
+        {
+            return Err(SaveError::IsTheAutosave {
+                path: path.to_path_buf(),
+            });
+        }
+        // The check and the write under the file's writer lock: a concurrent writer either
+        // finished before the check or waits for this save.
+        let _lock = nendo_file::WriterLock::acquire(path, SAVE_LOCK_WAIT)?;
+        if check && self.doc.changed_on_disk(path) {
+            return Err(SaveError::ChangedOnDisk {
+                path: path.to_path_buf(),
+            });
+        }
+        self.doc.save(path)?;
+        Ok(())
+    }
+
+    /// See [`Lifecycle::answer_conflict`].
+    pub fn answer_conflict(&mut self, answer: ConflictAnswer) -> Next {
+        self.lifecycle.answer_conflict(answer)
     }
 
     /// Replaces the document (opened file, new primitive, recovery); the autosave starts
@@ -397,28 +585,63 @@ impl DocumentSession {
     ///
     /// # Errors
     /// As [`Document::open`]; the question is answered either way.
+    ///
+    /// Another slot's autosave is first written to this window's own slot, and removed only
+    /// once that worked (else it stays for the next start). The other earlier autosaves are
+    /// left in place for the next start ([`DocumentSession::left_for_next_start`]).
     pub fn recover(&mut self, path: &Path) -> Result<Document, ModelError> {
         self.lifecycle.recovery_answered();
+        // One recovery per start: the others are not offered over the recovered work.
+        let others: Vec<_> = self.orphans.drain(..).filter(|o| o.path != path).collect();
+        self.left_for_next_start = others.len();
+        drop(others);
         let mut doc = Document::open(path)?;
         // The model keeps the name of the file it was of (unsaved work until saved).
         doc.path = Autosave::source_of(path);
+        // What that file held then: saving over it asks if it changed since.
+        doc.set_disk_stamp(Autosave::source_stamp_of(path));
         doc.mark_unsaved();
+        if let Some(a) = &mut self.autosave
+            && a.path() != path
+        {
+            a.set_source(doc.path.as_deref());
+            a.set_source_stamp(doc.disk_stamp());
+            a.write_now(doc.model(), doc.revision());
+            match a.last_error.clone() {
+                None => super::autosave::remove_autosave(path),
+                Some(e) => {
+                    return Err(ModelError::Format(format!(
+                        "not moved into this window's autosave ({e}); {} stays for the next start",
+                        path.display()
+                    )));
+                }
+            }
+        }
         self.owns_autosave = true;
         Ok(doc)
     }
 
-    /// Declines the recovery: the earlier autosave is removed.
+    /// Declines the recovery: the earlier autosave on screen is removed, and the next one (if
+    /// any) is offered.
     pub fn discard_recovery(&mut self) {
+        let Some(Prompt::Recover(path)) = self.lifecycle.prompt() else {
+            return;
+        };
         self.lifecycle.recovery_answered();
-        if let Some(a) = &mut self.autosave {
-            a.discard();
+        match &mut self.autosave {
+            Some(a) if a.path() == path => {
+                a.discard();
+                self.owns_autosave = true;
+            }
+            _ => super::autosave::remove_autosave(&path),
         }
-        self.owns_autosave = true;
+        self.next_recovery(&path);
     }
 
     /// Removes this session's autosave before the document is replaced by one that holds no
     /// unsaved work (the old one was saved, or the user chose to drop it) — unless the new
-    /// document is the autosave file itself (opened by name), which must stay.
+    /// document or the one replaced is the autosave file itself (opened by name), which must
+    /// stay.
     pub fn forget_autosave(&mut self, new_path: Option<&Path>) {
         if !self.owns_autosave {
             return;
@@ -431,7 +654,8 @@ impl DocumentSession {
                         (Ok(x), Ok(y)) if x == y
                     )
             };
-            if !new_path.is_some_and(same) {
+            // Nor when the document being replaced is that file (opened by name earlier).
+            if !new_path.is_some_and(same) && !self.doc.path.as_deref().is_some_and(same) {
                 a.discard();
             }
         }
@@ -443,6 +667,7 @@ impl DocumentSession {
         let revision = self.doc.revision();
         if let Some(a) = &mut self.autosave {
             a.set_source(self.doc.path.as_deref());
+            a.set_source_stamp(self.doc.disk_stamp());
         }
         if let Some(a) = &mut self.autosave
             && self.lifecycle.prompt().is_none()
@@ -595,6 +820,52 @@ mod tests {
             assert_eq!(life.quit_discarding(), action == Pending::Close);
             assert_eq!(life.wants_to_quit(), action == Pending::Close);
         }
+    }
+
+    /// A save that finds its file changed on disk asks; each answer does what it says, and the
+    /// action waiting on the save waits on the answer.
+    #[test]
+    fn a_file_changed_on_disk_asks_before_it_is_overwritten() {
+        let file = PathBuf::from("m.nendo.json");
+        for action in actions() {
+            let mut life = Lifecycle::default();
+            let _ = life.request(action.clone(), true);
+            let _ = life.answer_unsaved(UnsavedAnswer::Save, Some(&file));
+            life.changed_on_disk(file.clone());
+            assert_eq!(life.prompt(), Some(Prompt::ChangedOnDisk(file.clone())));
+            assert_eq!(life.waiting(), Some(&action));
+            assert_eq!(
+                life.answer_conflict(ConflictAnswer::Overwrite),
+                Next::Overwrite(file.clone())
+            );
+            assert_eq!(life.saved(true), Next::Proceed(action.clone()));
+
+            let mut life = Lifecycle::default();
+            let _ = life.request(action.clone(), true);
+            let _ = life.answer_unsaved(UnsavedAnswer::Save, Some(&file));
+            life.changed_on_disk(file.clone());
+            assert_eq!(
+                life.answer_conflict(ConflictAnswer::SaveAs),
+                Next::ChooseSavePath
+            );
+            assert_eq!(
+                life.waiting(),
+                Some(&action),
+                "the action waits on the dialog"
+            );
+        }
+        let mut life = Lifecycle::default();
+        let _ = life.save_requested(Some(&file));
+        life.changed_on_disk(file.clone());
+        assert_eq!(
+            life.answer_conflict(ConflictAnswer::Reload),
+            Next::Proceed(Pending::Open(file.clone()))
+        );
+        assert!(!life.wants_to_quit());
+        life.changed_on_disk(file.clone());
+        assert_eq!(life.answer_conflict(ConflictAnswer::Cancel), Next::Wait);
+        assert_eq!(life.prompt(), None);
+        assert_eq!(life.answer_conflict(ConflictAnswer::Overwrite), Next::Wait);
     }
 
     /// A clean document goes on at once; closing during the recovery question quits and

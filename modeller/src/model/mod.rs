@@ -21,6 +21,8 @@
 //!   vertex along u and along v; see [`crate::surface::grid`]), saved so that regulation after
 //!   reading behaves exactly as before writing; without them they are measured from the net.
 //! - `curves` (optional, default empty) in the JSON form of [`crate::curve::json`].
+//! - `autosave` (optional) marks the window's autosave file ([`crate::editor::autosave`]);
+//!   reading a model passes over it.
 //!
 //! Reading is strict and says where a problem is: the text is deserialized straight into typed
 //! structures (serde derive, no intermediate JSON tree, so a model of 65 536 patches costs its
@@ -107,6 +109,9 @@ struct ModelDoc {
     surface: SurfaceDoc,
     #[serde(default)]
     curves: Vec<DynCurve>,
+    /// The autosave header (see [`crate::editor::autosave`]): read past, a model either way.
+    #[serde(default, rename = "autosave")]
+    _autosave: Option<serde::de::IgnoredAny>,
 }
 
 /// The `surface` member as read.

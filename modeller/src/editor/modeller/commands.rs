@@ -10,7 +10,7 @@ use crate::editor::command::{Command, DialogPurpose};
 use crate::editor::curve_edit::straight_cubic;
 use crate::editor::document::Document;
 use crate::editor::export_job::{ExportJob, TOLERANCE_RANGE};
-use crate::editor::lifecycle::{Next, Pending, PrimitiveForm};
+use crate::editor::lifecycle::{Next, Pending, PrimitiveForm, SaveError};
 use crate::editor::tools::Tool;
 use crate::mesh::Tessellation;
 use crate::model::Model;
@@ -85,10 +85,25 @@ impl Modeller {
                 let next = self.session.answer_unsaved(answer);
                 self.follow(next);
             }
+            Command::AnswerConflict(answer) => {
+                let next = self.session.answer_conflict(answer);
+                self.follow(next);
+            }
             Command::Recover(path) => match self.session.recover(&path) {
                 Ok(doc) => {
                     self.replace_document(doc);
-                    self.set_status("recovered the autosave: save it to keep it", false);
+                    let left = self.session.left_for_next_start();
+                    let more = if left == 0 {
+                        String::new()
+                    } else {
+                        format!(
+                            "; {left} more autosave(s) of earlier sessions are kept for the next start"
+                        )
+                    };
+                    self.set_status(
+                        format!("recovered the autosave: save it to keep it{more}"),
+                        false,
+                    );
                 }
                 Err(e) => self.set_status(format!("cannot recover: {e}"), true),
             },
@@ -118,15 +133,26 @@ impl Modeller {
                 // drop a waiting action along with the dialog it replaces).
                 self.dialog = Some(self.new_file_request(DialogPurpose::SaveModel));
             }
-            Next::Save(path) => {
-                let (next, result) = self.session.save_to(&path);
-                match result {
-                    Ok(()) => self.set_status(format!("saved {}", path.display()), false),
-                    Err(e) => self.set_status(format!("cannot save: {e}"), true),
-                }
-                self.follow(next);
-            }
+            Next::Save(path) => self.save_now(&path, false),
+            Next::Overwrite(path) => self.save_now(&path, true),
         }
+    }
+
+    /// Saves to `path` (over a file changed on disk when `overwrite`), then follows on.
+    fn save_now(&mut self, path: &Path, overwrite: bool) {
+        let (next, result) = if overwrite {
+            self.session.save_overwriting(path)
+        } else {
+            self.session.save_to(path)
+        };
+        match result {
+            Ok(()) => self.set_status(format!("saved {}", path.display()), false),
+            Err(e @ SaveError::ChangedOnDisk { .. }) => {
+                self.set_status(format!("not saved: {e}"), true);
+            }
+            Err(e) => self.set_status(format!("cannot save: {e}"), true),
+        }
+        self.follow(next);
     }
 
     /// Closes, creates or opens, the question about unsaved changes answered.

@@ -191,6 +191,13 @@ fn pushed_model() -> Model {
     doc.model().clone()
 }
 
+/// An earlier session's autosave of `model` at `path` (with the autosave header).
+pub(super) fn write_autosave(model: &Model, path: &Path) {
+    let mut a = Autosave::new(path.to_path_buf());
+    a.write_now(model, 1);
+    assert_eq!(a.last_error, None, "autosave written");
+}
+
 fn temp_autosave(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("nendo-modeller-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -204,8 +211,7 @@ fn temp_autosave(name: &str) -> PathBuf {
 fn recovered_work_is_kept_until_saved_or_dropped() {
     let autosave = temp_autosave("recover");
     let work = pushed_model();
-    work.write(&autosave)
-        .expect("an earlier session's autosave");
+    write_autosave(&work, &autosave);
     let mut m = Modeller::new(plane_doc(), Some(autosave.clone()), true);
     assert_eq!(
         m.session().prompt(),
@@ -241,7 +247,7 @@ fn recovered_work_is_kept_until_saved_or_dropped() {
     );
     // Quitting without saving is the user's choice, and only then does a dirty
     // document's autosave go.
-    work.write(&autosave).expect("autosave again");
+    write_autosave(&work, &autosave);
     let mut m = Modeller::new(plane_doc(), Some(autosave.clone()), true);
     m.apply(Command::Recover(autosave.clone()));
     m.request_close();
@@ -257,7 +263,7 @@ fn recovered_work_is_kept_until_saved_or_dropped() {
 #[test]
 fn an_unanswered_autosave_survives_the_exit() {
     let autosave = temp_autosave("unanswered");
-    pushed_model().write(&autosave).expect("autosave");
+    write_autosave(&pushed_model(), &autosave);
     let mut m = Modeller::new(plane_doc(), Some(autosave.clone()), true);
     m.request_close();
     assert!(m.wants_to_quit(), "closing with the question open quits");

@@ -45,6 +45,8 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 
 pub mod append;
 pub use append::{AppendFile, Existing};
+pub mod read;
+pub use read::{ReadError, read_text_limited};
 
 /// The marker between a target's name and the random part of its temporaries' names.
 pub const TEMP_MARKER: &str = ".nendo-tmp-";

@@ -496,3 +496,30 @@ fn emulate_link_replaces_only_a_killed_emulators_own_link() {
     assert!(std::fs::symlink_metadata(&link).is_err(), "removed at exit");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_trace_from_a_fifo_is_replayed_and_not_opened_twice() {
+    // The progress count reads the file a second time: never a fifo, whose second open would
+    // wait for a writer that never comes (the crash hunt's hang).
+    let dir = temp_dir("fifo-trace");
+    let fifo = dir.join("t.trace");
+    let made = Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .expect("mkfifo runs");
+    assert!(made.success());
+    let text = std::fs::read(shipped_trace("mouse-sphere")).expect("shipped trace");
+    let writer = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::write(&fifo, text))
+    };
+    let out = dir.join("o.json");
+    let o = guarded(&["replay", s(&fifo), "--out", s(&out)]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.is_file());
+    writer
+        .join()
+        .expect("the writer ends")
+        .expect("the trace written");
+    let _ = std::fs::remove_dir_all(&dir);
+}

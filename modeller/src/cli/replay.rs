@@ -89,12 +89,13 @@ const HELD_NAMED: usize = 8;
 /// report) when it is not a regular file (a pipe cannot be read twice).
 fn frames_in(path: &Path, header_lines: usize) -> usize {
     use std::io::{BufRead, BufReader};
+    // Asked before opening: opening a fifo a second time would wait for another writer.
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return 0;
+    }
     let Ok(file) = std::fs::File::open(path) else {
         return 0;
     };
-    if !file.metadata().is_ok_and(|m| m.is_file()) {
-        return 0;
-    }
     let mut input = BufReader::with_capacity(1 << 16, file);
     let (mut lines, mut at_start, mut last_is_end) = (0usize, true, false);
     let mut head = Vec::with_capacity(4);

@@ -511,7 +511,7 @@ fn a_trace_from_a_fifo_is_replayed_and_not_opened_twice() {
     let text = std::fs::read(shipped_trace("mouse-sphere")).expect("shipped trace");
     let writer = {
         let fifo = fifo.clone();
-        std::thread::spawn(move || std::fs::write(&fifo, text))
+        std::thread::spawn(move || std::fs::write(fifo, text))
     };
     let out = dir.join("o.json");
     let o = guarded(&["replay", s(&fifo), "--out", s(&out)]);

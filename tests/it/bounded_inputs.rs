@@ -354,7 +354,7 @@ fn a_saved_ratio_that_is_not_its_points_ratio_is_refused_naming_the_line_and_bot
     let err = stderr(&o);
     assert!(err.contains("1.00001"), "the saved value: {err}");
     assert!(
-        err.contains("control points, 1 "),
+        err.contains("control points, 1."),
         "the measured value: {err}"
     );
     // Sculpting on it is refused as well: the model never loads.

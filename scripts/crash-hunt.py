@@ -34,6 +34,14 @@ message (digits masked) or by signal; the first input of each kind is shrunk (li
 ranges, keeping the same kind) and saved under --out as a directory with the input files and a
 `repro.sh` to rerun it. The exit status is 1 when any crash or hang was found, else 0.
 
+Semantic files and bounded-input probes (`--only bounds`): endless inputs (/dev/zero as every
+kind of file), batch lines over 16 MB, pictures and warps over their caps, saved ratios off
+their points, meshes scaled to nothing, CAD scales out of range, `replay --out` onto the start
+model its trace names, `morph` into an earlier run's directory, `emulate --link` over a user's
+link. Each such case has an oracle run after the binary ends (is the model kept, the directory
+unmixed, the link intact, the refusal named?); a wrong outcome is an "oracle violation",
+reported and saved like a crash. Kills of `record` are covered by .ci/checks/record-survives.sh.
+
 Counting: one input is one run of the binary, except `closest` and `curve`, where one input is
 one request line and a run answers a batch of up to 8 lines (a crash is then shrunk to its line).
 """
@@ -71,6 +79,7 @@ SHARES = {
     "devices": 4045,
     "record": 4182,
     "refine": 3000,
+    "bounds": 1200,
 }
 DEFAULT_COUNT = 84000
 BATCH_LINES = 8
@@ -1073,6 +1082,191 @@ def gen_replay(rng, seeds):
     return c
 
 
+# ---------------------------------------------------------------------------------------------
+# `bounds`: semantic files and bounded-input probes (issue 28). Each case carries an oracle,
+# `expect(d, rc, out, err)`, run in the case directory after the binary ends: None when the
+# outcome is right, else what went wrong (counted as a "violation", like a crash). The probes:
+# endless inputs (/dev/zero as trace, profile, figure, curves, shape, model), over-long batch
+# lines (16 MB and more: answered with an error, the next line read), pictures and warps beyond
+# their caps (refused up front), saved ratios off their points (refused naming the line),
+# meshes scaled to nothing and CAD scales out of range (refused, nothing written), `replay
+# --out` onto the start model its trace names (refused, the model kept), `morph` into a
+# directory of an earlier run (refused unless --replace, never mixed) and `emulate --link`
+# over a user's link (refused, the link kept). Kills of `record` are covered by
+# .ci/checks/record-survives.sh.
+
+
+def _refused(rc, err, needle=None):
+    if rc not in (1, 2):
+        return f"expected a refusal (exit 1 or 2), got exit {rc}"
+    if needle is not None and needle.encode() not in err:
+        return f"refused without naming {needle!r}: {err[-300:]!r}"
+    return None
+
+
+def _scaled_model(data, k):
+    m = json.loads(data)
+    m["surface"]["patches"] = [[[x * k for x in p] for p in patch] for patch in m["surface"]["patches"]]
+    return json.dumps(m).encode()
+
+
+def _set_scene(trace, scene):
+    lines = trace.split(b"\n")
+    out = [l for l in lines if not l.startswith(b"scene ")]
+    i = out.index(b"frames")
+    return b"\n".join(out[:i] + [b"scene " + scene] + out[i:])
+
+
+def gen_bounds(rng, seeds):
+    import hashlib
+    c = new_case("bounds")
+    c["argv"] = []
+    kind = rng.choice(["zero", "zero", "long_line", "picture", "warp", "ratio", "tiny_mesh", "cad_scale", "start_model", "morph_dir", "emulate_link"])
+    c["kind"] = kind
+    if kind == "zero":
+        z = "/dev/zero"
+        c["argv"] = rng.choice([
+            ["replay", z, "--primitive", "plane", "--out", fpath("o.json")],
+            ["replay", fpath("t.trace"), "--profile", z, "--out", fpath("o.json")],
+            ["figure", "render", z, "--png", fpath("x.png")],
+            ["figure", "measure", z],
+            ["figure", "fit", z, "--out", fpath("f.json")],
+            ["figure", "warp", fpath("f.json"), "--curves", z, "--out", fpath("o.json")],
+            ["figure", "shape", z, "--mesh", fpath("x.obj")],
+            ["morph", z, fpath("f.json"), "--out", fpath("frames")],
+            ["check", z],
+            ["export", z, fpath("x.stl")],
+        ])
+        c["files"]["t.trace"] = rng.choice(sorted(seeds.traces.values()))
+        c["files"]["f.json"] = rng.choice(seeds.figures_small)
+        c["expect"] = lambda d, rc, out, err: _refused(rc, err)
+    elif kind == "long_line":
+        sub = rng.choice(["closest", "curve"])
+        good = rng.choice(seeds.closest_lines if sub == "closest" else seeds.curve_lines)
+        n = rng.choice([(16 << 20) + 1, 17 << 20, 40 << 20])
+        filler = rng.choice([b"x", b" ", b"[", b"\xff", b"9"])
+        long = (filler * n)[:n]
+        c["argv"] = [sub, "--batch"]
+        c["stdin"] = good + b"\n" + long + b"\n" + good + b"\n"
+        c["capture"] = True
+        c["lines"] = 3
+
+        def expect(d, rc, out, err, n=n):
+            lines = out.split(b"\n")
+            if len(lines) < 3:
+                return f"{len(lines) - 1} answers to 3 lines (the line of {n} bytes)"
+            if b"longer than the limit" not in lines[1]:
+                return f"the line of {n} bytes was not refused as too long: {lines[1][:200]!r}"
+            return None
+        c["expect"] = expect
+    elif kind == "picture":
+        w, h = rng.choice([(8193, 8193), (9000, 8000), (16384, 4097), (12000, 12000), (16384, 16384)])
+        c["files"]["f.json"] = rng.choice(seeds.figures_small)
+        c["argv"] = rng.choice([
+            ["figure", "render", fpath("f.json"), "--png", fpath("x.png"), "--size", f"{w}x{h}"],
+            ["morph", fpath("f.json"), fpath("f.json"), "--out", fpath("frames"), "--size", f"{w}x{h}"],
+        ])
+        c["expect"] = lambda d, rc, out, err: _refused(rc, err, "GB while drawing")
+    elif kind == "warp":
+        pairs = rng.choice([10, 1001, 5000, 100000])
+        points = 10_000_001 // pairs + rng.choice([1, 10, 1000])
+        pair = '[{"bezier":[[0,0],[1,0]]},{"bezier":[[0,0],[1,0.1]]}]'
+        line = '{"op":"warp","pairs":[' + ",".join([pair] * pairs) + '],"points":[' + ",".join(["[0.5,0.5]"] * points) + "]}"
+        c["argv"] = ["curve", "--batch"]
+        c["stdin"] = line.encode() + b"\n"
+        c["capture"] = True
+        c["expect"] = lambda d, rc, out, err: None if b"weight evaluations" in out else f"a warp of {pairs} x {points} was not refused up front: {out[:200]!r}"
+    elif kind == "ratio":
+        # the unsculpted planes (seeds 0 and 2): every shared line's rows share ratio 1
+        data = seeds.models[rng.choice([0, 2])]
+        m = json.loads(data)
+        u = m["surface"]["ratios"]["u"]
+        k = rng.randrange(1, len(u) - 1)
+        u[k] = u[k] * (1 + rng.choice([1e-6, 1e-5, 1e-3, 0.1, -1e-5, -0.3]))
+        c["files"]["m.json"] = json.dumps(m).encode()
+        c["argv"] = rng.choice([["check", fpath("m.json")], ["export", fpath("m.json"), fpath("x.obj")], ["refine", fpath("m.json"), "--uniform", "2", "--out", fpath("o.json")]])
+        c["expect"] = lambda d, rc, out, err, k=k: _refused(rc, err, f"surface.ratios.u[{k}]")
+    elif kind == "tiny_mesh":
+        k = 10.0 ** rng.randrange(-300, -12)
+        c["files"]["m.json"] = _scaled_model(seeds.models[rng.choice([0, 2])], k)
+        ext = rng.choice(["stl", "obj", "glb"])
+        c["argv"] = ["export", fpath("m.json"), fpath("x." + ext)]
+
+        def expect(d, rc, out, err):
+            if os.path.exists(os.path.join(d, "x." + ext)):
+                return f"a plane scaled by {k:g} was written as .{ext}"
+            return _refused(rc, err)
+        c["expect"] = expect
+    elif kind == "cad_scale":
+        scale = rng.choice(["1e-9", "1e40", "1e-300", "1e300", "9e-5", "1.0001e4", "5e-324"])
+        ext = rng.choice(["step", "igs"])
+        c["files"]["m.json"] = rng.choice(seeds.models)
+        c["argv"] = ["export", fpath("m.json"), fpath("x." + ext), "--scale", scale]
+
+        def expect(d, rc, out, err):
+            if os.path.exists(os.path.join(d, "x." + ext)):
+                return f"--scale {scale} wrote a .{ext}"
+            return _refused(rc, err, "--scale")
+        c["expect"] = expect
+    elif kind == "start_model":
+        model = rng.choice(seeds.models)
+        name, trace = rng.choice(sorted(seeds.traces.items()))
+        scene = json.dumps({"model_file": {"path": "start.json", "sha256": hashlib.sha256(model).hexdigest()}}).encode()
+        c["files"]["start.json"] = model
+        c["files"]["t.trace"] = _set_scene(trace, scene)
+        c["files"]["sub/keep"] = b""
+        out = rng.choice(["start.json", "sub/../start.json", "./start.json"])
+        c["argv"] = ["replay", fpath("t.trace"), "--out", fpath(out)] + rng.choice([[], ["--primitive", "plane"], ["--model", fpath("start.json")]])
+
+        def expect(d, rc, out_, err):
+            with open(os.path.join(d, "start.json"), "rb") as f:
+                if f.read() != model:
+                    return "replay --out replaced the start model its trace names"
+            return _refused(rc, err, "start model")
+        c["expect"] = expect
+    elif kind == "morph_dir":
+        old = {f"frames/frame_{i:04d}.png": b"old" for i in range(rng.choice([1, 3, 12]))}
+        if maybe(rng, 0.5):
+            old["frames/notes.txt"] = b"mine"
+        c["files"].update(old)
+        c["files"]["f.json"] = rng.choice(seeds.figures_small)
+        replace = maybe(rng, 0.5)
+        frames = rng.choice([2, 3])
+        no_svg = maybe(rng, 0.5)
+        c["argv"] = ["morph", fpath("f.json"), fpath("f.json"), "--frames", str(frames), "--size", "16x16", "--samples", "1", "--out", fpath("frames")] + (["--replace"] if replace else []) + (["--no-svg"] if no_svg else [])
+
+        def expect(d, rc, out, err):
+            names = sorted(os.listdir(os.path.join(d, "frames")))
+            frames_now = [n for n in names if n.startswith("frame_")]
+            if not replace:
+                if sorted("frames/" + n for n in names) != sorted(old):
+                    return "morph changed a directory that was not empty without --replace"
+                return _refused(rc, err, "not empty")
+            if rc != 0:
+                return f"morph --replace failed: {err[-300:]!r}"
+            if len(frames_now) != frames * (1 if no_svg else 2):
+                return f"{len(frames_now)} frame files after --replace of {frames} frames: old frames left"
+            if "frames/notes.txt" in old and "notes.txt" not in names:
+                return "morph --replace removed a file that is not a frame"
+            return None
+        c["expect"] = expect
+    else:  # emulate_link
+        c["paths"]["link"] = PathSpec("symlink", b"mine")
+        c["argv"] = ["emulate", rng.choice(["fastrak", "flock", "cyberglove"]), "--seconds", "0.2", "--link", fpath("link")]
+
+        def expect(d, rc, out, err):
+            link = os.path.join(d, "link")
+            if not os.path.islink(link) or os.readlink(link) != link + ".real":
+                return "emulate --link replaced or removed the user's own link"
+            with open(link + ".real", "rb") as f:
+                if f.read() != b"mine":
+                    return "emulate --link changed the user's file"
+            return _refused(rc, err, "not one an emulator made")
+        c["expect"] = expect
+    c["sub"] = "bounds"
+    return c
+
+
 GENERATORS = {
     "sculpt": gen_sculpt,
     "check": gen_check,
@@ -1086,6 +1280,7 @@ GENERATORS = {
     "devices": gen_devices,
     "record": gen_record,
     "refine": gen_refine,
+    "bounds": gen_bounds,
 }
 
 
@@ -1188,6 +1383,7 @@ class Result:
         self.err = err
         self.timed_out = timed_out
         self.seconds = seconds
+        self.violation = None
 
 
 def run_case(cfg, case):
@@ -1225,7 +1421,7 @@ def run_case(cfg, case):
                 argv.append(overrides[a])
             else:
                 argv.append(a.replace("{d}", d).replace("{pty}", ptyname))
-        stdout = open("/dev/full", "wb") if case["stdout_full"] else subprocess.DEVNULL
+        stdout = open("/dev/full", "wb") if case["stdout_full"] else (subprocess.PIPE if case.get("capture") else subprocess.DEVNULL)
         limit = cfg.mem_bytes
 
         def pre():
@@ -1245,17 +1441,20 @@ def run_case(cfg, case):
             start_new_session=True,
         )
         try:
-            _, err = p.communicate(input=case["stdin"], timeout=cfg.timeout)
+            out, err = p.communicate(input=case["stdin"], timeout=cfg.timeout)
         except subprocess.TimeoutExpired:
             timed_out = True
             try:
                 os.killpg(p.pid, signal.SIGKILL)
             except ProcessLookupError:
                 pass
-            _, err = p.communicate()
-        if stdout is not subprocess.DEVNULL:
+            out, err = p.communicate()
+        if stdout not in (subprocess.DEVNULL, subprocess.PIPE):
             stdout.close()
-        return Result(p.returncode, err or b"", timed_out, time.monotonic() - t0)
+        res = Result(p.returncode, err or b"", timed_out, time.monotonic() - t0)
+        if "expect" in case and not timed_out and p.returncode >= 0:
+            res.violation = case["expect"](d, p.returncode, out or b"", err or b"")
+        return res
     finally:
         stop.set()
         for t in threads:
@@ -1280,6 +1479,8 @@ def classify(case, res):
         return ("timeout", f"timeout in {case['sub']} {case['argv'][1] if case['sub'] == 'figure' else ''}".strip(), "timed out")
     crashed = res.rc == 101 or b"panicked" in err or res.rc < 0 or b"memory allocation of" in err
     if not crashed:
+        if res.violation:
+            return ("violation", f"violation {case.get('kind', case['sub'])}: {re.sub(r'[0-9]+', '#', res.violation)[:80]}", res.violation[:300])
         return None
     m = PANIC_RE.search(err)
     if m:
@@ -1543,6 +1744,7 @@ def main():
         # interleave the subcommands so a partial run still covers all of them
         random.Random(cfg.seed).shuffle(plan)
         crashes = {}
+        kinds = {"panic": 0, "signal": 0, "alloc": 0, "timeout": 0, "violation": 0}
         harness_errors = []
         lock = threading.Lock()
         stop_flag = threading.Event()
@@ -1581,6 +1783,7 @@ def main():
                     print(f"  NEW {cl[0]}: {cl[2][:200]}  [{c['id']}]", flush=True)
                 if cl:
                     crashes[cl[1]]["hits"] += 1
+                    kinds[cl[0]] = kinds.get(cl[0], 0) + 1
                 if done[0] % 2000 == 0:
                     el = time.monotonic() - t_start
                     per = ", ".join(f"{k} {v[0]}" for k, v in counts.items())
@@ -1598,17 +1801,19 @@ def main():
             n, r, sec = counts[s]
             print(f"  {s:8s} {n:7d} inputs {r:7d} runs {sec:8.0f} s")
         print(f"  {'total':8s} {sum(v[0] for v in counts.values()):7d} inputs {sum(v[1] for v in counts.values()):7d} runs, wall {elapsed:.0f} s")
+        print("  outcomes: " + ", ".join(f"{n} {k}{'s' if n != 1 else ''}" for k, n in kinds.items()) + " (panics, signals, allocation failures, timeouts, oracle violations)")
         if harness_errors:
             print(f"  {len(harness_errors)} inputs not run (harness errors), e.g. {harness_errors[0]}")
         idx = 0
-        panics = [v for v in crashes.values() if v["crash"][0] != "timeout"]
+        panics = [v for v in crashes.values() if v["crash"][0] not in ("timeout", "violation")]
+        violations = [v for v in crashes.values() if v["crash"][0] == "violation"]
         hangs = [v for v in crashes.values() if v["crash"][0] == "timeout"]
-        for title, group in (("crashes", panics), ("timeouts", hangs)):
+        for title, group in (("crashes", panics), ("timeouts", hangs), ("oracle violations", violations)):
             print(f"\n{len(group)} distinct {title}:")
             for v in sorted(group, key=lambda v: v["crash"][1]):
                 idx += 1
                 c = v["case"]
-                if not args.no_shrink and v["crash"][0] != "timeout":
+                if not args.no_shrink and v["crash"][0] not in ("timeout", "violation"):
                     c = shrink(cfg, c, v["crash"][1])
                 d, cmd = save_repro(cfg, idx, c, v["crash"], v["res"])
                 print(f"- [{v['crash'][0]}] {v['crash'][2][:400]}\n    hits {v['hits']}, first {c['id']}, reproducer {d}/repro.sh\n    {cmd[:400]}")

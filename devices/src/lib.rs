@@ -85,4 +85,6 @@ pub use profile::{HandSize, Profile, WorldFromTracker};
 pub use skeleton::{HandJoint, JointPose, JointSource, Skeleton, SkeletonSource};
 pub use stream::{DeviceRole, DeviceStatus, HandStream, StreamOptions, StreamStats};
 pub use throughput::{ThroughputRow, decode_throughput};
-pub use trace::{Recovered, SceneText, Trace, TraceHeader, TraceRecorder, TraceWriter};
+pub use trace::{
+    Recovered, SceneText, Trace, TraceHeader, TraceRecorder, TraceStream, TraceWriter,
+};

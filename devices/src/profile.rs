@@ -19,6 +19,9 @@ use crate::{DeviceError, Joint, JointAngles, TrackerPose};
 pub const PROFILE_FORMAT: &str = "nendo-device-profile";
 /// The profile format version this crate reads.
 pub const PROFILE_VERSION: u32 = 1;
+/// Largest profile file read: 1 MB (a profile is a few kB). A larger file, or a device or pipe
+/// that never ends (`/dev/zero`), is refused after reading one byte past the limit.
+pub const MAX_PROFILE_BYTES: u64 = 1 << 20;
 
 /// A device profile.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -627,10 +630,11 @@ impl Profile {
     /// Reads and validates a profile file. A relative replay trace path is resolved against
     /// the profile's directory.
     pub fn load(path: &Path) -> Result<Profile, DeviceError> {
-        let text = std::fs::read_to_string(path).map_err(|error| DeviceError::File {
-            path: path.to_path_buf(),
-            error,
-        })?;
+        let text = nendo_file::read_text_limited(path, MAX_PROFILE_BYTES, "device profile")
+            .map_err(|e| match e {
+                nendo_file::ReadError::Io { path, error } => DeviceError::File { path, error },
+                other => DeviceError::InvalidValue(other.to_string()),
+            })?;
         let mut p = Profile::from_json(&text, &path.display().to_string())?;
         if let Input::Replay(r) = &mut p.input
             && Path::new(&r.trace).is_relative()

@@ -83,15 +83,19 @@ use glam::{DQuat, DVec3};
 
 use crate::profile::{HandSize, WorldFromTracker};
 
+mod header;
 mod recorder;
 mod recover;
 mod skeleton;
+mod stream;
 use crate::{
     DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose,
 };
+use header::{parse_header_line, parse_version_line};
 pub use nendo_file::Existing;
 pub use recorder::{SYNC_INTERVAL, TraceRecorder};
 pub use recover::{DroppedTail, Interrupted, Recovered};
+pub use stream::{MAX_FRAME_LINE_BYTES, MAX_HEADER_LINE_BYTES, TraceStream};
 
 /// The format name on the first line.
 pub const TRACE_FORMAT: &str = "nendo-hand-trace";
@@ -381,97 +385,13 @@ impl Trace {
         let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
         let err = |line: usize, message: String| DeviceError::TraceSyntax { line, message };
         let first = lines.next().map(|(_, l)| l).unwrap_or("");
-        let mut words = first.split_whitespace();
-        if words.next() != Some(TRACE_FORMAT) {
-            return Err(err(
-                1,
-                format!("not a nendo hand trace (expected `{TRACE_FORMAT} {TRACE_VERSION}`)"),
-            ));
-        }
-        let version = match words.next().map(str::parse::<u32>) {
-            Some(Ok(v)) if (OLDEST_TRACE_VERSION..=TRACE_VERSION).contains(&v) => v,
-            Some(Ok(v)) => {
-                return Err(err(
-                    1,
-                    format!(
-                        "trace version {v}; this nendo reads versions {OLDEST_TRACE_VERSION} to {TRACE_VERSION}"
-                    ),
-                ));
-            }
-            _ => return Err(err(1, "missing or malformed version".into())),
-        };
+        let version = parse_version_line(first)?;
         let mut header = TraceHeader::default();
         let mut in_frames = false;
         for (n, line) in lines.by_ref() {
-            if line.starts_with('#') || line.trim().is_empty() {
-                continue;
-            }
-            let (key, rest) = line.split_once(' ').unwrap_or((line, ""));
-            match key {
-                "profile" => header.profile = Some(rest.to_string()),
-                "world_from_tracker" => {
-                    let w: WorldFromTracker =
-                        serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?;
-                    w.validate().map_err(|e| err(n, e.to_string()))?;
-                    header.world_from_tracker = w;
-                }
-                "hand" => {
-                    let hand: HandSize =
-                        serde_json::from_str(rest).map_err(|e| err(n, e.to_string()))?;
-                    hand.validate().map_err(|e| err(n, e.to_string()))?;
-                    header.hand = hand;
-                }
-                "joints" => {
-                    header.joints = rest
-                        .split_whitespace()
-                        .map(|w| {
-                            Joint::from_name(w)
-                                .ok_or_else(|| err(n, format!("unknown joint `{w}`")))
-                        })
-                        .collect::<Result<_, _>>()?;
-                    let mut seen = 0u32;
-                    for j in &header.joints {
-                        if seen & (1 << j.index()) != 0 {
-                            return Err(err(n, format!("joint {j} listed twice")));
-                        }
-                        seen |= 1 << j.index();
-                    }
-                }
-                "scene" if version < 2 => {
-                    return Err(err(
-                        n,
-                        format!(
-                            "a `scene` header line needs trace version 2; this trace says version {version}"
-                        ),
-                    ));
-                }
-                "scene" => {
-                    header.scene = match rest.trim() {
-                        "none" => None,
-                        json => Some(SceneText::new(json).map_err(|e| match e {
-                            DeviceError::InvalidValue(m) => err(n, m),
-                            other => err(n, other.to_string()),
-                        })?),
-                    };
-                }
-                "skeleton" if version < 3 => {
-                    return Err(err(
-                        n,
-                        format!(
-                            "a `skeleton` header line needs trace version 3; this trace says version {version}"
-                        ),
-                    ));
-                }
-                "skeleton" => {
-                    header.skeleton = Some(skeleton::parse_side(rest.trim()).ok_or_else(|| {
-                        err(n, format!("skeleton `{rest}`: expected `left` or `right`"))
-                    })?);
-                }
-                "frames" => {
-                    in_frames = true;
-                    break;
-                }
-                other => return Err(err(n, format!("unknown header keyword `{other}`"))),
+            if parse_header_line(&mut header, version, n, line)? {
+                in_frames = true;
+                break;
             }
         }
         if !in_frames {

@@ -51,6 +51,8 @@ pub mod append;
 pub mod lock;
 pub use append::{AppendFile, Existing};
 pub use lock::{LockError, WriterLock};
+pub mod read;
+pub use read::{ReadError, read_text_limited};
 
 /// The marker between a target's name and the random part of its temporaries' names.
 pub const TEMP_MARKER: &str = ".nendo-tmp-";

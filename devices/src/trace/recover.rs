@@ -93,52 +93,21 @@ impl Trace {
     /// Reads a trace file, recovering an interrupted recording (see
     /// [`Trace::parse_recovering`]). Bytes that are not UTF-8 text at the end of an
     /// unfinished trace (what a power cut can leave) are dropped with the line they start in.
+    /// The file is read line by line ([`super::TraceStream`]): no line beyond its limit is
+    /// held, and only the frames are kept.
     pub fn read_recovering(path: &Path) -> Result<Recovered, DeviceError> {
-        let bytes = std::fs::read(path).map_err(|error| DeviceError::File {
-            path: path.to_path_buf(),
-            error,
-        })?;
-        let (text, rest) = match std::str::from_utf8(&bytes) {
-            Ok(text) => (text, &[][..]),
-            Err(e) => {
-                // Cut at the start of the line holding the first byte that is not UTF-8.
-                let valid = &bytes[..e.valid_up_to()];
-                let cut = valid.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
-                let (text, rest) = bytes.split_at(cut);
-                (std::str::from_utf8(text).unwrap_or_default(), rest)
-            }
-        };
-        let mut recovered = Trace::parse_recovering(text)?;
-        if !rest.is_empty() {
-            let line = text.lines().count() + 1;
-            let lines = rest
-                .split(|&b| b == b'\n')
-                .filter(|l| !l.is_empty())
-                .count();
-            match &mut recovered.interrupted {
-                // A finished trace followed by bytes that are not text.
-                None => {
-                    return Err(DeviceError::TraceSyntax {
-                        line,
-                        message: "text after the end line (and not UTF-8)".into(),
-                    });
-                }
-                Some(i) => match &mut i.dropped {
-                    Some(tail) => {
-                        tail.lines += lines;
-                        tail.cut_short = false;
-                    }
-                    None => {
-                        i.dropped = Some(DroppedTail {
-                            line,
-                            lines,
-                            cut_short: false,
-                            reason: "not UTF-8 text".into(),
-                        });
-                    }
-                },
-            }
+        let mut stream = super::TraceStream::open(path)?;
+        let mut frames = Vec::new();
+        while let Some(f) = stream.next_frame()? {
+            frames.push(f);
         }
-        Ok(recovered)
+        let interrupted = stream.interrupted().cloned();
+        Ok(Recovered {
+            trace: Trace {
+                header: stream.header().clone(),
+                frames,
+            },
+            interrupted,
+        })
     }
 }

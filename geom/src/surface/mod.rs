@@ -54,7 +54,7 @@ mod operation;
 // Every module by its own name inside the crate (`crate::surface::grid`, …).
 pub(crate) use base::{bounds, error, limits, marks, patch, plane_fit, topology};
 pub(crate) use constraint::{mirror, verify};
-pub(crate) use net::{grid, group, primitive, spline};
+pub(crate) use net::{grid, group, primitive, ratio_check, spline};
 pub(crate) use operation::{grab, nearest, shape_fn, smooth};
 // The namespaces the workspace uses as modules.
 pub use constraint::{continuity, curvature, regulate};
@@ -75,6 +75,7 @@ pub use mirror::{
 pub use nearest::{SurfacePoint, nearest};
 pub use patch::{Patch, PatchFrame, PatchPoints};
 pub use primitive::{Ideal, Primitive, PrimitiveParams, PrimitiveSize};
+pub use ratio_check::{RATIO_TOLERANCE, RatioMismatch};
 pub use refine::{FingerRefinement, RefineError, Refinement, for_finger};
 pub use regulate::{Regulation, regulate_all};
 pub use shape_fn::{Dirs, Finger, Op};

@@ -48,6 +48,10 @@
 //!   give an error from `grab` and `split`, never null coordinates.
 //! * Warping ([`crate::curve::warp`]): Beier–Neely weights with `a` (default 0), `b` (2), `p`
 //!   (0.5) and an optional still background `reach`; all curves and points of one dimension.
+//!   The work of one request, `pairs × points` weight evaluations, is at most
+//!   [`MAX_WARP_WORK`] (10 000 000, a few seconds on one core: 1 000 pairs × 100 000 points took
+//!   24 s); a larger request is refused before any work, with its size and an estimate of
+//!   its time.
 //!
 //! A request has exactly the members listed (optional ones may be absent or null): an unknown
 //! or repeated member is refused, as is a line starting with a byte-order mark; a constraint
@@ -81,6 +85,12 @@ pub fn run(args: CurveArgs) -> ExitCode {
     super::json_lines::run("curve", args.batch, answer)
 }
 
+/// Most `pairs × points` one warp request may ask for (see the module docs).
+pub const MAX_WARP_WORK: u64 = 10_000_000;
+/// Measured time per pair and point (1 000 pairs × 100 000 points took 24 s), for the
+/// estimate a refused request is given.
+const WARP_SECONDS_PER_UNIT: f64 = 24.0 / 1e8;
+
 /// Why one request line cannot be answered.
 #[derive(Debug, thiserror::Error)]
 pub enum CurveRequestError {
@@ -95,6 +105,20 @@ pub enum CurveRequestError {
     /// The edit, refinement or warp refused its input.
     #[error("{0}")]
     Curve(#[from] CurveError),
+    /// A warp asks for more than [`MAX_WARP_WORK`] pair-point evaluations.
+    #[error(
+        "warp of {pairs} pairs x {points} points = {work} weight evaluations, about {seconds:.0} s of work: at most {MAX_WARP_WORK} per request; split the points over several requests"
+    )]
+    WarpTooLarge {
+        /// Curve pairs.
+        pairs: usize,
+        /// Points.
+        points: usize,
+        /// Their product.
+        work: u64,
+        /// The estimated time.
+        seconds: f64,
+    },
     /// The SVG document could not be read or the curves written as SVG.
     #[error("svg: {0}")]
     Svg(#[from] svg::SvgError),
@@ -503,6 +527,15 @@ fn refine_reply(req: RefineRequest) -> Result<Value, CurveRequestError> {
 }
 
 fn warp_reply(req: WarpRequest) -> Result<Value, CurveRequestError> {
+    let work = req.pairs.len() as u64 * req.points.len() as u64;
+    if work > MAX_WARP_WORK {
+        return Err(CurveRequestError::WarpTooLarge {
+            pairs: req.pairs.len(),
+            points: req.points.len(),
+            work,
+            seconds: work as f64 * WARP_SECONDS_PER_UNIT,
+        });
+    }
     let defaults = WarpParams::default();
     let params = WarpParams {
         a: req.a.unwrap_or(defaults.a),

@@ -18,6 +18,11 @@
 //!
 //! With `--link PATH` the first line is PATH, a symbolic link to the pty's own link, so a
 //! profile can name a fixed port and a restarted emulator is the device plugged back in.
+//! Only an emulator's own link is ever replaced there: a symbolic link whose target is a pty
+//! link an emulator made, `TMPDIR/nendo-emulator-PID-N/tty`, with no nendo process `PID`
+//! alive (`/proc/PID/comm` absent or another program's: the emulator was killed). Anything else at PATH — a file, a
+//! directory, the user's own symbolic link, or the link of an emulator still running — is
+//! refused, and left as it was.
 //!
 //! Limits: serial devices only — the 5DT Data Glove Ultra is USB HID, and emulating it needs a
 //! virtual HID device (`/dev/uhid`, root), which nendo does not create; one pty per process
@@ -104,16 +109,31 @@ struct UserLink {
 }
 
 impl UserLink {
-    /// Points `path` at `target`: a new link, or in place of a symbolic link (a stale one from
-    /// an emulator that was killed); anything else at `path` is refused.
+    /// Points `path` at `target`: a new link, or in place of a stale link of a killed
+    /// emulator ([`emulator_link_owner`], its process gone); anything else at `path` is refused.
     fn make(path: &std::path::Path, target: &str) -> anyhow::Result<UserLink> {
-        if let Ok(meta) = std::fs::symlink_metadata(path)
-            && !meta.file_type().is_symlink()
-        {
-            anyhow::bail!(
-                "--link {}: something other than a symbolic link is there; not replacing it",
-                path.display()
-            );
+        if let Ok(meta) = std::fs::symlink_metadata(path) {
+            if !meta.file_type().is_symlink() {
+                anyhow::bail!(
+                    "--link {}: something other than a symbolic link is there; not replacing it",
+                    path.display()
+                );
+            }
+            let to = std::fs::read_link(path).unwrap_or_default();
+            match emulator_link_owner(&to) {
+                None => anyhow::bail!(
+                    "--link {}: a symbolic link to {} is there, not one an emulator made; not replacing it (remove it, or give another path)",
+                    path.display(),
+                    to.display()
+                ),
+                Some(pid) if emulator_alive(pid) => {
+                    anyhow::bail!(
+                        "--link {}: the link of an emulator still running (process {pid}); not replacing it",
+                        path.display()
+                    )
+                }
+                Some(_) => {}
+            }
         }
         let mut tmp = path.as_os_str().to_owned();
         tmp.push(format!(".new-{}", std::process::id()));
@@ -127,6 +147,26 @@ impl UserLink {
             target: target.to_string(),
         })
     }
+}
+
+/// The process id of the emulator that made the pty link `target` points at:
+/// `TMPDIR/nendo-emulator-PID-N/tty` (the directory's name is what identifies it, wherever the
+/// temporary directory was), or `None` for any other target.
+fn emulator_link_owner(target: &std::path::Path) -> Option<u32> {
+    if target.file_name()? != "tty" {
+        return None;
+    }
+    let dir = target.parent()?.file_name()?.to_str()?;
+    let (pid, n) = dir.strip_prefix("nendo-emulator-")?.split_once('-')?;
+    n.parse::<u64>().ok()?;
+    pid.parse().ok()
+}
+
+/// Whether process `pid` is alive and a nendo (`/proc/PID/comm`): a killed emulator's id
+/// reused by another program does not keep its stale link.
+fn emulator_alive(pid: u32) -> bool {
+    std::fs::read_to_string(format!("/proc/{pid}/comm"))
+        .is_ok_and(|c| c.trim().starts_with("nendo"))
 }
 
 impl Drop for UserLink {
@@ -408,4 +448,32 @@ fn emulate(args: &EmulateArgs) -> anyhow::Result<String> {
         "{what}: {records} records streamed in {:.1} s{why}, {dropped} bytes the host did not take",
         started.elapsed().as_secs_f64()
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn only_an_emulators_pty_link_is_recognised_as_one() {
+        assert_eq!(
+            emulator_link_owner(Path::new("/tmp/nendo-emulator-4242-0/tty")),
+            Some(4242)
+        );
+        assert_eq!(
+            emulator_link_owner(Path::new("/var/tmp/x/nendo-emulator-7-12/tty")),
+            Some(7)
+        );
+        for other in [
+            "/dev/pts/3",
+            "/home/me/notes.txt",
+            "/tmp/nendo-emulator-4242-0/ttyS0",
+            "/tmp/nendo-emulator-x-0/tty",
+            "/tmp/nendo-emulator-4242/tty",
+            "tty",
+        ] {
+            assert_eq!(emulator_link_owner(Path::new(other)), None, "{other}");
+        }
+    }
 }

@@ -16,6 +16,20 @@
 //!
 //! `--tolerance` and `--scale` are checked whatever the format (a positive finite number
 //! each): a `--tolerance nan` given with a `.step` is refused, not silently ignored.
+//!
+//! `--scale` is at most [`MAX_CAD_SCALE`] = 1e4 and at least [`MIN_CAD_SCALE`] = 1e-4. Why:
+//! the STEP file declares a length uncertainty of `1e-7` file units (the IGES resolution is
+//! the same), and a model unit is a side of the start primitive, whose refined patches are
+//! down to about `1/256` unit. At `1e-4` such a patch is `4e-7` file units across, still above
+//! the uncertainty; below it the patches' edges fall inside it and a reader sees
+//! degenerate edges (`1e-9` made files OpenCASCADE calls faulty). At `1e4` a model of 100
+//! units is `1e6` file units (a kilometre in mm), whose uncertainty is `1e-13` of its size,
+//! a thousand times the double precision's `1e-16`; beyond it, tolerances vanish into
+//! rounding (`1e40` made faulty files too).
+//!
+//! A mesh that would be empty or degenerate (every triangle without a face normal in the
+//! file's single precision, as a plane scaled by `1e-50` is) is refused, nothing written
+//! ([`crate::mesh::export::check_not_degenerate`]).
 
 use clap::Args as ClapArgs;
 use std::path::PathBuf;
@@ -25,6 +39,11 @@ use std::time::Instant;
 use crate::cad::{CadFormat, CadOptions, CadUnit, save_cad};
 use crate::mesh::{MeshFormat, Tessellation, UpAxis, save_mesh_up, try_tessellate};
 use crate::model::Model;
+
+/// Smallest `--scale` (see the module docs).
+pub const MIN_CAD_SCALE: f64 = 1e-4;
+/// Largest `--scale` (see the module docs).
+pub const MAX_CAD_SCALE: f64 = 1e4;
 
 /// Arguments of `nendo export`.
 #[derive(Debug, Clone, ClapArgs)]
@@ -69,6 +88,13 @@ pub fn run(args: ExportArgs) -> ExitCode {
     if !(args.scale.is_finite() && args.scale > 0.0) {
         eprintln!(
             "nendo export: --scale must be a positive number (file units per model unit), not {}",
+            crate::num::Compact(args.scale)
+        );
+        return ExitCode::from(2);
+    }
+    if !(MIN_CAD_SCALE..=MAX_CAD_SCALE).contains(&args.scale) {
+        eprintln!(
+            "nendo export: --scale {} is outside 1e-4 to 1e4 file units per model unit: the file's length uncertainty (1e-7) or the double precision would make the geometry faulty",
             crate::num::Compact(args.scale)
         );
         return ExitCode::from(2);

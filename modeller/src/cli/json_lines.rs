@@ -8,6 +8,12 @@
 //! line was answered, 1 if any line failed, 2 on an input or output error (named as one of
 //! standard input or standard output), and [`super::output::BROKEN_PIPE_EXIT`] when the reader
 //! closed the pipe.
+//!
+//! Lines are read with a bounded reader: a line holds at most [`MAX_LINE_BYTES`] (16 MB, room
+//! for a request of about 300 000 points). A longer line is never held: its bytes are skipped
+//! up to its newline, it is answered with `{"error":"line N is longer than …"}`, and the next
+//! line is read, so an endless line costs the limit in memory and is answered at the end of
+//! the input.
 
 use serde_json::{Value, json};
 use std::fmt::Display;
@@ -23,6 +29,69 @@ pub enum LinesError {
     /// Writing or flushing an answer failed.
     #[error("cannot write to standard output: {0}")]
     Write(io::Error),
+}
+
+/// Longest request line held: 16 MB.
+pub const MAX_LINE_BYTES: usize = 16 << 20;
+
+/// One line read by [`read_line_bounded`].
+#[derive(Debug, PartialEq, Eq)]
+enum LineRead {
+    /// The input ended before another byte.
+    End,
+    /// A line of at most the limit, now in the buffer (without its newline).
+    Line,
+    /// A line of this many bytes (without its newline), over the limit: skipped, not held.
+    TooLong(u64),
+}
+
+/// Reads one line into `buf` (cleared first, newline and a `\r` before it removed), holding at
+/// most `limit` bytes: a longer line is read through to its newline without being kept.
+fn read_line_bounded(
+    input: &mut impl BufRead,
+    buf: &mut Vec<u8>,
+    limit: usize,
+) -> io::Result<LineRead> {
+    buf.clear();
+    let mut any = false;
+    let mut over: Option<u64> = None;
+    loop {
+        let available = match input.fill_buf() {
+            Ok(b) => b,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if available.is_empty() {
+            break;
+        }
+        any = true;
+        let newline = available.iter().position(|&b| b == b'\n');
+        let part = &available[..newline.unwrap_or(available.len())];
+        if let Some(n) = over.as_mut() {
+            *n += part.len() as u64;
+        } else if buf.len() + part.len() > limit {
+            over = Some((buf.len() + part.len()) as u64);
+            buf.clear();
+            buf.shrink_to(limit.min(1 << 16));
+        } else {
+            buf.extend_from_slice(part);
+        }
+        let used = part.len() + usize::from(newline.is_some());
+        input.consume(used);
+        if newline.is_some() {
+            break;
+        }
+    }
+    if let Some(n) = over {
+        return Ok(LineRead::TooLong(n));
+    }
+    if !any {
+        return Ok(LineRead::End);
+    }
+    if buf.last() == Some(&b'\r') {
+        buf.pop();
+    }
+    Ok(LineRead::Line)
 }
 
 /// Runs a batch subcommand `nendo COMMAND --batch` over stdin and stdout with `answer`
@@ -63,25 +132,51 @@ pub fn run<E: Display>(
 /// output did.
 pub fn answer_lines<E: Display>(
     input: impl BufRead,
+    output: impl Write,
+    answer: impl FnMut(&str) -> Result<Value, E>,
+) -> Result<usize, LinesError> {
+    answer_lines_limited(input, output, MAX_LINE_BYTES, answer)
+}
+
+/// [`answer_lines`] with a line limit of `limit` bytes.
+///
+/// # Errors
+/// As [`answer_lines`].
+pub fn answer_lines_limited<E: Display>(
+    mut input: impl BufRead,
     mut output: impl Write,
+    limit: usize,
     mut answer: impl FnMut(&str) -> Result<Value, E>,
 ) -> Result<usize, LinesError> {
     let mut failed = 0;
-    for line in input.lines() {
-        let line = match line {
-            Ok(l) => l,
-            Err(e) if e.kind() == io::ErrorKind::InvalidData => {
-                failed += 1;
-                writeln!(output, "{}", json!({ "error": "line is not valid UTF-8" }))
-                    .map_err(LinesError::Write)?;
-                continue;
-            }
-            Err(e) => return Err(LinesError::Read(e)),
+    let mut buf = Vec::new();
+    let mut number = 0u64;
+    loop {
+        let read = read_line_bounded(&mut input, &mut buf, limit).map_err(LinesError::Read)?;
+        number += 1;
+        let error = match read {
+            LineRead::End => break,
+            LineRead::TooLong(n) => Some(format!(
+                "line {number} is longer than the limit of {} MB ({n} bytes): not read; the next line is",
+                limit >> 20
+            )),
+            LineRead::Line => match std::str::from_utf8(&buf) {
+                Ok(_) => None,
+                Err(_) => Some("line is not valid UTF-8".to_owned()),
+            },
         };
+        if let Some(error) = error {
+            failed += 1;
+            writeln!(output, "{}", json!({ "error": error }))
+                .and_then(|()| output.flush())
+                .map_err(LinesError::Write)?;
+            continue;
+        }
+        let line = std::str::from_utf8(&buf).unwrap_or_default();
         if line.trim().is_empty() {
             continue;
         }
-        let reply = match answer(&line) {
+        let reply = match answer(line) {
             Ok(v) => v,
             Err(e) => {
                 failed += 1;
@@ -124,5 +219,27 @@ mod tests {
                 r#"{"echo":"c"}"#,
             ]
         );
+    }
+
+    #[test]
+    fn an_over_long_line_is_answered_with_an_error_and_the_next_line_is_read() {
+        let long = "x".repeat(100);
+        let input = format!("a\r\n{long}\nb\n{long}");
+        let mut out = Vec::new();
+        // A reader that hands over a few bytes at a time: lines cross buffer boundaries.
+        let reader = io::BufReader::with_capacity(7, input.as_bytes());
+        let failed = answer_lines_limited(reader, &mut out, 50, echo).expect("in-memory io");
+        assert_eq!(failed, 2);
+        let text = String::from_utf8(out).expect("utf-8 output");
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 4, "{text}");
+        assert_eq!(lines[0], r#"{"echo":"a"}"#);
+        assert!(
+            lines[1].contains("line 2 is longer than the limit"),
+            "{text}"
+        );
+        assert!(lines[1].contains("100 bytes"), "{text}");
+        assert_eq!(lines[2], r#"{"echo":"b"}"#);
+        assert!(lines[3].contains("line 4 is longer"), "{text}");
     }
 }

@@ -6,6 +6,11 @@
 //! are matched through the curves' coordinates and interpolated ([`crate::figure::morph`]).
 //! Frame `i` of `N` is the figure at `t = i / (N − 1)`, written as `DIR/frame_0000.png` and
 //! `DIR/frame_0000.svg` (the SVG left out with `--no-svg`); a summary is printed as JSON.
+//!
+//! An output directory that holds anything is refused before any frame is drawn (its old frames would
+//! mix with the new ones), unless `--replace` is given: then, once the new frames are written,
+//! every other `frame_NNNN.png` / `frame_NNNN.svg` in it (an earlier run's) is removed, so the
+//! directory holds exactly this run's frames and whatever else was there.
 
 use anyhow::{Context, bail};
 use clap::Args as ClapArgs;
@@ -49,6 +54,56 @@ pub struct MorphArgs {
     /// Matching distance in figure units (default: twice the median metacircle radius).
     #[arg(long, allow_hyphen_values = true)]
     pub match_distance: Option<f64>,
+    /// Write into an output directory that is not empty, removing an earlier run's frames
+    /// (`frame_NNNN.png` / `.svg`) that this run does not write.
+    #[arg(long)]
+    pub replace: bool,
+}
+
+/// Whether `name` is a frame's file name: `frame_` digits `.png` or `.svg`.
+fn is_frame_name(name: &str) -> bool {
+    name.strip_prefix("frame_")
+        .and_then(|r| r.strip_suffix(".png").or_else(|| r.strip_suffix(".svg")))
+        .is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Refuses a directory that is not empty, unless `replace`.
+fn check_empty(dir: &std::path::Path, replace: bool) -> anyhow::Result<()> {
+    if replace {
+        return Ok(());
+    }
+    let mut entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(e).with_context(|| format!("cannot read {}", dir.display())),
+    };
+    if let Some(first) = entries.next() {
+        let first = first.with_context(|| format!("cannot read {}", dir.display()))?;
+        bail!(
+            "--out {} is not empty (it holds {}, …): an earlier run's frames would mix with the new ones; give an empty or new directory, or --replace to replace its frames",
+            dir.display(),
+            first.file_name().to_string_lossy()
+        );
+    }
+    Ok(())
+}
+
+/// Removes the frames in `dir` that are not in `written` (file names).
+fn remove_old_frames(
+    dir: &std::path::Path,
+    written: &std::collections::HashSet<String>,
+) -> anyhow::Result<usize> {
+    let mut removed = 0;
+    for entry in std::fs::read_dir(dir).with_context(|| format!("cannot read {}", dir.display()))? {
+        let entry = entry.with_context(|| format!("cannot read {}", dir.display()))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if is_frame_name(&name) && !written.contains(&name) && entry.path().is_file() {
+            std::fs::remove_file(entry.path())
+                .with_context(|| format!("cannot remove {}", entry.path().display()))?;
+            removed += 1;
+        }
+    }
+    Ok(removed)
 }
 
 /// Runs `nendo morph`.
@@ -94,6 +149,9 @@ fn morph(args: &MorphArgs) -> anyhow::Result<()> {
         (lo - DVec2::splat(pad), hi + DVec2::splat(pad))
     };
     let view = RasterView::fit(lo, hi, args.size, 0.0);
+    // Checked before any frame is drawn (the documents are read first, so a bad one is named
+    // whatever the directory holds).
+    check_empty(&args.out, args.replace)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let picture = PictureOptions {
@@ -103,6 +161,7 @@ fn morph(args: &MorphArgs) -> anyhow::Result<()> {
     };
     let background = src.background.or(dst.background).unwrap_or(Rgb::WHITE);
     let mut counts = Vec::with_capacity(args.frames);
+    let mut written = std::collections::HashSet::new();
     for i in 0..args.frames {
         let t = i as f64 / (args.frames - 1) as f64;
         let figure = morph.at(t)?;
@@ -115,11 +174,14 @@ fn morph(args: &MorphArgs) -> anyhow::Result<()> {
         let pic = draw(&figure, &backdrop, &view, &picture)?;
         let stem = format!("frame_{i:04}");
         write_png(&args.out.join(format!("{stem}.png")), &pic.image)?;
+        written.insert(format!("{stem}.png"));
         if !args.no_svg {
             write_text(&args.out.join(format!("{stem}.svg")), &pic.svg)?;
+            written.insert(format!("{stem}.svg"));
         }
         counts.push(figure.metacircles.len());
     }
+    let removed = remove_old_frames(&args.out, &written)?;
     let s = morph.stats();
     super::output::println(json!({
         "frames": args.frames,
@@ -131,6 +193,22 @@ fn morph(args: &MorphArgs) -> anyhow::Result<()> {
         "dummies_at_destination": s.dummies_destination,
         "dummies_at_source": s.dummies_source,
         "out": args.out.display().to_string(),
+        "old_frames_removed": removed,
     }))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_names_are_recognised() {
+        assert!(is_frame_name("frame_0000.png"));
+        assert!(is_frame_name("frame_12345.svg"));
+        assert!(!is_frame_name("frame_.png"));
+        assert!(!is_frame_name("frame_00a0.png"));
+        assert!(!is_frame_name("notes.txt"));
+        assert!(!is_frame_name("frame_0001.png.bak"));
+    }
 }

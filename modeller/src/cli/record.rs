@@ -153,10 +153,9 @@ fn scene(args: &RecordArgs) -> anyhow::Result<Option<SceneText>> {
             if shape {
                 return Err(ShapeArgs::not_for_a_model());
             }
-            let bytes =
-                std::fs::read(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-            let text = String::from_utf8(bytes)
-                .map_err(|_| anyhow::anyhow!("{}: not a model (not UTF-8 text)", path.display()))?;
+            // Bounded as `Model::read` is: a device or runaway file is refused at the limit.
+            let text =
+                nendo_file::read_text_limited(path, crate::model::MAX_FILE_BYTES, "model file")?;
             let model = Model::from_json_str(&text)
                 .map_err(|e| anyhow::anyhow!("{}", e.in_file(path)))?
                 .model;

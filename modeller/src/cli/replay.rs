@@ -19,10 +19,18 @@
 //! recorded without one) needs `--primitive` or `--model`.
 //!
 //! A trace without its `end` line — a recording killed, cut by a power failure or stopped by a
-//! full disk — replays its complete frames ([`nendo_devices::Trace::read_recovering`]): a
-//! notice on standard error says how many were recovered and which damaged end was dropped,
-//! and the summary says `N frames recovered from an interrupted recording`. A bad line inside
-//! a finished trace stays an error.
+//! full disk — replays its complete frames (read as [`nendo_devices::Trace::read_recovering`]
+//! does): a notice on standard error says how many were recovered and which damaged end was
+//! dropped, and the summary says `N frames recovered from an interrupted recording`. A bad
+//! line inside a finished trace stays an error, and nothing is written.
+//!
+//! The trace is streamed ([`nendo_devices::TraceStream`]): one frame line is held at a time
+//! (at most 1 MB; a header line at most 640 MB, as a scene may embed a model), so memory is
+//! flat in the trace's length — a 10-million-frame trace (a day at 120 Hz) replays in the
+//! memory of a short one. A first pass counts the file's lines for the progress report
+//! (holding none of them). `--out` may not be the model file the trace's scene starts from,
+//! even when `--model` or `--primitive` replaces the start: the trace would never replay
+//! again.
 //!
 //! The hand's sizes and the tracker-to-world transform come from the trace's header, or from
 //! `--profile` (a shipped profile's name or a profile file); frames recorded with the `mouse`
@@ -69,10 +77,57 @@ use crate::hand::{FingerModel, Hand, HandLoop, HandOptions, filter};
 use crate::model::Model;
 use crate::surface::MAX_PATCHES;
 use crate::surface::{Grid, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
-use nendo_devices::{FilterSettings, HandFrame, Trace};
+use nendo_devices::{FilterSettings, HandFrame, TraceHeader, TraceStream};
 
 /// Frames from which a replay reports its progress.
 pub const PROGRESS_FROM: usize = 1_000;
+/// Frames the summary names where the gate held something (the rest are counted).
+const HELD_NAMED: usize = 8;
+
+/// The frames a trace file holds, for the progress report, counted without holding any of
+/// it: its lines after the `header_lines`, less a last `end` line. `0` (no progress
+/// report) when it is not a regular file (a pipe cannot be read twice).
+fn frames_in(path: &Path, header_lines: usize) -> usize {
+    use std::io::{BufRead, BufReader};
+    // Asked before opening: opening a fifo a second time would wait for another writer.
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return 0;
+    }
+    let Ok(file) = std::fs::File::open(path) else {
+        return 0;
+    };
+    let mut input = BufReader::with_capacity(1 << 16, file);
+    let (mut lines, mut at_start, mut last_is_end) = (0usize, true, false);
+    let mut head = Vec::with_capacity(4);
+    loop {
+        let chunk = match input.fill_buf() {
+            Ok([]) | Err(_) => break,
+            Ok(c) => c,
+        };
+        for &b in chunk {
+            if at_start {
+                lines += 1;
+                head.clear();
+                at_start = false;
+            }
+            if b == b'\n' {
+                last_is_end = head == b"end ";
+                at_start = true;
+            } else if head.len() < 4 {
+                head.push(b);
+                last_is_end = false;
+            }
+        }
+        let n = chunk.len();
+        input.consume(n);
+    }
+    if !at_start {
+        last_is_end = head == b"end ";
+    }
+    lines
+        .saturating_sub(header_lines)
+        .saturating_sub(usize::from(last_is_end))
+}
 
 /// Arguments of `nendo replay`.
 #[derive(Debug, ClapArgs)]
@@ -253,11 +308,11 @@ struct Setup {
 }
 
 /// Merges the trace's scene (if any) and the command line (which wins).
-fn setup(args: &ReplayArgs, trace: &Trace) -> anyhow::Result<Setup> {
+fn setup(args: &ReplayArgs, header: &TraceHeader) -> anyhow::Result<Setup> {
     let in_trace = |e: &dyn std::fmt::Display| {
         anyhow::anyhow!("{}: the trace's scene: {e}", args.trace.display())
     };
-    let scene = Scene::of_trace(&trace.header).map_err(|e| in_trace(&e))?;
+    let scene = Scene::of_trace(header).map_err(|e| in_trace(&e))?;
     let mut from_scene = Vec::new();
     let shape_args = args.shape.given();
     let given = args.shape.params();
@@ -296,14 +351,9 @@ fn setup(args: &ReplayArgs, trace: &Trace) -> anyhow::Result<Setup> {
                         "--patches, --radius, --height and --minor-radius shape a primitive; the trace's scene starts from a model"
                     ));
                 }
-                _ => {
-                    let dir = args
-                        .trace
-                        .parent()
-                        .filter(|d| !d.as_os_str().is_empty())
-                        .unwrap_or(Path::new("."));
-                    scene.start_model(dir).map_err(|e| in_trace(&e))?
-                }
+                _ => scene
+                    .start_model(trace_dir(&args.trace))
+                    .map_err(|e| in_trace(&e))?,
             }
         }
         (None, None, None) => {
@@ -397,6 +447,32 @@ fn setup(args: &ReplayArgs, trace: &Trace) -> anyhow::Result<Setup> {
     })
 }
 
+/// The directory a trace's relative paths are resolved against: the trace's own.
+fn trace_dir(trace: &Path) -> &Path {
+    trace
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
+}
+
+/// `--out` may not replace the model file the trace's scene starts from (by path and hash),
+/// even when `--model` or `--primitive` replaces the start: the trace would then never replay
+/// again. The same-file test is [`super::paths::same_file`]'s (links, `..`, not-yet-written
+/// names).
+fn check_start_model(args: &ReplayArgs, header: &TraceHeader) -> anyhow::Result<()> {
+    // A scene that does not read is reported by `setup`, naming what is wrong.
+    if let Ok(Some(scene)) = Scene::of_trace(header)
+        && let Start::ModelFile { path, .. } = &scene.start
+    {
+        let full = trace_dir(&args.trace).join(path);
+        super::paths::check(
+            &[("--out", Some(&args.out))],
+            &[("start model the trace's scene names", Some(&full))],
+        )?;
+    }
+    Ok(())
+}
+
 pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     // `--out` may replace the `--model` read (a model either way), not the trace or profile.
     super::paths::check(
@@ -406,14 +482,14 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             ("profile", args.profile.as_deref().map(Path::new)),
         ],
     )?;
-    // An interrupted recording (killed, a power cut, a full disk: no `end` line) replays its
-    // complete frames, saying so here and in the summary.
-    let recovered = Trace::read_recovering(&args.trace).map_err(|e| naming(&args.trace, &e))?;
-    let interrupted = recovered.interrupted.map(|i| {
-        eprintln!("nendo replay: {}: {i}", args.trace.display());
-        " recovered from an interrupted recording".to_owned()
-    });
-    let trace = recovered.trace;
+    // The trace is streamed: its header now, its frames one at a time in the loop below, so
+    // memory stays flat in its length. An interrupted recording (killed, a power cut, a full
+    // disk: no `end` line) replays its complete frames, saying so at the end and in the
+    // summary.
+    let mut stream = TraceStream::open(&args.trace).map_err(|e| naming(&args.trace, &e))?;
+    let header = stream.header().clone();
+    check_start_model(args, &header)?;
+    let total = frames_in(&args.trace, stream.lines_read());
     let Setup {
         mut model,
         finger: chosen_finger,
@@ -422,7 +498,7 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
         auto_refine,
         filter: scene_filter,
         from_scene,
-    } = setup(args, &trace)?;
+    } = setup(args, &header)?;
     let (hand, mut finger, profile_filter) = match &args.profile {
         Some(name) => {
             let profile =
@@ -434,8 +510,8 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             )
         }
         None => (
-            Hand::new(trace.header.hand, trace.header.world_from_tracker)?,
-            FingerModel::for_profile_name(trace.header.profile.as_deref()),
+            Hand::new(header.hand, header.world_from_tracker)?,
+            FingerModel::for_profile_name(header.profile.as_deref()),
             None,
         ),
     };
@@ -471,20 +547,27 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             .or(profile_filter)
             .unwrap_or_else(|| filter::default_for(finger))
     });
+    // The frames where the gate held something: their count and the first few (named in
+    // the summary), never a list as long as the trace.
     let mut held = Vec::new();
+    let mut held_count = 0usize;
     let mut grid = model.surface.clone();
     let mut refiner = auto_refine.then(AutoRefine::default);
-    let total = trace.frames.len();
     let start = Instant::now();
     let mut next_tenth = 1;
     let mut refused = 0usize;
-    for (k, frame) in trace.frames.iter().enumerate() {
+    let mut k = 0usize;
+    while let Some(frame) = stream.next_frame().map_err(|e| naming(&args.trace, &e))? {
+        let frame = &frame;
         if let Some(r) = &mut refiner {
             r.before(&mut hand_loop, frame, &mut grid, k + 1)?;
         }
         let out = hand_loop.frame(frame, &mut grid, regulation);
         if !hand_loop.filter().held().is_empty() {
-            held.push(k + 1);
+            held_count += 1;
+            if held.len() < HELD_NAMED {
+                held.push(k + 1);
+            }
         }
         // A refused frame leaves the surface as the contact's last accepted application; the
         // replay goes on, reports every refusal with its frame number (1-based), and ends
@@ -493,7 +576,7 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             refused += 1;
             eprintln!("nendo replay: frame {}: {e}", k + 1);
         }
-        if total >= PROGRESS_FROM && (k + 1) * 10 >= next_tenth * total {
+        if total >= PROGRESS_FROM && next_tenth <= 10 && (k + 1) * 10 >= next_tenth * total {
             let st = hand_loop.stats();
             eprintln!(
                 "nendo replay: {:3}% ({}/{} frames, {} contacts, {:.1} s)",
@@ -505,7 +588,13 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             );
             next_tenth += 1;
         }
+        k += 1;
     }
+    let total = stream.frames_read();
+    let interrupted = stream.interrupted().map(|i| {
+        eprintln!("nendo replay: {}: {i}", args.trace.display());
+        " recovered from an interrupted recording".to_owned()
+    });
     hand_loop.end_contact();
     let elapsed = start.elapsed();
     let st = *hand_loop.stats();
@@ -536,11 +625,11 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     } else {
         "; not filtered".into()
     };
-    let gate = match held.len() {
+    let gate = match held_count {
         0 => gate,
         n => {
-            let first: Vec<String> = held.iter().take(8).map(usize::to_string).collect();
-            let more = if n > 8 { ", …" } else { "" };
+            let first: Vec<String> = held.iter().map(usize::to_string).collect();
+            let more = if n > HELD_NAMED { ", …" } else { "" };
             format!("{gate} — frames {}{more}", first.join(", "))
         }
     };

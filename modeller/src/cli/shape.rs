@@ -35,6 +35,11 @@ use crate::figure::shape::{ShapeFitOptions, ShapeFitReport, deform, fit_sections
 use crate::figure::{Section, ShapeDocument};
 use crate::mesh::{MeshFormat, TriMesh, save_mesh};
 
+/// Largest shape file read: 64 MB (256 sections and 2 000 metaballs with their contours fit in
+/// a few MB). A larger file, or a device or pipe that never ends, is refused after reading one
+/// byte past the limit.
+pub const MAX_SHAPE_FILE_BYTES: u64 = 64 << 20;
+
 /// Arguments of `nendo figure shape`.
 #[derive(Debug, Clone, ClapArgs)]
 pub struct FigureShapeArgs {
@@ -157,8 +162,7 @@ pub fn shape(args: &FigureShapeArgs) -> anyhow::Result<()> {
     if args.png.is_some() {
         picture_settings(args)?;
     }
-    let text = std::fs::read_to_string(&args.shape)
-        .with_context(|| format!("cannot read {}", args.shape.display()))?;
+    let text = nendo_file::read_text_limited(&args.shape, MAX_SHAPE_FILE_BYTES, "shape file")?;
     let doc =
         ShapeDocument::from_json(&text).with_context(|| format!("{}", args.shape.display()))?;
     let mut options = ShapeFitOptions {

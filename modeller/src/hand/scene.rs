@@ -473,13 +473,31 @@ impl Scene {
             Start::Model(m) => Ok((**m).clone()),
             Start::ModelFile { path, sha256 } => {
                 let full = trace_dir.join(path);
-                let bytes = std::fs::read(&full).map_err(|error| SceneError::Model {
+                // At most one byte past the model limit: a device named by a scene is refused.
+                use std::io::Read as _;
+                let io = |error| SceneError::Model {
                     path: None,
                     error: ModelError::Io {
                         path: full.clone(),
                         error,
                     },
-                })?;
+                };
+                let mut bytes = Vec::new();
+                std::fs::File::open(&full)
+                    .and_then(|f| {
+                        f.take(crate::model::MAX_FILE_BYTES + 1)
+                            .read_to_end(&mut bytes)
+                    })
+                    .map_err(io)?;
+                if bytes.len() as u64 > crate::model::MAX_FILE_BYTES {
+                    return Err(SceneError::Model {
+                        path: Some(full),
+                        error: ModelError::Format(format!(
+                            "larger than {} MB; not a model this build reads",
+                            crate::model::MAX_FILE_BYTES >> 20
+                        )),
+                    });
+                }
                 let found = sha256_hex(&bytes);
                 if &found != sha256 {
                     return Err(SceneError::Hash {

@@ -28,6 +28,16 @@ pub enum ExportError {
     /// The mesh has no triangles, which the format cannot express.
     #[error("the mesh has no triangles")]
     Empty,
+    /// Every triangle is degenerate in the file's single precision: its face normal (the
+    /// normalised cross product of its edges in `f32`, as STL writes it) is zero — a model
+    /// scaled so small (or so large) that the written coordinates no longer make a surface.
+    #[error(
+        "all {triangles} triangles of the mesh are degenerate in the file's single precision (no face normal; the model is too small or too large to write as a mesh, e.g. scaled by 1e-13); nothing written"
+    )]
+    Degenerate {
+        /// The triangles.
+        triangles: usize,
+    },
     /// The mesh is too large for the format (more than `u32::MAX` triangles, or a GLB over 4 GiB).
     #[error("the mesh is too large for the format")]
     TooLarge,
@@ -171,6 +181,7 @@ pub fn save_mesh_up(
     if let Some(vertex) = first_non_finite(mesh) {
         return Err(ExportError::NonFinite { vertex });
     }
+    check_not_degenerate(mesh)?;
     nendo_file::write_atomic(path, |file| {
         format.write_up(mesh, file, up)?;
         Ok(())
@@ -184,4 +195,28 @@ pub fn first_non_finite(mesh: &TriMesh) -> Option<usize> {
         .iter()
         .zip(mesh.normals.iter().map(Some).chain(std::iter::repeat(None)))
         .position(|(p, n)| !p.is_finite() || n.is_some_and(|n| !n.is_finite()))
+}
+
+/// Refuses a mesh that would be written empty or degenerate: no triangles
+/// ([`ExportError::Empty`]), or no triangle with a face normal in `f32`
+/// ([`ExportError::Degenerate`]). A mesh with some degenerate triangles (a sphere's poles) is
+/// written.
+///
+/// # Errors
+/// As above.
+pub fn check_not_degenerate(mesh: &TriMesh) -> Result<(), ExportError> {
+    if mesh.triangle_count() == 0 {
+        return Err(ExportError::Empty);
+    }
+    let has_normal = mesh.triangles().any(|t| {
+        let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+        (b - a).cross(c - a).try_normalize().is_some()
+    });
+    if has_normal {
+        Ok(())
+    } else {
+        Err(ExportError::Degenerate {
+            triangles: mesh.triangle_count(),
+        })
+    }
 }

@@ -20,6 +20,9 @@
 //! - `ratios` (optional) are the reference spacing ratios of the grid lines (one per grid
 //!   vertex along u and along v; see [`crate::surface::grid`]), saved so that regulation after
 //!   reading behaves exactly as before writing; without them they are measured from the net.
+//!   A saved ratio of a line whose rows of control points share one ratio must be that ratio
+//!   within [`crate::surface::RATIO_TOLERANCE`] (`1e-7` relative), or the file is refused
+//!   naming the line and both values ([`crate::surface::Grid::ratio_mismatch`]).
 //! - `curves` (optional, default empty) in the JSON form of [`crate::curve::json`].
 //! - `autosave` (optional) marks the window's autosave file ([`crate::editor::autosave`]);
 //!   reading a model passes over it.
@@ -341,6 +344,20 @@ impl Model {
             Grid::from_patches(s.topology, m, n, &patches, SHARED_POINT_TOLERANCE * extent)?;
         if let Some(r) = s.ratios {
             surface.set_ratios(&r.u, &r.v)?;
+            // Saved ratios that are not the points' own would make every exact push near the
+            // line fail for a reason nobody sees (see `crate::surface::ratio_check`).
+            if let Some(m) = surface.ratio_mismatch(crate::surface::RATIO_TOLERANCE) {
+                return Err(ModelError::Format(format!(
+                    "surface.ratios.{}[{}]: the saved spacing ratio {} of {} grid line {} is not the ratio of its control points, {} (they differ by more than {} relative): the file was edited or its ratios rounded; write the ratio its points have, or remove \"ratios\" to measure every one from the points",
+                    m.direction,
+                    m.line,
+                    m.saved,
+                    m.direction,
+                    m.line,
+                    m.measured,
+                    crate::surface::RATIO_TOLERANCE
+                )));
+            }
         }
         Ok(Loaded {
             model: Model {

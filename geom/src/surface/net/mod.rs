@@ -4,4 +4,5 @@
 pub(crate) mod grid;
 pub(crate) mod group;
 pub(crate) mod primitive;
+pub(crate) mod ratio_check;
 pub(crate) mod spline;

@@ -30,7 +30,7 @@
 //! Each frame size runs twice, alike but for the frame's order: **latched** — the window's: once
 //! the previous frame is done (here its `device.poll`; the window's surface acquire), the frame
 //! waits at most `LATCH_WAIT` for a fresh sample and takes it just before the display refresh
-//! and the submission — and the **baseline**, the order before the latch (the frame takes what
+//! and the submission, and settles the display after the frame is done — and the **baseline**, the order before the latch (the frame takes what
 //! came when it starts). The target is on each frame's newest sample, the pose it draws (the
 //! latency module says why); every sample's figure is given beside it.
 //!
@@ -295,10 +295,13 @@ impl Frame<'_> {
     /// latency record.
     fn draw(&mut self, modeller: &mut Modeller) -> Result<(), LatencyBenchError> {
         modeller.tick(Instant::now());
-        if self.order == FrameOrder::Latched {
+        let latched = self.order == FrameOrder::Latched;
+        if latched {
             modeller.latch_devices(LATCH_WAIT);
+            modeller.refresh_for_frame();
+        } else {
+            modeller.refresh();
         }
-        modeller.refresh();
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
         if self.uploaded != Some(modeller.surface_generation()) {
             let display = modeller.surface();
@@ -326,6 +329,9 @@ impl Frame<'_> {
         modeller.frame_submitted(Instant::now());
         Offscreen::wait(self.gpu, submission).map_err(LatencyBenchError::Gpu)?;
         modeller.frame_presented(Instant::now());
+        if latched {
+            modeller.settle();
+        }
         Ok(())
     }
 }

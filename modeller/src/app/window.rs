@@ -429,8 +429,7 @@ impl WindowApp {
         let size = (max - min).max(Vec2::ONE);
         gfx.viewport = (min, size);
         self.modeller.set_viewport(size);
-        // Acquire first (the wait for the previous frame's presentation), then latch and take
-        // the device input: its newest sample is fresh at submission (`live::latency` docs).
+        // Acquire (the wait for the previous frame), then latch the input (`live::latency`).
         let (device, queue) = (&gfx.gpu.device, &gfx.gpu.queue);
         let frame = match gfx.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
@@ -446,7 +445,7 @@ impl WindowApp {
             }
         };
         self.modeller.latch_devices(LATCH_WAIT);
-        self.modeller.refresh();
+        self.modeller.refresh_for_frame();
         let title = self.modeller.title();
         if title != gfx.title {
             gfx.window.set_title(&title);
@@ -538,6 +537,7 @@ impl WindowApp {
         gfx.window.pre_present_notify();
         queue.present(frame);
         self.modeller.frame_presented(Instant::now());
+        self.modeller.settle();
 
         self.modeller
             .record_frame_time(start.elapsed().as_secs_f64() * 1e3);

@@ -42,9 +42,12 @@
 //! for the previous frame's presentation; (4) the frame *latches* the input: with a device
 //! session streaming, it waits at most [`LATCH_WAIT`] for one more sample
 //! ([`crate::editor::Modeller::latch_devices`]), then (5) takes what came, refreshes the
-//! display (the patches the hand changed), encodes and submits. The wait in (3) thus falls
-//! before the take, not between the take and the submission, and the latched sample's CPU
-//! side is `parse` + the wake-up + its own hand-loop frame + `display` + `render`:
+//! display (the patches the hand changed, at their segment counts), encodes and submits;
+//! (6) after the presentation it settles the display ([`crate::editor::Modeller::settle`]:
+//! the continuity measure and stale segment counts once a contact is over, a full pass over
+//! the patches), which the next frame draws. The waits in (3) and for (6) thus fall before
+//! the take, not between the take and the submission, and the latched sample's CPU side is
+//! `parse` + the wake-up + its own hand-loop frame + `display` + `render`:
 //!
 //! `t_submit − t_read(newest) ≈ t_parse + t_wake + t_hand(1 sample) + t_display + t_render`.
 //!

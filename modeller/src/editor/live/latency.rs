@@ -446,6 +446,10 @@ mod tests {
         let s = meter.summary().expect("a figure");
         assert_eq!((s.samples, s.changed), (2, 1));
         assert_eq!(s.cpu.median, ms(11));
+        // The later port read is the frame's newest sample, the only one the newest figure has.
+        assert_eq!((shown[0].newest, shown[1].newest), (false, true));
+        assert_eq!((s.newest.median, s.newest.p95), (ms(11), ms(11)));
+        assert_eq!(s.newest_presented.map(|p| p.median), Some(ms(28)));
         assert_eq!(s.cpu.p95, ms(13));
     }
 
@@ -469,10 +473,10 @@ mod tests {
         assert_eq!(shown[1].present, Some(ms(4)));
         let s = meter.summary().expect("a figure");
         assert_eq!(s.presented.map(|p| p.median), Some(shown[1].cpu() + ms(4)));
-        // The later port read is the frame's newest sample, the only one the newest figure has.
-        assert_eq!((shown[0].newest, shown[1].newest), (false, true));
-        assert_eq!((s.newest.median, s.newest.p95), (ms(11), ms(11)));
-        assert_eq!(s.newest_presented.map(|p| p.median), Some(ms(28)));
+        // One sample per frame: each is its frame's newest, the newest figure is the same.
+        assert_eq!((shown[0].newest, shown[1].newest), (true, true));
+        assert_eq!(s.newest, s.cpu);
+        assert_eq!(s.newest_presented, s.presented);
     }
 
     /// A frame that takes a backlog: only its latest port read is its newest sample, whatever

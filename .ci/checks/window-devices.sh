@@ -129,7 +129,9 @@ wait_status 10 "the window shows no hand latency figure" \
   '.latency.samples > 0 and .latency.cpu_median_ms >= 0 and .latency.cpu_p95_ms >= .latency.cpu_median_ms'
 echo "hand latency (median / p95 of $(jq -r .latency.samples "$WORK/status.json") samples):" \
   "CPU $(jq -r '"\(.latency.cpu_median_ms) / \(.latency.cpu_p95_ms)"' "$WORK/status.json") ms," \
-  "shown $(jq -r '"\(.latency.presented_median_ms) / \(.latency.presented_p95_ms)"' "$WORK/status.json") ms"
+  "shown $(jq -r '"\(.latency.presented_median_ms) / \(.latency.presented_p95_ms)"' "$WORK/status.json") ms;" \
+  "each frame's newest sample: CPU $(jq -r '"\(.latency.newest_cpu_median_ms) / \(.latency.newest_cpu_p95_ms)"' "$WORK/status.json") ms," \
+  "shown $(jq -r '"\(.latency.newest_presented_median_ms) / \(.latency.newest_presented_p95_ms)"' "$WORK/status.json") ms"
 sleep 1.5
 view_shot pressed
 pressed="$(differ before pressed)"

@@ -127,3 +127,72 @@ fn every_replayed_sample_is_timed_to_its_frame_stage_by_stage() {
     assert_eq!(modeller.surface().mesh, fresh.display().mesh);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The window's latch (`Modeller::latch_devices`): without a session it returns at once
+/// saying nothing came; while a replay streams, it returns when a sample newer than the inbox
+/// came, which the frame's refresh then takes — and that frame's newest sample is the latest
+/// port read it shows, counted once in the newest figure.
+#[test]
+fn the_latch_takes_a_fresh_sample_into_the_frame() {
+    let trace_path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("devices/traces/plane-groove.trace");
+    let dir = std::env::temp_dir().join(format!("nendo-it-latch-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let profile = dir.join("replay.json");
+    let json = serde_json::json!({
+        "format": "nendo-device-profile",
+        "version": 1,
+        "name": "groove-latch",
+        "input": {"replay": {"trace": trace_path, "speed": 4.0}},
+    });
+    std::fs::write(&profile, json.to_string()).expect("profile written");
+    let plane = Primitive::Plane
+        .build(&PrimitiveParams::default())
+        .expect("plane");
+    let mut modeller = Modeller::new(Document::new(Model::new(plane)), None, false);
+    // Hang guard only: without a session the latch must not wait its bound.
+    assert!(!modeller.latch_devices(Duration::from_secs(600)));
+    modeller
+        .connect_profile(&profile.display().to_string())
+        .expect("the replay profile");
+    *modeller.devices_mut().0.latency_mut() = LatencyMeter::with_window(usize::MAX);
+
+    let (mut latched, mut frames) = (0, 0);
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while modeller.devices_mut().0.is_connected() && Instant::now() < deadline {
+        // What came before the latch: taken and submitted as a frame of its own.
+        modeller.tick(Instant::now());
+        modeller.refresh();
+        modeller.frame_submitted(Instant::now());
+        let before = modeller.devices_mut().0.latency().total();
+        // Hang guard only: a streaming replay sends a sample well within the bound.
+        let came = modeller.latch_devices(Duration::from_secs(10));
+        modeller.refresh();
+        let taken = modeller.devices_mut().0.latency().pending();
+        modeller.frame_submitted(Instant::now());
+        let latency = modeller.devices_mut().0.latency();
+        let shown: Vec<_> = latency.shown().skip(before as usize).copied().collect();
+        assert_eq!(shown.len(), taken);
+        if came {
+            latched += 1;
+            assert!(
+                taken >= 1,
+                "a latched sample is taken by the refresh after it"
+            );
+        }
+        if !shown.is_empty() {
+            frames += 1;
+            let newest: Vec<_> = shown.iter().filter(|s| s.newest).collect();
+            assert_eq!(newest.len(), 1, "one newest sample per frame");
+            assert!(shown.iter().all(|s| s.read <= newest[0].read));
+        }
+    }
+    assert!(!modeller.devices_mut().0.is_connected(), "the replay ended");
+    assert!(
+        latched > 0 && frames >= latched,
+        "{latched} latched of {frames}"
+    );
+    // Once the session is over, the latch does not wait (hang guard only).
+    assert!(!modeller.latch_devices(Duration::from_secs(600)));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -55,7 +55,7 @@
 //! (`.ci/checks/window-live.sh` uses it to check the above at 4 frames per second).
 
 use super::apply_textures;
-use crate::editor::live::DeviceWaker;
+use crate::editor::live::{DeviceWaker, LATCH_WAIT};
 use anyhow::{Context as _, anyhow};
 use glam::Vec2;
 use std::sync::Arc;
@@ -429,15 +429,29 @@ impl WindowApp {
         let size = (max - min).max(Vec2::ONE);
         gfx.viewport = (min, size);
         self.modeller.set_viewport(size);
-        self.modeller.refresh();
+        // Acquire (the wait for the previous frame), then latch the input (`live::latency`).
+        let (device, queue) = (&gfx.gpu.device, &gfx.gpu.queue);
+        let frame = match gfx.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                gfx.surface.configure(device, &gfx.config);
+                apply_textures(&mut gfx.egui_renderer, device, queue, &full.textures_delta);
+                return Some(Duration::ZERO);
+            }
+            _ => {
+                apply_textures(&mut gfx.egui_renderer, device, queue, &full.textures_delta);
+                return Some(Duration::from_millis(16));
+            }
+        };
+        self.modeller.latch_devices(LATCH_WAIT);
+        self.modeller.refresh_for_frame();
         let title = self.modeller.title();
         if title != gfx.title {
             gfx.window.set_title(&title);
             gfx.title = title;
         }
 
-        let device = &gfx.gpu.device;
-        let queue = &gfx.gpu.queue;
         if gfx.uploaded_surface != Some(self.modeller.surface_generation()) {
             let display = self.modeller.surface();
             // A live stroke re-uploads only the vertices of the patches it changed.
@@ -464,19 +478,6 @@ impl WindowApp {
         let view = self.modeller.camera().view(size.x / size.y);
         gfx.renderer.prepare(queue, &view, &style, size.to_array());
 
-        let frame = match gfx.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f)
-            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                gfx.surface.configure(device, &gfx.config);
-                apply_textures(&mut gfx.egui_renderer, device, queue, &full.textures_delta);
-                return Some(Duration::ZERO);
-            }
-            _ => {
-                apply_textures(&mut gfx.egui_renderer, device, queue, &full.textures_delta);
-                return Some(Duration::from_millis(16));
-            }
-        };
         let scene_view = frame.texture.create_view(&wgpu::TextureViewDescriptor {
             format: Some(gfx.scene_format),
             ..Default::default()
@@ -536,6 +537,7 @@ impl WindowApp {
         gfx.window.pre_present_notify();
         queue.present(frame);
         self.modeller.frame_presented(Instant::now());
+        self.modeller.settle();
 
         self.modeller
             .record_frame_time(start.elapsed().as_secs_f64() * 1e3);

@@ -8,7 +8,7 @@
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -33,6 +33,8 @@ impl std::fmt::Debug for DeviceWaker {
 #[derive(Debug, Default)]
 pub(super) struct Shared {
     pub(super) inbox: Mutex<Vec<StampedFrame>>,
+    /// Notified after frames went into the inbox (the window's latch waits on it).
+    pub(super) arrived: Condvar,
     /// Called after samples went into the inbox.
     pub(super) waker: Mutex<Option<DeviceWaker>>,
     pub(super) stop: AtomicBool,
@@ -151,6 +153,9 @@ impl DeviceSession {
                         .fetch_add(batch.len() as u64, Ordering::Relaxed);
                     let arrived = !batch.is_empty();
                     lock(&worker.inbox).extend(batch);
+                    if arrived {
+                        worker.arrived.notify_all();
+                    }
                     if arrived && let Some(w) = lock(&worker.waker).clone() {
                         (w.0)();
                     }

@@ -30,6 +30,30 @@
 //! A sample that arrives while a frame is being drawn is shown by the next frame that is
 //! submitted (a skipped frame — no surface texture — leaves its samples to the next one).
 //!
+//! **The frame's newest sample.** A frame draws one hand: the pose of the newest sample it
+//! takes (the latest port read). Samples before it in the same frame are run through the hand
+//! loop — their effect on the clay is in the frame — but no frame draws their pose; on a
+//! software renderer, where a frame takes tens of milliseconds to rasterise, most samples are
+//! such. The figure the target is on is therefore each frame's newest sample, arrival →
+//! submission, as a tracker's motion-to-photon latency is counted; every sample's figure is
+//! kept beside it. The window orders a frame so that this sample is fresh at submission
+//! (`app::window`): (1) the samples that came meanwhile run through the hand loop at the
+//! frame's start; (2) the UI pass; (3) the surface texture is acquired — the call that waits
+//! for the previous frame's presentation; (4) the frame *latches* the input: with a device
+//! session streaming, it waits at most [`LATCH_WAIT`] for one more sample
+//! ([`crate::editor::Modeller::latch_devices`]), then (5) takes what came, refreshes the
+//! display (the patches the hand changed, at their segment counts), encodes and submits;
+//! (6) after the presentation it settles the display ([`crate::editor::Modeller::settle`]:
+//! the continuity measure and stale segment counts once a contact is over, a full pass over
+//! the patches), which the next frame draws. The waits in (3) and for (6) thus fall before
+//! the take, not between the take and the submission, and the latched sample's CPU side is
+//! `parse` + the wake-up + its own hand-loop frame + `display` + `render`:
+//!
+//! `t_submit − t_read(newest) ≈ t_parse + t_wake + t_hand(1 sample) + t_display + t_render`.
+//!
+//! The wait in (4) delays the frame by at most one device period (it ends when the next
+//! sample arrives); without a device, or when the session has finished, there is none.
+//!
 //! The figure (the status bar, the status file, `nendo bench input`) is the median and the
 //! 95th percentile over the last [`LATENCY_WINDOW`] samples shown, by the nearest-rank rule:
 //! the `p`-quantile of `n` sorted values is the `⌈p·n⌉`-th.
@@ -41,6 +65,10 @@ use nendo_devices::Arrival;
 
 /// How many of the latest samples shown the figure is over (two seconds of a 120 Hz tracker).
 pub const LATENCY_WINDOW: usize = 240;
+
+/// The longest a frame waits for a fresh device sample after acquiring its surface texture
+/// (one period of a 100 Hz glove, with margin): the latch of the module docs, step (4).
+pub const LATCH_WAIT: Duration = Duration::from_millis(12);
 
 /// One sample's time in each stage (see the module docs).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -94,6 +122,10 @@ pub struct SampleLatency {
     pub present: Option<Duration>,
     /// Whether its hand-loop frame changed the surface.
     pub changed: bool,
+    /// Whether it is the newest sample its frame shows (the latest port read among them):
+    /// the pose the frame draws. The older ones' effect on the clay is in the frame too, but
+    /// their pose is shown by no frame (see the module docs).
+    pub newest: bool,
 }
 
 impl SampleLatency {
@@ -148,10 +180,15 @@ pub struct LatencySummary {
     pub samples: usize,
     /// Of those, the ones that changed the surface.
     pub changed: usize,
-    /// Arrival → submission.
+    /// Arrival → submission, over every sample.
     pub cpu: Quantiles,
     /// Arrival → presentation, over the samples whose frame was presented.
     pub presented: Option<Quantiles>,
+    /// Arrival → submission of each frame's newest sample (the pose it draws): the figure the
+    /// target is on (see the module docs).
+    pub newest: Quantiles,
+    /// Arrival → presentation of each presented frame's newest sample.
+    pub newest_presented: Option<Quantiles>,
     /// Each stage's median (these do not add up to the median of the sums).
     pub stage_medians: Stages,
 }
@@ -161,14 +198,17 @@ impl LatencySummary {
     #[must_use]
     pub fn line(&self) -> String {
         let ms = |d: Duration| d.as_secs_f64() * 1e3;
-        let shown = self.presented.map_or_else(String::new, |p| {
+        let shown = self.newest_presented.map_or_else(String::new, |p| {
             format!(", shown {:.1} / {:.1} ms", ms(p.median), ms(p.p95))
         });
         format!(
-            "hand → frame: CPU {:.1} / {:.1} ms{shown} (median / p95 of {} samples)",
+            "hand → frame: CPU {:.1} / {:.1} ms{shown} (median / p95 of each frame's newest \
+             sample; of all {} samples: CPU {:.1} / {:.1} ms)",
+            ms(self.newest.median),
+            ms(self.newest.p95),
+            self.samples,
             ms(self.cpu.median),
             ms(self.cpu.p95),
-            self.samples
         )
     }
 }
@@ -256,7 +296,13 @@ impl LatencyMeter {
             .partition(|p| p.display.is_some());
         self.pending = waiting;
         self.unpresented = shown.len();
-        for p in shown {
+        // The frame's newest sample: the last of those with the latest port read.
+        let newest = shown
+            .iter()
+            .enumerate()
+            .max_by_key(|(_, p)| p.arrival.read)
+            .map(|(i, _)| i);
+        for (i, p) in shown.into_iter().enumerate() {
             let display = p.display.unwrap_or(at);
             // Each mark is no earlier than the one before it (a clock read on another thread
             // can only be earlier), so the stages telescope to `at − read`.
@@ -279,6 +325,7 @@ impl LatencyMeter {
                 stages,
                 present: None,
                 changed: p.changed,
+                newest: Some(i) == newest,
             });
         }
     }
@@ -326,7 +373,10 @@ impl LatencyMeter {
             Quantiles::of(self.shown.iter().map(|s| s.stages.all()[i]))
                 .map_or(Duration::ZERO, |q| q.median)
         };
+        let newest = || self.shown.iter().filter(|s| s.newest);
         Some(LatencySummary {
+            newest: Quantiles::of(newest().map(SampleLatency::cpu)).unwrap_or(cpu),
+            newest_presented: Quantiles::of(newest().filter_map(SampleLatency::presented)),
             samples: self.shown.len(),
             changed: self.shown.iter().filter(|s| s.changed).count(),
             cpu,
@@ -396,6 +446,10 @@ mod tests {
         let s = meter.summary().expect("a figure");
         assert_eq!((s.samples, s.changed), (2, 1));
         assert_eq!(s.cpu.median, ms(11));
+        // The later port read is the frame's newest sample, the only one the newest figure has.
+        assert_eq!((shown[0].newest, shown[1].newest), (false, true));
+        assert_eq!((s.newest.median, s.newest.p95), (ms(11), ms(11)));
+        assert_eq!(s.newest_presented.map(|p| p.median), Some(ms(28)));
         assert_eq!(s.cpu.p95, ms(13));
     }
 
@@ -419,6 +473,50 @@ mod tests {
         assert_eq!(shown[1].present, Some(ms(4)));
         let s = meter.summary().expect("a figure");
         assert_eq!(s.presented.map(|p| p.median), Some(shown[1].cpu() + ms(4)));
+        // One sample per frame: each is its frame's newest, the newest figure is the same.
+        assert_eq!((shown[0].newest, shown[1].newest), (true, true));
+        assert_eq!(s.newest, s.cpu);
+        assert_eq!(s.newest_presented, s.presented);
+    }
+
+    /// A frame that takes a backlog: only its latest port read is its newest sample, whatever
+    /// order the samples were taken in, and the newest figure is over those alone.
+    #[test]
+    fn each_frame_has_one_newest_sample() {
+        let t0 = Instant::now();
+        let mut meter = LatencyMeter::with_window(usize::MAX);
+        let at = |k: u64| Arrival {
+            read: t0 + ms(k),
+            sent: t0 + ms(k),
+        };
+        for frame in 0..3u64 {
+            let base = 100 * frame;
+            // A backlog of 40 ms taken at the frame's start, then one latched sample.
+            meter.took(
+                t0 + ms(base + 40),
+                &[
+                    (at(base + 30), t0 + ms(base + 40), true),
+                    (at(base), t0 + ms(base + 41), true),
+                ],
+                t0 + ms(base + 42),
+            );
+            meter.took(
+                t0 + ms(base + 50),
+                &[(at(base + 50), t0 + ms(base + 50), true)],
+                t0 + ms(base + 50),
+            );
+            meter.display_refreshed(t0 + ms(base + 51));
+            meter.submitted(t0 + ms(base + 52));
+        }
+        let shown: Vec<_> = meter.shown().copied().collect();
+        assert_eq!(shown.len(), 9);
+        let newest: Vec<_> = shown.iter().filter(|s| s.newest).collect();
+        assert_eq!(newest.len(), 3);
+        assert!(newest.iter().all(|s| s.cpu() == ms(2)));
+        let s = meter.summary().expect("a figure");
+        assert_eq!((s.newest.median, s.newest.p95), (ms(2), ms(2)));
+        assert_eq!(s.cpu.p95, ms(52));
+        assert_eq!(s.newest_presented, None);
     }
 
     /// The figure follows the latest window: a run of slow frames raises the median and the

@@ -65,7 +65,9 @@ mod tests;
 pub(crate) use calibration::CalibrationCapture;
 use inbox::DeviceSession;
 pub use inbox::DeviceWaker;
-pub use latency::{LATENCY_WINDOW, LatencyMeter, LatencySummary, Quantiles, SampleLatency, Stages};
+pub use latency::{
+    LATCH_WAIT, LATENCY_WINDOW, LatencyMeter, LatencySummary, Quantiles, SampleLatency, Stages,
+};
 pub(crate) use profiles::{ProfileEntry, ProfileSource};
 
 /// The environment variable naming the machine-readable status file (a test aid).

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use nendo_devices::profile::{Input, MouseProfile};
 use nendo_devices::{
@@ -262,6 +262,26 @@ impl LiveInput {
             Err(e) => self.message = Some(format!("{}: {e}", path.display())),
         }
         self.rate = (0, Some(Instant::now()), 0.0);
+    }
+
+    /// Waits at most `within` for a device frame newer than those already in the inbox — the
+    /// frame's latch (the `latency` module docs, step 4) — and says whether one came. Returns
+    /// at once without a session or once the session has finished.
+    pub fn latch(&self, within: Duration) -> bool {
+        let Some(session) = &self.session else {
+            return false;
+        };
+        if lock(&session.shared.status).finished {
+            return false;
+        }
+        let inbox = lock(&session.shared.inbox);
+        let had = inbox.len();
+        let (inbox, _) = session
+            .shared
+            .arrived
+            .wait_timeout_while(inbox, within, |i| i.len() <= had)
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        inbox.len() > had
     }
 
     /// Takes every frame the loop received since the last call and runs them, in order,

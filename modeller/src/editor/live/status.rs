@@ -2,7 +2,8 @@
 //! (atomically, at most four times a second) with one JSON object — the session, each
 //! device's status, whether the hand is drawn and how many contacts it has made, whether the
 //! clutch holds it and how far the contact in progress moved the clay, and the device
-//! samples' latency figure (`latency`: CPU side and presented, median and p95, in ms; `null`
+//! samples' latency figure (`latency`: CPU side and presented, median and p95, in ms, over every
+//! sample and — `newest_…` — over each frame's newest sample; `null`
 //! before the first sample shown).
 
 use std::time::{Duration, Instant};
@@ -59,6 +60,10 @@ impl LiveInput {
                 "cpu_p95_ms": ms(l.cpu.p95),
                 "presented_median_ms": l.presented.map(|p| ms(p.median)),
                 "presented_p95_ms": l.presented.map(|p| ms(p.p95)),
+                "newest_cpu_median_ms": ms(l.newest.median),
+                "newest_cpu_p95_ms": ms(l.newest.p95),
+                "newest_presented_median_ms": l.newest_presented.map(|p| ms(p.median)),
+                "newest_presented_p95_ms": l.newest_presented.map(|p| ms(p.p95)),
             })
         });
         let line = serde_json::json!({

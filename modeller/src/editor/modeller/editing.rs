@@ -14,9 +14,35 @@ use super::*;
 impl Modeller {
     /// Brings the cached tessellation, patches and continuity up to the document's revision.
     pub fn refresh(&mut self) {
+        self.refresh_with(false);
+    }
+
+    /// [`Modeller::refresh`] on a frame's input path, between the latch and the submission
+    /// (`editor::live` latency module docs): while a device session is connected, the work
+    /// that settles the display once a contact is over — the continuity measure, segment
+    /// counts gone stale — is left to [`Modeller::settle`], after the frame is presented, so
+    /// that no device sample waits for it; the patches the hand changed are re-tessellated
+    /// here as during a contact. Without a session it is [`Modeller::refresh`].
+    pub fn refresh_for_frame(&mut self) {
+        self.refresh_with(true);
+    }
+
+    /// The settling work [`Modeller::refresh_for_frame`] left, once the frame is presented;
+    /// its display change (if any) is drawn by the next frame. Nothing without a session.
+    pub fn settle(&mut self) {
+        if self.live.is_connected() {
+            let busy = self.gesture_busy() || self.replay.is_some() || self.live.in_contact();
+            self.cache.refresh(&self.session.doc, busy);
+        }
+    }
+
+    fn refresh_with(&mut self, defer_settling: bool) {
         self.update_stroke();
         self.poll_devices();
-        let busy = self.gesture_busy() || self.replay.is_some() || self.live.in_contact();
+        let busy = self.gesture_busy()
+            || self.replay.is_some()
+            || self.live.in_contact()
+            || (defer_settling && self.live.is_connected());
         self.cache.refresh(&self.session.doc, busy);
         self.live
             .latency_mut()

@@ -555,6 +555,15 @@ impl Modeller {
         self.live.set_waker(waker);
     }
 
+    /// Latches the device input for this frame, after the window acquired its surface texture:
+    /// while a device session streams, waits at most `within` for one more sample (then
+    /// [`Modeller::refresh`] takes it), so that the frame shows a fresh sample at submission
+    /// (`editor::live` latency module docs). Returns whether a sample came; at once without a
+    /// session.
+    pub fn latch_devices(&self, within: std::time::Duration) -> bool {
+        self.live.latch(within)
+    }
+
     /// The frame was submitted to the GPU at `at` (the window, once `queue.submit` returned):
     /// the device samples it shows have their CPU-side latency ([`super::live::LatencyMeter`]).
     pub fn frame_submitted(&mut self, at: Instant) {

@@ -8,7 +8,7 @@
 //! - [`Op`] (push / pull / drag, along a direction or the normals; move; smooth) and its
 //!   [`Finger`]: the shape functions ([`shape_fn`]); [`nearest`]: the surface point nearest a
 //!   point; [`grab`]: the exact landing of a move; [`smooth`]: the thin-plate energy a
-//!   smoothing stroke lowers; [`mirror`]: symmetry about `x = 0`, `y = 0` or `z = 0`.
+//!   smoothing stroke lowers; [`mirror`]: symmetry about `x = 0`, `y = 0` or `z = 0`, radial about the z axis, and groups of them.
 //! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]);
 //!   [`curvature::g2_report`]: the curvature mismatch (G2) across every seam and at poles.
 //! - The deformation engine ([`engine`]): one pipeline — displacement field → reachable
@@ -65,12 +65,14 @@ pub use continuity::{ContinuityReport, PoleReport};
 pub use engine::{LiveOperation, Placement, Presser, Sculptor, Stroke, Touched, deform, describe};
 pub use error::{SurfaceError, UnknownName};
 
+pub use constraint::isometry::Isometry;
 pub use grab::Hold;
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
 pub use limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, MAX_PATCHES};
 pub use mirror::{
-    Asymmetry, MirrorError, Plane, SYMMETRY_TOLERANCE, Symmetry, is_symmetric, symmetry_error,
+    Asymmetry, LATHE_TURNS, MirrorError, Plane, SYMMETRY_TOLERANCE, Symmetry, SymmetrySpec,
+    group_error, is_symmetric, symmetry_error,
 };
 pub use nearest::{SurfacePoint, nearest};
 pub use patch::{Patch, PatchFrame, PatchPoints};

@@ -37,6 +37,8 @@ pub enum KeyAction {
     AdjustDepth,
     /// Turn symmetry (the mirror across x = 0) on or off.
     ToggleSymmetry,
+    /// Radial symmetry about the z axis: off → N-fold → lathe → off.
+    ToggleRadial,
     /// Pick a tool.
     Tool(Tool),
 }
@@ -56,6 +58,7 @@ impl KeyAction {
             KeyAction::AdjustRadius => Command::AdjustRadius,
             KeyAction::AdjustDepth => Command::AdjustDepth,
             KeyAction::ToggleSymmetry => Command::ToggleSymmetry,
+            KeyAction::ToggleRadial => Command::ToggleRadial,
             KeyAction::Tool(tool) => Command::SelectTool(tool),
         }
     }
@@ -81,6 +84,9 @@ impl KeyAction {
             }
             KeyAction::ToggleSymmetry => {
                 "symmetry on / off: every stroke mirrored across x = 0 (offered for a model symmetric about it)".into()
+            }
+            KeyAction::ToggleRadial => {
+                "radial symmetry: off → N-fold about the z axis (every stroke repeated N times; N in the tool panel, dividing the patch columns) → lathe (every stroke all the way round) → off; offered for a rotational model".into()
             }
             KeyAction::Tool(tool) => format!("tool: {}", tool.label()),
         }
@@ -159,6 +165,7 @@ pub fn keys() -> Vec<KeyBinding> {
         KeyBinding::new(Modifiers::NONE, Key::F1, KeyAction::Help),
         KeyBinding::new(Modifiers::NONE, Key::Questionmark, KeyAction::Help),
         KeyBinding::new(Modifiers::NONE, Key::Escape, KeyAction::Cancel),
+        KeyBinding::new(Modifiers::SHIFT, Key::X, KeyAction::ToggleRadial),
         KeyBinding::new(Modifiers::NONE, Key::X, KeyAction::ToggleSymmetry),
         KeyBinding::new(Modifiers::NONE, Key::G, KeyAction::Tool(Tool::Move)),
     ];

@@ -529,11 +529,13 @@ fn tool_help(t: Tool) -> &'static str {
 }
 
 /// The symmetry checkbox: on when wanted and the model allows it; disabled, with the reason,
-/// when it does not.
+/// when it does not. Below it, what the symmetry is made of: the mirrors across x, y and z,
+/// radial symmetry about the z axis with its `N`, the lathe; a change the model does not
+/// allow is refused with the reason on the status line.
 fn symmetry_ui(ui: &mut Ui, mirror: &MirrorToggle) -> Vec<Command> {
     let available = mirror.available();
     let mut on = mirror.wanted() && available;
-    let label = format!("symmetry (mirror across {})", mirror.plane());
+    let label = format!("symmetry ({})", mirror.spec());
     let response = ui.add_enabled(available, egui::Checkbox::new(&mut on, label));
     match mirror.why_not() {
         Some(why) => {
@@ -541,15 +543,60 @@ fn symmetry_ui(ui: &mut Ui, mirror: &MirrorToggle) -> Vec<Command> {
         }
         None => {
             response.on_hover_text(
-                "Every stroke is applied together with its mirror image across the plane, as one operation (X). The plane is drawn in the view. The Hand tool's contacts too; not a glove session or a replayed trace.",
+                "Every stroke is applied together with its images (mirrored, turned about the z axis), as one operation (X; Shift+X: radial). The planes and the axis are drawn in the view. The Hand tool's contacts too; not a glove session or a replayed trace.",
             );
         }
     }
+    let mut commands = Vec::new();
     if available && on != mirror.wanted() {
-        vec![Command::SetSymmetry(on)]
-    } else {
-        Vec::new()
+        commands.push(Command::SetSymmetry(on));
     }
+    let spec = mirror.spec();
+    let mut wanted = spec.clone();
+    ui.horizontal(|ui| {
+        ui.label("mirror");
+        for plane in crate::surface::Plane::ALL {
+            let mut has = spec.planes.contains(&plane);
+            if ui.checkbox(&mut has, plane.name()).changed() {
+                wanted.planes.retain(|p| *p != plane);
+                if has {
+                    wanted.add_plane(plane);
+                }
+            }
+        }
+    });
+    ui.horizontal(|ui| {
+        let mut radial = spec.radial > 1 && !spec.lathe;
+        let mut n = mirror.radial_n();
+        if ui
+            .checkbox(&mut radial, "radial")
+            .on_hover_text("N-fold about the z axis (Shift+X); N must divide the patch columns")
+            .changed()
+        {
+            wanted = mirror.with_radial(radial);
+            wanted.planes.clone_from(&spec.planes);
+        }
+        if ui
+            .add(egui::DragValue::new(&mut n).range(2..=64).prefix("N "))
+            .changed()
+        {
+            wanted.radial = n;
+            wanted.lathe = false;
+        }
+        let mut lathe = spec.lathe;
+        if ui
+            .checkbox(&mut lathe, "lathe")
+            .on_hover_text("every stroke applied all the way round the z axis")
+            .changed()
+        {
+            wanted.lathe = lathe;
+            wanted.radial = 0;
+        }
+    });
+    if &wanted != spec {
+        commands.push(Command::SetSymmetrySpec(wanted));
+    }
+    commands
 }
 
 /// The export tolerance, and the export in progress or its button.

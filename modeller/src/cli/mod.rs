@@ -26,6 +26,7 @@ pub mod replay;
 pub mod sculpt;
 pub mod shape;
 pub mod signal;
+pub mod symmetry_args;
 pub mod window;
 use std::process::ExitCode;
 

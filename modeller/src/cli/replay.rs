@@ -63,7 +63,8 @@
 //!
 //! `--mirror x|y|z` presses every contact together with its mirror image across the plane
 //! `x = 0` (`y = 0`, `z = 0`), keeping a symmetric model exactly symmetric; a model that is not
-//! symmetric about the plane is refused (exit status 1).
+//! symmetric about the plane is refused (exit status 1). Mirrors combine (`--mirror x,y`), and
+//! `--radial N` / `--lathe` add turns about the z axis ([`super::symmetry_args`]).
 
 use super::arg_error::{parse_primitive, parse_regulation};
 use super::primitive_args::ShapeArgs;
@@ -77,7 +78,7 @@ use crate::hand::{FingerModel, Hand, HandLoop, HandOptions, filter};
 use crate::model::Model;
 use crate::surface::MAX_PATCHES;
 use crate::surface::{Grid, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
-use nendo_devices::{FilterSettings, HandFrame, TraceHeader, TraceStream};
+use nendo_devices::{FilterSettings, HandFrame, Trace, TraceHeader, TraceStream};
 
 /// Frames from which a replay reports its progress.
 pub const PROGRESS_FROM: usize = 1_000;
@@ -172,8 +173,12 @@ pub struct ReplayArgs {
     /// Press every contact together with its mirror image across the plane x = 0, y = 0 or
     /// z = 0 (`none`: no mirror, whatever the trace's scene says). The model must be symmetric
     /// about the plane. Default: the trace's scene's.
-    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_mirror))]
-    pub mirror: Option<Mirror>,
+    /// `x,y` or the option repeated: every combination of the mirrors.
+    #[arg(long, value_delimiter = ',', value_parser = clap::builder::ValueParser::new(parse_mirror))]
+    pub mirror: Vec<Mirror>,
+    /// `--radial N`, `--lathe` (with the trace's scene's mirror, or --mirror's).
+    #[command(flatten)]
+    pub turns: super::symmetry_args::TurnArgs,
     /// Feed the hand loop the raw frames: no plausibility gate, no One-Euro filter. Default:
     /// the trace's scene's filter, else --profile's, else the defaults (none for the mouse's
     /// ray).
@@ -299,7 +304,7 @@ struct Setup {
     model: Model,
     finger: Option<FingerModel>,
     finger_radius: Option<f64>,
-    mirror: Option<Plane>,
+    mirror: Vec<Plane>,
     auto_refine: bool,
     /// The trace's scene's gate and filter settings.
     filter: Option<FilterSettings>,
@@ -394,14 +399,24 @@ fn setup(args: &ReplayArgs, header: &TraceHeader) -> anyhow::Result<Setup> {
         }
         (None, None) => None,
     };
-    let mirror = match (args.mirror, scene.as_ref().and_then(|s| s.mirror)) {
-        (Some(Mirror::None), _) => None,
-        (Some(Mirror::Plane(p)), _) => Some(p),
-        (None, Some(p)) => {
+    let given: Vec<Plane> = args
+        .mirror
+        .iter()
+        .filter_map(|m| match m {
+            Mirror::Plane(p) => Some(*p),
+            Mirror::None => None,
+        })
+        .collect();
+    let mirror = match (
+        args.mirror.is_empty(),
+        scene.as_ref().and_then(|s| s.mirror),
+    ) {
+        (false, _) => given,
+        (true, Some(p)) => {
             from_scene.push("mirror");
-            Some(p)
+            vec![p]
         }
-        (None, None) => None,
+        (true, None) => Vec::new(),
     };
     let auto_refine = if args.auto_refine {
         true
@@ -414,10 +429,20 @@ fn setup(args: &ReplayArgs, header: &TraceHeader) -> anyhow::Result<Setup> {
         }
         on
     };
-    if auto_refine && mirror.is_some() {
+    if auto_refine && args.turns.given() {
+        anyhow::bail!(
+            "auto-refine does not go with --radial or --lathe{}",
+            if args.auto_refine {
+                ""
+            } else {
+                " (auto-refine from the trace's scene: add --no-auto-refine)"
+            }
+        );
+    }
+    if auto_refine && !mirror.is_empty() {
         let from_line = (
             args.auto_refine,
-            matches!(args.mirror, Some(Mirror::Plane(_))),
+            args.mirror.iter().any(|m| matches!(m, Mirror::Plane(_))),
         );
         anyhow::bail!(
             "auto-refine does not go with a mirror ({})",
@@ -528,16 +553,8 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     let regulation = model.regulation;
     // The loop of a `HandSession`, with the grid at hand so that it can be refined between
     // contacts.
-    let symmetry = match mirror {
-        None => None,
-        Some(plane) => {
-            let s = Symmetry::of(&model.surface, plane)
-                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}; nothing written", plane.name()))?;
-            s.enforce_all(&mut model.surface, regulation != Regulation::None)
-                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}", plane.name()))?;
-            Some(s)
-        }
-    };
+    let spec = args.turns.spec(&mirror);
+    let symmetry = super::symmetry_args::symmetry_for(&mut model.surface, &spec, regulation)?;
     let mut hand_loop = HandLoop::new(hand, options)?;
     hand_loop.set_mirror(symmetry);
     hand_loop.set_filter(if args.no_filter {

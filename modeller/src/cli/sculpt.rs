@@ -18,10 +18,12 @@
 //! across. The surface does not change; the operation then acts on the finer patches. A
 //! refinement that would pass the grid limit stops there, says so on standard error, and the
 //! operation is still applied.
-//! reads them from standard input. `--mirror x|y|z` applies every operation together with its
-//! mirror image across the plane `x = 0` (`y = 0`, `z = 0`) as one operation, keeping a
-//! symmetric model exactly symmetric; a model that is not symmetric about the plane is
-//! refused.
+//!
+//! `--mirror x|y|z` applies every operation together with its mirror image across the plane
+//! `x = 0` (`y = 0`, `z = 0`) as one operation, keeping a symmetric model exactly symmetric;
+//! a model that is not symmetric about the plane is refused. Mirrors combine (`--mirror x,y`
+//! or the option repeated: every image under the group they generate), and so do `--radial N`
+//! and `--lathe` ([`super::symmetry_args`]).
 //!
 //! The run holds the writer lock of `--out` ([`nendo_file::lock`], `.NAME.nendo-lock` beside
 //! it) from reading `--model` to writing `--out`: concurrent runs on one file (`--model m --out
@@ -37,7 +39,7 @@ use std::time::Instant;
 
 use crate::model::{Model, ops};
 use crate::surface::MAX_PATCHES;
-use crate::surface::{Plane, Primitive, Regulation, Sculptor, Symmetry, refine};
+use crate::surface::{Plane, Primitive, Regulation, Sculptor, refine};
 
 /// Arguments of `nendo sculpt`.
 #[derive(Debug, ClapArgs)]
@@ -61,12 +63,16 @@ pub struct SculptArgs {
     pub regulation: Option<Regulation>,
     /// Before each operation, split the patches its finger reaches until they are at most
     /// half the finger radius across (the surface does not change). Not with `--mirror`.
-    #[arg(long, conflicts_with = "mirror")]
+    #[arg(long, conflicts_with_all = ["mirror", "radial", "lathe"])]
     pub auto_refine: bool,
     /// Apply every operation together with its mirror image across the plane x = 0, y = 0 or
-    /// z = 0 (as one operation). The model must be symmetric about the plane.
-    #[arg(long, value_parser = clap::builder::ValueParser::new(parse_plane))]
-    pub mirror: Option<Plane>,
+    /// z = 0 (as one operation; `x,y` or the option repeated: every combination). The model
+    /// must be symmetric about the planes.
+    #[arg(long, value_delimiter = ',', value_parser = clap::builder::ValueParser::new(parse_plane))]
+    pub mirror: Vec<Plane>,
+    /// `--radial N`, `--lathe`.
+    #[command(flatten)]
+    pub turns: super::symmetry_args::TurnArgs,
     /// Where to write the model (atomically).
     #[arg(long)]
     pub out: PathBuf,
@@ -152,16 +158,8 @@ fn sculpt(args: &SculptArgs) -> anyhow::Result<String> {
                 .collect()
         }
     };
-    let symmetry = match args.mirror {
-        None => None,
-        Some(plane) => {
-            let s = Symmetry::of(&model.surface, plane)
-                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}; nothing written", plane.name()))?;
-            s.enforce_all(&mut model.surface, model.regulation != Regulation::None)
-                .map_err(|e| anyhow::anyhow!("--mirror {}: {e}", plane.name()))?;
-            Some(s)
-        }
-    };
+    let spec = args.turns.spec(&args.mirror);
+    let symmetry = super::symmetry_args::symmetry_for(&mut model.surface, &spec, model.regulation)?;
     let start = Instant::now();
     let mut sculptor = Sculptor::new();
     let mut updates = 0usize;

@@ -51,6 +51,11 @@ pub enum Command {
     ToggleHelp,
     /// Turn symmetry on if it is off, off if it is on.
     ToggleSymmetry,
+    /// Ask for another symmetry: mirrors across x, y, z, radial `N` about z, the lathe.
+    SetSymmetrySpec(crate::surface::SymmetrySpec),
+    /// Radial symmetry about the z axis (`N` from the tool panel): off → `N`-fold → lathe →
+    /// off.
+    ToggleRadial,
     /// Set the finger radius by moving the mouse (a left click keeps it, Esc or another
     /// click restores it).
     AdjustRadius,

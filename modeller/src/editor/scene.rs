@@ -140,6 +140,36 @@ pub fn mirror_plane(plane: crate::surface::Plane, lo: Vec3, hi: Vec3, lines: &mu
     lines.segment(point(0.0, 0.5), point(1.0, 0.5), MIRROR_PLANE);
 }
 
+/// Draws a symmetry across the model's box `lo..hi`: each mirror plane ([`mirror_plane`]) and,
+/// with radial symmetry or the lathe, the z axis (the turns' axis) through the box, with a
+/// spoke on the box's bottom for each of the `N` turns.
+pub fn symmetry(spec: &crate::surface::SymmetrySpec, lo: Vec3, hi: Vec3, lines: &mut LineBatch) {
+    for &plane in &spec.planes {
+        mirror_plane(plane, lo, hi, lines);
+    }
+    if spec.radial <= 1 && !spec.lathe {
+        return;
+    }
+    let margin = 0.1 * (hi - lo).length().max(1e-3);
+    let (bottom, top) = (lo.z - margin, hi.z + margin);
+    lines.segment(
+        Vec3::new(0.0, 0.0, bottom),
+        Vec3::new(0.0, 0.0, top),
+        MIRROR_PLANE,
+    );
+    let reach = lo.x.abs().max(hi.x.abs()).max(lo.y.abs()).max(hi.y.abs()) + margin;
+    // The lathe's N is the patch columns (not known here): 24 spokes stand for "all round".
+    let n = if spec.lathe { 24 } else { spec.radial.min(64) };
+    for k in 0..n {
+        let a = std::f32::consts::TAU * k as f32 / n as f32;
+        lines.segment(
+            Vec3::new(0.0, 0.0, bottom),
+            Vec3::new(reach * a.cos(), reach * a.sin(), bottom),
+            MIRROR_PLANE,
+        );
+    }
+}
+
 /// The bounds of `mesh` and of extra points (curves), `None` when there is nothing.
 #[must_use]
 pub fn scene_bounds(mesh: &TriMesh, extra: &[DVec3]) -> Option<(Vec3, Vec3)> {

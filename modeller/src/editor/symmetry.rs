@@ -1,5 +1,11 @@
-//! The window's symmetry: the toggle (X), whether the model allows it, and how a mirrored
-//! stroke is refined.
+//! The window's symmetry: the toggle (X), radial symmetry (Shift+X, `N` in the tool panel),
+//! the lathe and the mirror planes (tool panel), whether the model allows them, and how a
+//! mirrored stroke is refined.
+//!
+//! The symmetry asked for is a [`SymmetrySpec`] — any of the mirrors across x, y, z, and
+//! `N`-fold radial symmetry about the z axis or the lathe (every stroke all the way round) —
+//! made into one group ([`Symmetry::group`]) for the model; everything below said of the
+//! mirror holds for every isometry of the group.
 //!
 //! With symmetry on, every window stroke (Push, Pull, Draw a line, Move, Smooth) is applied
 //! together with its mirror image across the plane `x = 0` as one operation
@@ -22,7 +28,7 @@
 //! [`Symmetry`] is found for it); otherwise (an odd number of insertions around a closed
 //! direction, the grid limit) the stroke goes on unrefined and the status line says so.
 
-use crate::surface::{Dirs, Grid, MirrorError, Op, Plane, Symmetry, refine};
+use crate::surface::{Dirs, Grid, MirrorError, Op, Plane, Symmetry, SymmetrySpec, refine};
 
 /// The mirror image of an operation across `plane`: every point and direction reflected.
 #[must_use]
@@ -110,95 +116,82 @@ pub fn refine_mirrored(grid: &Grid, op: &Op, mirror: &Symmetry) -> MirroredRefin
     if f.refinement.is_empty() {
         return MirroredRefinement::Unchanged;
     }
-    let t = grid.topology();
-    let map_u = ParameterMap::of(grid.patches_u(), t.closed_u(), grid.vertices_u(), |k| {
-        mirror.vertex_partner(grid, k, 0).0
-    });
-    let map_v = ParameterMap::of(grid.patches_v(), t.closed_v(), grid.vertices_v(), |q| {
-        mirror.vertex_partner(grid, 0, q).1
-    });
-    let u = map_u.with_images(f.refinement.inserted_u());
-    let v = map_v.with_images(f.refinement.inserted_v());
-    let Ok(refined) = refine::Refinement::new(grid, &u, &v).and_then(|r| r.apply(grid)) else {
-        return MirroredRefinement::Asymmetric;
-    };
-    match Symmetry::of(&refined, mirror.plane()) {
-        Ok(s) => MirroredRefinement::Refined(Box::new((refined, s))),
-        Err(_) => MirroredRefinement::Asymmetric,
-    }
-}
-
-/// The mirror map on a direction's global grid parameters: `T ↦ T`, or `T ↦ s − T` (taken
-/// mod `M` on a closed direction), read from the partners of the grid vertices.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum ParameterMap {
-    Identity,
-    Reflect { s: f64, count: usize, closed: bool },
-}
-
-impl ParameterMap {
-    fn of(count: usize, closed: bool, vertices: usize, partner: impl Fn(usize) -> usize) -> Self {
-        let (p0, p1) = (partner(0), partner(1 % vertices.max(1)));
-        if p0 == 0 && (vertices < 2 || p1 == 1) {
-            ParameterMap::Identity
-        } else {
-            ParameterMap::Reflect {
-                s: p0 as f64,
-                count,
-                closed,
-            }
-        }
-    }
-
-    fn apply(self, t: f64) -> f64 {
-        match self {
-            ParameterMap::Identity => t,
-            ParameterMap::Reflect { s, count, closed } => {
-                let r = s - t;
-                if closed {
-                    r.rem_euclid(count as f64)
-                } else {
-                    r
-                }
-            }
-        }
-    }
-
-    /// `params` and their images, sorted, without repeats (within 1e-12).
-    fn with_images(self, params: Vec<f64>) -> Vec<f64> {
-        let mut all: Vec<f64> = params.iter().map(|&t| self.apply(t)).collect();
-        all.extend(params);
+    let images = |params: Vec<f64>, along_v: bool| {
+        let mut all: Vec<f64> = params
+            .iter()
+            .flat_map(|&t| mirror.parameter_images(grid, t, along_v))
+            .collect();
         all.sort_by(f64::total_cmp);
         all.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
         all
+    };
+    let u = images(f.refinement.inserted_u(), false);
+    let v = images(f.refinement.inserted_v(), true);
+    let Ok(refined) = refine::Refinement::new(grid, &u, &v).and_then(|r| r.apply(grid)) else {
+        return MirroredRefinement::Asymmetric;
+    };
+    match Symmetry::group(&refined, mirror.spec()) {
+        Ok(s) => MirroredRefinement::Refined(Box::new((refined, s))),
+        Err(_) => MirroredRefinement::Asymmetric,
     }
 }
 
 /// The symmetry toggle: what the user asked for, and whether the model allows it.
 #[derive(Debug, Clone)]
 pub struct MirrorToggle {
-    plane: Plane,
+    /// The symmetry asked for: mirrors, radial `N`, lathe.
+    spec: SymmetrySpec,
+    /// `N` radial symmetry takes when turned on (Shift+X), kept while it is off.
+    radial_n: u32,
     /// The user's choice (on by default, as in Blender's sculpt mode).
     wanted: bool,
-    /// The mirror map of the surface at a document revision, or why there is none.
+    /// The symmetry group of the surface at a document revision, or why there is none.
     found: Option<(u64, Result<Symmetry, MirrorError>)>,
 }
 
 impl MirrorToggle {
-    /// A toggle for `plane`, on.
+    /// A toggle for the mirror across `plane`, on.
     #[must_use]
     pub fn new(plane: Plane) -> Self {
         Self {
-            plane,
+            spec: SymmetrySpec::mirror(plane),
+            radial_n: 4,
             wanted: true,
             found: None,
         }
     }
 
-    /// The mirror plane.
+    /// The symmetry asked for.
     #[must_use]
-    pub fn plane(&self) -> Plane {
-        self.plane
+    pub fn spec(&self) -> &SymmetrySpec {
+        &self.spec
+    }
+
+    /// Asks for another symmetry (looked for again at the next [`MirrorToggle::update`]).
+    pub fn set_spec(&mut self, spec: SymmetrySpec) {
+        if spec.radial > 1 {
+            self.radial_n = spec.radial;
+        }
+        if spec != self.spec {
+            self.spec = spec;
+            self.found = None;
+        }
+    }
+
+    /// `N` radial symmetry takes when turned on.
+    #[must_use]
+    pub fn radial_n(&self) -> u32 {
+        self.radial_n
+    }
+
+    /// The symmetry with radial symmetry turned on (with [`MirrorToggle::radial_n`]) or off
+    /// (and the lathe off with it).
+    #[must_use]
+    pub fn with_radial(&self, on: bool) -> SymmetrySpec {
+        let mut spec = self.spec.clone();
+        spec.radial = if on { self.radial_n } else { 0 };
+        spec.lathe = false;
+        spec
     }
 
     /// The user's choice.
@@ -212,13 +205,13 @@ impl MirrorToggle {
         self.wanted = on;
     }
 
-    /// Looks for the mirror map of `grid`, the surface at document revision `revision`
+    /// Looks for the symmetry group of `grid`, the surface at document revision `revision`
     /// (nothing to do when that revision was looked at already).
     pub fn update(&mut self, revision: u64, grid: &Grid) {
         if self.found.as_ref().is_some_and(|(r, _)| *r == revision) {
             return;
         }
-        self.found = Some((revision, Symmetry::of(grid, self.plane)));
+        self.found = Some((revision, Symmetry::group(grid, &self.spec)));
     }
 
     /// Forgets what was found (another document: its revisions start again).
@@ -226,25 +219,25 @@ impl MirrorToggle {
         self.found = None;
     }
 
-    /// True when the model allows the mirror (as last looked at).
+    /// True when the model allows the symmetry (as last looked at).
     #[must_use]
     pub fn available(&self) -> bool {
         matches!(self.found, Some((_, Ok(_))))
     }
 
-    /// Why the model does not allow the mirror (`None` when it does, or before a look).
+    /// Why the model does not allow the symmetry (`None` when it does, or before a look).
     #[must_use]
     pub fn why_not(&self) -> Option<String> {
         match &self.found {
             Some((_, Err(e))) => Some(format!(
-                "Symmetry is offered only for a model symmetric about {}: {e}",
-                self.plane
+                "Symmetry ({}) is offered only for a model that has it: {e}",
+                self.spec
             )),
             _ => None,
         }
     }
 
-    /// The mirror the strokes use on `grid`: wanted, available, and made for this grid.
+    /// The symmetry the strokes use on `grid`: wanted, available, and made for this grid.
     #[must_use]
     pub fn active(&self, grid: &Grid) -> Option<&Symmetry> {
         match &self.found {

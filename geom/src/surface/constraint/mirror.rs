@@ -28,10 +28,11 @@
 
 use glam::DVec3;
 
+pub use super::symmetry::{Symmetry, group_error};
 use crate::surface::bounds::Aabb;
 use crate::surface::grid::Grid;
-use crate::surface::group::PoleEnd;
-use crate::surface::plane_fit::plane_normal;
+
+use super::isometry::Isometry;
 
 /// The largest [`asymmetry`](Asymmetry::relative) a model may have to be sculpted with a
 /// mirror: 10⁻⁹ of its size (the primitives are symmetric to ≈ 10⁻¹⁶).
@@ -122,7 +123,7 @@ pub struct Asymmetry {
     pub node: usize,
 }
 
-/// Why a grid cannot be sculpted with a mirror.
+/// Why a grid cannot be sculpted with a symmetry.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum MirrorError {
     /// The grid is not symmetric about the plane.
@@ -148,28 +149,131 @@ pub enum MirrorError {
     /// The symmetry was found for a grid of other counts.
     #[error("the mirror map was made for a grid of other patch counts")]
     OtherGrid,
+    /// Radial symmetry needs a grid closed around the z axis.
+    #[error(
+        "radial symmetry needs a model that closes around the z axis (a cylinder, tube, hemisphere, sphere or torus)"
+    )]
+    NotRotational,
+    /// `N` does not divide the patch columns around the axis.
+    #[error(
+        "{n}-fold radial symmetry needs a number of patch columns around the axis divisible by {n}; the model has {columns}"
+    )]
+    Columns {
+        /// The `N` asked for.
+        n: u32,
+        /// The patch columns around the axis.
+        columns: usize,
+    },
+    /// The grid is not invariant under the turn by `2π / N` about the z axis.
+    #[error(
+        "the model is not {n}-fold symmetric about the z axis: control point {node} is {relative:.3e} of the model's size from the turned image of its partner (tolerance {:.0e})",
+        SYMMETRY_TOLERANCE
+    )]
+    NotRadial {
+        /// The `N` asked for.
+        n: u32,
+        /// The worst relative distance.
+        relative: f64,
+        /// The node where it is largest.
+        node: usize,
+    },
+    /// The turn by `2π / N` maps a grid line to one of another spacing ratio.
+    #[error(
+        "the model's grid line spacing is not {n}-fold symmetric about the z axis: the regulation would break the symmetry"
+    )]
+    RadialSpacing {
+        /// The `N` asked for.
+        n: u32,
+    },
 }
 
-/// A lattice index map along one direction: the identity or `a ↦ (c − a) mod len`.
+/// The symmetry a model is sculpted with: any of the three coordinate mirrors, and an
+/// `N`-fold turn about the z axis (the axis of every rotational primitive); together they
+/// generate the group kept (see [`Symmetry`]).
+#[derive(Debug, Clone, Default, PartialEq, Eq, Hash)]
+pub struct SymmetrySpec {
+    /// The mirror planes (sorted, each once).
+    pub planes: Vec<Plane>,
+    /// `N` of the radial symmetry (0 or 1: none).
+    pub radial: u32,
+    /// Lathe: every operation applied all the way round. The group is the radial symmetry
+    /// with `N` = the patch columns around the axis (when `radial` is not given: a group made
+    /// for a lathe keeps its `N` in `radial`, so a refined grid keeps the same group), and the displacement field the envelope
+    /// of the operation turned by every `2π / K`, `K` = the smallest multiple of `N` that is
+    /// at least [`LATHE_TURNS`].
+    pub lathe: bool,
+}
+
+/// The least number of turned copies of an operation a lathe stroke applies (every 3.75°).
+pub const LATHE_TURNS: u32 = 96;
+
+impl SymmetrySpec {
+    /// The mirror across one plane.
+    #[must_use]
+    pub fn mirror(plane: Plane) -> Self {
+        Self {
+            planes: vec![plane],
+            ..Self::default()
+        }
+    }
+
+    /// Nothing to keep.
+    #[must_use]
+    pub fn is_none(&self) -> bool {
+        self.planes.is_empty() && self.radial <= 1 && !self.lathe
+    }
+
+    /// With `plane` added (kept sorted, each once).
+    pub fn add_plane(&mut self, plane: Plane) {
+        if !self.planes.contains(&plane) {
+            self.planes.push(plane);
+            self.planes.sort_by_key(|p| p.axis());
+        }
+    }
+}
+
+impl std::fmt::Display for SymmetrySpec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut parts: Vec<String> = self.planes.iter().map(|p| format!("mirror {p}")).collect();
+        if self.lathe {
+            parts.push("lathe about the z axis".to_string());
+        } else if self.radial > 1 {
+            parts.push(format!("{}-fold about the z axis", self.radial));
+        }
+        if parts.is_empty() {
+            write!(f, "none")
+        } else {
+            write!(f, "{}", parts.join(", "))
+        }
+    }
+}
+
+/// A lattice index map along one direction: the identity, `a ↦ (a + s) mod len` or
+/// `a ↦ (c − a) mod len`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum LatticeMap {
+pub(super) enum LatticeMap {
     Identity,
+    Shift { s: usize, len: usize },
     Reflect { c: usize, len: usize },
 }
 
 impl LatticeMap {
     #[inline]
-    fn apply(self, a: usize) -> isize {
+    pub(super) fn apply(self, a: usize) -> isize {
         match self {
             LatticeMap::Identity => a as isize,
+            LatticeMap::Shift { s, len } => ((a + s) % len) as isize,
             LatticeMap::Reflect { c, len } => (c as isize - a as isize).rem_euclid(len as isize),
         }
     }
 
-    fn candidates(len: usize, closed: bool) -> Vec<LatticeMap> {
+    fn candidates(len: usize, closed: bool, turns: bool) -> Vec<LatticeMap> {
         let mut out = vec![LatticeMap::Identity];
         if closed {
             out.extend((0..len).step_by(3).map(|c| LatticeMap::Reflect { c, len }));
+            if turns {
+                out.extend((3..len).step_by(3).map(|s| LatticeMap::Shift { s, len }));
+            }
         } else {
             // a ↦ len − 1 − a.
             out.push(LatticeMap::Reflect {
@@ -180,27 +284,29 @@ impl LatticeMap {
         out
     }
 
-    fn reverses(self) -> bool {
-        self != LatticeMap::Identity
+    pub(super) fn reverses(self) -> bool {
+        matches!(self, LatticeMap::Reflect { .. })
+    }
+
+    /// The map on a global grid parameter `T ∈ [0, count]` (lattice index `3T`).
+    pub(super) fn parameter(self, t: f64, count: usize, closed: bool) -> f64 {
+        let r = match self {
+            LatticeMap::Identity => return t,
+            LatticeMap::Shift { s, .. } => t + s as f64 / 3.0,
+            LatticeMap::Reflect { c, .. } => c as f64 / 3.0 - t,
+        };
+        if closed {
+            r.rem_euclid(count as f64)
+        } else {
+            r
+        }
     }
 }
 
-/// The mirror map of a symmetric grid: each control point's partner, each patch's, each grid
-/// vertex's. Made once per grid shape ([`Symmetry::of`]) and reused for every operation.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Symmetry {
-    plane: Plane,
-    mu: LatticeMap,
-    mv: LatticeMap,
-    counts: (usize, usize),
-    nodes: Vec<usize>,
-    patches: Vec<usize>,
-}
-
-/// The error of candidate `(mu, mv)` on the nodes listed (all when `None`).
+/// The error of candidate `(mu, mv)` on the nodes listed (every `step`-th).
 fn map_error(
     grid: &Grid,
-    plane: Plane,
+    iso: &Isometry,
     mu: LatticeMap,
     mv: LatticeMap,
     step: usize,
@@ -221,7 +327,7 @@ fn map_error(
             ) else {
                 return (f64::INFINITY, 0);
             };
-            let e = (plane.reflect(nodes[id]) - nodes[partner]).length();
+            let e = (iso.apply(nodes[id]) - nodes[partner]).length();
             if e.is_nan() {
                 return (f64::INFINITY, id);
             }
@@ -233,17 +339,21 @@ fn map_error(
     worst
 }
 
-fn best_map(grid: &Grid, plane: Plane) -> (LatticeMap, LatticeMap, Asymmetry) {
+/// The best lattice maps for `iso` and the relative error with its worst node.
+pub(super) fn best_map(grid: &Grid, iso: &Isometry) -> (LatticeMap, LatticeMap, f64, usize) {
     let t = grid.topology();
     let (la, lb) = grid.lattice_size();
-    let us = LatticeMap::candidates(la, t.closed_u());
-    let vs = LatticeMap::candidates(lb, t.closed_v());
+    // A turn, or the half turn that the mirrors across x and y make together, shifts the
+    // closed direction.
+    let [fx, fy, _] = iso.flips();
+    let us = LatticeMap::candidates(la, t.closed_u(), iso.turns() || (fx && fy));
+    let vs = LatticeMap::candidates(lb, t.closed_v(), false);
     let total = la * lb;
     let step = (total / 64).max(1);
     let mut ranked: Vec<(f64, LatticeMap, LatticeMap)> = Vec::new();
     for &mu in &us {
         for &mv in &vs {
-            ranked.push((map_error(grid, plane, mu, mv, step).0, mu, mv));
+            ranked.push((map_error(grid, iso, mu, mv, step).0, mu, mv));
         }
     }
     ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -255,26 +365,23 @@ fn best_map(grid: &Grid, plane: Plane) -> (LatticeMap, LatticeMap, Asymmetry) {
         .max(f64::MIN_POSITIVE);
     let mut best = (LatticeMap::Identity, LatticeMap::Identity, f64::INFINITY, 0);
     for &(_, mu, mv) in ranked.iter().take(4) {
-        let (e, node) = map_error(grid, plane, mu, mv, 1);
+        let (e, node) = map_error(grid, iso, mu, mv, 1);
         if e < best.2 {
             best = (mu, mv, e, node);
         }
     }
-    (
-        best.0,
-        best.1,
-        Asymmetry {
-            plane,
-            relative: best.2 / scale,
-            node: best.3,
-        },
-    )
+    (best.0, best.1, best.2 / scale, best.3)
 }
 
 /// How far `grid` is from being symmetric about `plane` (see the module docs).
 #[must_use]
 pub fn symmetry_error(grid: &Grid, plane: Plane) -> Asymmetry {
-    best_map(grid, plane).2
+    let (_, _, relative, node) = best_map(grid, &Isometry::reflection(plane.axis()));
+    Asymmetry {
+        plane,
+        relative,
+        node,
+    }
 }
 
 /// True when `grid` is symmetric about `plane` within [`SYMMETRY_TOLERANCE`] and its spacing
@@ -284,226 +391,22 @@ pub fn is_symmetric(grid: &Grid, plane: Plane) -> bool {
     Symmetry::of(grid, plane).is_ok()
 }
 
-impl Symmetry {
-    /// The mirror map of a grid symmetric about `plane`.
-    ///
-    /// # Errors
-    /// [`MirrorError::NotSymmetric`] (with the worst node) beyond [`SYMMETRY_TOLERANCE`];
-    /// [`MirrorError::Spacing`] when a reversed grid line's spacing ratio does not mirror.
-    pub fn of(grid: &Grid, plane: Plane) -> Result<Symmetry, MirrorError> {
-        let (mu, mv, asym) = best_map(grid, plane);
-        if asym.relative.is_nan() || asym.relative > SYMMETRY_TOLERANCE {
-            return Err(MirrorError::NotSymmetric(asym));
-        }
-        let (m, n) = (grid.patches_u(), grid.patches_v());
-        let (la, lb) = grid.lattice_size();
-        // Spacing: line k goes to line k' = mu(3k)/3; reversed, its ratio must invert.
-        let ratio_check = |count: usize, map: LatticeMap, ratio: &dyn Fn(usize) -> f64| {
-            for k in 0..count {
-                let k2 = (map.apply(3 * k) / 3) as usize;
-                let (r, r2) = (ratio(k), ratio(k2));
-                let want = if map.reverses() { 1.0 / r } else { r };
-                if (want - r2).abs() > 1e-9 * want.abs().max(1.0) {
-                    return Err(MirrorError::Spacing {
-                        plane,
-                        ratio: r,
-                        partner: r2,
-                    });
-                }
-            }
-            Ok(())
-        };
-        ratio_check(grid.vertices_u(), mu, &|k| grid.ratio_u(k))?;
-        ratio_check(grid.vertices_v(), mv, &|q| grid.ratio_v(q))?;
-        let mut nodes = vec![0usize; grid.nodes().len()];
-        for b in 0..lb {
-            for a in 0..la {
-                if let (Some(id), Some(p)) = (
-                    grid.node_id(a as isize, b as isize),
-                    grid.node_id(mu.apply(a), mv.apply(b)),
-                ) {
-                    nodes[id] = p;
-                }
-            }
-        }
-        let patch_of = |map: LatticeMap, i: usize, count: usize, closed: bool| -> usize {
-            match map {
-                LatticeMap::Identity => i,
-                // Columns 3i..3i+3 go to c − 3i − 3 .. c − 3i.
-                LatticeMap::Reflect { c, .. } => {
-                    let start = c as isize - 3 * i as isize - 3;
-                    let p = start.div_euclid(3);
-                    if closed {
-                        p.rem_euclid(count as isize) as usize
-                    } else {
-                        p as usize
-                    }
-                }
-            }
-        };
-        let t = grid.topology();
-        let mut patches = vec![0usize; m * n];
-        for iv in 0..n {
-            for iu in 0..m {
-                let pu = patch_of(mu, iu, m, t.closed_u());
-                let pv = patch_of(mv, iv, n, t.closed_v());
-                patches[iv * m + iu] = pv * m + pu;
-            }
-        }
-        Ok(Symmetry {
-            plane,
-            mu,
-            mv,
-            counts: (m, n),
-            nodes,
-            patches,
-        })
-    }
-
-    /// The mirror plane.
-    #[must_use]
-    pub fn plane(&self) -> Plane {
-        self.plane
-    }
-
-    /// The partner of node `id`.
-    #[must_use]
-    pub fn node_partner(&self, id: usize) -> usize {
-        self.nodes[id]
-    }
-
-    /// The partner of patch `p` (`iv * M + iu`).
-    #[must_use]
-    pub fn patch_partner(&self, p: usize) -> usize {
-        self.patches[p]
-    }
-
-    /// The partner of grid vertex `(k, q)`.
-    #[must_use]
-    pub fn vertex_partner(&self, grid: &Grid, k: usize, q: usize) -> (usize, usize) {
-        let wrap = |x: isize, len: usize| x.rem_euclid(len as isize) as usize;
-        let (vu, vv) = (grid.vertices_u(), grid.vertices_v());
-        (
-            wrap(self.mu.apply(3 * k) / 3, vu),
-            wrap(self.mv.apply(3 * q) / 3, vv),
-        )
-    }
-
-    /// The partner of a pole.
-    #[must_use]
-    pub fn pole_partner(&self, end: PoleEnd) -> PoleEnd {
-        match (self.mv.reverses(), end) {
-            (false, e) => e,
-            (true, PoleEnd::Start) => PoleEnd::End,
-            (true, PoleEnd::End) => PoleEnd::Start,
+/// Whether every spacing ratio goes to an equal one under `map` (its inverse where the map
+/// reverses the direction).
+pub(super) fn spacing_maps(
+    count: usize,
+    map: LatticeMap,
+    ratio: &dyn Fn(usize) -> f64,
+) -> Result<(), (f64, f64)> {
+    for k in 0..count {
+        let k2 = (map.apply(3 * k) / 3) as usize;
+        let (r, r2) = (ratio(k), ratio(k2));
+        let want = if map.reverses() { 1.0 / r } else { r };
+        if (want - r2).abs() > 1e-9 * want.abs().max(1.0) {
+            return Err((r, r2));
         }
     }
-
-    /// Whether this map was made for a grid of these counts.
-    #[must_use]
-    pub fn fits(&self, grid: &Grid) -> bool {
-        self.counts == (grid.patches_u(), grid.patches_v())
-            && self.nodes.len() == grid.nodes().len()
-    }
-
-    /// Makes the listed nodes and their partners exactly symmetric (see the module docs), and
-    /// the listed poles and their partners' first rings (where the regulation keeps a tangent
-    /// plane).
-    ///
-    /// # Errors
-    /// [`MirrorError::OtherGrid`] when the map does not fit the grid.
-    pub fn enforce(
-        &self,
-        grid: &mut Grid,
-        ids: &[usize],
-        poles: &[PoleEnd],
-    ) -> Result<(), MirrorError> {
-        if !self.fits(grid) {
-            return Err(MirrorError::OtherGrid);
-        }
-        let plane = self.plane;
-        let nodes = grid.nodes_mut();
-        for &id in ids {
-            let partner = self.nodes[id];
-            if partner == id {
-                nodes[id] = (nodes[id] + plane.reflect(nodes[id])) * 0.5;
-            } else {
-                let mean = (nodes[id] + plane.reflect(nodes[partner])) * 0.5;
-                nodes[id] = mean;
-                nodes[partner] = plane.reflect(mean);
-            }
-        }
-        if !poles.is_empty() {
-            self.enforce_poles(grid, poles);
-        }
-        Ok(())
-    }
-
-    /// Makes the whole grid exactly symmetric.
-    ///
-    /// # Errors
-    /// [`MirrorError::OtherGrid`] when the map does not fit the grid.
-    pub fn enforce_all(&self, grid: &mut Grid, poles: bool) -> Result<(), MirrorError> {
-        let ids: Vec<usize> = (0..grid.nodes().len()).collect();
-        let ends: Vec<PoleEnd> = if poles {
-            grid.poles().iter().map(|p| p.end).collect()
-        } else {
-            Vec::new()
-        };
-        self.enforce(grid, &ids, &ends)?;
-        let all: Vec<usize> = (0..grid.patch_count()).collect();
-        grid.refit(&all, &mut Vec::new());
-        Ok(())
-    }
-
-    fn enforce_poles(&self, grid: &mut Grid, listed: &[PoleEnd]) {
-        let plane = self.plane;
-        for pole in grid.poles() {
-            let partner_end = self.pole_partner(pole.end);
-            if !listed.contains(&pole.end) && !listed.contains(&partner_end) {
-                continue;
-            }
-            if partner_end != pole.end && pole.end == PoleEnd::End {
-                continue; // set from its partner
-            }
-            let o = grid.nodes()[pole.node];
-            let Some(mut n) = plane_normal(pole.ring.iter().map(|&id| grid.nodes()[id] - o)) else {
-                continue;
-            };
-            if partner_end == pole.end {
-                // A symmetric plane: its normal in the mirror plane or along its axis.
-                let mut a = n.to_array();
-                let k = plane.axis();
-                if a[k].abs() <= (1.0 - a[k] * a[k]).max(0.0).sqrt() {
-                    a[k] = 0.0;
-                } else {
-                    a = [0.0; 3];
-                    a[k] = 1.0;
-                }
-                let Some(sym) = DVec3::from_array(a).try_normalize() else {
-                    continue;
-                };
-                n = sym;
-            }
-            let nodes = grid.nodes_mut();
-            for &id in &pole.ring {
-                nodes[id] -= n * n.dot(nodes[id] - o);
-            }
-            // Exact partners again.
-            for &id in &pole.ring {
-                let partner = self.nodes[id];
-                if partner == id {
-                    nodes[id] = (nodes[id] + plane.reflect(nodes[id])) * 0.5;
-                } else if partner_end != pole.end || id < partner {
-                    nodes[partner] = plane.reflect(nodes[id]);
-                }
-            }
-            if partner_end != pole.end {
-                let p = self.nodes[pole.node];
-                nodes[p] = plane.reflect(nodes[pole.node]);
-            }
-        }
-    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -1,10 +1,12 @@
 //! Constraints and measures on the net: regulation (G1 by the paper's methods and by projection),
 //! verification of an operation's result, continuity measures (G1 and, in [`curvature`], G2),
-//! mirror symmetry. Uses the net and
+//! symmetry groups (mirrors and turns about the z axis). Uses the net and
 //! the base, nothing of the operations or the engine.
 
 pub mod continuity;
 pub mod curvature;
+pub mod isometry;
 pub(crate) mod mirror;
 pub mod regulate;
+mod symmetry;
 pub(crate) mod verify;

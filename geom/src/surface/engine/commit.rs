@@ -6,8 +6,8 @@
 //! control points may change ([`Commit::include`]). [`Commit::finish`] then
 //!
 //! 1. regulates the groups and poles it is given ([`regulate::regulate`]),
-//! 2. with a mirror, takes in the partners of every included patch and makes their control
-//!    points exactly symmetric ([`Symmetry::enforce`]), then takes in every other patch holding
+//! 2. with a symmetry, takes in the images of every included patch under every isometry of
+//!    the group and makes their control points exactly symmetric ([`Symmetry::enforce`]), then takes in every other patch holding
 //!    a control point that moved; a mirror made for a grid of other patch counts is an error,
 //!    never dropped,
 //! 3. lands a move's grabbed point exactly on its target ([`grab::land`]),
@@ -131,11 +131,14 @@ impl Commit {
                 return Err(other_grid());
             }
             for i in 0..self.changed.len() {
-                self.include(s.patch_partner(self.changed[i]));
+                let p = self.changed[i];
+                for q in s.patch_images(p) {
+                    self.include(q);
+                }
             }
             self.changed.sort_unstable();
             self.keep_included(grid);
-            let plane = s.plane();
+            let isometries: Vec<_> = s.isometries().copied().collect();
             let b = grid.bounds();
             let scale = b
                 .min
@@ -148,9 +151,11 @@ impl Commit {
             self.scratch.clear();
             for &p in &self.changed {
                 for id in grid.patch_node_ids(p % m, p / m) {
-                    let e = (plane.reflect(grid.nodes()[id]) - grid.nodes()[s.node_partner(id)])
-                        .length();
-                    worst = worst.max(e);
+                    for (e, g) in isometries.iter().enumerate() {
+                        let d = (g.apply(grid.nodes()[id]) - grid.nodes()[s.node_image(e, id)])
+                            .length();
+                        worst = worst.max(d);
+                    }
                     self.scratch.push(id);
                 }
             }

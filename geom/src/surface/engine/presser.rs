@@ -46,12 +46,13 @@ use glam::DVec3;
 
 use super::commit::{Commit, other_grid};
 use super::field::{DisplacementField, Envelope, displace};
+use crate::surface::Isometry;
 use crate::surface::bounds::Aabb;
 use crate::surface::error::SurfaceError;
 use crate::surface::grid::Grid;
 use crate::surface::group::PoleEnd;
 use crate::surface::marks::Marks;
-use crate::surface::mirror::{Plane, Symmetry};
+use crate::surface::mirror::Symmetry;
 use crate::surface::regulate::Regulation;
 use crate::surface::shape_fn::{Finger, Op};
 use crate::surface::topology::wrap;
@@ -391,13 +392,19 @@ impl Presser {
         // 1. The patches the changed placements reach, before and after the change.
         self.area.clear();
         self.area_marks.start(reference.patch_count());
-        let plane = self.mirror.as_ref().map(Symmetry::plane);
+        let images: Vec<(Isometry, Isometry)> = self
+            .mirror
+            .as_ref()
+            .map_or(&[][..], Symmetry::field_images)
+            .iter()
+            .map(|g| (*g, g.inverse()))
+            .collect();
         let new = self.next.iter().zip(&self.fresh).filter(|(_, f)| **f);
         let dropped = self.fingers.iter().zip(&self.kept).filter(|(_, k)| !**k);
         for (f, _) in new.chain(dropped) {
             let start = self.area.len();
             reference.hierarchy().query(
-                &|b| f.may_touch(b) || plane.is_some_and(|pl| f.may_touch(&pl.reflect_box(b))),
+                &|b| f.may_touch(b) || images.iter().any(|(_, inv)| f.may_touch(&inv.apply_box(b))),
                 &mut self.area,
             );
             let mut keep = start;
@@ -426,7 +433,7 @@ impl Presser {
         let mut field = ContactField {
             fingers: &mut self.next,
             near: &mut self.near,
-            plane,
+            images: &images,
         };
         let (unregulated, deformed) = (&mut self.unregulated, &mut self.deformed);
         displace(reference, &self.area, &mut field, |p, delta| {
@@ -640,14 +647,19 @@ struct ContactField<'a> {
     fingers: &'a mut [Reach],
     /// The fingers near the patch at hand, with the offset of their flows there.
     near: &'a mut Vec<(usize, usize)>,
-    plane: Option<Plane>,
+    /// The symmetry's images of the field, each with its inverse (empty: none).
+    images: &'a [(Isometry, Isometry)],
 }
 
 impl DisplacementField for ContactField<'_> {
     fn may_touch(&self, b: &Aabb) -> bool {
-        self.fingers
-            .iter()
-            .any(|f| f.may_touch(b) || self.plane.is_some_and(|pl| f.may_touch(&pl.reflect_box(b))))
+        self.fingers.iter().any(|f| {
+            f.may_touch(b)
+                || self
+                    .images
+                    .iter()
+                    .any(|(_, inv)| f.may_touch(&inv.apply_box(b)))
+        })
     }
 
     fn touches(&mut self, _patch: usize, _bounds: &Aabb) -> bool {
@@ -655,27 +667,30 @@ impl DisplacementField for ContactField<'_> {
     }
 
     fn flows(&mut self, p: usize, bounds: &Aabb, r: &[DVec3; 16]) -> [DVec3; 16] {
-        let plane = self.plane;
-        let mirrored = plane.map(|pl| pl.reflect_box(bounds));
+        let images = self.images;
+        let mirrored: Vec<Aabb> = images
+            .iter()
+            .map(|(_, inv)| inv.apply_box(bounds))
+            .collect();
         self.near.clear();
         for (k, f) in self.fingers.iter_mut().enumerate() {
-            if !(f.overlaps(bounds) || mirrored.as_ref().is_some_and(|b| f.overlaps(b))) {
+            if !(f.overlaps(bounds) || mirrored.iter().any(|b| f.overlaps(b))) {
                 continue;
             }
             let at = match f.memo.find(p) {
                 Some(at) => at,
                 None => {
-                    let touches =
-                        f.may_touch(bounds) || mirrored.as_ref().is_some_and(|b| f.may_touch(b));
+                    let touches = f.may_touch(bounds) || mirrored.iter().any(|b| f.may_touch(b));
                     let at = if touches {
                         let at = f.memo.flows.len();
                         for x in r {
                             let flow = f.flow(*x);
                             f.memo.flows.push(flow);
                         }
-                        if let Some(pl) = plane {
+                        // g F(g⁻¹ x) for every image g.
+                        for (g, inv) in images {
                             for x in r {
-                                let flow = pl.reflect(f.flow(pl.reflect(*x)));
+                                let flow = g.apply(f.flow(inv.apply(*x)));
                                 f.memo.flows.push(flow);
                             }
                         }
@@ -697,8 +712,8 @@ impl DisplacementField for ContactField<'_> {
             for &(f, at) in self.near.iter() {
                 let memo = &self.fingers[f].memo.flows;
                 e.add(memo[at + k]);
-                if plane.is_some() {
-                    e.add(memo[at + 16 + k]);
+                for i in 0..images.len() {
+                    e.add(memo[at + 16 * (i + 1) + k]);
                 }
             }
             e.flow()

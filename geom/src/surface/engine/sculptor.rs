@@ -5,13 +5,14 @@ use glam::DVec3;
 
 use super::commit::{Commit, other_grid};
 use super::field::{DisplacementField, Envelope, displace};
+use crate::surface::Isometry;
 use crate::surface::bounds::Aabb;
 use crate::surface::error::SurfaceError;
 use crate::surface::grab::Hold;
 use crate::surface::grid::Grid;
 use crate::surface::group::PoleEnd;
 use crate::surface::marks::Marks;
-use crate::surface::mirror::{Plane, Symmetry};
+use crate::surface::mirror::Symmetry;
 use crate::surface::nearest::nearest;
 use crate::surface::regulate::Regulation;
 use crate::surface::shape_fn::{Finger, Op};
@@ -52,13 +53,14 @@ pub struct Sculptor {
     last_energy: Option<EnergyDrop>,
 }
 
-/// One finger of the shape functions on the current grid, with its mirror image when there
-/// is a mirror plane (the two combined by the [`Envelope`]).
+/// One finger of the shape functions on the current grid, with its images under a symmetry
+/// (all combined by the [`Envelope`]).
 struct FingerField<'a> {
     finger: &'a Finger,
     /// How far behind its tip the finger reaches ([`Finger::reach_depth`]).
     depth: f64,
-    plane: Option<Plane>,
+    /// The symmetry's images of the field ([`Symmetry::field_images`]; empty: none).
+    images: &'a [Isometry],
     /// The finger's segments that may reach the patch at hand (one-sided only).
     segments: &'a mut Vec<usize>,
 }
@@ -67,23 +69,29 @@ impl DisplacementField for FingerField<'_> {
     fn may_touch(&self, b: &Aabb) -> bool {
         self.finger.may_touch(b, self.depth)
             || self
-                .plane
-                .is_some_and(|pl| self.finger.may_touch(&pl.reflect_box(b), self.depth))
+                .images
+                .iter()
+                .any(|g| self.finger.may_touch(&g.inverse().apply_box(b), self.depth))
     }
 
     fn touches(&mut self, _patch: usize, bounds: &Aabb) -> bool {
-        self.plane.is_some() || self.finger.restricted_to(bounds, self.depth, self.segments)
+        !self.images.is_empty() || self.finger.restricted_to(bounds, self.depth, self.segments)
     }
 
     fn flows(&mut self, _patch: usize, _bounds: &Aabb, r: &[DVec3; 16]) -> [DVec3; 16] {
-        std::array::from_fn(|k| match self.plane {
-            None => self.finger.flow_over(r[k], self.segments),
-            Some(pl) => {
-                let mut e = Envelope::default();
-                e.add(self.finger.flow(r[k]));
-                e.add(pl.reflect(self.finger.flow(pl.reflect(r[k]))));
-                e.flow()
+        if self.images.is_empty() {
+            return std::array::from_fn(|k| self.finger.flow_over(r[k], self.segments));
+        }
+        // g F(g⁻¹ x): the image of the field under g, for every g of the group.
+        let pairs: Vec<(Isometry, Isometry)> =
+            self.images.iter().map(|g| (*g, g.inverse())).collect();
+        std::array::from_fn(|k| {
+            let mut e = Envelope::default();
+            e.add(self.finger.flow(r[k]));
+            for (g, inv) in &pairs {
+                e.add(g.apply(self.finger.flow(inv.apply(r[k]))));
             }
+            e.flow()
         })
     }
 }
@@ -132,11 +140,13 @@ impl Sculptor {
         self.apply_with(grid, op, regulation, None)
     }
 
-    /// Applies one operation together with its mirror image across the symmetry's plane, as
-    /// one operation: the two displacement fields combined by the engine's one envelope rule
-    /// (each sample moves by the stronger of the two flows; by their mean where they are
-    /// equally strong), regulated once, then made exactly symmetric ([`Symmetry::enforce`]);
-    /// a move lands both grabbed points, a smoothing stroke relaxes both regions.
+    /// Applies one operation together with its images under the symmetry (its mirror image
+    /// across a plane; every image under a group of mirrors and turns; the operation turned
+    /// all the way round for a lathe), as one operation: the displacement fields combined by
+    /// the engine's one envelope rule (each sample moves by the strongest flow; by the mean
+    /// of the equally strongest), regulated once, then made exactly symmetric
+    /// ([`Symmetry::enforce`]); a move lands every image of the grabbed point, a smoothing
+    /// stroke relaxes every image of its region.
     ///
     /// # Errors
     /// As [`Sculptor::apply`]; [`SurfaceError::BadOp`] when the symmetry was made for a grid
@@ -233,7 +243,7 @@ impl Sculptor {
         let mut field = FingerField {
             finger,
             depth: finger.reach_depth(&grid.bounds()),
-            plane: symmetry.map(Symmetry::plane),
+            images: symmetry.map_or(&[], Symmetry::field_images),
             segments: &mut self.segments,
         };
         // 1. Reach (and the mirror image's).
@@ -253,7 +263,7 @@ impl Sculptor {
         if let Some(h) = &hold {
             let mut held = vec![h.patch];
             if let Some(s) = symmetry {
-                held.push(s.patch_partner(h.patch));
+                held.extend(s.patch_images(h.patch));
             }
             for p in held {
                 if !self.updates.iter().any(|(q, _)| *q == p) {
@@ -355,7 +365,12 @@ impl Sculptor {
     ) -> Result<Touched, SurfaceError> {
         let h = thin_plate_matrix();
         let centres: Vec<DVec3> = std::iter::once(at)
-            .chain(symmetry.map(|s| s.plane().reflect(at)))
+            .chain(
+                symmetry
+                    .map_or(&[][..], Symmetry::field_images)
+                    .iter()
+                    .map(|g| g.apply(at)),
+            )
             .collect();
         let mut step = strength;
         let mut last = EnergyDrop::default();

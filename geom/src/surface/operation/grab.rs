@@ -34,12 +34,20 @@
 //! and their weights across the plane nearly cancel (`Σ c² <` [`MIN_WEIGHT`]), the point is
 //! not pulled across the plane (the translation would grow without bound): it lands exactly
 //! along the plane's two other axes only.
+//!
+//! With a group of mirrors and turns ([`Symmetry`]) the same holds with matrices: the orbit
+//! of a group `r` (its images `h r`, `h` in the symmetry group `G`) moves by `h P_r t_r`,
+//! `P_r = (1/|G_r|) Σ_{s ∈ G_r} s` the projector onto the translations the stabiliser `G_r`
+//! of `r` keeps. The surface point moves by `Σ_r A_r t_r`, `A_r = Σ_{h r ∋ patch} w_{hr} H P_r`,
+//! and the minimum-norm translations are `t_r = A_rᵀ (Σ_s A_s A_sᵀ)⁺ δ`, the pseudo-inverse
+//! dropping directions of eigenvalue below [`MIN_WEIGHT`] (the point is not pulled where the
+//! symmetry holds it, e.g. off the axis at a pole a turn keeps).
 
 // Per-coordinate and per-slot loops index several small fixed arrays at once; the index
 // form follows the formulas.
 #![allow(clippy::needless_range_loop)]
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use crate::surface::grid::Grid;
 use crate::surface::group::PoleEnd;
@@ -131,6 +139,13 @@ fn owners(grid: &Grid, patch: usize, u: f64, v: f64) -> Vec<(Owner, f64)> {
 /// docs); returns the node ids moved (each once). Every moved node belongs to a group at a
 /// corner of the held patch (or its partner's): callers must have backed them up.
 pub(crate) fn land(grid: &mut Grid, hold: &Hold, symmetry: Option<&Symmetry>) -> Vec<usize> {
+    let (symmetry, plane) = match symmetry {
+        Some(s) => match s.plane() {
+            Some(plane) => (Some(s), plane),
+            None => return land_group(grid, hold, s),
+        },
+        None => (None, crate::surface::mirror::Plane::X),
+    };
     let m = grid.patches_u();
     let (iu, iv) = (hold.patch % m, hold.patch / m);
     let owned = owners(grid, hold.patch, hold.u, hold.v);
@@ -145,11 +160,11 @@ pub(crate) fn land(grid: &mut Grid, hold: &Hold, symmetry: Option<&Symmetry>) ->
                 let rep = g.min(p);
                 let mut sign = [1.0; 3];
                 if g != rep {
-                    sign[s.plane().axis()] = -1.0;
+                    sign[plane.axis()] = -1.0;
                 }
                 if p == g {
                     // Its own partner: no movement across the mirror plane.
-                    sign[s.plane().axis()] = 0.0;
+                    sign[plane.axis()] = 0.0;
                 }
                 (rep, Some(p.max(g)), sign)
             }
@@ -191,8 +206,8 @@ pub(crate) fn land(grid: &mut Grid, hold: &Hold, symmetry: Option<&Symmetry>) ->
                 nodes[id] += t;
             }
             moved.extend_from_slice(&ids);
-            if let (Some(p), Some(sym)) = (partner, symmetry) {
-                let rt = sym.plane().reflect(t);
+            if let (Some(p), Some(_)) = (partner, symmetry) {
+                let rt = plane.reflect(t);
                 let ids = p.nodes(grid);
                 let nodes = grid.nodes_mut();
                 for &id in &ids {
@@ -205,6 +220,138 @@ pub(crate) fn land(grid: &mut Grid, hold: &Hold, symmetry: Option<&Symmetry>) ->
     moved.sort_unstable();
     moved.dedup();
     moved
+}
+
+/// An orbit of control-point groups under a symmetry group: its representative, the
+/// projector `P_r`, `A_r`, and every member with an isometry taking the representative to it.
+type Orbit = (Owner, DMat3, DMat3, Vec<(Owner, DMat3)>);
+
+/// [`land`] for a group that is not one mirror (see the module docs).
+fn land_group(grid: &mut Grid, hold: &Hold, s: &Symmetry) -> Vec<usize> {
+    let m = grid.patches_u();
+    let (iu, iv) = (hold.patch % m, hold.patch / m);
+    let isos: Vec<DMat3> = s.isometries().map(|g| g.matrix()).collect();
+    let image = |o: Owner, e: usize| match o {
+        Owner::Vertex(k, q) => {
+            let (k2, q2) = s.vertex_image(e, grid, k, q);
+            Owner::Vertex(k2, q2)
+        }
+        Owner::Pole(end) => {
+            let e2 = if end { PoleEnd::End } else { PoleEnd::Start };
+            Owner::Pole(s.pole_image(e, e2) == PoleEnd::End)
+        }
+    };
+    // Orbits: (representative, projector P_r, A_r, members).
+    let mut orbits: Vec<Orbit> = Vec::new();
+    for (o, w) in owners(grid, hold.patch, hold.u, hold.v) {
+        let images: Vec<Owner> = (0..isos.len()).map(|e| image(o, e)).collect();
+        let rep = images.iter().copied().fold(o, Owner::min);
+        // H: an isometry taking the representative to `o`.
+        let h = if rep == o {
+            DMat3::IDENTITY
+        } else {
+            (0..isos.len())
+                .find(|&e| image(rep, e) == o)
+                .map_or(DMat3::IDENTITY, |e| isos[e])
+        };
+        let stab: Vec<usize> = (0..isos.len()).filter(|&e| image(rep, e) == rep).collect();
+        let p = stab.iter().fold(DMat3::IDENTITY, |acc, &e| acc + isos[e])
+            * (1.0 / (stab.len() + 1) as f64);
+        let a = h * p * w;
+        match orbits.iter_mut().find(|(r, _, _, _)| *r == rep) {
+            Some(entry) => entry.2 += a,
+            None => {
+                // Every member of the orbit once, with an isometry taking the
+                // representative to it.
+                let mut members = vec![(rep, DMat3::IDENTITY)];
+                for (e, g) in isos.iter().enumerate() {
+                    let o = image(rep, e);
+                    if !members.iter().any(|(x, _)| *x == o) {
+                        members.push((o, *g));
+                    }
+                }
+                orbits.push((rep, p, a, members));
+            }
+        }
+    }
+    let mut moved = Vec::new();
+    for _pass in 0..2 {
+        let delta = hold.to - grid.eval(iu, iv, hold.u, hold.v);
+        let total = orbits
+            .iter()
+            .fold(DMat3::ZERO, |acc, (_, _, a, _)| acc + *a * a.transpose());
+        let y = pseudo_inverse(total, MIN_WEIGHT) * delta;
+        for (_, p, a, members) in &orbits {
+            let t = *p * (a.transpose() * y);
+            if t == DVec3::ZERO || !t.is_finite() {
+                continue;
+            }
+            for (o, g) in members {
+                let ids = o.nodes(grid);
+                let tg = *g * t;
+                let nodes = grid.nodes_mut();
+                for &id in &ids {
+                    nodes[id] += tg;
+                }
+                moved.extend_from_slice(&ids);
+            }
+        }
+    }
+    moved.sort_unstable();
+    moved.dedup();
+    moved
+}
+
+/// The pseudo-inverse of a symmetric 3×3 matrix, eigenvalues below `floor` dropped (cyclic
+/// Jacobi rotations).
+fn pseudo_inverse(a: DMat3, floor: f64) -> DMat3 {
+    let mut m = a.to_cols_array_2d();
+    let mut v = DMat3::IDENTITY.to_cols_array_2d();
+    for _sweep in 0..32 {
+        let off = m[0][1].abs() + m[0][2].abs() + m[1][2].abs();
+        if off < 1e-30 {
+            break;
+        }
+        for (p, q) in [(0usize, 1usize), (0, 2), (1, 2)] {
+            if m[p][q].abs() < 1e-300 {
+                continue;
+            }
+            let theta = (m[q][q] - m[p][p]) / (2.0 * m[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let sn = t * c;
+            for k in 0..3 {
+                let (mkp, mkq) = (m[k][p], m[k][q]);
+                m[k][p] = c * mkp - sn * mkq;
+                m[k][q] = sn * mkp + c * mkq;
+            }
+            for k in 0..3 {
+                let (mpk, mqk) = (m[p][k], m[q][k]);
+                m[p][k] = c * mpk - sn * mqk;
+                m[q][k] = sn * mpk + c * mqk;
+            }
+            for row in &mut v {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - sn * vq;
+                row[q] = sn * vp + c * vq;
+            }
+        }
+    }
+    // a = V diag(λ) Vᵀ with the eigenvectors the columns of V (rows of `v` index k).
+    let mut out = DMat3::ZERO;
+    for i in 0..3 {
+        let l = m[i][i];
+        if l < floor {
+            continue;
+        }
+        let e = DVec3::new(v[0][i], v[1][i], v[2][i]);
+        out += outer(e, e) * (1.0 / l);
+    }
+    out
+}
+
+fn outer(a: DVec3, b: DVec3) -> DMat3 {
+    DMat3::from_cols(a * b.x, a * b.y, a * b.z)
 }
 
 #[cfg(test)]

@@ -287,7 +287,8 @@ fn the_clutch_key_held_moves_the_hand_without_touching_and_is_recorded() {
         finger_radius: None,
         auto_refine: false,
         no_auto_refine: false,
-        mirror: None,
+        mirror: Vec::new(),
+        turns: crate::cli::symmetry_args::TurnArgs::default(),
         no_filter: false,
         out: out.clone(),
     })

@@ -614,7 +614,8 @@ fn replay_with_defaults(trace: std::path::PathBuf, out: &std::path::Path) -> cra
         finger_radius: None,
         auto_refine: false,
         no_auto_refine: false,
-        mirror: None,
+        mirror: Vec::new(),
+        turns: crate::cli::symmetry_args::TurnArgs::default(),
         no_filter: false,
         out: out.to_path_buf(),
     });

@@ -75,6 +75,21 @@ impl Modeller {
             Command::FrameAll => self.frame_all(),
             Command::ToggleHelp => self.help = !self.help,
             Command::ToggleSymmetry => self.set_symmetry(!self.mirror.wanted()),
+            Command::SetSymmetrySpec(spec) => self.set_symmetry_spec(spec),
+            Command::ToggleRadial => {
+                // Off → radial N → lathe → off.
+                let spec = self.mirror.spec();
+                let next = if spec.lathe {
+                    self.mirror.with_radial(false)
+                } else if spec.radial > 1 {
+                    let mut lathe = self.mirror.with_radial(false);
+                    lathe.lathe = true;
+                    lathe
+                } else {
+                    self.mirror.with_radial(true)
+                };
+                self.set_symmetry_spec(next);
+            }
             Command::AdjustRadius => self.begin_adjust(Adjusted::Radius),
             Command::AdjustDepth => self.begin_adjust(Adjusted::Depth),
             Command::Cancel => self.cancel(),

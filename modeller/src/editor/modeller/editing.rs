@@ -82,14 +82,28 @@ impl Modeller {
         }
         self.mirror.set_wanted(on);
         let text = if on {
-            format!(
-                "symmetry on: strokes are mirrored across {}",
-                self.mirror.plane()
-            )
+            format!("symmetry on: {}", self.mirror.spec())
         } else {
             "symmetry off".to_string()
         };
         self.set_status(text, false);
+    }
+
+    /// Asks for another symmetry (mirrors, radial, lathe) and turns symmetry on with it; when
+    /// the model does not have it, says why and keeps the one before.
+    pub(super) fn set_symmetry_spec(&mut self, spec: crate::surface::SymmetrySpec) {
+        let before = self.mirror.spec().clone();
+        self.mirror.set_spec(spec);
+        let doc = &self.session.doc;
+        self.mirror.update(doc.revision(), &doc.model().surface);
+        if let Some(why) = self.mirror.why_not() {
+            self.mirror.set_spec(before);
+            self.update_mirror();
+            self.set_status(why, true);
+            return;
+        }
+        self.mirror.set_wanted(true);
+        self.set_status(format!("symmetry on: {}", self.mirror.spec()), false);
     }
 
     /// Applies the model's regulation to the whole surface as one undoable edit.

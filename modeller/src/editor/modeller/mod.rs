@@ -191,7 +191,8 @@ pub struct Modeller {
     hover_view: Option<(OrbitCamera, u64)>,
     /// The patches the finger would reach (hover) or reaches (stroke).
     reach: ReachedPatches,
-    /// Symmetry: every stroke mirrored across x = 0 (X).
+    /// Symmetry: every stroke mirrored across x = 0 (X), radial (Shift+X), the lathe, other
+    /// mirrors (the tool panel).
     mirror: MirrorToggle,
 }
 
@@ -633,12 +634,14 @@ impl Modeller {
             .preview(tool, &ctx, settings, lines, spheres);
         if tool.strokes() {
             self.reach.draw(&self.cache.display().mesh, lines);
-            if self.mirror.wanted()
-                && self.mirror.available()
-                && let Some((lo, hi)) = self.cache.display().mesh.bounds()
-            {
-                crate::editor::scene::mirror_plane(self.mirror.plane(), lo, hi, lines);
-            }
+        }
+        // The symmetry's planes and axis, under every tool (the Hand's contacts and the Move
+        // tool's grabs are applied with it too).
+        if self.mirror.wanted()
+            && self.mirror.available()
+            && let Some((lo, hi)) = self.cache.display().mesh.bounds()
+        {
+            crate::editor::scene::symmetry(self.mirror.spec(), lo, hi, lines);
         }
         if tool == Tool::Hand {
             self.hand.draw(lines, spheres);

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The window check: the modeller in a real window under Xvfb with software rendering, driven by
-# xdotool — a push on the surface with a real press, drag and release — then proof that the
+# xdotool — a push (with the soft brush, from its own settings file) on the surface with a real press, drag and release — then proof that the
 # model changed: the autosave holds a pushed plane (points below z = 0) and the window's pixels
 # changed where the surface is.
 #
@@ -38,6 +38,13 @@ fail() {
 start_xvfb
 
 AUTOSAVE="$WORK/autosave.nendo.json"
+# A settings file of its own (never the user's), with the soft brush at half strength: the push
+# below is a soft-brush stroke, read from the remembered settings.
+export XDG_CONFIG_HOME="$WORK/config"
+mkdir -p "$XDG_CONFIG_HOME/nendo"
+cat >"$XDG_CONFIG_HOME/nendo/settings.json" <<'JSON'
+{"format":"nendo-settings","version":1,"brush":{"falloff":"soft","strength":0.5,"radius":1.5}}
+JSON
 "$BIN" --autosave "$AUTOSAVE" --no-recover >"$WORK/app.log" 2>&1 &
 APP_PID=$!
 
@@ -119,4 +126,5 @@ import -window "$WID" "$WORK/zoom-after.png"
 zoom_diff="$(compare -metric AE -fuzz 5% "$WORK/zoom-a.png" "$WORK/zoom-b.png" null: 2>&1 || true)"
 zoom_diff="${zoom_diff%% *}"
 awk -v d="$zoom_diff" 'BEGIN { exit !(d + 0 > 500) }' || fail "the wheel over the 3D view did not zoom ($zoom_diff pixels)"
-echo "window check passed: autosave changed, $diff_pixels pixels changed on screen by the push, $zoom_diff by the zoom"
+grep -Eq '"falloff": *"soft"' "$XDG_CONFIG_HOME/nendo/settings.json" || fail "the soft brush was not kept in the settings file"
+echo "window check passed: autosave changed, $diff_pixels pixels changed on screen by the soft-brush push, $zoom_diff by the zoom"

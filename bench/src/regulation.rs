@@ -209,7 +209,11 @@ pub fn experiment_plane() -> Grid {
 /// [`REGION_RADII`] `r_f` of the push point (of the nearest point of a drag's path).
 #[must_use]
 pub fn fixed_region(s0: &[DVec3], op: &Op) -> Vec<usize> {
+    if let Op::Brushed { op, .. } = op {
+        return fixed_region(s0, op);
+    }
     let (points, radius): (Vec<DVec3>, f64) = match op {
+        Op::Brushed { .. } => return Vec::new(),
         Op::Push { at, radius, .. }
         | Op::PushNormal { at, radius, .. }
         | Op::Move { at, radius, .. }

@@ -93,6 +93,10 @@ pub fn cases() -> Vec<SculptCase> {
 #[must_use]
 pub fn reversed(op: &Op) -> Op {
     match op.clone() {
+        Op::Brushed { op, brush } => Op::Brushed {
+            op: Box::new(reversed(&op)),
+            brush,
+        },
         Op::Push {
             at,
             dir,

@@ -2,6 +2,7 @@
 //! Shared helpers (the binary, temporary directories, near-equality) live in [`support`].
 
 mod bounded_inputs;
+mod brushes;
 mod closest_cli;
 mod closest_fast_paths;
 mod curve_edit;

@@ -25,6 +25,7 @@ use crate::editor::modeller::Status;
 use crate::editor::scene::{Overlays, SurfaceDisplay};
 use crate::editor::symmetry::MirrorToggle;
 use crate::editor::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, Tool, ToolSettings};
+use crate::surface::Falloff;
 use crate::surface::continuity::ContinuityReport;
 use crate::surface::{Primitive, Regulation, Topology};
 
@@ -284,6 +285,17 @@ pub(super) fn tool_ui(
             .text("smooth strength"),
     )
     .on_hover_text("How much each smoothing dab relaxes the clay toward a fairer shape (a step down the thin-plate bending energy): 1 takes the whole step");
+    egui::ComboBox::from_label("brush")
+        .selected_text(s.falloff.name())
+        .show_ui(ui, |ui| {
+            for f in Falloff::ALL {
+                ui.selectable_value(&mut s.falloff, f, f.name());
+            }
+        })
+        .response
+        .on_hover_text("The profile push, pull and draw a line press: finger (the paper's paraboloid 1 − r²/R²), soft ((1 − r²/R²)³, no rim) or flat (full depth to half the radius, a smooth rim)");
+    ui.add(egui::Slider::new(&mut s.press_strength, STRENGTH_RANGE).text("brush strength"))
+        .on_hover_text("The fraction of the depth push, pull and draw a line press");
     ui.checkbox(&mut s.ridge, "draw ridges (not grooves)")
         .on_hover_text(
             "Draw a line raises a ridge instead of cutting a groove (Ctrl while drawing swaps it)",

@@ -7,8 +7,12 @@
 //!  "ports":{"mine":{"glove":"/dev/ttyUSB1","tracker":"/dev/ttyUSB0"}},
 //!  "record":true,"record_folder":"/home/me/traces","trace_folder":"/home/me/traces",
 //!  "orbit":"right","finger_radius":null,"devices_open":true,"pressing":"index,middle",
-//!  "fitted":["cyberglove2-18-fastrak","/home/me/.config/nendo/profiles/cyberglove2-18-fastrak-mine.json"]}
+//!  "fitted":["cyberglove2-18-fastrak","/home/me/.config/nendo/profiles/cyberglove2-18-fastrak-mine.json"],
+//!  "brush":{"radius":1.25,"depth":0.3,"strength":1.0,"falloff":"soft","smooth_strength":0.5,"ridge":false}}
 //! ```
+//!
+//! `brush` holds the sculpting tools' panel: finger radius, depth, brush strength and falloff
+//! (`finger`, `soft`, `flat`; [`crate::surface::brush`]), smoothing strength and ridges.
 //!
 //! Every member is optional (a missing one takes its default); unknown members are ignored,
 //! so an older nendo reads a newer file. A file that cannot be parsed (a syntax error, another
@@ -20,6 +24,9 @@
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+use crate::editor::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, ToolSettings};
+use crate::surface::Falloff;
 
 /// The format name the file carries.
 pub const SETTINGS_FORMAT: &str = "nendo-settings";
@@ -64,6 +71,65 @@ pub struct Settings {
     /// The profiles (keyed like `profile`) whose hand has been fitted to the model: their
     /// next connects keep the profile's scale instead of fitting it again.
     pub fitted: Vec<String>,
+    /// The sculpting tools' brush (a file without it gives the defaults).
+    pub brush: BrushSettings,
+}
+
+/// The brush settings of the sculpting tools (see the module docs; every member optional).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct BrushSettings {
+    /// The finger radius (side).
+    pub radius: f64,
+    /// The depth of a click and of a drawn line (side).
+    pub depth: f64,
+    /// The fraction of the depth push, pull and draw a line press.
+    pub strength: f64,
+    /// The falloff's name (`finger`, `soft`, `flat`).
+    pub falloff: String,
+    /// The smoothing strength.
+    pub smooth_strength: f64,
+    /// Draw ridges instead of grooves.
+    pub ridge: bool,
+}
+
+impl Default for BrushSettings {
+    fn default() -> Self {
+        BrushSettings::from_tools(&ToolSettings::default())
+    }
+}
+
+impl BrushSettings {
+    /// The brush members of the tools' settings.
+    #[must_use]
+    pub fn from_tools(t: &ToolSettings) -> Self {
+        BrushSettings {
+            radius: t.radius,
+            depth: t.depth,
+            strength: t.press_strength,
+            falloff: t.falloff.name().to_string(),
+            smooth_strength: t.strength,
+            ridge: t.ridge,
+        }
+    }
+
+    /// Sets the tools' brush members from these, each clamped into the panel's range (a
+    /// number that is not finite or a falloff not known keeps the tool's value).
+    pub fn apply_to(&self, t: &mut ToolSettings) {
+        let set = |x: f64, range: &std::ops::RangeInclusive<f64>, into: &mut f64| {
+            if x.is_finite() {
+                *into = x.clamp(*range.start(), *range.end());
+            }
+        };
+        set(self.radius, &RADIUS_RANGE, &mut t.radius);
+        set(self.depth, &DEPTH_RANGE, &mut t.depth);
+        set(self.strength, &STRENGTH_RANGE, &mut t.press_strength);
+        set(self.smooth_strength, &STRENGTH_RANGE, &mut t.strength);
+        if let Some(f) = Falloff::from_name(&self.falloff) {
+            t.falloff = f;
+        }
+        t.ridge = self.ridge;
+    }
 }
 
 impl Default for Settings {
@@ -81,6 +147,7 @@ impl Default for Settings {
             devices_open: false,
             pressing: None,
             fitted: Vec::new(),
+            brush: BrushSettings::default(),
         }
     }
 }

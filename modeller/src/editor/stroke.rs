@@ -312,6 +312,7 @@ pub fn edit_name(op: &Op) -> &'static str {
         Op::Drag { .. } | Op::Groove { .. } => "draw a line",
         Op::Move { .. } => "move",
         Op::Smooth { .. } => "smooth",
+        Op::Brushed { op, .. } => edit_name(op),
     }
 }
 

@@ -35,6 +35,10 @@ use crate::surface::{Dirs, Grid, MirrorError, Op, Plane, Symmetry, SymmetrySpec,
 pub fn reflect_op(op: &Op, plane: Plane) -> Op {
     let r = |v| plane.reflect(v);
     match op {
+        Op::Brushed { op, brush } => Op::Brushed {
+            op: Box::new(reflect_op(op, plane)),
+            brush: *brush,
+        },
         Op::Push {
             at,
             dir,

@@ -8,6 +8,7 @@
 //! {"op": "drag", "path": [[x, y, z], …], "dirs": [[dx, dy, dz], …], "depth": d, "radius": r_f}
 //! {"op": "move", "at": [x, y, z], "to": [x, y, z], "radius": r_f}
 //! {"op": "smooth", "at": [x, y, z], "radius": r, "strength": s}
+//! {"op": "push", …, "brush": "soft", "strength": s}
 //! ```
 //!
 //! A negative depth pulls (push) or raises a ridge (drag); see [`crate::surface::shape_fn`].
@@ -16,6 +17,9 @@
 //! (a drag has exactly one of `dir` and `dirs`). `move` takes the surface point nearest `at`
 //! exactly to `to` ([`crate::surface::grab`]); `smooth` (`0 < strength ≤ 1`) lowers the
 //! thin-plate energy within `radius` of `at` ([`crate::surface::smooth`]).
+//! A push or drag may name a brush (`"brush"`: `"finger"`, the default, `"soft"` or `"flat"`)
+//! and a `"strength"` (`0 < s ≤ 1`, default 1): the fraction of the depth it presses
+//! ([`crate::surface::brush`]); either member makes it an [`Op::Brushed`].
 //! Blank lines are skipped. Every line is validated completely (members, numbers, the
 //! operation's own constraints) before any is applied: a missing, unknown or repeated member
 //! is refused with its path and column (see [`crate::json_doc`]), and a `dir` whose length
@@ -27,7 +31,7 @@ use serde::de::IgnoredAny;
 use serde_json::{Value, json};
 
 use crate::json_doc::{self, JsonError};
-use crate::surface::{Dirs, Op, SurfaceError};
+use crate::surface::{Brush, Dirs, Falloff, Op, SurfaceError};
 
 /// A bad line of an operations file.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -78,6 +82,8 @@ struct PushDoc {
     dir: DirDoc,
     depth: f64,
     radius: f64,
+    brush: Option<String>,
+    strength: Option<f64>,
 }
 
 /// `{"op": "drag", "path", "dir" | "dirs", "depth", "radius"}`.
@@ -91,6 +97,8 @@ struct DragDoc {
     dirs: Option<Vec<[f64; 3]>>,
     depth: f64,
     radius: f64,
+    brush: Option<String>,
+    strength: Option<f64>,
 }
 
 /// `{"op": "move", "at", "to", "radius"}`.
@@ -178,9 +186,11 @@ pub fn parse_op(text: &str) -> Result<Op, OpError> {
     }
     let kind = json_doc::from_str::<OpKind>(text)?.op;
     let v = DVec3::from_array;
+    let mut brush = (None, None);
     let op = match kind.as_str() {
         "push" => {
             let d: PushDoc = json_doc::from_str(text)?;
+            brush = (d.brush, d.strength);
             match d.dir {
                 DirDoc::Vector(dir) => Op::Push {
                     at: v(d.at),
@@ -197,6 +207,7 @@ pub fn parse_op(text: &str) -> Result<Op, OpError> {
         }
         "drag" => {
             let d: DragDoc = json_doc::from_str(text)?;
+            brush = (d.brush, d.strength);
             let path: Vec<DVec3> = d.path.into_iter().map(v).collect();
             match (d.dir, d.dirs) {
                 (Some(DirDoc::Vector(dir)), None) => Op::Drag {
@@ -258,6 +269,27 @@ pub fn parse_op(text: &str) -> Result<Op, OpError> {
     if let Op::Push { dir, .. } | Op::Drag { dir, .. } = &op {
         check_dir(*dir)?;
     }
+    let op = match brush {
+        (None, None) => op,
+        (name, strength) => {
+            let falloff = match name {
+                None => Falloff::Finger,
+                Some(n) => Falloff::from_name(&n).ok_or_else(|| {
+                    JsonError::at(
+                        "brush",
+                        format!("unknown brush {n:?}: expected \"finger\", \"soft\" or \"flat\""),
+                    )
+                })?,
+            };
+            Op::Brushed {
+                op: Box::new(op),
+                brush: Brush {
+                    falloff,
+                    strength: strength.unwrap_or(1.0),
+                },
+            }
+        }
+    };
     op.validate()?;
     Ok(op)
 }
@@ -285,6 +317,14 @@ pub fn parse_ops(text: &str) -> Result<Vec<Op>, OpLineError> {
 pub fn op_to_json(op: &Op) -> Value {
     let p = |x: &DVec3| json!([x.x, x.y, x.z]);
     match op {
+        Op::Brushed { op, brush } => {
+            let mut doc = op_to_json(op);
+            if let Some(obj) = doc.as_object_mut() {
+                obj.insert("brush".to_string(), json!(brush.falloff.name()));
+                obj.insert("strength".to_string(), json!(brush.strength));
+            }
+            doc
+        }
         Op::Push {
             at,
             dir,
@@ -384,6 +424,17 @@ mod tests {
                 at: DVec3::new(1.0, 2.0, 3.0),
                 radius: 0.8,
                 strength: 0.5,
+            },
+            Op::Brushed {
+                op: Box::new(Op::PushNormal {
+                    at: DVec3::new(0.5, 0.5, 0.0),
+                    depth: 0.3,
+                    radius: 1.0,
+                }),
+                brush: Brush {
+                    falloff: Falloff::Soft,
+                    strength: 0.25,
+                },
             },
         ];
         for op in ops {

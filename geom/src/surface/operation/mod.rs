@@ -3,6 +3,7 @@
 //! refinement, and the deviation from an operation's ideal shape. Uses the layers below; the
 //! engine ([`super::engine`]) runs them.
 
+pub mod brush;
 pub mod deviation;
 pub(crate) mod grab;
 pub mod inverse;

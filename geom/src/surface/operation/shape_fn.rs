@@ -26,6 +26,7 @@
 
 use glam::DVec3;
 
+use super::brush::{Brush, Falloff};
 use crate::surface::bounds::Aabb;
 use crate::surface::error::SurfaceError;
 
@@ -95,6 +96,14 @@ pub enum Op {
         /// How much of the step is taken, `0 < s ≤ 1`.
         strength: f64,
     },
+    /// A pressing operation (push, pull, draw a line) with a brush: its falloff and the
+    /// fraction of its depth pressed ([`super::brush`]).
+    Brushed {
+        /// The push, pull or drag.
+        op: Box<Op>,
+        /// The brush.
+        brush: Brush,
+    },
 }
 
 /// The directions of a [`Op::Groove`].
@@ -122,6 +131,16 @@ impl Op {
         let bad = |s: &str| Err(SurfaceError::BadOp(s.to_string()));
         let radius_ok = |r: f64| r.is_finite() && r > 0.0;
         match self {
+            Op::Brushed { op, brush } => {
+                brush.validate()?;
+                match **op {
+                    Op::Push { .. }
+                    | Op::PushNormal { .. }
+                    | Op::Drag { .. }
+                    | Op::Groove { .. } => op.validate(),
+                    _ => bad("a brush applies to push, pull and drag only"),
+                }
+            }
             Op::Push { .. } | Op::Drag { .. } => self.finger().map(|_| ()),
             Op::PushNormal { at, depth, radius } => {
                 if !at.is_finite() {
@@ -206,6 +225,9 @@ impl Op {
     pub fn finger_on(&self, grid: &crate::surface::Grid) -> Result<Finger, SurfaceError> {
         self.validate()?;
         match self {
+            Op::Brushed { op, brush } => {
+                Ok(op.scaled(brush.strength).finger_on(grid)?.with(*brush))
+            }
             Op::PushNormal { at, depth, radius } => {
                 let dir = inward_normal(grid, *at)?;
                 Op::Push {
@@ -274,6 +296,10 @@ impl Op {
             Op::PushNormal { .. } | Op::Groove { .. } => {
                 return bad("a direction along the normal needs the surface (Op::finger_on)");
             }
+            Op::Brushed { op, brush } => {
+                self.validate()?;
+                return Ok(op.scaled(brush.strength).finger()?.with(*brush));
+            }
             Op::Move { .. } | Op::Smooth { .. } => {
                 return bad("move and smooth are not pressing fingers");
             }
@@ -320,6 +346,7 @@ impl Op {
             radius,
             radius_sq: radius * radius,
             shape,
+            falloff: Falloff::Finger,
         })
     }
 }
@@ -332,6 +359,8 @@ pub struct Finger {
     radius: f64,
     radius_sq: f64,
     shape: Reach,
+    /// The brush profile `w(r²/r_f²)` ([`super::brush`]).
+    falloff: Falloff,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -531,6 +560,7 @@ impl Finger {
             radius,
             radius_sq: radius * radius,
             shape: Reach::Strips(strips),
+            falloff: Falloff::Finger,
         })
     }
 
@@ -543,7 +573,21 @@ impl Finger {
             radius,
             radius_sq: radius * radius,
             shape: Reach::Ball { centre },
+            falloff: Falloff::Finger,
         }
+    }
+
+    /// This finger moving the clay by the brush's falloff (its strength is already in the
+    /// depth).
+    fn with(mut self, brush: Brush) -> Finger {
+        self.falloff = brush.falloff;
+        self
+    }
+
+    /// The brush profile.
+    #[must_use]
+    pub fn falloff(&self) -> Falloff {
+        self.falloff
     }
 
     /// The unit finger direction `d̂` (of the first strip for a groove).
@@ -592,7 +636,7 @@ impl Finger {
     #[inline]
     fn scaled(&self, r2: f64, movement: DVec3) -> DVec3 {
         if r2 < self.radius_sq {
-            movement * (1.0 - r2 / self.radius_sq)
+            movement * self.falloff.weight(r2 / self.radius_sq)
         } else {
             DVec3::ZERO
         }

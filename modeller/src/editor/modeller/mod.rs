@@ -32,7 +32,7 @@ use super::lifecycle::{DocumentSession, Pending, PrimitiveForm};
 use super::live::{LatencySummary, LiveInput, ViewAnchor};
 use super::reach::ReachedPatches;
 use super::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
-use super::settings::Settings;
+use super::settings::{BrushSettings, Settings};
 use super::stroke::LiveStroke;
 use super::symmetry::MirrorToggle;
 use super::tools::{Tool, ToolContext, ToolSettings, ToolState};
@@ -264,6 +264,7 @@ impl Modeller {
         }
         self.live.apply_settings(&settings);
         self.panel.devices_open = settings.devices_open;
+        settings.brush.apply_to(&mut self.tools.settings);
         self.panel.orbit = match settings.orbit.as_deref() {
             Some("middle") => OrbitButton::Middle,
             _ => OrbitButton::Right,
@@ -286,6 +287,7 @@ impl Modeller {
             .into(),
         );
         s.devices_open = self.panel.devices_open;
+        s.brush = BrushSettings::from_tools(&self.tools.settings);
         s
     }
 
@@ -784,13 +786,17 @@ impl Modeller {
             };
             return Some((cursor, text));
         };
-        let signed = stroke.shown().map_or(0.0, |op| match op {
-            Op::Push { depth, .. }
-            | Op::PushNormal { depth, .. }
-            | Op::Drag { depth, .. }
-            | Op::Groove { depth, .. } => *depth,
-            Op::Move { .. } | Op::Smooth { .. } => 0.0,
-        });
+        fn signed_depth(op: &Op) -> f64 {
+            match op {
+                Op::Push { depth, .. }
+                | Op::PushNormal { depth, .. }
+                | Op::Drag { depth, .. }
+                | Op::Groove { depth, .. } => *depth,
+                Op::Brushed { op, brush } => brush.strength * signed_depth(op),
+                Op::Move { .. } | Op::Smooth { .. } => 0.0,
+            }
+        }
+        let signed = stroke.shown().map_or(0.0, signed_depth);
         let way = if signed < 0.0 { "out" } else { "in" };
         let text = format!(
             "depth {depth:.3} {way} · {} patches",

@@ -206,20 +206,20 @@ impl ToolState {
         }
         let sign = self.sign(tool, settings);
         match &self.gesture {
-            Gesture::Press { hit, facing, .. } => Some(Op::Push {
+            Gesture::Press { hit, facing, .. } => Some(settings.brushed(Op::Push {
                 at: hit.point,
                 dir: -*facing,
                 depth: sign * depth,
                 radius: settings.radius,
-            }),
+            })),
             // Each path point presses along the surface's inward normal at the point nearest
             // to it (outward for a ridge): the groove follows the clay (issue 12).
-            Gesture::Stroke { path, .. } if path.len() >= 2 => Some(Op::Groove {
+            Gesture::Stroke { path, .. } if path.len() >= 2 => Some(settings.brushed(Op::Groove {
                 path: path.clone(),
                 dirs: Dirs::Normal,
                 depth: sign * depth,
                 radius: settings.radius,
-            }),
+            })),
             _ => None,
         }
     }

@@ -26,7 +26,7 @@ pub use gesture::ToolState;
 
 use crate::curve::Curve;
 use crate::curve::edit::GrabOptions;
-use crate::surface::Op;
+use crate::surface::{Falloff, Op};
 
 /// The tools.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -105,6 +105,25 @@ pub const DEPTH_RANGE: std::ops::RangeInclusive<f64> = 0.01..=3.0;
 /// The smoothing strength the panel allows (`0 < s ≤ 1`, [`Op::Smooth`]).
 pub const STRENGTH_RANGE: std::ops::RangeInclusive<f64> = 0.01..=1.0;
 
+impl ToolSettings {
+    /// `op` pressed with the panel's brush ([`Op::Brushed`]), or `op` itself for the finger
+    /// brush at full strength.
+    #[must_use]
+    pub fn brushed(&self, op: Op) -> Op {
+        if self.falloff == Falloff::Finger && self.press_strength == 1.0 {
+            op
+        } else {
+            Op::Brushed {
+                op: Box::new(op),
+                brush: crate::surface::Brush {
+                    falloff: self.falloff,
+                    strength: self.press_strength,
+                },
+            }
+        }
+    }
+}
+
 /// The finger and probe sizes.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ToolSettings {
@@ -116,6 +135,10 @@ pub struct ToolSettings {
     pub ridge: bool,
     /// Strength of each smoothing dab, `0 < s ≤ 1`.
     pub strength: f64,
+    /// The brush of push, pull and draw a line ([`crate::surface::brush`]).
+    pub falloff: Falloff,
+    /// The fraction of the depth push, pull and draw a line press, `0 < s ≤ 1`.
+    pub press_strength: f64,
     /// Radius of the probe sphere (side).
     pub probe_radius: f64,
     /// Which control points a curve grab moves.
@@ -130,6 +153,8 @@ impl Default for ToolSettings {
             depth: 0.3,
             ridge: false,
             strength: 0.5,
+            falloff: Falloff::Finger,
+            press_strength: 1.0,
             probe_radius: 0.35,
             grab: GrabOptions::default(),
         }

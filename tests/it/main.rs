@@ -42,6 +42,7 @@ mod replay_traces;
 mod safe_writer;
 mod sculpt_limits;
 mod shader_validation;
+mod shading;
 mod support;
 mod surface_deform;
 mod surface_grid;

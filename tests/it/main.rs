@@ -14,6 +14,7 @@ mod devices_cli;
 mod documents;
 mod export_cad;
 mod export_roundtrip;
+mod export_size;
 mod figure_fit;
 mod figure_morph;
 mod figure_shape;

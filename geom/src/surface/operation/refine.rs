@@ -72,8 +72,8 @@
 //! needs — the bumps of radius `r_f` still span at least `2 r_f / (3 r_f/4) ≈ 2.7` patches
 //! across and are represented as exactly as before to the eye (the regulation keeps G1 on any
 //! grid). Measured on a scripted face-mask session on the 10 × 10 plane (20 operations of
-//! radii 0.25 – 1.5, `sculpt --auto-refine`): 77 × 70 = 5 390 patches without the slack, see
-//! the crate README for the figure with it. When a pass would pass [`MAX_PATCHES`], its pieces are scaled down
+//! radii 0.25 – 1.5, `sculpt --auto-refine`, as in `tests/it/export_size.rs`): 77 × 70 =
+//! 5 390 patches without the slack, 59 × 57 = 3 363 with it. When a pass would pass [`MAX_PATCHES`], its pieces are scaled down
 //! until it fits and the refinement stops there ([`FingerRefinement::limited`]).
 //!
 //! Limits: a stroke's reach is known before it starts only for the operations given (a

@@ -2,8 +2,8 @@
 //
 // Lighting (linear colour; the sRGB target encodes it): a hemisphere ambient (sky above, warm
 // ground below, world up = +Z), a key light fixed relative to the camera with wrapped diffuse
-// (no hard terminator), a faint rim, no specular. Normals are flipped towards the viewer, so
-// the surface reads the same from either side. Optional overlays: the G1 seam heat map and the
+// (no hard terminator), a faint rim, no specular. Normals are turned to the side seen (by the
+// triangle's facing, see `seen_normal`), so the surface reads the same from either side. Optional overlays: the G1 seam heat map and the
 // tool footprint (the ring where the distance to the finger axis equals the finger radius —
 // exactly the samples the push shape function reaches).
 
@@ -48,13 +48,38 @@ fn heat_ramp(t: f32) -> vec3<f32> {
     return mix(c2, c3, (t - 0.6667) * 3.0);
 }
 
-@fragment
-fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    let to_eye = normalize(globals.eye - in.world);
-    var n = normalize(in.normal);
-    if dot(n, to_eye) < 0.0 {
+// The normal shaded: the interpolated vertex normal, turned to the side of the surface seen.
+//
+// Which side is seen is the triangle's own: its winding (the mesh is counter-clockwise seen
+// from `S_u × S_v`, the side the vertex normals point to), so `front_facing` says whether to
+// flip. Deciding it per pixel from the sign of `n · (eye − x)` instead breaks the shading
+// wherever a visible triangle's interpolated normal leans a little past perpendicular to the
+// view — along a groove's rim seen edge-on, at a fold — where single pixels flipped to face
+// away and the ground ambient (issue 27's dark specks). Where the interpolated normal still
+// points behind the visible face `f` (the triangle's plane, `f = ±(∂x/∂X × ∂x/∂Y)` towards
+// the eye), it is bent into that plane, `n − min(n·f, 0) f`: continuous, never a flip.
+fn seen_normal(normal: vec3<f32>, world: vec3<f32>, to_eye: vec3<f32>, front: bool) -> vec3<f32> {
+    var n = normalize(normal);
+    if !front {
         n = -n;
     }
+    let cross_f = cross(dpdx(world), dpdy(world));
+    let len = length(cross_f);
+    if len > 0.0 {
+        var f = cross_f / len;
+        if dot(f, to_eye) < 0.0 {
+            f = -f;
+        }
+        let behind = min(dot(n, f), 0.0);
+        n = normalize(n - behind * f + 1e-4 * f);
+    }
+    return n;
+}
+
+@fragment
+fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let to_eye = normalize(globals.eye - in.world);
+    let n = seen_normal(in.normal, in.world, to_eye, front);
     var albedo = globals.clay.rgb;
 
     if globals.heat_on > 0.5 && in.seam.x > 0.0 {

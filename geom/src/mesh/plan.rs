@@ -63,6 +63,32 @@ impl Tessellation {
     /// ([`MeshSize::bytes`]) and about twice that at the peak of welding and writing.
     pub const DEFAULT_MAX_TRIANGLES: u64 = 20_000_000;
 
+    /// The default export tolerance as a fraction of the model's size:
+    /// [`Tessellation::export_tolerance_for`].
+    pub const RELATIVE_EXPORT_TOLERANCE: f64 = 1e-3;
+
+    /// The default export tolerance for `patches`: a thousandth of the diagonal `D` of their
+    /// control points' box, `ε = 10⁻³·D` ([`Tessellation::RELATIVE_EXPORT_TOLERANCE`]) —
+    /// 0.014 side for the 10 × 10 plane, a tenth of what the display draws per pixel on a
+    /// 1280-pixel view (a side is ~13 pixels there, and the display's own tolerance is
+    /// 0.01 side). An absolute tolerance is wrong for every model but one size: 10⁻³ side wrote
+    /// 2.5 million triangles for a face mask on the plane. Without finite points (no patch,
+    /// or a NaN), the absolute [`Tessellation::EXPORT`] tolerance.
+    #[must_use]
+    pub fn export_tolerance_for(patches: &[PatchPoints]) -> f64 {
+        let mut points = patches.iter().flatten().filter(|p| p.is_finite());
+        let Some(first) = points.next() else {
+            return Self::EXPORT.tolerance;
+        };
+        let (lo, hi) = points.fold((*first, *first), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        let tolerance = Self::RELATIVE_EXPORT_TOLERANCE * (hi - lo).length();
+        if tolerance.is_finite() && tolerance > 0.0 {
+            tolerance
+        } else {
+            Self::EXPORT.tolerance
+        }
+    }
+
     /// A tessellation to the given tolerance with the export limits.
     #[must_use]
     pub fn with_tolerance(tolerance: f64) -> Self {

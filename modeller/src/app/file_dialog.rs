@@ -98,6 +98,16 @@ impl FileDialog {
 
     /// Draws the dialog as a window; reports the outcome.
     pub fn ui(&mut self, ctx: &egui::Context) -> DialogResult {
+        self.ui_with(ctx, |_, _| {})
+    }
+
+    /// [`FileDialog::ui`] with `extra` drawn under the file field, given the name typed there
+    /// (the export dialog's tolerance and estimate).
+    pub fn ui_with(
+        &mut self,
+        ctx: &egui::Context,
+        extra: impl FnOnce(&mut egui::Ui, &str),
+    ) -> DialogResult {
         let mut result = DialogResult::Open;
         let mut open = true;
         egui::Window::new(self.purpose.title())
@@ -167,6 +177,7 @@ impl FileDialog {
                         result = DialogResult::Cancelled;
                     }
                 });
+                extra(ui, self.name.trim());
                 if let Some(e) = &self.error {
                     ui.colored_label(egui::Color32::from_rgb(230, 90, 70), e);
                 }

@@ -419,7 +419,7 @@ pub(super) fn display_ui(
 ) {
     let o = overlays;
     ui.checkbox(&mut o.patch_edges, "patch boundaries")
-        .on_hover_text("Draw the edges between the Bezier patches the surface is made of");
+        .on_hover_text("Draw the edges between the Bezier patches the surface is made of (off by default: refined grids draw them as dense bands)");
     ui.checkbox(&mut o.control_net, "control net")
         .on_hover_text("Draw the patches' control points, joined row by row: the numbers the surface is made from");
     ui.checkbox(&mut o.control_polygons, "curve control polygons")
@@ -859,12 +859,80 @@ pub(super) fn prompt_ui(ctx: &egui::Context, prompt: &Prompt) -> Vec<Command> {
     commands
 }
 
-/// The file dialog.
-pub(super) fn dialog_ui(ctx: &egui::Context, dialog: &mut FileDialog) -> Vec<Command> {
+/// The file dialog; for a mesh export, with the tolerance and what the file will hold.
+pub(super) fn dialog_ui(
+    ctx: &egui::Context,
+    dialog: &mut FileDialog,
+    m: &mut crate::editor::Modeller,
+) -> Vec<Command> {
     let purpose = dialog.purpose;
-    match dialog.ui(ctx) {
+    let result = if purpose == DialogPurpose::ExportMesh {
+        dialog.ui_with(ctx, |ui, name| export_dialog_ui(ui, m, name))
+    } else {
+        dialog.ui(ctx)
+    };
+    match result {
         DialogResult::Open => Vec::new(),
         DialogResult::Cancelled => vec![Command::DialogCancelled],
         DialogResult::Chosen(path) => vec![Command::DialogChosen(purpose, path)],
+    }
+}
+
+/// The export dialog's own part: the tolerance, and the triangles and file size the name's
+/// format will get, before anything is written.
+fn export_dialog_ui(ui: &mut Ui, m: &mut crate::editor::Modeller, name: &str) {
+    ui.separator();
+    let (tolerance, estimate) = m.export_dialog(name);
+    ui.add(
+        egui::Slider::new(tolerance, TOLERANCE_RANGE)
+            .logarithmic(true)
+            .text("tolerance (side)"),
+    )
+    .on_hover_text("Largest distance from the mesh to the surface; proposed from the model's size (a thousandth of its box's diagonal)");
+    let lower = name.to_ascii_lowercase();
+    match estimate {
+        Some(e) => {
+            ui.label(format!(
+                "{} triangles, about {}",
+                thousands(e.triangles),
+                file_size(e.bytes)
+            ));
+        }
+        None if [".step", ".stp", ".igs", ".iges"]
+            .iter()
+            .any(|x| lower.ends_with(x)) =>
+        {
+            ui.label("the exact patches and curves: no tolerance applies");
+        }
+        None => {
+            ui.label("name the file .obj, .stl or .glb (a mesh), or .step or .igs (CAD)");
+        }
+    }
+}
+
+/// `1234567` as `1 234 567`.
+fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// Bytes as kB, MB or GB (powers of 1000), three significant digits or so.
+fn file_size(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b < 1e3 {
+        format!("{bytes} bytes")
+    } else if b < 1e6 {
+        format!("{:.0} kB", b / 1e3)
+    } else if b < 1e9 {
+        format!("{:.1} MB", b / 1e6)
+    } else {
+        format!("{:.2} GB", b / 1e9)
     }
 }

@@ -75,7 +75,7 @@ impl Shell {
             commands.extend(panels::prompt_ui(&ctx, &prompt));
         }
         if let Some((_, dialog)) = self.dialog_for(modeller.file_request()) {
-            commands.extend(panels::dialog_ui(&ctx, dialog));
+            commands.extend(panels::dialog_ui(&ctx, dialog, modeller));
         }
         if modeller.help_open() && !panels::help_ui(&ctx, modeller.panel().orbit) {
             commands.push(Command::ToggleHelp);

@@ -14,6 +14,9 @@
 //!   product and the IGES file name are the model file's stem. No tessellation, so
 //!   `--tolerance` and `--max-triangles` do not apply. Z-up as the model (CAD's convention).
 //!
+//! The default tolerance is relative to the model's size: a thousandth of the diagonal of its
+//! control points' box ([`Tessellation::export_tolerance_for`]).
+//!
 //! `--tolerance` and `--scale` are checked whatever the format (a positive finite number
 //! each): a `--tolerance nan` given with a `.step` is refused, not silently ignored.
 //!
@@ -54,8 +57,10 @@ pub struct ExportArgs {
     /// .stp (STEP AP214), .igs / .iges (IGES 5.3).
     pub out: PathBuf,
     /// Meshes: largest distance between the mesh and the surface, in model units (sides).
-    #[arg(long, default_value_t = Tessellation::EXPORT.tolerance, allow_hyphen_values = true)]
-    pub tolerance: f64,
+    /// Without it: a thousandth of the diagonal of the model's box (0.014 for the 10 × 10
+    /// plane).
+    #[arg(long, allow_hyphen_values = true)]
+    pub tolerance: Option<f64>,
     /// Meshes: refuse meshes of more triangles than this (counted before welding, before
     /// anything is allocated; 20 million take about 1 GB at the peak of writing).
     #[arg(long, default_value_t = Tessellation::DEFAULT_MAX_TRIANGLES)]
@@ -78,10 +83,12 @@ pub struct ExportArgs {
 
 /// Runs `nendo export`.
 pub fn run(args: ExportArgs) -> ExitCode {
-    if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
+    if let Some(t) = args.tolerance
+        && !(t.is_finite() && t > 0.0)
+    {
         eprintln!(
             "nendo export: --tolerance must be a positive number, not {}",
-            crate::num::Compact(args.tolerance)
+            crate::num::Compact(t)
         );
         return ExitCode::from(2);
     }
@@ -142,13 +149,16 @@ pub fn run(args: ExportArgs) -> ExitCode {
         }
     };
     let patches = loaded.model.surface.patches();
-    let settings = Tessellation::with_tolerance(args.tolerance);
+    let tolerance = args
+        .tolerance
+        .unwrap_or_else(|| Tessellation::export_tolerance_for(&patches));
+    let settings = Tessellation::with_tolerance(tolerance);
     let raw = match try_tessellate(&patches, &settings, args.max_triangles) {
         Ok(raw) => raw,
         Err(e) => {
             eprintln!(
                 "nendo export: {e}; raise --max-triangles or the --tolerance (now {})",
-                crate::num::Compact(args.tolerance)
+                crate::num::Compact(tolerance)
             );
             return ExitCode::FAILURE;
         }
@@ -165,13 +175,13 @@ pub fn run(args: ExportArgs) -> ExitCode {
         mesh.positions.len(),
         mesh.triangle_count(),
         raw.error_bound,
-        crate::num::Compact(args.tolerance),
+        crate::num::Compact(tolerance),
         up.name().to_ascii_uppercase()
     );
     if let Err(super::output::StdoutError(e)) = super::output::println(summary) {
         return super::output::stdout_failed("nendo export", &e);
     }
-    if raw.error_bound > args.tolerance {
+    if raw.error_bound > tolerance {
         eprintln!(
             "nendo export: warning: {} segments per patch edge could not reach the tolerance",
             settings.max_segments

@@ -40,7 +40,8 @@
 //!
 //! `--auto-refine`: before a frame that starts a contact, the grid is refined where that
 //! contact's first frame reaches ([`crate::surface::refine::for_finger`]): patches within
-//! reach are split until they are at most `r_f / 2` across (the palm's: half its radius). The
+//! reach are split until they are at most `3 r_f / 4` across, in pieces of at most `r_f / 2`
+//! (the palm's: its radius for `r_f`; the slack [`crate::surface::refine::FINGER_SLACK`]). The
 //! surface does not change; the frame then runs on the finer grid. Whether the frame starts a
 //! contact, and with which pushes, is decided by the hand loop's own rules, the same code
 //! ([`crate::hand::HandLoop::starting`]): no contact in progress, the finger acting, and every

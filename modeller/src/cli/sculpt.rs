@@ -12,9 +12,9 @@
 //!
 //! `--auto-refine`: before each operation the grid is refined where its finger reaches
 //! ([`crate::surface::refine::for_finger`]): every patch column (row) holding a patch whose box
-//! may come within `r_f` of the finger, and whose control polygon is longer than `r_f / 2`
+//! may come within `r_f` of the finger, and whose control polygon is longer than `3 r_f / 4`
 //! that way, is split uniformly into `⌈length / (r_f/2)⌉` pieces (the opposite column too
-//! around a closed direction), repeated until the reached patches are at most `r_f / 2`
+//! around a closed direction), repeated until the reached patches are at most `3 r_f / 4`
 //! across. The surface does not change; the operation then acts on the finer patches. A
 //! refinement that would pass the grid limit stops there, says so on standard error, and the
 //! operation is still applied.
@@ -61,8 +61,9 @@ pub struct SculptArgs {
     /// the option: the model's, else exact.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_regulation))]
     pub regulation: Option<Regulation>,
-    /// Before each operation, split the patches its finger reaches until they are at most
-    /// half the finger radius across (the surface does not change). Not with `--mirror`.
+    /// Before each operation, split the patches its finger reaches that are more than 3/4 of
+    /// the finger radius across into pieces of at most half of it (the surface does not
+    /// change). Not with `--mirror`.
     #[arg(long, conflicts_with_all = ["mirror", "radial", "lathe"])]
     pub auto_refine: bool,
     /// Apply every operation together with its mirror image across the plane x = 0, y = 0 or

@@ -19,6 +19,7 @@
 //! | [`tools`], [`curve_edit`] | the mouse tools and the curve edits they make |
 //! | [`stroke`] | a live stroke: re-applied from its start each frame, one undo step, cancelled exactly |
 //! | [`symmetry`] | the symmetry toggle, the mirror image of an operation, refinement for a mirrored stroke |
+//! | [`move_fold`] | whether a mirrored Move would fold the clay at the mirror plane (the cursor's warning) |
 //! | [`reach`] | the patches an operation changes, outlined around the cursor |
 //! | [`display_cache`] | what the window derives from the document (tessellation, continuity) |
 //! | [`modeller`] | the modeller: the state the window shows and edits, [`Modeller::apply`] carrying out commands, the editing policy, the pointer state machine |
@@ -44,6 +45,7 @@ pub mod lifecycle;
 #[cfg_attr(not(feature = "gui"), allow(dead_code))]
 pub mod live;
 pub mod modeller;
+pub mod move_fold;
 pub mod reach;
 pub mod scene;
 pub mod settings;

@@ -14,7 +14,9 @@ use crate::render::{LineBatch, Rgba};
 /// What to draw besides the clay.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Overlays {
-    /// Patch boundaries as lines.
+    /// Patch boundaries as lines (off by default in the window: after refinement they are
+    /// dense bands across the model that read as stripes on the clay; the Display panel's
+    /// "patch boundaries" shows them).
     pub patch_edges: bool,
     /// The control net of the patches.
     pub control_net: bool,
@@ -29,7 +31,7 @@ pub struct Overlays {
 impl Default for Overlays {
     fn default() -> Self {
         Self {
-            patch_edges: true,
+            patch_edges: false,
             control_net: false,
             heat_map: false,
             heat_max_deg: 1.0,

@@ -23,7 +23,7 @@
 //! map takes a global grid parameter `T` to `T` or to `s − T` (mod `M` around a closed
 //! direction), read from the partners of the grid vertices. (Refining for the operation and
 //! then for its mirror image, [`reflect_op`], is not enough: the finger rule compares patch
-//! sizes with `r_f / 2`, and a piece exactly that wide is split on one side and not on the
+//! sizes with `σ·r_f / 2`, and a piece exactly that wide is split on one side and not on the
 //! other by rounding.) The result is kept only when the refined grid is still symmetric (a new
 //! [`Symmetry`] is found for it); otherwise (an odd number of insertions around a closed
 //! direction, the grid limit) the stroke goes on unrefined and the status line says so.

@@ -193,13 +193,23 @@ impl Modeller {
     /// panel's files are.
     pub(super) fn new_file_request(&mut self, purpose: DialogPurpose) -> FileRequest {
         self.requests += 1;
+        if purpose == DialogPurpose::ExportMesh {
+            self.propose_export_tolerance();
+        }
         let (current, default) = match self.live.dialog_start(purpose) {
             Some((current, default)) => (current, default),
             None => (
                 self.session.doc.path.clone(),
                 match purpose {
                     DialogPurpose::SaveModel | DialogPurpose::OpenModel => "model.nendo.json",
-                    DialogPurpose::ExportMesh => "model.obj",
+                    DialogPurpose::ExportMesh => {
+                        return FileRequest {
+                            purpose,
+                            current: self.session.doc.path.clone(),
+                            default_name: export_name(self.session.doc.path.as_deref()),
+                            id: self.requests,
+                        };
+                    }
                     DialogPurpose::SaveOps | DialogPurpose::ReplayOps => "ops.jsonl",
                     // The Devices panel asks for these itself.
                     DialogPurpose::OpenProfile => "profile.json",
@@ -213,6 +223,19 @@ impl Modeller {
             default_name: default.to_string(),
             id: self.requests,
         }
+    }
+
+    /// Sets the export tolerance to the model's own ([`Tessellation::export_tolerance_for`],
+    /// within the range the window offers) unless the user has set one since it was last
+    /// proposed.
+    pub(super) fn propose_export_tolerance(&mut self) {
+        if self.panel.export_tolerance.to_bits() != self.proposed_tolerance.to_bits() {
+            return;
+        }
+        let proposed = Tessellation::export_tolerance_for(self.cache.patches())
+            .clamp(*TOLERANCE_RANGE.start(), *TOLERANCE_RANGE.end());
+        self.panel.export_tolerance = proposed;
+        self.proposed_tolerance = proposed;
     }
 
     /// A file dialog picked `path`.
@@ -394,4 +417,23 @@ impl Modeller {
             Err(e) => self.set_status(format!("cannot build the primitive: {e}"), true),
         }
     }
+}
+
+/// The name the export dialog proposes: the model file's own name with `.obj` for its
+/// `.nendo.json` (or `.json`) ending, `model.obj` for a model never saved.
+#[must_use]
+pub fn export_name(model: Option<&Path>) -> String {
+    let stem = model
+        .and_then(Path::file_name)
+        .map(|n| n.to_string_lossy().into_owned())
+        .map(|n| {
+            let lower = n.to_ascii_lowercase();
+            let cut = [".nendo.json", ".json"]
+                .iter()
+                .find(|e| lower.ends_with(*e))
+                .map_or(n.len(), |e| n.len() - e.len());
+            n[..cut].to_string()
+        })
+        .filter(|s| !s.trim().is_empty());
+    format!("{}.obj", stem.as_deref().unwrap_or("model"))
 }

@@ -25,7 +25,7 @@ use super::camera::{OrbitCamera, ViewPreset};
 use super::command::{Command, DialogPurpose};
 use super::display_cache::DisplayCache;
 use super::document::Document;
-use super::export_job::ExportJob;
+use super::export_job::{ExportEstimate, ExportJob, TOLERANCE_RANGE, estimate_export};
 use super::hand_input::HandToolState;
 use super::input::{OrbitButton, PointerInput};
 use super::lifecycle::{DocumentSession, Pending, PrimitiveForm};
@@ -37,7 +37,7 @@ use super::stroke::LiveStroke;
 use super::symmetry::MirrorToggle;
 use super::tools::{Tool, ToolContext, ToolSettings, ToolState};
 use crate::curve::Curve;
-use crate::mesh::Tessellation;
+use crate::mesh::{MeshFormat, Tessellation};
 use crate::render::{LineBatch, SphereInstance, Style};
 use crate::surface::{Op, Plane};
 
@@ -178,6 +178,11 @@ pub struct Modeller {
     replay: Option<Replay>,
     /// A mesh export running in the background.
     export_job: Option<ExportJob>,
+    /// The export tolerance last proposed for the model's size: while the panel still holds
+    /// it (the user has not set one), the next export proposes the size's own again.
+    proposed_tolerance: f64,
+    /// The export dialog's estimate, for (display generation, tolerance bits, format).
+    export_estimate: Option<(u64, u64, MeshFormat, ExportEstimate)>,
     /// The push, pull or line being drawn, deforming the surface live.
     stroke: Option<LiveStroke>,
     /// The stroke's gesture changed since its surface was last shown.
@@ -235,6 +240,8 @@ impl Modeller {
             timing: Timing::default(),
             replay: None,
             export_job: None,
+            proposed_tolerance: Tessellation::EXPORT.tolerance,
+            export_estimate: None,
             stroke: None,
             stroke_dirty: false,
             adjust: None,
@@ -730,6 +737,29 @@ impl Modeller {
         (&mut self.panel.export_tolerance, self.export_job.as_ref())
     }
 
+    /// The export dialog's part: the tolerance it edits and what exporting the surface to
+    /// `name` (its extension picks the format) will write, `None` for a name that is no mesh
+    /// format (STEP and IGES write the exact patches: no tolerance applies).
+    pub fn export_dialog(&mut self, name: &str) -> (&mut f64, Option<ExportEstimate>) {
+        let format = MeshFormat::from_path(Path::new(name)).ok();
+        let tolerance = self
+            .panel
+            .export_tolerance
+            .clamp(*TOLERANCE_RANGE.start(), *TOLERANCE_RANGE.end());
+        let estimate = format.map(|format| {
+            let key = (self.cache.generation(), tolerance.to_bits(), format);
+            match self.export_estimate {
+                Some((g, t, f, e)) if (g, t, f) == key => e,
+                _ => {
+                    let e = estimate_export(self.cache.patches(), tolerance, format);
+                    self.export_estimate = Some((key.0, key.1, key.2, e));
+                    e
+                }
+            }
+        });
+        (&mut self.panel.export_tolerance, estimate)
+    }
+
     /// The Devices panel's part: the device loop and the document it deforms.
     pub fn devices_mut(&mut self) -> (&mut LiveInput, &mut Document) {
         (&mut self.live, &mut self.session.doc)
@@ -776,11 +806,22 @@ impl Modeller {
         let Some(depth) = self.tools.state.stroke_depth(&ctx, &self.tools.settings) else {
             // Move and Smooth press no depth: how far the grab went, or the dabs so far.
             let text = match stroke.shown() {
-                Some(Op::Move { at, to, .. }) => format!(
-                    "move {:.3} · {} patches",
-                    (*to - *at).length(),
-                    stroke.touched().len()
-                ),
+                Some(Op::Move { at, to, radius }) => {
+                    let plane = self.mirror.plane();
+                    let folds = self.mirror.wanted()
+                        && self.mirror.available()
+                        && super::move_fold::mirrored_move_folds(*at, *to, *radius, plane);
+                    let warning = if folds {
+                        format!(" · {}", super::move_fold::FOLD_WARNING)
+                    } else {
+                        String::new()
+                    };
+                    format!(
+                        "move {:.3} · {} patches{warning}",
+                        (*to - *at).length(),
+                        stroke.touched().len()
+                    )
+                }
                 _ if self.tools.state.smoothing() => "smooth".to_string(),
                 _ => return None,
             };

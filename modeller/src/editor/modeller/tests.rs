@@ -964,3 +964,41 @@ fn the_clutch_key_holds_the_device_hand_off_the_clay() {
     assert_eq!(m.document().model(), &start, "the clay untouched");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The export dialog proposes the model's own name and a tolerance for its size (a thousandth
+/// of its box's diagonal), and keeps a tolerance the user set.
+#[test]
+fn the_export_dialog_proposes_the_models_name_and_a_tolerance_for_its_size() {
+    use super::commands::export_name;
+    assert_eq!(export_name(None), "model.obj");
+    assert_eq!(
+        export_name(Some(Path::new("/x/face.nendo.json"))),
+        "face.obj"
+    );
+    assert_eq!(export_name(Some(Path::new("vase.JSON"))), "vase.obj");
+    assert_eq!(export_name(Some(Path::new("/x/.nendo.json"))), "model.obj");
+
+    let mut m = Modeller::new(plane_doc(), None, false);
+    m.refresh();
+    m.apply(Command::ShowDialog(DialogPurpose::ExportMesh));
+    let want = 1e-3 * 200f64.sqrt();
+    assert!(
+        (m.panel().export_tolerance - want).abs() < 1e-9,
+        "{}",
+        m.panel().export_tolerance
+    );
+    let (_, estimate) = m.export_dialog("plane.stl");
+    let estimate = estimate.expect("a mesh format");
+    // The flat plane: every patch one cell of two triangles.
+    assert_eq!(estimate.triangles, 200);
+    assert_eq!(estimate.bytes, 84 + 50 * 200);
+    assert_eq!(m.export_dialog("plane.step").1, None);
+    m.apply(Command::Cancel);
+    m.panel_mut().export_tolerance = 0.002;
+    m.apply(Command::ShowDialog(DialogPurpose::ExportMesh));
+    assert_eq!(
+        m.panel().export_tolerance,
+        0.002,
+        "the user's tolerance is kept"
+    );
+}

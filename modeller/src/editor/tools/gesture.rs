@@ -15,6 +15,12 @@ use super::{Edit, Tool, ToolContext, ToolSettings};
 /// A drag shorter than this (pixels) is a click.
 const CLICK_PIXELS: f32 = 4.0;
 
+/// How far one wheel notch moves the plane a Move drags the clay on: this fraction of the
+/// plane's distance from the eye (towards the eye for a notch away from the user), as
+/// `d ← d·e^(−0.02·notches)`. On the framed 10 × 10 plane (the eye about 20 sides away) a
+/// notch is about 0.4 side.
+pub const MOVE_WHEEL_STEP: f64 = 0.02;
+
 /// The gesture in progress.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub(super) enum Gesture {
@@ -533,8 +539,10 @@ impl ToolState {
                 *ray_t *= (-0.04 * f64::from(steps)).exp();
                 true
             }
+            // The plane the grabbed clay follows moves by a fraction of its distance from
+            // the eye per notch, [`MOVE_WHEEL_STEP`] (2 %): a fine step at any zoom.
             Gesture::Move { depth, wheeled, .. } => {
-                *depth *= (-0.04 * f64::from(steps)).exp();
+                *depth *= (-MOVE_WHEEL_STEP * f64::from(steps)).exp();
                 *wheeled = true;
                 true
             }

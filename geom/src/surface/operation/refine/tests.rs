@@ -233,3 +233,35 @@ fn the_finger_rule_stops_at_the_grid_limit() {
     let h = f.refinement.apply(&g).unwrap();
     assert_eq!(h.patch_count(), mu * nv);
 }
+
+/// The slack: a grid split for one finger is not split again for a slightly smaller one
+/// (the patches are within `σ·r_f/2` of it), only for a finger clearly smaller.
+#[test]
+fn a_slightly_smaller_finger_does_not_split_again() {
+    let g = build(Primitive::Plane, (10, 10));
+    let push = |radius: f64| Op::Push {
+        at: DVec3::new(0.5, 0.5, 0.0),
+        dir: DVec3::NEG_Z,
+        depth: 0.1,
+        radius,
+    };
+    let f = for_finger(&g, &push(0.72)).unwrap();
+    let h = f.refinement.apply(&g).unwrap();
+    // Unit patches split into ⌈1 / 0.36⌉ = 3 pieces of 1/3 where the finger reaches.
+    assert!(h.patches_u() > 10 && h.patches_v() > 10);
+    // A finger of 0.6 (h = 0.3 < 1/3 ≤ σ·h = 0.45) leaves them; without the slack it
+    // would halve every one of those columns and rows.
+    assert!(for_finger(&h, &push(0.6)).unwrap().refinement.is_empty());
+    // A finger of 0.4 (σ·h = 0.3 < 1/3) splits them again, into pieces of at most 0.2.
+    let f = for_finger(&h, &push(0.4)).unwrap();
+    assert!(!f.refinement.is_empty());
+    let k = f.refinement.apply(&h).unwrap();
+    let finger = push(0.4).finger().unwrap();
+    let depth = finger.reach_depth(&k.bounds());
+    let mut reached = Vec::new();
+    k.patches_where(|b| finger.may_touch(b, depth), &mut reached);
+    for p in reached {
+        let (lu, lv) = polygon_sizes(&k.patch_at(p));
+        assert!(lu <= 0.3 + 1e-12 && lv <= 0.3 + 1e-12, "{lu} {lv}");
+    }
+}

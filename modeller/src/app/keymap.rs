@@ -37,6 +37,8 @@ pub enum KeyAction {
     AdjustDepth,
     /// Turn symmetry (the mirror across x = 0) on or off.
     ToggleSymmetry,
+    /// Show the surface in the next display mode.
+    CycleSurfaceMode,
     /// Pick a tool.
     Tool(Tool),
 }
@@ -56,6 +58,7 @@ impl KeyAction {
             KeyAction::AdjustRadius => Command::AdjustRadius,
             KeyAction::AdjustDepth => Command::AdjustDepth,
             KeyAction::ToggleSymmetry => Command::ToggleSymmetry,
+            KeyAction::CycleSurfaceMode => Command::CycleSurfaceMode,
             KeyAction::Tool(tool) => Command::SelectTool(tool),
         }
     }
@@ -81,6 +84,9 @@ impl KeyAction {
             }
             KeyAction::ToggleSymmetry => {
                 "symmetry on / off: every stroke mirrored across x = 0 (offered for a model symmetric about it)".into()
+            }
+            KeyAction::CycleSurfaceMode => {
+                "surface display: clay → zebra stripes → curvature map → isophotes (from the patches' exact derivatives, per pixel)".into()
             }
             KeyAction::Tool(tool) => format!("tool: {}", tool.label()),
         }
@@ -160,6 +166,7 @@ pub fn keys() -> Vec<KeyBinding> {
         KeyBinding::new(Modifiers::NONE, Key::Questionmark, KeyAction::Help),
         KeyBinding::new(Modifiers::NONE, Key::Escape, KeyAction::Cancel),
         KeyBinding::new(Modifiers::NONE, Key::X, KeyAction::ToggleSymmetry),
+        KeyBinding::new(Modifiers::NONE, Key::E, KeyAction::CycleSurfaceMode),
         KeyBinding::new(Modifiers::NONE, Key::G, KeyAction::Tool(Tool::Move)),
     ];
     keys.extend(

@@ -51,6 +51,8 @@ pub enum Command {
     ToggleHelp,
     /// Turn symmetry on if it is off, off if it is on.
     ToggleSymmetry,
+    /// Show the surface in the next display mode: clay → zebra → curvature → isophotes.
+    CycleSurfaceMode,
     /// Set the finger radius by moving the mouse (a left click keeps it, Esc or another
     /// click restores it).
     AdjustRadius,

@@ -75,6 +75,11 @@ impl Modeller {
             Command::FrameAll => self.frame_all(),
             Command::ToggleHelp => self.help = !self.help,
             Command::ToggleSymmetry => self.set_symmetry(!self.mirror.wanted()),
+            Command::CycleSurfaceMode => {
+                let mode = self.panel.analysis.mode.next();
+                self.panel.analysis.mode = mode;
+                self.set_status(format!("display: {mode}"), false);
+            }
             Command::AdjustRadius => self.begin_adjust(Adjusted::Radius),
             Command::AdjustDepth => self.begin_adjust(Adjusted::Depth),
             Command::Cancel => self.cancel(),

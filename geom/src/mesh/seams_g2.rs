@@ -39,7 +39,8 @@ pub fn seam_g2_percent(patches: &[PatchPoints], mesh: &TriMesh) -> Vec<f32> {
     let flat = 1e-9 / size;
     let mut out = vec![0.0f32; mesh.positions.len()];
     // Position → boundary vertices there that are not corners: (patch, vertex, u, v).
-    let mut at: HashMap<[u32; 3], Vec<(u32, u32, f64, f64)>> = HashMap::new();
+    type Edge = Vec<(u32, u32, f64, f64)>;
+    let mut at: HashMap<[u32; 3], Edge> = HashMap::new();
     for block in &mesh.blocks {
         for k in 0..=block.m_u {
             for l in 0..=block.m_v {

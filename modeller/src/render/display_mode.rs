@@ -369,10 +369,11 @@ pub fn legend_colour(t: f32) -> [f32; 3] {
     let i = (t.floor() as usize).min(2);
     let f = t - i as f32;
     let (a, b) = (stops[i], stops[i + 1]);
+    // WGSL's `mix`: `a (1 − f) + b f`, exactly the stops at f = 0 and 1.
     [
-        a[0] + (b[0] - a[0]) * f,
-        a[1] + (b[1] - a[1]) * f,
-        a[2] + (b[2] - a[2]) * f,
+        a[0] * (1.0 - f) + b[0] * f,
+        a[1] * (1.0 - f) + b[1] * f,
+        a[2] * (1.0 - f) + b[2] * f,
     ]
 }
 

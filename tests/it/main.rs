@@ -1,6 +1,7 @@
 //! nendo's integration tests, one binary: each module is one area (`cargo test --test it <module>::`).
 //! Shared helpers (the binary, temporary directories, near-equality) live in [`support`].
 
+mod analysis_display;
 mod bounded_inputs;
 mod brushes;
 mod closest_cli;

@@ -155,5 +155,5 @@ fn globals_layout_matches_the_rust_struct() {
             );
         }
     }
-    assert_eq!(reading, 3, "clay, lines and spheres read Globals");
+    assert_eq!(reading, 4, "analysis, clay, lines and spheres read Globals");
 }

@@ -57,7 +57,7 @@ pub(crate) use constraint::{mirror, verify};
 pub(crate) use net::{grid, group, primitive, ratio_check, spline};
 pub(crate) use operation::{grab, nearest, shape_fn, smooth};
 // The namespaces the workspace uses as modules.
-pub use constraint::{continuity, curvature, regulate};
+pub use constraint::{continuity, curvature, regulate, shape_operator};
 pub use operation::{brush, deviation, inverse, refine};
 
 pub use bounds::Aabb;

@@ -39,6 +39,8 @@ pub enum KeyAction {
     ToggleSymmetry,
     /// Radial symmetry about the z axis: off → N-fold → lathe → off.
     ToggleRadial,
+    /// Show the surface in the next display mode.
+    CycleSurfaceMode,
     /// Pick a tool.
     Tool(Tool),
 }
@@ -59,6 +61,7 @@ impl KeyAction {
             KeyAction::AdjustDepth => Command::AdjustDepth,
             KeyAction::ToggleSymmetry => Command::ToggleSymmetry,
             KeyAction::ToggleRadial => Command::ToggleRadial,
+            KeyAction::CycleSurfaceMode => Command::CycleSurfaceMode,
             KeyAction::Tool(tool) => Command::SelectTool(tool),
         }
     }
@@ -87,6 +90,8 @@ impl KeyAction {
             }
             KeyAction::ToggleRadial => {
                 "radial symmetry: off → N-fold about the z axis (every stroke repeated N times; N in the tool panel, dividing the patch columns) → lathe (every stroke all the way round) → off; offered for a rotational model".into()
+            KeyAction::CycleSurfaceMode => {
+                "surface display: clay → zebra stripes → curvature map → isophotes (from the patches' exact derivatives, per pixel)".into()
             }
             KeyAction::Tool(tool) => format!("tool: {}", tool.label()),
         }
@@ -167,6 +172,7 @@ pub fn keys() -> Vec<KeyBinding> {
         KeyBinding::new(Modifiers::NONE, Key::Escape, KeyAction::Cancel),
         KeyBinding::new(Modifiers::SHIFT, Key::X, KeyAction::ToggleRadial),
         KeyBinding::new(Modifiers::NONE, Key::X, KeyAction::ToggleSymmetry),
+        KeyBinding::new(Modifiers::NONE, Key::E, KeyAction::CycleSurfaceMode),
         KeyBinding::new(Modifiers::NONE, Key::G, KeyAction::Tool(Tool::Move)),
     ];
     keys.extend(

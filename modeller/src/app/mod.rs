@@ -28,11 +28,13 @@
 //! | [`devices_panel`] | the Devices panel (the toolbar's Devices button) |
 //! | [`window`] | winit, the surface, egui and the renderer together |
 
+mod analysis_panel;
 pub mod devices_panel;
 pub mod file_dialog;
 pub mod keymap;
 mod panels;
 pub mod shell;
+mod surface_upload;
 pub mod window;
 
 pub use shell::Shell;

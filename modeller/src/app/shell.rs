@@ -136,6 +136,10 @@ fn side_panel_ui(ui: &mut egui::Ui, m: &mut Modeller, commands: &mut Vec<Command
             let max_seam_deg = m.surface().max_seam_deg;
             let panel = m.panel_mut();
             panels::display_ui(ui, &mut panel.overlays, &mut panel.orbit, max_seam_deg);
+            ui.separator();
+            let mut analysis = m.panel().analysis;
+            super::analysis_panel::analysis_ui(ui, &mut analysis, m.surface_patches());
+            m.panel_mut().analysis = analysis;
         });
     egui::CollapsingHeader::new("Export")
         .default_open(false)

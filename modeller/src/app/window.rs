@@ -100,7 +100,7 @@ struct Gfx {
     egui_renderer: egui_wgpu::Renderer,
     lines: LineBatch,
     spheres: Vec<SphereInstance>,
-    uploaded_surface: Option<u64>,
+    uploaded: super::surface_upload::SurfaceUpload,
     /// The 3D view in physical pixels: origin and size.
     viewport: (Vec2, Vec2),
     /// The cursor in window pixels.
@@ -347,7 +347,7 @@ impl WindowApp {
             egui_renderer,
             lines: LineBatch::new(),
             spheres: Vec::new(),
-            uploaded_surface: None,
+            uploaded: Default::default(),
             viewport: (Vec2::ZERO, Vec2::ONE),
             cursor: Vec2::ZERO,
             title: String::new(),
@@ -452,30 +452,14 @@ impl WindowApp {
             gfx.title = title;
         }
 
-        if gfx.uploaded_surface != Some(self.modeller.surface_generation()) {
-            let display = self.modeller.surface();
-            // A live stroke re-uploads only the vertices of the patches it changed.
-            match gfx
-                .uploaded_surface
-                .and_then(|g| self.modeller.surface_ranges_since(g))
-            {
-                Some(ranges) => gfx.renderer.update_surface_vertices(
-                    device,
-                    queue,
-                    &display.mesh,
-                    &display.seam_heat,
-                    &ranges,
-                ),
-                None => gfx
-                    .renderer
-                    .set_surface(device, queue, &display.mesh, &display.seam_heat),
-            }
-            gfx.uploaded_surface = Some(self.modeller.surface_generation());
-        }
+        gfx.uploaded
+            .update(&mut gfx.renderer, device, queue, &self.modeller);
         let style = self.modeller.scene(&mut gfx.lines, &mut gfx.spheres);
         gfx.renderer.set_lines(device, queue, &gfx.lines);
         gfx.renderer.set_spheres(device, queue, &gfx.spheres);
         let view = self.modeller.camera().view(size.x / size.y);
+        gfx.renderer
+            .set_analysis(queue, &self.modeller.panel().analysis, &view);
         gfx.renderer.prepare(queue, &view, &style, size.to_array());
 
         let scene_view = frame.texture.create_view(&wgpu::TextureViewDescriptor {

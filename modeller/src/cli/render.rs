@@ -1,5 +1,6 @@
-//! `nendo render MODEL.json --png OUT.png [--size WxH] [--view iso]`: draws a model headless
-//! with the window's renderer (offscreen, on any wgpu adapter — Mesa's lavapipe without a GPU).
+//! `nendo render MODEL.json --png OUT.png [--size WxH] [--view iso] [--display zebra]`: draws
+//! a model headless with the window's renderer (offscreen, on any wgpu adapter — Mesa's
+//! lavapipe without a GPU), in clay or an analysis mode ([`crate::render::display_mode`]).
 
 use clap::Args as ClapArgs;
 use std::path::PathBuf;
@@ -11,7 +12,11 @@ use crate::editor::ViewPreset;
 use crate::editor::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
 use crate::mesh::Tessellation;
 use crate::model::Model;
-use crate::render::{GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style};
+use crate::render::display_mode::auto_range;
+use crate::render::{
+    CurvatureKind, GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style,
+    SurfaceAnalysis, SurfaceMode,
+};
 
 /// Arguments of `nendo render`.
 #[derive(Debug, Clone, ClapArgs)]
@@ -30,9 +35,13 @@ pub struct RenderArgs {
     /// Colour the seams by their G1 error.
     #[arg(long)]
     pub heat: bool,
-    /// Seam angle drawn red, degrees.
+    /// Seam angle drawn red, degrees (with `--heat-g2`: the mismatch drawn red, percent).
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub heat_max: f32,
+    /// The heat map shows the G2 (curvature) mismatch across the seams, percent, instead of
+    /// the G1 angle.
+    #[arg(long, requires = "heat")]
+    pub heat_g2: bool,
     /// Draw the control net.
     #[arg(long)]
     pub control_net: bool,
@@ -42,6 +51,35 @@ pub struct RenderArgs {
     /// Samples per pixel (1 or 4).
     #[arg(long, default_value_t = 4, value_parser = parse_samples)]
     pub samples: u32,
+    /// How the surface is drawn: clay, zebra, curvature or isophotes (from the patches' exact
+    /// derivatives per pixel).
+    #[arg(long, default_value = "clay")]
+    pub display: SurfaceMode,
+    /// The curvature a `--display curvature` map shows: mean, gaussian or max.
+    #[arg(long, default_value = "mean")]
+    pub curvature: CurvatureKind,
+    /// The curvature map's range `LO:HI` (default: the 2nd to 98th percentile on the model).
+    #[arg(long, value_name = "LO:HI", value_parser = parse_range, allow_hyphen_values = true)]
+    pub range: Option<[f32; 2]>,
+    /// Zebra: light stripes per 180° of reflected direction.
+    #[arg(long, default_value_t = 12.0)]
+    pub stripes: f32,
+    /// Zebra: stripe direction, degrees from the screen's vertical.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub stripe_angle: f32,
+}
+
+/// Parses a curvature range `LO:HI` (finite, `LO < HI`).
+fn parse_range(s: &str) -> Result<[f32; 2], String> {
+    let bad = || format!("{s:?}: expected LO:HI with LO < HI, e.g. -0.5:0.5");
+    let (lo, hi) = s.split_once(':').ok_or_else(bad)?;
+    let lo: f32 = lo.trim().parse().map_err(|_| bad())?;
+    let hi: f32 = hi.trim().parse().map_err(|_| bad())?;
+    if lo.is_finite() && hi.is_finite() && lo < hi {
+        Ok([lo, hi])
+    } else {
+        Err(bad())
+    }
 }
 
 /// Parses a sample count: 1 or 4 (what every adapter supports).
@@ -110,8 +148,36 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let gpu = GpuContext::headless()?;
     let mut renderer = Renderer::new(&gpu.device, OFFSCREEN_FORMAT, args.samples);
-    renderer.set_surface(&gpu.device, &gpu.queue, &display.mesh, &display.seam_heat);
+    if args.heat_g2 {
+        let g2 = crate::mesh::seam_g2_percent(&patches, &display.mesh);
+        eprintln!(
+            "largest G2 seam mismatch {}%",
+            crate::num::Compact(f64::from(g2.iter().copied().fold(0.0, f32::max)))
+        );
+        let heat = crate::mesh::seam_bands(&display.mesh, &g2, SurfaceDisplay::HEAT_BAND);
+        renderer.set_surface(&gpu.device, &gpu.queue, &display.mesh, &heat);
+    } else {
+        renderer.set_surface(&gpu.device, &gpu.queue, &display.mesh, &display.seam_heat);
+    }
     renderer.set_lines(&gpu.device, &gpu.queue, &lines);
+    if !(args.stripes.is_finite() && args.stripes > 0.0 && args.stripe_angle.is_finite()) {
+        anyhow::bail!("--stripes must be a positive number and --stripe-angle a finite angle");
+    }
+    let range = match args.range {
+        Some(r) => r,
+        None => auto_range(&patches, args.curvature).unwrap_or([-1.0, 1.0]),
+    };
+    let analysis = SurfaceAnalysis {
+        mode: args.display,
+        kind: args.curvature,
+        range,
+        stripes: args.stripes,
+        stripe_angle_deg: args.stripe_angle,
+        ..SurfaceAnalysis::default()
+    };
+    if analysis.mode != SurfaceMode::Clay {
+        renderer.set_analysis_patches(&gpu.device, &gpu.queue, &patches, &display.mesh);
+    }
     let (w, h) = args.size;
     let aspect = w as f32 / h as f32;
     let points = framing_points(&model, &patches, &display, &overlays);
@@ -121,12 +187,9 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         heat_max_deg: args.heat_max,
         ..Style::default()
     };
-    renderer.prepare(
-        &gpu.queue,
-        &camera.view(aspect),
-        &style,
-        [w as f32, h as f32],
-    );
+    let view = camera.view(aspect);
+    renderer.set_analysis(&gpu.queue, &analysis, &view);
+    renderer.prepare(&gpu.queue, &view, &style, [w as f32, h as f32]);
     let image = Offscreen::new(&gpu.device, [w, h], args.samples).render(&gpu, &renderer)?;
     image.save_png(&args.png)?;
     eprintln!(
@@ -140,6 +203,14 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
         gpu.describe(),
         start.elapsed().as_secs_f64() * 1e3
     );
+    if analysis.mode == SurfaceMode::Curvature {
+        eprintln!(
+            "{} curvature map: blue {} .. red {}",
+            analysis.kind,
+            crate::num::Compact(f64::from(range[0])),
+            crate::num::Compact(f64::from(range[1]))
+        );
+    }
     Ok(())
 }
 

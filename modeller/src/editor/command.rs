@@ -56,6 +56,8 @@ pub enum Command {
     /// Radial symmetry about the z axis (`N` from the tool panel): off → `N`-fold → lathe →
     /// off.
     ToggleRadial,
+    /// Show the surface in the next display mode: clay → zebra → curvature → isophotes.
+    CycleSurfaceMode,
     /// Set the finger radius by moving the mouse (a left click keeps it, Esc or another
     /// click restores it).
     AdjustRadius,

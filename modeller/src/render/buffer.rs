@@ -70,6 +70,17 @@ impl GrowBuffer {
         true
     }
 
+    /// Size of the allocation (0 before the first write): it changes exactly when a write
+    /// recreated the buffer (what bind groups holding it must notice).
+    pub(crate) fn capacity(&self) -> u64 {
+        self.buffer.as_ref().map_or(0, wgpu::Buffer::size)
+    }
+
+    /// The whole allocation as a binding (storage buffers), if there is one.
+    pub(crate) fn whole(&self) -> Option<wgpu::BindingResource<'_>> {
+        self.buffer.as_ref().map(wgpu::Buffer::as_entire_binding)
+    }
+
     /// The buffer's content as a slice, if there is any.
     pub(crate) fn slice(&self) -> Option<wgpu::BufferSlice<'_>> {
         let buffer = self.buffer.as_ref()?;

@@ -27,9 +27,12 @@
 //! ```
 
 #[cfg(feature = "gui")]
+mod analysis;
+#[cfg(feature = "gui")]
 mod buffer;
 #[cfg(feature = "gui")]
 mod context;
+pub mod display_mode;
 pub mod gpu_data;
 #[cfg(feature = "gui")]
 mod offscreen;
@@ -40,7 +43,10 @@ mod scene;
 mod targets;
 
 #[cfg(feature = "gui")]
+pub use analysis::ANALYSIS_WGSL;
+#[cfg(feature = "gui")]
 pub use context::GpuContext;
+pub use display_mode::{CurvatureKind, SurfaceAnalysis, SurfaceMode};
 pub use gpu_data::SphereInstance;
 #[cfg(feature = "gui")]
 pub use offscreen::{OFFSCREEN_FORMAT, Offscreen, RgbaImage};

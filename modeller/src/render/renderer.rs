@@ -2,6 +2,7 @@
 
 use glam::{Mat4, Vec3};
 
+use super::analysis::AnalysisPass;
 use super::buffer::GrowBuffer;
 use super::gpu_data::{Globals, LineVertex, SphereInstance, SphereVertex, SurfaceVertex};
 use super::scene::{LineBatch, Style, View};
@@ -30,7 +31,8 @@ const SPHERES_WGSL: &str = with_globals!("spheres.wgsl");
 /// Every shader program of the renderer, `(file name, source as compiled)`, for validation and
 /// tools: the file's text, preceded by [`GLOBALS_WGSL`] for the programs that read the
 /// per-frame uniform (all but the background).
-pub const SHADERS: [(&str, &str); 4] = [
+pub const SHADERS: [(&str, &str); 5] = [
+    ("analysis.wgsl", super::analysis::ANALYSIS_WGSL),
     ("background.wgsl", BACKGROUND_WGSL),
     ("clay.wgsl", CLAY_WGSL),
     ("lines.wgsl", LINES_WGSL),
@@ -85,6 +87,7 @@ pub struct Renderer {
     sphere_instances: GrowBuffer,
     opaque_spheres: u32,
     translucent_spheres: u32,
+    analysis: AnalysisPass,
 }
 
 impl Renderer {
@@ -207,6 +210,7 @@ impl Renderer {
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
         });
 
+        let analysis = AnalysisPass::new(device, &globals_layout, format, sample_count);
         let (unit_vertices, unit_indices) = unit_sphere(12, 24);
         let sphere_mesh_vertices = buffer_init(
             device,
@@ -246,6 +250,7 @@ impl Renderer {
             sphere_instances: GrowBuffer::new("nendo sphere instances", wgpu::BufferUsages::VERTEX),
             opaque_spheres: 0,
             translucent_spheres: 0,
+            analysis,
         }
     }
 
@@ -299,6 +304,31 @@ impl Renderer {
                 return;
             }
         }
+    }
+
+    /// Uploads what the analysis display modes read ([`super::analysis`]): the control points
+    /// of `patches` and the patch and `(u, v)` of every vertex of `mesh`, their tessellation
+    /// as given to [`Renderer::set_surface`]. Needed again whenever the patches change while
+    /// a mode other than clay is shown.
+    pub fn set_analysis_patches(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        patches: &[crate::mesh::PatchPoints],
+        mesh: &TriMesh,
+    ) {
+        self.analysis.set_patches(device, queue, patches, mesh);
+    }
+
+    /// Chooses how the surface is drawn: clay, or an analysis mode with its settings for the
+    /// camera of `view`.
+    pub fn set_analysis(
+        &mut self,
+        queue: &wgpu::Queue,
+        settings: &super::SurfaceAnalysis,
+        view: &View,
+    ) {
+        self.analysis.prepare(queue, settings, view.world_from_view);
     }
 
     /// Uploads the line segments (those on top are drawn last, over everything).
@@ -363,10 +393,20 @@ impl Renderer {
         if let (Some(vertices), Some(indices)) =
             (self.surface_vertices.slice(), self.surface_indices.slice())
         {
-            pass.set_pipeline(&self.clay);
-            pass.set_vertex_buffer(0, vertices);
-            pass.set_index_buffer(indices, wgpu::IndexFormat::Uint32);
-            pass.draw_indexed(0..self.surface_index_count, 0, 0..1);
+            let vertex_count =
+                self.surface_vertices.len() / std::mem::size_of::<SurfaceVertex>() as u64;
+            if !self.analysis.draw(
+                pass,
+                vertices,
+                vertex_count,
+                indices,
+                self.surface_index_count,
+            ) {
+                pass.set_pipeline(&self.clay);
+                pass.set_vertex_buffer(0, vertices);
+                pass.set_index_buffer(indices, wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..self.surface_index_count, 0, 0..1);
+            }
         }
         let instances = self.sphere_instances.slice();
         if let Some(instances) = instances.filter(|_| self.opaque_spheres > 0) {

@@ -90,6 +90,11 @@ impl Modeller {
                 };
                 self.set_symmetry_spec(next);
             }
+            Command::CycleSurfaceMode => {
+                let mode = self.panel.analysis.mode.next();
+                self.panel.analysis.mode = mode;
+                self.set_status(format!("display: {mode}"), false);
+            }
             Command::AdjustRadius => self.begin_adjust(Adjusted::Radius),
             Command::AdjustDepth => self.begin_adjust(Adjusted::Depth),
             Command::Cancel => self.cancel(),

@@ -116,6 +116,8 @@ pub struct PanelSettings {
     pub orbit: OrbitButton,
     /// The Devices panel is shown.
     pub devices_open: bool,
+    /// How the surface is drawn: clay or an analysis mode, and the seam heat map's measure.
+    pub analysis: crate::render::SurfaceAnalysis,
 }
 
 /// What F (radius) or Shift+F (depth) is adjusting.
@@ -232,6 +234,7 @@ impl Modeller {
                 export_tolerance: Tessellation::EXPORT.tolerance,
                 orbit: OrbitButton::default(),
                 devices_open: false,
+                analysis: crate::render::SurfaceAnalysis::default(),
             },
             auto_refine: true,
             dialog: None,
@@ -658,7 +661,11 @@ impl Modeller {
         self.live.draw(lines, spheres);
         Style {
             heat_map: self.panel.overlays.heat_map,
-            heat_max_deg: self.panel.overlays.heat_max_deg,
+            heat_max_deg: if self.panel.analysis.seam_g2 {
+                self.panel.analysis.g2_red_percent
+            } else {
+                self.panel.overlays.heat_max_deg
+            },
             tool: self.tools.state.footprint(tool, &ctx, settings),
             ..Style::default()
         }
@@ -668,6 +675,12 @@ impl Modeller {
     #[must_use]
     pub fn surface(&self) -> &SurfaceDisplay {
         self.cache.display()
+    }
+
+    /// The control points of the patches [`Modeller::surface`] was tessellated from.
+    #[must_use]
+    pub fn surface_patches(&self) -> &[crate::mesh::PatchPoints] {
+        self.cache.patches()
     }
 
     /// Changes whenever [`Modeller::surface`] does (also across documents).

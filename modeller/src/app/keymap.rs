@@ -90,6 +90,7 @@ impl KeyAction {
             }
             KeyAction::ToggleRadial => {
                 "radial symmetry: off → N-fold about the z axis (every stroke repeated N times; N in the tool panel, dividing the patch columns) → lathe (every stroke all the way round) → off; offered for a rotational model".into()
+            }
             KeyAction::CycleSurfaceMode => {
                 "surface display: clay → zebra stripes → curvature map → isophotes (from the patches' exact derivatives, per pixel)".into()
             }

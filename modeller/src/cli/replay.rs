@@ -78,8 +78,8 @@ use crate::hand::scene::{Scene, Start};
 use crate::hand::{FingerModel, Hand, HandLoop, HandOptions, filter};
 use crate::model::Model;
 use crate::surface::MAX_PATCHES;
-use crate::surface::{Grid, Plane, Primitive, PrimitiveParams, Regulation, Symmetry, refine};
-use nendo_devices::{FilterSettings, HandFrame, Trace, TraceHeader, TraceStream};
+use crate::surface::{Grid, Plane, Primitive, PrimitiveParams, Regulation, refine};
+use nendo_devices::{FilterSettings, HandFrame, TraceHeader, TraceStream};
 
 /// Frames from which a replay reports its progress.
 pub const PROGRESS_FROM: usize = 1_000;

@@ -820,10 +820,11 @@ impl Modeller {
             // Move and Smooth press no depth: how far the grab went, or the dabs so far.
             let text = match stroke.shown() {
                 Some(Op::Move { at, to, radius }) => {
-                    let plane = self.mirror.plane();
                     let folds = self.mirror.wanted()
                         && self.mirror.available()
-                        && super::move_fold::mirrored_move_folds(*at, *to, *radius, plane);
+                        && self.mirror.spec().planes.iter().any(|&plane| {
+                            super::move_fold::mirrored_move_folds(*at, *to, *radius, plane)
+                        });
                     let warning = if folds {
                         format!(" · {}", super::move_fold::FOLD_WARNING)
                     } else {

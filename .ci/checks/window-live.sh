@@ -156,57 +156,6 @@ echo "symmetry: after X a push leaves the model asymmetric"
 kill -0 "$APP_PID" 2>/dev/null || fail "the app died"
 stop_app
 
-# --- 3c: radial symmetry and the lathe on the tube (16 patch columns round the z axis, walls of
-# radius 2 from z = 2 to 6). Shift+X turns radial symmetry on (N = 4): a push at the view's
-# centre leaves the model 4-fold symmetric (`nendo sculpt --radial 4` takes it) and dents the
-# wall in some of 16 sectors round the axis, not all. Shift+X again is the lathe: a push there
-# dents the wall in every sector (the stroke went all the way round) and the model is
-# 16-fold symmetric (`--lathe` takes it).
-"$BIN" sculpt --primitive tube --out "$WORK/tube.nendo.json" >/dev/null
-rm -f "$WORK/autosave.nendo.json"
-start_app "$WORK/tube.nendo.json" --autosave "$WORK/autosave.nendo.json" --no-recover
-push_centre() {
-  xdotool mousemove --window "$WID" "$X" "$Y"
-  sleep 0.5
-  xdotool mousedown 1
-  for dy in 10 20 30 40; do xdotool mousemove --window "$WID" "$X" $(( Y + dy )); sleep 0.05; done
-  sleep 0.5
-  xdotool mouseup 1
-  sleep 3
-}
-# Sectors (of 16 round the z axis) where the wall (2.1 < z < 5.9) comes inside radius 1.95.
-dented_sectors() {
-  "$BIN" export "$WORK/autosave.nendo.json" "$WORK/turned.obj" --up z --tolerance 0.01 >/dev/null
-  awk '$1 == "v" && $4 > 2.1 && $4 < 5.9 {
-         r = sqrt($2 * $2 + $3 * $3); a = atan2($3, $2); if (a < 0) a += 6.283185307;
-         s = int(a / 6.283185307 * 16) % 16; if (r < 1.95) d[s] = 1 }
-       END { n = 0; for (s in d) n++; print n }' "$WORK/turned.obj"
-}
-view_shot tube
-xdotool key shift+x
-sleep 1
-push_centre
-[ -s "$WORK/autosave.nendo.json" ] || fail "no autosave after the radial push"
-"$BIN" sculpt --model "$WORK/autosave.nendo.json" --radial 4 --ops /dev/null --out "$WORK/sym.nendo.json" >/dev/null 2>&1 \
-  || fail "with radial symmetry on (Shift+X), the pushed tube is not 4-fold symmetric"
-radial_sectors="$(dented_sectors)"
-awk -v n="$radial_sectors" 'BEGIN { exit !(n >= 4 && n < 16) }' || fail "a radial push dented $radial_sectors of 16 sectors (4 to 15 expected)"
-echo "radial symmetry: Shift+X, a push dented $radial_sectors of 16 sectors, the model is 4-fold symmetric"
-xdotool key shift+x
-sleep 1
-view_shot radial
-push_centre
-view_shot lathe
-"$BIN" sculpt --model "$WORK/autosave.nendo.json" --lathe --ops /dev/null --out "$WORK/sym.nendo.json" >/dev/null 2>&1 \
-  || fail "with the lathe on (Shift+X twice), the pushed tube is not 16-fold symmetric"
-lathe_sectors="$(dented_sectors)"
-[ "$lathe_sectors" = 16 ] || fail "a lathe push dented $lathe_sectors of 16 sectors (all expected)"
-lathe_px="$(differ radial lathe)"
-awk -v d="$lathe_px" 'BEGIN { exit !(d + 0 > 500) }' || fail "the lathe push did not change the image ($lathe_px pixels)"
-echo "lathe: Shift+X again, a push dented all 16 sectors round the axis ($lathe_px pixels changed)"
-kill -0 "$APP_PID" 2>/dev/null || fail "the app died"
-stop_app
-
 # --- 4: slow frames; the Open dialog lists the models beside the one opened.
 mkdir -p "$WORK/models"
 "$BIN" sculpt --primitive plane --out "$WORK/models/aaa-start.nendo.json" >/dev/null

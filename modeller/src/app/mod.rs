@@ -30,6 +30,7 @@
 
 mod analysis_panel;
 pub mod devices_panel;
+mod dialogs;
 pub mod file_dialog;
 pub mod keymap;
 mod panels;

@@ -5,6 +5,7 @@
 //! place. The shell's own state is the file dialog on screen: the modeller says which file it
 //! asks for ([`Modeller::file_request`]), the dialog lists folders for it.
 
+use crate::app::dialogs;
 use crate::app::file_dialog::FileDialog;
 use crate::app::panels::{self, FrameRate, PANEL_WIDTH};
 use crate::editor::command::Command;
@@ -72,10 +73,10 @@ impl Shell {
         });
         let ctx = ui.ctx().clone();
         if let Some(prompt) = modeller.session().prompt() {
-            commands.extend(panels::prompt_ui(&ctx, &prompt));
+            commands.extend(dialogs::prompt_ui(&ctx, &prompt));
         }
         if let Some((_, dialog)) = self.dialog_for(modeller.file_request()) {
-            commands.extend(panels::dialog_ui(&ctx, dialog, modeller));
+            commands.extend(dialogs::dialog_ui(&ctx, dialog, modeller));
         }
         if modeller.help_open() && !panels::help_ui(&ctx, modeller.panel().orbit) {
             commands.push(Command::ToggleHelp);

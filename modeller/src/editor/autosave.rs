@@ -262,7 +262,28 @@ fn beside(path: &Path, suffix: &str) -> PathBuf {
 
 /// Tries to take the slot `path`: `Ok(Some(lock))` when this process now holds it,
 /// `Ok(None)` when another process does.
+///
+/// A lock found held is tried again for about a tenth of a second before the slot is taken
+/// for a running window's: a process that forks (to run any other program) gives its child a
+/// copy of every open descriptor, and with it every `flock`, until the child's `exec` closes
+/// them — a few microseconds, or milliseconds on a loaded machine. A window holds its lock
+/// for its whole life, so a lock still held after the retries is a window's.
 fn try_lock(path: &Path) -> std::io::Result<Option<File>> {
+    let mut pause = Duration::from_millis(2);
+    loop {
+        match try_lock_once(path)? {
+            Some(lock) => return Ok(Some(lock)),
+            None if pause > Duration::from_millis(64) => return Ok(None),
+            None => {
+                std::thread::sleep(pause);
+                pause *= 2;
+            }
+        }
+    }
+}
+
+/// One attempt of [`try_lock`].
+fn try_lock_once(path: &Path) -> std::io::Result<Option<File>> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }

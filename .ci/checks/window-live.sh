@@ -10,9 +10,9 @@
 #    mirrored region too — the autosaved model is symmetric (`nendo sculpt --mirror x` takes it)
 #    and its mesh is pushed down on both sides; after X (symmetry off) a second push leaves it
 #    asymmetric (`--mirror x` refuses it).
-# 3c. Radial symmetry and the lathe on the tube: Shift+X (radial, N = 4) and a push leave the
-#    model 4-fold symmetric with the wall dented in some sectors round the axis; Shift+X again
-#    (the lathe) and a push dent it all the way round.
+# 3c. Radial symmetry and the lathe on the tube: Shift+X (radial, N = 4, with the x mirror) and a
+#    push leave the model 4-fold symmetric with the wall dented in some sectors round the axis;
+#    Shift+X again (the lathe, over those 4 turns) and a push dent it all the way round.
 # 4. With every frame slowed to 250 ms (NENDO_FRAME_DELAY_MS, a test aid): a file name typed fast
 #    into the Open dialog's field (right after the click that focuses it) is not missing letters,
 #    and a double click with its clicks 80 ms apart on a file in the Open dialog opens it
@@ -57,7 +57,12 @@ start_app() {
   "$BIN" "$@" >"$WORK/app.log" 2>&1 &
   APP_PID=$!
   WID="$(timeout 60 xdotool search --sync --name '^nendo' | head -n1)" || fail "no window appeared within 60 s"
-  eval "$(xdotool getwindowgeometry --shell "$WID")"   # WIDTH, HEIGHT
+  # WIDTH and HEIGHT only: the geometry's X and Y (the window's corner) would overwrite the
+  # view centre the strokes press at (section 3c once pushed at the corner, on the top bar).
+  eval "$(xdotool getwindowgeometry --shell "$WID" | grep -E '^(WIDTH|HEIGHT)=')"
+  # The centre of the 3D view.
+  X=$(( (290 + WIDTH) / 2 ))
+  Y=$(( HEIGHT / 2 ))
   local ready=""
   for _ in $(seq 60); do
     import -window "$WID" "$WORK/first.png" 2>/dev/null || true
@@ -88,8 +93,6 @@ differ() { # a b → pixels that differ by more than 5 %
 
 # --- 1–3: live push, Esc, help.
 start_app --autosave "$WORK/autosave.nendo.json" --no-recover
-X=$(( (290 + WIDTH) / 2 ))
-Y=$(( HEIGHT / 2 ))
 xdotool mousemove --window "$WID" "$X" "$Y"
 sleep 1
 view_shot before
@@ -153,6 +156,66 @@ sleep 1
 push_left
 symmetric && fail "with symmetry off (X), a push still left the model symmetric"
 echo "symmetry: after X a push leaves the model asymmetric"
+kill -0 "$APP_PID" 2>/dev/null || fail "the app died"
+stop_app
+
+# --- 3c: radial symmetry and the lathe on the tube (16 patch columns round the z axis, walls of
+# radius 2 from z = 2 to 6), with a finger of radius 0.6 from a settings file of its own (with
+# the default 1.25 the eight images of a push — the x mirror is on, and stays on with the
+# turns — overlap all the way round). Shift+X turns radial symmetry on (N = 4): a push at the
+# view's centre leaves the model 4-fold symmetric and symmetric about x = 0 (`nendo sculpt
+# --mirror x --radial 4` takes it) and dents the wall in some of 64 sectors round the axis,
+# not all. Shift+X again is the lathe — over the 4 turns the dented model has (the lathe proper,
+# every patch column's turn, it no longer has): a push there dents the wall in every sector (the
+# stroke went all the way round) and the model is still 4-fold symmetric and about x = 0.
+"$BIN" sculpt --primitive tube --out "$WORK/tube.nendo.json" >/dev/null
+rm -f "$WORK/autosave.nendo.json"
+mkdir -p "$WORK/config/nendo"
+echo '{"format":"nendo-settings","version":1,"brush":{"radius":0.6}}' >"$WORK/config/nendo/settings.json"
+XDG_CONFIG_HOME="$WORK/config" start_app "$WORK/tube.nendo.json" --autosave "$WORK/autosave.nendo.json" --no-recover
+push_centre() {
+  xdotool mousemove --window "$WID" "$X" "$Y"
+  sleep 0.5
+  xdotool mousedown 1
+  for dy in 10 20 30 40; do xdotool mousemove --window "$WID" "$X" $(( Y + dy )); sleep 0.05; done
+  sleep 0.5
+  xdotool mouseup 1
+  sleep 3
+}
+# Sectors (of 64 round the z axis, 5.6° each) where the wall (2.1 < z < 5.9) comes inside
+# radius 1.95. (Sectors of 22.5° are too coarse: with the mirror, the eight dents of a radial
+# push leave only the narrow strips at 0°, 90°, 180° and 270° untouched.)
+dented_sectors() {
+  "$BIN" export "$WORK/autosave.nendo.json" "$WORK/turned.obj" --up z --tolerance 0.01 >/dev/null
+  awk '$1 == "v" && $4 > 2.1 && $4 < 5.9 {
+         r = sqrt($2 * $2 + $3 * $3); a = atan2($3, $2); if (a < 0) a += 6.283185307;
+         s = int(a / 6.283185307 * 64) % 64; if (r < 1.95) d[s] = 1 }
+       END { n = 0; for (s in d) n++; print n }' "$WORK/turned.obj"
+}
+view_shot tube
+xdotool key shift+x
+sleep 1
+push_centre
+[ -s "$WORK/autosave.nendo.json" ] || fail "no autosave after the radial push"
+"$BIN" sculpt --model "$WORK/autosave.nendo.json" --mirror x --radial 4 --ops /dev/null --out "$WORK/sym.nendo.json" >/dev/null 2>&1 \
+  || fail "with radial symmetry on (Shift+X), the pushed tube is not 4-fold symmetric (and about x = 0)"
+radial_sectors="$(dented_sectors)"
+awk -v n="$radial_sectors" 'BEGIN { exit !(n >= 8 && n < 64) }' || fail "a radial push dented $radial_sectors of 64 sectors (8 to 63 expected)"
+echo "radial symmetry: Shift+X, a push dented $radial_sectors of 64 sectors, the model is 4-fold symmetric and symmetric about x = 0"
+xdotool key shift+x
+sleep 1
+view_shot radial
+radial_px="$(differ tube radial)"
+awk -v d="$radial_px" 'BEGIN { exit !(d + 0 > 500) }' || fail "the radial push did not change the image ($radial_px pixels)"
+push_centre
+view_shot lathe
+"$BIN" sculpt --model "$WORK/autosave.nendo.json" --mirror x --radial 4 --ops /dev/null --out "$WORK/sym.nendo.json" >/dev/null 2>&1 \
+  || fail "with the lathe on (Shift+X twice), the pushed tube is no longer 4-fold symmetric (and about x = 0)"
+lathe_sectors="$(dented_sectors)"
+[ "$lathe_sectors" = 64 ] || fail "a lathe push dented $lathe_sectors of 64 sectors (all expected)"
+lathe_px="$(differ radial lathe)"
+awk -v d="$lathe_px" 'BEGIN { exit !(d + 0 > 500) }' || fail "the lathe push did not change the image ($lathe_px pixels)"
+echo "lathe: Shift+X again, a push dented all 64 sectors round the axis ($lathe_px pixels changed)"
 kill -0 "$APP_PID" 2>/dev/null || fail "the app died"
 stop_app
 

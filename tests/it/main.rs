@@ -54,6 +54,7 @@ mod surface_grid;
 mod surface_operations;
 mod svg_import;
 mod symmetry_group;
+mod window_symmetry;
 // It measures strokes through `nendo_bench::live`, which times the renderer (`gui`).
 #[cfg(feature = "gui")]
 mod undo_history;

@@ -8,7 +8,8 @@
 //! closes the contact in progress, as the hand loop requires.
 //!
 //! **Symmetry.** With the window's symmetry on, the mouse hand presses every contact together
-//! with its mirror image across the plane, as one operation ([`HandDriver::set_mirror`]): the
+//! with its images under the window's whole group — the mirrors, the radial turns, the lathe's
+//! continuous turns, as the mouse tools' strokes — as one operation ([`HandDriver::set_mirror`]): the
 //! hand loop's envelope takes in the mirrored fingers, and the touched control points and their
 //! partners are made exactly symmetric after the regulation
 //! ([`crate::surface::Presser::set_mirror`]); a pinch moves the clay with its mirror image

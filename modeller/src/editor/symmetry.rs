@@ -7,6 +7,15 @@
 //! made into one group ([`Symmetry::group`]) for the model; everything below said of the
 //! mirror holds for every isometry of the group.
 //!
+//! **The lathe** asked for (Shift+X after radial symmetry, or the panel's checkbox) is the
+//! lathe proper — `N` = the patch columns — when the model has every column's turn (a fresh
+//! primitive); a model sculpted with radial symmetry has only its `N` turns (its dents, and the
+//! columns auto-refine split unevenly round the axis), so the lathe keeps that `N`
+//! ([`lathe_for`]): every stroke still goes all the way round (its field the envelope of its
+//! turns every `2π / K`, [`crate::surface::SymmetrySpec::lathe`]) and the model stays `N`-fold.
+//! (Asking for the lathe proper there was refused, the status line naming the turn the model
+//! lacks, and the strokes after it stayed radial.)
+//!
 //! With symmetry on, every window stroke (Push, Pull, Draw a line, Move, Smooth) is applied
 //! together with its mirror image across the plane `x = 0` as one operation
 //! ([`crate::surface::Sculptor::apply_mirrored`], as `nendo sculpt --mirror x`), and so is every
@@ -94,6 +103,28 @@ pub fn reflect_op(op: &Op, plane: Plane) -> Op {
             radius: *radius,
             strength: *strength,
         },
+    }
+}
+
+/// The symmetry asked for, made one the model has where a lathe is asked for: the lathe
+/// proper (`N` = the patch columns, the model invariant under every column's turn) when the
+/// grid allows it, else the lathe over `radial_n`-fold symmetry (the stroke still applied all
+/// the way round, the model kept `radial_n`-fold: what a model sculpted with radial symmetry
+/// has, and what the window's Shift+X cycle goes to from there). Any other request, or one
+/// neither allows, is returned as asked (the refusal then names why).
+#[must_use]
+pub fn lathe_for(grid: &Grid, spec: SymmetrySpec, radial_n: u32) -> SymmetrySpec {
+    if !spec.lathe || spec.radial > 1 || radial_n <= 1 || Symmetry::group(grid, &spec).is_ok() {
+        return spec;
+    }
+    let turned = SymmetrySpec {
+        radial: radial_n,
+        ..spec.clone()
+    };
+    if Symmetry::group(grid, &turned).is_ok() {
+        turned
+    } else {
+        spec
     }
 }
 

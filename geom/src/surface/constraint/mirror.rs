@@ -235,7 +235,9 @@ impl SymmetrySpec {
 impl std::fmt::Display for SymmetrySpec {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let mut parts: Vec<String> = self.planes.iter().map(|p| format!("mirror {p}")).collect();
-        if self.lathe {
+        if self.lathe && self.radial > 1 {
+            parts.push(format!("lathe about the z axis ({}-fold)", self.radial));
+        } else if self.lathe {
             parts.push("lathe about the z axis".to_string());
         } else if self.radial > 1 {
             parts.push(format!("{}-fold about the z axis", self.radial));

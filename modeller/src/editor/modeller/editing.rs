@@ -93,6 +93,12 @@ impl Modeller {
     /// the model does not have it, says why and keeps the one before.
     pub(super) fn set_symmetry_spec(&mut self, spec: crate::surface::SymmetrySpec) {
         let before = self.mirror.spec().clone();
+        // A lathe on a model sculpted with radial symmetry turns by its `N`.
+        let spec = crate::editor::symmetry::lathe_for(
+            &self.session.doc.model().surface,
+            spec,
+            self.mirror.radial_n(),
+        );
         self.mirror.set_spec(spec);
         let doc = &self.session.doc;
         self.mirror.update(doc.revision(), &doc.model().surface);

@@ -37,6 +37,7 @@ mod memory_limits;
 mod model_cli;
 mod model_file;
 mod record_survives;
+mod record_symmetry;
 mod refine;
 mod regulation_methods;
 mod regulation_strokes;

@@ -27,8 +27,9 @@
 //! `--patches`, `--radius`, `--height`, `--minor-radius`) or `--model` names the surface the
 //! recording is made on — a model is embedded in the trace, or with `--reference` named by its
 //! path (relative to the trace's directory when it is inside it, else absolute) and the
-//! SHA-256 of its bytes — and `--regulation`, `--finger`, `--finger-radius`, `--mirror`,
-//! `--auto-refine` the session's settings, and the profile's gate and filter settings go with
+//! SHA-256 of its bytes — and `--regulation`, `--finger`, `--finger-radius`, `--mirror` (planes
+//! combined as `x,y`, with `--radial N` or `--lathe`: the symmetry group `nendo sculpt` and
+//! `nendo replay` take, [`super::symmetry_args`]), `--auto-refine` the session's settings, and the profile's gate and filter settings go with
 //! them (the scene's `filter`); `nendo replay TRACE --out M.json` then needs nothing else. Without `--primitive` or `--model` the trace says it has no scene (`scene none`; a
 //! replayed trace keeps its own), and the settings options are refused.
 //!
@@ -108,11 +109,15 @@ pub struct RecordArgs {
     /// The scene's finger radius r_f in sides.
     #[arg(long, allow_hyphen_values = true)]
     pub finger_radius: Option<f64>,
-    /// The scene's symmetry plane: x, y or z.
-    #[arg(long, value_parser = clap::builder::ValueParser::new(super::sculpt::parse_plane))]
-    pub mirror: Option<Plane>,
-    /// The scene refines the grid before each contact. Not with `--mirror`.
-    #[arg(long, conflicts_with = "mirror")]
+    /// The scene's mirror planes: x, y or z (`x,y` or the option repeated: every combination
+    /// of the mirrors), as `nendo sculpt --mirror`.
+    #[arg(long, value_delimiter = ',', value_parser = clap::builder::ValueParser::new(super::sculpt::parse_plane))]
+    pub mirror: Vec<Plane>,
+    /// The scene's `--radial N`, `--lathe` (with its mirrors).
+    #[command(flatten)]
+    pub turns: super::symmetry_args::TurnArgs,
+    /// The scene refines the grid before each contact. Not with a symmetry.
+    #[arg(long, conflicts_with_all = ["mirror", "radial", "lathe"])]
     pub auto_refine: bool,
 }
 
@@ -146,7 +151,8 @@ fn scene(args: &RecordArgs) -> anyhow::Result<Option<SceneText>> {
     let settings = args.regulation.is_some()
         || args.finger.is_some()
         || args.finger_radius.is_some()
-        || args.mirror.is_some()
+        || !args.mirror.is_empty()
+        || args.turns.given()
         || args.auto_refine;
     let mut scene = match (&args.model, args.primitive) {
         (Some(path), _) => {
@@ -185,7 +191,9 @@ fn scene(args: &RecordArgs) -> anyhow::Result<Option<SceneText>> {
     scene.regulation = args.regulation;
     scene.finger.clone_from(&args.finger);
     scene.finger_radius = args.finger_radius;
-    scene.mirror = args.mirror;
+    scene.mirror.clone_from(&args.mirror);
+    scene.radial = args.turns.radial.filter(|&n| n > 1);
+    scene.lathe = args.turns.lathe;
     scene.auto_refine = args.auto_refine;
     // The profile's gate and filter, so that a replay filters the frames the same way.
     scene.filter = Some(profile::resolve(&args.profile)?.filter);

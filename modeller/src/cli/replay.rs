@@ -10,11 +10,12 @@
 //! The scene comes from the trace's header when it has one (trace version 2, see
 //! [`crate::hand::scene`]): the start surface (a primitive with its parameters, an embedded
 //! model, or a model file named by path and SHA-256) and the session's settings (regulation,
-//! finger, finger radius, mirror, auto-refine), so that `nendo replay TRACE --out M.json`
+//! finger, finger radius, mirrors, radial symmetry or the lathe, auto-refine), so that `nendo replay TRACE --out M.json`
 //! reproduces the recorded session. Options given on the command line override the header's:
 //! `--primitive` or `--model` replaces its start surface (`--patches`, `--radius`, `--height`,
 //! `--minor-radius` alone change the parameters of the header's primitive), `--regulation`,
-//! `--finger`, `--finger-radius` replace its settings, `--mirror x|y|z|none` its symmetry,
+//! `--finger`, `--finger-radius` replace its settings, `--mirror x|y|z|none` its mirrors,
+//! `--radial N` / `--lathe` its turns,
 //! `--auto-refine` / `--no-auto-refine` its refinement. A trace without a scene (version 1, or
 //! recorded without one) needs `--primitive` or `--model`.
 //!
@@ -177,7 +178,8 @@ pub struct ReplayArgs {
     /// `x,y` or the option repeated: every combination of the mirrors.
     #[arg(long, value_delimiter = ',', value_parser = clap::builder::ValueParser::new(parse_mirror))]
     pub mirror: Vec<Mirror>,
-    /// `--radial N`, `--lathe` (with the trace's scene's mirror, or --mirror's).
+    /// `--radial N`, `--lathe` (with the trace's scene's mirror, or --mirror's; without them,
+    /// the trace's scene's turns).
     #[command(flatten)]
     pub turns: super::symmetry_args::TurnArgs,
     /// Feed the hand loop the raw frames: no plausibility gate, no One-Euro filter. Default:
@@ -306,6 +308,8 @@ struct Setup {
     finger: Option<FingerModel>,
     finger_radius: Option<f64>,
     mirror: Vec<Plane>,
+    /// `--radial N` / `--lathe`, or the trace's scene's.
+    turns: super::symmetry_args::TurnArgs,
     auto_refine: bool,
     /// The trace's scene's gate and filter settings.
     filter: Option<FilterSettings>,
@@ -408,16 +412,25 @@ fn setup(args: &ReplayArgs, header: &TraceHeader) -> anyhow::Result<Setup> {
             Mirror::None => None,
         })
         .collect();
-    let mirror = match (
-        args.mirror.is_empty(),
-        scene.as_ref().and_then(|s| s.mirror),
-    ) {
-        (false, _) => given,
-        (true, Some(p)) => {
-            from_scene.push("mirror");
-            vec![p]
+    let scene_mirror = scene.as_ref().map(|s| s.mirror.clone()).unwrap_or_default();
+    let mirror = if !args.mirror.is_empty() {
+        given
+    } else if scene_mirror.is_empty() {
+        Vec::new()
+    } else {
+        from_scene.push("mirror");
+        scene_mirror
+    };
+    // `--radial` / `--lathe` win over the scene's turns.
+    let turns = match &scene {
+        Some(s) if !args.turns.given() && (s.radial.is_some() || s.lathe) => {
+            from_scene.push(if s.lathe { "lathe" } else { "radial symmetry" });
+            super::symmetry_args::TurnArgs {
+                radial: s.radial,
+                lathe: s.lathe,
+            }
         }
-        (true, None) => Vec::new(),
+        _ => args.turns,
     };
     let auto_refine = if args.auto_refine {
         true
@@ -430,7 +443,7 @@ fn setup(args: &ReplayArgs, header: &TraceHeader) -> anyhow::Result<Setup> {
         }
         on
     };
-    if auto_refine && args.turns.given() {
+    if auto_refine && turns.given() {
         anyhow::bail!(
             "auto-refine does not go with --radial or --lathe{}",
             if args.auto_refine {
@@ -467,6 +480,7 @@ fn setup(args: &ReplayArgs, header: &TraceHeader) -> anyhow::Result<Setup> {
         finger,
         finger_radius,
         mirror,
+        turns,
         auto_refine,
         filter,
         from_scene,
@@ -521,6 +535,7 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
         finger: chosen_finger,
         finger_radius,
         mirror,
+        turns,
         auto_refine,
         filter: scene_filter,
         from_scene,
@@ -554,7 +569,7 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     let regulation = model.regulation;
     // The loop of a `HandSession`, with the grid at hand so that it can be refined between
     // contacts.
-    let spec = args.turns.spec(&mirror);
+    let spec = turns.spec(&mirror);
     let symmetry = super::symmetry_args::symmetry_for(&mut model.surface, &spec, regulation)?;
     let mut hand_loop = HandLoop::new(hand, options)?;
     hand_loop.set_mirror(symmetry);

@@ -8,6 +8,7 @@
 //!  "primitive":{"name":"sphere","patches":[8,4],"radius":3.0}}
 //! {"regulation":"g1","finger":"index","finger_radius":0.5,"mirror":"x","auto_refine":false,
 //!  "model":{"format":"nendo-model","version":1,"surface":{…},"curves":[]}}
+//! {"finger":"index","mirror":"x,y","radial":4,"auto_refine":false,"primitive":{"name":"tube"}}
 //! {"finger":"index","model_file":{"path":"start.json","sha256":"9f86d0…"}}
 //! ```
 //!
@@ -26,8 +27,12 @@
 //! The settings, each optional: `regulation` (a method's name; absent: the start model's),
 //! `finger` (the value of `--finger`, parsed by the command line's own parser; absent: the
 //! profile's default), `finger_radius` (`r_f` in sides, a positive finite number; absent:
-//! [`super::DEFAULT_FINGER_RADIUS`]), `mirror` (`x`, `y` or `z`; absent: no symmetry),
-//! `auto_refine` (default `false`), `filter` (the plausibility gate and One-Euro filter the
+//! [`super::DEFAULT_FINGER_RADIUS`]), `mirror` (`x`, `y` or `z`, or several joined by commas,
+//! `x,y`: every combination of the mirrors; absent: none), `radial` (`N` of the radial symmetry
+//! about the z axis, at least 2; absent: none) or `lathe` (`true`: every contact applied all the
+//! way round; not with `radial`) — together the group of [`crate::surface::SymmetrySpec`],
+//! as `nendo record` and `nendo replay` take it with `--mirror`, `--radial` and `--lathe` —
+//! `auto_refine` (default `false`; not with a symmetry), `filter` (the plausibility gate and One-Euro filter the
 //! session's frames went through, as a profile's `filter` member, every member written out:
 //! [`nendo_devices::FilterSettings`]; absent: `nendo replay` uses `--profile`'s, else the
 //! defaults for the finger, [`super::filter::default_for`]). Unknown and repeated members are refused, like every
@@ -133,8 +138,12 @@ pub struct Scene {
     pub finger: Option<String>,
     /// The finger radius `r_f` (`None`: the default).
     pub finger_radius: Option<f64>,
-    /// The symmetry plane every contact is mirrored across (`None`: none).
-    pub mirror: Option<Plane>,
+    /// The mirror planes every contact is mirrored across (every combination; empty: none).
+    pub mirror: Vec<Plane>,
+    /// `N` of the radial symmetry about the z axis every contact is turned with (`None`: none).
+    pub radial: Option<u32>,
+    /// Every contact applied all the way round the z axis.
+    pub lathe: bool,
     /// Whether the grid is refined before each contact.
     pub auto_refine: bool,
     /// The gate and filter the frames go through (`None`: the trace does not say).
@@ -158,6 +167,10 @@ struct SceneDoc {
     finger_radius: Option<f64>,
     #[serde(default)]
     mirror: Option<String>,
+    #[serde(default)]
+    radial: Option<u32>,
+    #[serde(default)]
+    lathe: bool,
     #[serde(default)]
     auto_refine: bool,
     #[serde(default)]
@@ -224,6 +237,43 @@ fn check_filter(f: Option<FilterSettings>) -> Result<Option<FilterSettings>, Sce
     Ok(f)
 }
 
+/// The planes of a `mirror` member: `x`, `y` or `z`, or several joined by commas (each kept
+/// once); `None`: none.
+fn parse_planes(text: Option<&str>) -> Result<Vec<Plane>, SceneError> {
+    let mut planes: Vec<Plane> = Vec::new();
+    for name in text.into_iter().flat_map(|t| t.split(',')) {
+        let plane: Plane = name.trim().parse()?;
+        if !planes.contains(&plane) {
+            planes.push(plane);
+        }
+    }
+    Ok(planes)
+}
+
+/// The `mirror` member's text: the planes' names joined by commas.
+fn plane_list(planes: &[Plane]) -> String {
+    planes
+        .iter()
+        .map(|p| p.name())
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// `radial` is at least 2 and not given with `lathe`.
+fn check_turns(radial: Option<u32>, lathe: bool) -> Result<Option<u32>, SceneError> {
+    match radial {
+        Some(n) if !(2..=4096).contains(&n) => Err(SceneError::Value {
+            name: "radial",
+            message: format!("{n} is not an N of 2 to 4096"),
+        }),
+        Some(_) if lathe => Err(SceneError::Value {
+            name: "radial",
+            message: "not with lathe (the lathe turns by every patch column)".into(),
+        }),
+        r => Ok(r),
+    }
+}
+
 fn check_radius(r: Option<f64>) -> Result<Option<f64>, SceneError> {
     match r {
         Some(r) if !(r.is_finite() && r > 0.0) => Err(SceneError::Value {
@@ -243,10 +293,26 @@ impl Scene {
             regulation: None,
             finger: None,
             finger_radius: None,
-            mirror: None,
+            mirror: Vec::new(),
+            radial: None,
+            lathe: false,
             auto_refine: false,
             filter: None,
         }
+    }
+
+    /// The symmetry the scene's contacts are pressed with (mirrors, radial `N`, lathe).
+    #[must_use]
+    pub fn symmetry(&self) -> crate::surface::SymmetrySpec {
+        let mut spec = crate::surface::SymmetrySpec {
+            radial: self.radial.unwrap_or(0),
+            lathe: self.lathe,
+            ..crate::surface::SymmetrySpec::default()
+        };
+        for &p in &self.mirror {
+            spec.add_plane(p);
+        }
+        spec
     }
 
     /// A primitive's scene with every parameter it is built from written out (the defaults
@@ -356,7 +422,9 @@ impl Scene {
             regulation: doc.regulation.map(|r| r.parse()).transpose()?,
             finger: doc.finger,
             finger_radius: check_radius(doc.finger_radius)?,
-            mirror: doc.mirror.map(|m| m.parse()).transpose()?,
+            mirror: parse_planes(doc.mirror.as_deref())?,
+            radial: check_turns(doc.radial, doc.lathe)?,
+            lathe: doc.lathe,
             auto_refine: doc.auto_refine,
             filter: check_filter(doc.filter)?,
         })
@@ -394,8 +462,15 @@ impl Scene {
         if let Some(r) = self.finger_radius {
             members.push(("finger_radius", json!(r).to_string()));
         }
-        if let Some(m) = self.mirror {
-            members.push(("mirror", json!(m.name()).to_string()));
+        if !self.mirror.is_empty() {
+            members.push(("mirror", json!(plane_list(&self.mirror)).to_string()));
+        }
+        check_turns(self.radial, self.lathe)?;
+        if let Some(n) = self.radial {
+            members.push(("radial", json!(n).to_string()));
+        }
+        if self.lathe {
+            members.push(("lathe", "true".to_string()));
         }
         members.push(("auto_refine", json!(self.auto_refine).to_string()));
         if let Some(f) = &self.filter {
@@ -557,8 +632,14 @@ impl Scene {
         if let Some(r) = self.finger_radius {
             a.extend(["--finger-radius".into(), r.to_string()]);
         }
-        if let Some(m) = self.mirror {
-            a.extend(["--mirror".into(), m.name().into()]);
+        if !self.mirror.is_empty() {
+            a.extend(["--mirror".into(), plane_list(&self.mirror)]);
+        }
+        if let Some(n) = self.radial {
+            a.extend(["--radial".into(), n.to_string()]);
+        }
+        if self.lathe {
+            a.push("--lathe".into());
         }
         if self.auto_refine {
             a.push("--auto-refine".into());
@@ -576,13 +657,45 @@ impl Scene {
 mod tests {
     use super::*;
 
+    /// Several mirrors and a radial `N` (or the lathe) read back as written, and name the
+    /// replay's options.
+    #[test]
+    fn a_scene_keeps_its_symmetry_group() {
+        let mut s = Scene::primitive(Primitive::Tube, &PrimitiveParams::default()).unwrap();
+        s.mirror = vec![Plane::X, Plane::Y];
+        s.radial = Some(4);
+        let text = s.to_text().unwrap();
+        assert!(
+            text.as_str().contains(r#""mirror":"x,y","radial":4,"#),
+            "{}",
+            text.as_str()
+        );
+        assert_eq!(Scene::parse(text.as_str()).unwrap(), s);
+        let args = s.arguments().unwrap().join(" ");
+        assert!(args.ends_with("--mirror x,y --radial 4"), "{args}");
+        assert_eq!(
+            s.symmetry().to_string(),
+            "mirror x = 0, mirror y = 0, 4-fold about the z axis"
+        );
+        s.radial = None;
+        s.lathe = true;
+        let back = Scene::parse(s.to_text().unwrap().as_str()).unwrap();
+        assert!(back.lathe && back.radial.is_none());
+        assert!(
+            s.arguments()
+                .unwrap()
+                .join(" ")
+                .ends_with("--mirror x,y --lathe")
+        );
+    }
+
     #[test]
     fn a_scene_reads_back_what_it_writes() {
         let mut s = Scene::primitive(Primitive::Tube, &PrimitiveParams::default()).unwrap();
         s.regulation = Some(Regulation::G1);
         s.finger = Some("middle".into());
         s.finger_radius = Some(0.75);
-        s.mirror = Some(Plane::Y);
+        s.mirror = vec![Plane::Y];
         let text = s.to_text().unwrap();
         assert_eq!(
             text.as_str(),
@@ -688,6 +801,12 @@ mod tests {
                 "finger_radius: 0 is not a positive number",
             ),
             (r#"{"primitive":{"name":"sphere"},"mirror":"w"}"#, "\"w\""),
+            (r#"{"primitive":{"name":"sphere"},"mirror":"x,w"}"#, "\"w\""),
+            (r#"{"primitive":{"name":"tube"},"radial":1}"#, "radial: 1"),
+            (
+                r#"{"primitive":{"name":"tube"},"radial":4,"lathe":true}"#,
+                "not with lathe",
+            ),
             (r#"{"primitive":{"name":"sphere"},"regulation":"c9"}"#, "c9"),
             (
                 r#"{"primitive":{"name":"sphere"},"fingers":"x"}"#,

@@ -54,7 +54,7 @@ fn push_centre(m: &mut Modeller) {
 /// radius 2 before) comes inside radius 1.95 — the measure of the window check.
 fn dented_sectors(grid: &Grid) -> Vec<usize> {
     let mesh = tessellate(&grid.patches(), &Tessellation::DISPLAY);
-    let mut dented = vec![false; SECTORS];
+    let mut dented = [false; SECTORS];
     for p in &mesh.positions {
         let p = p.as_dvec3();
         if p.z > 2.1 && p.z < 5.9 && p.truncate().length() < 1.95 {

@@ -542,7 +542,10 @@ fn sculpt_ops_are_read_line_by_line_and_an_endless_or_over_long_line_is_refused(
         s(&out),
     ]);
     refused(&o, "line 1 is longer than 1 MB");
-    assert!(started.elapsed() < Duration::from_secs(30), "refused at once");
+    assert!(
+        started.elapsed() < Duration::from_secs(30),
+        "refused at once"
+    );
     // A line of 1 MB + 1 byte after a good one (a drag path padded with blanks).
     let push = r#"{"op":"push","at":[0,0,0],"dir":[0,0,-1],"depth":0.1,"radius":0.5}"#;
     let pad = " ".repeat((1 << 20) + 1 - push.len());
@@ -575,7 +578,15 @@ fn sculpt_ops_are_read_line_by_line_and_an_endless_or_over_long_line_is_refused(
     assert!(stderr(&o).contains("2 operations"), "{}", stderr(&o));
     // Standard input is read the same way.
     let o = run_with_input(
-        &["sculpt", "--primitive", "plane", "--ops", "-", "--out", s(&out)],
+        &[
+            "sculpt",
+            "--primitive",
+            "plane",
+            "--ops",
+            "-",
+            "--out",
+            s(&out),
+        ],
         &format!("{push}\n{push}{pad}\n"),
     );
     refused(&o, "line 2 is longer than 1 MB");
@@ -640,8 +651,15 @@ fn every_figure_warp_is_held_to_the_warp_work_cap() {
     let a = args("0.01");
     let o = run(&a.iter().map(String::as_str).collect::<Vec<_>>());
     refused(&o, "weight evaluations");
-    assert!(stderr(&o).contains("warp of 1000 pairs x 320"), "{}", stderr(&o));
-    assert!(started.elapsed() < Duration::from_secs(20), "refused up front");
+    assert!(
+        stderr(&o).contains("warp of 1000 pairs x 320"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        started.elapsed() < Duration::from_secs(20),
+        "refused up front"
+    );
     assert!(!out.exists());
     // Coarse edges: 1 000 x (10 + 4) points, under the cap, warps.
     let a = args("1000");
@@ -665,7 +683,10 @@ fn every_figure_warp_is_held_to_the_warp_work_cap() {
         s(&frames),
     ]);
     refused(&o, "5001 pairs x 2000 points = 10002000 weight evaluations");
-    assert!(started.elapsed() < Duration::from_secs(20), "refused up front");
+    assert!(
+        started.elapsed() < Duration::from_secs(20),
+        "refused up front"
+    );
     assert!(!frames.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -14,7 +14,7 @@ enum Frames {
     /// way (the file is opened again for each repeat).
     File {
         path: PathBuf,
-        stream: Option<TraceStream<std::io::BufReader<std::fs::File>>>,
+        stream: Option<Box<TraceStream<std::io::BufReader<std::fs::File>>>>,
     },
 }
 
@@ -97,13 +97,16 @@ impl Player {
     fn file(
         &self,
         path: &Path,
-        mut stream: Option<TraceStream<std::io::BufReader<std::fs::File>>>,
+        mut stream: Option<Box<TraceStream<std::io::BufReader<std::fs::File>>>>,
         repeat: bool,
     ) {
         let note = |text: String| *lock(&self.worker.last_error) = Some(text);
         let mut offset = 0u64;
         loop {
-            let mut s = match stream.take().map_or_else(|| TraceStream::open(path), Ok) {
+            let mut s = match stream
+                .take()
+                .map_or_else(|| TraceStream::open(path).map(Box::new), Ok)
+            {
                 Ok(s) => s,
                 Err(e) => return note(format!("{}: {e}", path.display())),
             };
@@ -144,7 +147,13 @@ impl HandStream {
     /// backend. With `repeat`, it starts over at the end with timestamps continuing.
     pub fn replay(trace: Trace, speed: f64, repeat: bool, capacity: usize) -> HandStream {
         let header = trace.header;
-        HandStream::play(header, Frames::Memory(trace.frames), speed, repeat, capacity)
+        HandStream::play(
+            header,
+            Frames::Memory(trace.frames),
+            speed,
+            repeat,
+            capacity,
+        )
     }
 
     /// Plays the trace file `path` back as [`HandStream::replay`] does, reading it frame by
@@ -166,7 +175,7 @@ impl HandStream {
         let header = stream.header().clone();
         let frames = Frames::File {
             path: path.to_path_buf(),
-            stream: Some(stream),
+            stream: Some(Box::new(stream)),
         };
         Ok(HandStream::play(header, frames, speed, repeat, capacity))
     }

@@ -399,8 +399,8 @@ impl Autosave {
         struct Head {
             autosave: Option<serde_json::Value>,
         }
-        let text = nendo_file::read_text_limited(path, crate::model::MAX_FILE_BYTES, "model file")
-            .ok()?;
+        let text =
+            nendo_file::read_text_limited(path, crate::model::MAX_FILE_BYTES, "model file").ok()?;
         let head = serde_json::from_str::<Head>(&text).ok()?.autosave?;
         let len = head.get("source_len")?.as_u64()?;
         let hash = u64::from_str_radix(head.get("source_fnv1a")?.as_str()?, 16).ok()?;

@@ -79,7 +79,11 @@ pub fn divided_vertices(contour: &Contour, max_edge: f64) -> f64 {
 
 /// A vertex count of [`divided_vertices`] as a whole number (saturating).
 pub(crate) fn whole(n: f64) -> u64 {
-    if n >= u64::MAX as f64 { u64::MAX } else { n as u64 }
+    if n >= u64::MAX as f64 {
+        u64::MAX
+    } else {
+        n as u64
+    }
 }
 
 /// The figure with every metacircle centre warped.

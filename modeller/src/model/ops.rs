@@ -545,8 +545,12 @@ mod tests {
         assert_eq!(ops.iter().map(|(_, l)| *l).collect::<Vec<_>>(), [1, 3]);
         // A line over its limit, wherever the buffer ends.
         let long = format!("{push}\n{}{push}\n", " ".repeat(100));
-        let e = read_ops_limited(std::io::BufReader::with_capacity(7, long.as_bytes()), 100, 1000)
-            .expect_err("a long line");
+        let e = read_ops_limited(
+            std::io::BufReader::with_capacity(7, long.as_bytes()),
+            100,
+            1000,
+        )
+        .expect_err("a long line");
         assert!(matches!(e, OpsFileError::LineTooLong { line: 2 }), "{e}");
         assert!(e.to_string().contains("line 2 is longer than"), "{e}");
         // The file over its limit: at the limit it reads, one byte more is refused.
@@ -558,7 +562,10 @@ mod tests {
         let e = read_ops_limited(&b"\n\xff\n"[..], 100, 1000).expect_err("not text");
         assert!(matches!(e, OpsFileError::NotText { line: 2 }), "{e}");
         let e = read_ops_limited(&b"\n\n{}\n"[..], 100, 1000).expect_err("bad");
-        assert!(matches!(e, OpsFileError::Bad(OpLineError { line: 3, .. })), "{e}");
+        assert!(
+            matches!(e, OpsFileError::Bad(OpLineError { line: 3, .. })),
+            "{e}"
+        );
         // An endless line (`/dev/zero`) is refused after the line limit.
         let zero = std::io::BufReader::new(std::io::Read::take(std::io::repeat(0), 1 << 40));
         let e = read_ops(zero).expect_err("endless");

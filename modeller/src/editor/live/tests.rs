@@ -640,8 +640,8 @@ fn poll_to_end(live: &mut LiveInput, doc: &mut Document) {
 fn a_replayed_trace_with_a_2_mb_frame_line_is_refused_and_the_window_goes_on() {
     let dir = std::env::temp_dir().join(format!("nendo-live-long-line-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../devices/traces/plane-palm.trace");
+    let source =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../devices/traces/plane-palm.trace");
     let text = std::fs::read_to_string(&source).expect("the shipped trace");
     let (head, frames) = text.split_once("\nframes\n").expect("a frames line");
     let lines: Vec<&str> = frames.lines().filter(|l| !l.starts_with("end ")).collect();

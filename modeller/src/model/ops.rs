@@ -373,26 +373,17 @@ pub fn read_ops_limited(
     let mut ops = Vec::new();
     let mut buf = Vec::new();
     let mut line = 0usize;
-    let mut read = 0u64;
     loop {
         line += 1;
         let got = read_line_bounded(&mut input, &mut buf, line_limit, Overlong::Stop)?;
         match got {
             Line::End => break,
-            Line::TooLong { bytes } => {
-                // A long line cut by the file limit is the file's excess, not the line's.
-                return Err(if read + bytes > file_limit {
-                    OpsFileError::TooLarge { line }
-                } else {
-                    OpsFileError::LineTooLong { line }
-                });
+            // A long line cut by the file limit is the file's excess, not the line's.
+            _ if file_limit.saturating_add(1) - input.limit() > file_limit => {
+                return Err(OpsFileError::TooLarge { line });
             }
-            Line::Text { newline } => {
-                read += buf.len() as u64 + u64::from(newline);
-                if read > file_limit {
-                    return Err(OpsFileError::TooLarge { line });
-                }
-            }
+            Line::TooLong { .. } => return Err(OpsFileError::LineTooLong { line }),
+            Line::Text { .. } => {}
         }
         let text = std::str::from_utf8(&buf).map_err(|_| OpsFileError::NotText { line })?;
         if text.trim().is_empty() {

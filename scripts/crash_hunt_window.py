@@ -259,6 +259,7 @@ def run_window_case(cfg, case, display):
         violations.append("no window within 30 s (killed)")
     # autosave slots: each a readable model, or the planted bytes untouched
     base = case["autosave"]
+    checked = 0
     if base:
         folder = os.path.join(d, os.path.dirname(base))
         if os.path.isdir(folder):
@@ -272,6 +273,7 @@ def run_window_case(cfg, case, display):
                 if planted.get(rel) == now:
                     continue
                 code, msg = _check_model(cfg.binary, path, env)
+                checked += 1
                 if code != 0:
                     violations.append(f"autosave {rel} is not a readable model after the kill: {msg.strip()[-300:]}")
     settings = os.path.join(d, "config", "nendo", "settings.json")
@@ -284,6 +286,8 @@ def run_window_case(cfg, case, display):
             except ValueError as e:
                 violations.append(f"settings.json is not JSON after the run: {e}")
     outcome = f"{'killed' if killed else f'exit {rc}'}{'' if wid else ', no window'}, {time.monotonic() - t0:.1f} s"
+    if checked:
+        outcome += f", {checked} autosave{'s' if checked > 1 else ''} written and checked"
     if not killed and err.strip():
         outcome += ": " + err.decode(errors="replace").strip().splitlines()[-1][:160]
     return violations, err, outcome, d
@@ -320,8 +324,10 @@ def run_window_hunt(cfg, seeds, count, mutators, stop_flag=None):
             case["id"] = f"window:{i}"
             violations, err, outcome, d = run_window_case(cfg, case, display)
             ran += 1
-            kind = outcome.split(",")[0]
+            kind = outcome.split(",")[0].split(":")[0]
             outcomes[kind] = outcomes.get(kind, 0) + 1
+            if "written and checked" in outcome:
+                outcomes["with an autosave checked"] = outcomes.get("with an autosave checked", 0) + 1
             print(f"  window:{i}: {outcome}" + (f"  VIOLATION: {'; '.join(violations)}" if violations else ""), flush=True)
             if violations:
                 repro = save_window_repro(cfg, len(found) + 1, case, violations, err, d)

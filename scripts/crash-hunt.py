@@ -42,6 +42,12 @@ link. Each such case has an oracle run after the binary ends (is the model kept,
 unmixed, the link intact, the refusal named?); a wrong outcome is an "oracle violation",
 reported and saved like a crash. Kills of `record` are covered by .ci/checks/record-survives.sh.
 
+The window (`--only window`, `--window-count N`, default 40): scripts/crash_hunt_window.py starts
+the real window under Xvfb with mutated model files, settings.json, autosave slots and replayed
+traces, drives it with xdotool and kills it with SIGKILL at a random moment; its oracles (no
+panic in stderr, an exit with a message, autosaves that `nendo check` reads, settings.json still
+JSON) are in that file's doc. Needs Xvfb and xdotool; not part of the default run.
+
 Counting: one input is one run of the binary, except `closest` and `curve`, where one input is
 one request line and a run answers a batch of up to 8 lines (a crash is then shrunk to its line).
 """
@@ -1693,6 +1699,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "target", "crash-hunt"))
     ap.add_argument("--replay-case", default="", help="SUB:I — run that one input and print its outcome")
     ap.add_argument("--no-shrink", action="store_true", help="save crashes as found, without shrinking")
+    ap.add_argument("--window-count", type=int, default=40, help="cases of the window class (--only window)")
     ap.add_argument("--max-seconds", type=float, default=0, help="stop starting inputs after this long and report (0: no limit)")
     args = ap.parse_args()
 
@@ -1731,7 +1738,25 @@ def main():
             if cl:
                 save_repro(cfg, 999, c, cl, res)
             return 1 if cl else 0
-        subs = [s for s in SHARES if not args.only or s in args.only.split(",")]
+        only = [o for o in args.only.split(",") if o]
+        window_found = []
+        if "window" in only:
+            # The window class (scripts/crash_hunt_window.py): its own count, cases one at a
+            # time on one Xvfb display; run before the other classes named with it.
+            sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+            import crash_hunt_window
+            n = args.window_count
+            print(f"crash-hunt: window class, seed {cfg.seed}, {n} cases, binary {cfg.binary}", flush=True)
+            ran, window_found, outcomes = crash_hunt_window.run_window_hunt(
+                cfg, seeds, n, (mutate_json_text, mutate_lines, mutate_line_json_or_tokens)
+            )
+            print(f"\nwindow: {ran} cases ({', '.join(f'{v} {k}' for k, v in sorted(outcomes.items()))}), {len(window_found)} with a violation")
+            for cid, violations, repro in window_found:
+                print(f"- [{cid}] {'; '.join(violations)[:400]}\n    reproducer {repro}")
+            only = [o for o in only if o != "window"]
+            if not only:
+                return 1 if window_found else 0
+        subs = [s for s in SHARES if not only or s in only]
         total_share = sum(SHARES[s] for s in subs)
         plan = []
         counts = {}
@@ -1817,7 +1842,7 @@ def main():
                     c = shrink(cfg, c, v["crash"][1])
                 d, cmd = save_repro(cfg, idx, c, v["crash"], v["res"])
                 print(f"- [{v['crash'][0]}] {v['crash'][2][:400]}\n    hits {v['hits']}, first {c['id']}, reproducer {d}/repro.sh\n    {cmd[:400]}")
-        return 1 if crashes or harness_errors else 0
+        return 1 if crashes or harness_errors or window_found else 0
     finally:
         shutil.rmtree(cfg.work, ignore_errors=True)
 

@@ -492,15 +492,10 @@ impl HandStream {
                 let sources = [None, Some(Source::Skeleton(Box::new(receiver)))];
                 HandStream::start_sources(sources, watchdog, options, start)
             }
+            // Streamed frame by frame: an interrupted recording plays its complete frames,
+            // and the stream's last error says what was dropped.
             Input::Replay(r) => {
-                // An interrupted recording plays its complete frames, with a warning saying so.
-                let recovered = Trace::read_recovering(Path::new(&r.trace))?;
-                let mut stream =
-                    HandStream::replay(recovered.trace, r.speed, r.repeat, options.capacity);
-                if let Some(i) = recovered.interrupted {
-                    stream.warnings.push(format!("{}: {i}", r.trace));
-                }
-                Ok(stream)
+                HandStream::replay_file(Path::new(&r.trace), r.speed, r.repeat, options.capacity)
             }
             Input::Mouse(_) => Err(DeviceError::Unsupported(
                 "the mouse hand is driven by the window (MouseDevice), not opened as a stream"

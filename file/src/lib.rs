@@ -51,6 +51,8 @@ pub mod append;
 pub mod lock;
 pub use append::{AppendFile, Existing};
 pub use lock::{LockError, WriterLock};
+pub mod lines;
+pub use lines::{Line, Overlong, read_line_bounded};
 pub mod read;
 pub use read::{ReadError, read_text_limited};
 

@@ -523,3 +523,170 @@ fn a_trace_from_a_fifo_is_replayed_and_not_opened_twice() {
         .expect("the trace written");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+// --- The operations file of `sculpt --ops`, and the warp cap on every figure warp.
+
+#[test]
+fn sculpt_ops_are_read_line_by_line_and_an_endless_or_over_long_line_is_refused() {
+    let dir = temp_dir("ops-lines");
+    let out = dir.join("o.json");
+    // `/dev/zero`: one line that never ends, refused once it passes 1 MB.
+    let started = Instant::now();
+    let o = guarded(&[
+        "sculpt",
+        "--primitive",
+        "plane",
+        "--ops",
+        "/dev/zero",
+        "--out",
+        s(&out),
+    ]);
+    refused(&o, "line 1 is longer than 1 MB");
+    assert!(
+        started.elapsed() < Duration::from_secs(30),
+        "refused at once"
+    );
+    // A line of 1 MB + 1 byte after a good one (a drag path padded with blanks).
+    let push = r#"{"op":"push","at":[0,0,0],"dir":[0,0,-1],"depth":0.1,"radius":0.5}"#;
+    let pad = " ".repeat((1 << 20) + 1 - push.len());
+    let ops = dir.join("ops.jsonl");
+    std::fs::write(&ops, format!("{push}\n{push}{pad}\n")).expect("written");
+    let o = run(&[
+        "sculpt",
+        "--primitive",
+        "plane",
+        "--ops",
+        s(&ops),
+        "--out",
+        s(&out),
+    ]);
+    refused(&o, "line 2 is longer than 1 MB");
+    assert!(stderr(&o).contains("nothing written"), "{}", stderr(&o));
+    assert!(!out.exists());
+    // One byte less is a line at the limit: read, and the operations applied.
+    std::fs::write(&ops, format!("{push}\n{push}{}\n", &pad[1..])).expect("written");
+    let o = run(&[
+        "sculpt",
+        "--primitive",
+        "plane",
+        "--ops",
+        s(&ops),
+        "--out",
+        s(&out),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("2 operations"), "{}", stderr(&o));
+    // Standard input is read the same way.
+    let o = run_with_input(
+        &[
+            "sculpt",
+            "--primitive",
+            "plane",
+            "--ops",
+            "-",
+            "--out",
+            s(&out),
+        ],
+        &format!("{push}\n{push}{pad}\n"),
+    );
+    refused(&o, "line 2 is longer than 1 MB");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A figure document with `curves` short horizontal lines laid over it, `metacircles`
+/// metacircles and a square contour.
+fn crowded_figure(curves: usize, metacircles: usize, dy: f64) -> String {
+    let curves: Vec<serde_json::Value> = (0..curves)
+        .map(|k| {
+            let y = k as f64 * 0.01 + dy;
+            serde_json::json!({"bezier": [[10.0, y], [90.0, y]]})
+        })
+        .collect();
+    let metacircles: Vec<serde_json::Value> = (0..metacircles)
+        .map(|i| {
+            let x = 20.0 + (i % 100) as f64 * 0.6;
+            let y = 20.0 + (i / 100) as f64 * 0.6;
+            serde_json::json!({"centre": [x, y], "radius": 5.0, "density": 1.0})
+        })
+        .collect();
+    serde_json::json!({
+        "format": "nendo-figure", "version": 1, "name": "crowded", "threshold": 0.5,
+        "view": {"min": [0, 0], "max": [100, 100]}, "background": "#ffffff",
+        "metacircles": metacircles,
+        "contour": [[10, 10], [90, 10], [90, 90], [10, 90]],
+        "curves": curves,
+    })
+    .to_string()
+}
+
+#[test]
+fn every_figure_warp_is_held_to_the_warp_work_cap() {
+    let dir = temp_dir("figure-warp-cap");
+    // figure warp: 1 000 curves x (10 centres + the contour divided to 0.01: 32 000 vertices).
+    let fig = dir.join("f.json");
+    std::fs::write(&fig, crowded_figure(1000, 10, 0.0)).expect("written");
+    let moved: Vec<serde_json::Value> = (0..1000)
+        .map(|k| {
+            let y = k as f64 * 0.01;
+            serde_json::json!({"bezier": [[10.0, y], [90.0, y + 1.0]]})
+        })
+        .collect();
+    let curves = dir.join("c.json");
+    std::fs::write(&curves, serde_json::Value::from(moved).to_string()).expect("written");
+    let out = dir.join("o.json");
+    let args = |edge: &'static str| {
+        vec![
+            "figure".to_owned(),
+            "warp".into(),
+            s(&fig).into(),
+            "--curves".into(),
+            s(&curves).into(),
+            "--out".into(),
+            s(&out).into(),
+            "--max-edge".into(),
+            edge.into(),
+        ]
+    };
+    let started = Instant::now();
+    let a = args("0.01");
+    let o = run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    refused(&o, "weight evaluations");
+    assert!(
+        stderr(&o).contains("warp of 1000 pairs x 320"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        started.elapsed() < Duration::from_secs(20),
+        "refused up front"
+    );
+    assert!(!out.exists());
+    // Coarse edges: 1 000 x (10 + 4) points, under the cap, warps.
+    let a = args("1000");
+    let o = run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(o.status.success(), "{}", stderr(&o));
+    // morph: the matching warps carry every metacircle (at most 2 000) by every curve.
+    let (src, dst) = (dir.join("src.json"), dir.join("dst.json"));
+    std::fs::write(&src, crowded_figure(5001, 2000, 0.0)).expect("written");
+    std::fs::write(&dst, crowded_figure(5001, 2000, 1.0)).expect("written");
+    let frames = dir.join("frames");
+    let started = Instant::now();
+    let o = run(&[
+        "morph",
+        s(&src),
+        s(&dst),
+        "--frames",
+        "2",
+        "--size",
+        "16x16",
+        "--out",
+        s(&frames),
+    ]);
+    refused(&o, "5001 pairs x 2000 points = 10002000 weight evaluations");
+    assert!(
+        started.elapsed() < Duration::from_secs(20),
+        "refused up front"
+    );
+    assert!(!frames.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -331,3 +331,81 @@ fn a_trace_replays_in_real_time_with_its_frames() {
     assert!(got.len() > 40, "{} frames", got.len());
     assert!(got.windows(2).all(|w| w[0].time < w[1].time));
 }
+
+/// Plays `stream` to its end (at most 10 s) and returns every frame.
+fn play_to_end(stream: &HandStream) -> Vec<HandFrame> {
+    let end = Instant::now() + Duration::from_secs(10);
+    let mut got = Vec::new();
+    while Instant::now() < end {
+        let finished = stream.finished();
+        got.extend(stream.drain());
+        if finished {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    assert!(stream.finished(), "the replay ended");
+    got
+}
+
+/// A trace file streamed frame by frame plays exactly what the trace read whole plays (the
+/// same frames at the same times, repeated with the same offsets); a frame line over its
+/// 1 MB limit ends the replay there with the file and line as the last error, and an
+/// interrupted recording plays its complete frames, saying what was dropped.
+#[test]
+fn a_trace_file_streamed_plays_as_the_trace_read_whole() {
+    let frames: Vec<HandFrame> = (0..30u64)
+        .map(|i| HandFrame {
+            time: nendo_devices::Timestamp(500_000 + i * 1_000 + i * i),
+            buttons: i as u32,
+            ..HandFrame::default()
+        })
+        .collect();
+    let trace = Trace {
+        header: TraceHeader::default(),
+        frames,
+    };
+    let dir = std::env::temp_dir().join(format!("nendo-replay-file-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("t.trace");
+    trace.write(&path).expect("written");
+    let whole = play_to_end(&HandStream::replay(trace.clone(), 20.0, false, 1024));
+    let streamed = HandStream::replay_file(&path, 20.0, false, 1024).expect("the header reads");
+    assert_eq!(play_to_end(&streamed), whole);
+    assert_eq!(streamed.last_error(), None);
+    // Repeated: the same frames and times as the whole trace's repeat, pass after pass.
+    let a = HandStream::replay(trace, 1.0, true, 1024);
+    let b = HandStream::replay_file(&path, 1.0, true, 1024).expect("the header reads");
+    let a = collect_until(&a, Duration::from_millis(300), |_| false);
+    let b = collect_until(&b, Duration::from_millis(300), |_| false);
+    let n = a.len().min(b.len());
+    assert!(n > 60, "{n} frames: more than two passes");
+    assert_eq!(a[..n], b[..n]);
+    // A 2 MB frame line after 10 frames, with the `end` line after it: an error at its line.
+    let text = std::fs::read_to_string(&path).expect("read");
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    let first_frame = lines.iter().position(|l| l == "frames").expect("frames") + 1;
+    lines.insert(first_frame + 10, "7".repeat(2 << 20));
+    let long = dir.join("long.trace");
+    std::fs::write(&long, lines.join("\n") + "\n").expect("written");
+    let s = HandStream::replay_file(&long, 20.0, false, 1024).expect("the header reads");
+    assert_eq!(play_to_end(&s).len(), 10);
+    let e = s.last_error().expect("the error");
+    assert!(
+        e.contains(&long.display().to_string())
+            && e.contains(&format!("line {}", first_frame + 11))
+            && e.contains("longer than 1 MB"),
+        "{e}"
+    );
+    // Without its `end` line: an interrupted recording, its 30 frames played.
+    let cut: Vec<&str> = text.lines().filter(|l| !l.starts_with("end ")).collect();
+    let cut_path = dir.join("cut.trace");
+    std::fs::write(&cut_path, cut.join("\n") + "\n").expect("written");
+    let s = HandStream::replay_file(&cut_path, 20.0, false, 1024).expect("the header reads");
+    assert_eq!(play_to_end(&s).len(), 30);
+    let e = s.last_error().expect("the note");
+    assert!(e.contains("interrupted recording"), "{e}");
+    // A file that is no trace is refused at once.
+    assert!(HandStream::replay_file(std::path::Path::new("/dev/zero"), 1.0, false, 8).is_err());
+    let _ = std::fs::remove_dir_all(&dir);
+}

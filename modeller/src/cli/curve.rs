@@ -86,10 +86,7 @@ pub fn run(args: CurveArgs) -> ExitCode {
 }
 
 /// Most `pairs × points` one warp request may ask for (see the module docs).
-pub const MAX_WARP_WORK: u64 = 10_000_000;
-/// Measured time per pair and point (1 000 pairs × 100 000 points took 24 s), for the
-/// estimate a refused request is given.
-const WARP_SECONDS_PER_UNIT: f64 = 24.0 / 1e8;
+pub use crate::curve::warp_work::MAX_WARP_WORK;
 
 /// Why one request line cannot be answered.
 #[derive(Debug, thiserror::Error)]
@@ -106,19 +103,8 @@ pub enum CurveRequestError {
     #[error("{0}")]
     Curve(#[from] CurveError),
     /// A warp asks for more than [`MAX_WARP_WORK`] pair-point evaluations.
-    #[error(
-        "warp of {pairs} pairs x {points} points = {work} weight evaluations, about {seconds:.0} s of work: at most {MAX_WARP_WORK} per request; split the points over several requests"
-    )]
-    WarpTooLarge {
-        /// Curve pairs.
-        pairs: usize,
-        /// Points.
-        points: usize,
-        /// Their product.
-        work: u64,
-        /// The estimated time.
-        seconds: f64,
-    },
+    #[error("{0}; split the points over several requests")]
+    WarpTooLarge(#[from] crate::curve::warp_work::WarpTooLarge),
     /// The SVG document could not be read or the curves written as SVG.
     #[error("svg: {0}")]
     Svg(#[from] svg::SvgError),
@@ -527,15 +513,7 @@ fn refine_reply(req: RefineRequest) -> Result<Value, CurveRequestError> {
 }
 
 fn warp_reply(req: WarpRequest) -> Result<Value, CurveRequestError> {
-    let work = req.pairs.len() as u64 * req.points.len() as u64;
-    if work > MAX_WARP_WORK {
-        return Err(CurveRequestError::WarpTooLarge {
-            pairs: req.pairs.len(),
-            points: req.points.len(),
-            work,
-            seconds: work as f64 * WARP_SECONDS_PER_UNIT,
-        });
-    }
+    crate::curve::warp_work::check_warp_work(req.pairs.len() as u64, req.points.len() as u64)?;
     let defaults = WarpParams::default();
     let params = WarpParams {
         a: req.a.unwrap_or(defaults.a),

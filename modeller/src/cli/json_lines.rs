@@ -9,12 +9,13 @@
 //! standard input or standard output), and [`super::output::BROKEN_PIPE_EXIT`] when the reader
 //! closed the pipe.
 //!
-//! Lines are read with a bounded reader: a line holds at most [`MAX_LINE_BYTES`] (16 MB, room
+//! Lines are read with a bounded reader ([`nendo_file::read_line_bounded`]): a line holds at most [`MAX_LINE_BYTES`] (16 MB, room
 //! for a request of about 300 000 points). A longer line is never held: its bytes are skipped
 //! up to its newline, it is answered with `{"error":"line N is longer than …"}`, and the next
 //! line is read, so an endless line costs the limit in memory and is answered at the end of
 //! the input.
 
+use nendo_file::{Line, Overlong, read_line_bounded};
 use serde_json::{Value, json};
 use std::fmt::Display;
 use std::io::{self, BufRead, Write};
@@ -33,66 +34,6 @@ pub enum LinesError {
 
 /// Longest request line held: 16 MB.
 pub const MAX_LINE_BYTES: usize = 16 << 20;
-
-/// One line read by [`read_line_bounded`].
-#[derive(Debug, PartialEq, Eq)]
-enum LineRead {
-    /// The input ended before another byte.
-    End,
-    /// A line of at most the limit, now in the buffer (without its newline).
-    Line,
-    /// A line of this many bytes (without its newline), over the limit: skipped, not held.
-    TooLong(u64),
-}
-
-/// Reads one line into `buf` (cleared first, newline and a `\r` before it removed), holding at
-/// most `limit` bytes: a longer line is read through to its newline without being kept.
-fn read_line_bounded(
-    input: &mut impl BufRead,
-    buf: &mut Vec<u8>,
-    limit: usize,
-) -> io::Result<LineRead> {
-    buf.clear();
-    let mut any = false;
-    let mut over: Option<u64> = None;
-    loop {
-        let available = match input.fill_buf() {
-            Ok(b) => b,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
-        if available.is_empty() {
-            break;
-        }
-        any = true;
-        let newline = available.iter().position(|&b| b == b'\n');
-        let part = &available[..newline.unwrap_or(available.len())];
-        if let Some(n) = over.as_mut() {
-            *n += part.len() as u64;
-        } else if buf.len() + part.len() > limit {
-            over = Some((buf.len() + part.len()) as u64);
-            buf.clear();
-            buf.shrink_to(limit.min(1 << 16));
-        } else {
-            buf.extend_from_slice(part);
-        }
-        let used = part.len() + usize::from(newline.is_some());
-        input.consume(used);
-        if newline.is_some() {
-            break;
-        }
-    }
-    if let Some(n) = over {
-        return Ok(LineRead::TooLong(n));
-    }
-    if !any {
-        return Ok(LineRead::End);
-    }
-    if buf.last() == Some(&b'\r') {
-        buf.pop();
-    }
-    Ok(LineRead::Line)
-}
 
 /// Runs a batch subcommand `nendo COMMAND --batch` over stdin and stdout with `answer`
 /// answering each request line. Without `--batch` it says that only batch mode exists.
@@ -152,15 +93,16 @@ pub fn answer_lines_limited<E: Display>(
     let mut buf = Vec::new();
     let mut number = 0u64;
     loop {
-        let read = read_line_bounded(&mut input, &mut buf, limit).map_err(LinesError::Read)?;
+        let read = read_line_bounded(&mut input, &mut buf, limit, Overlong::SkipThrough)
+            .map_err(LinesError::Read)?;
         number += 1;
         let error = match read {
-            LineRead::End => break,
-            LineRead::TooLong(n) => Some(format!(
+            Line::End => break,
+            Line::TooLong { bytes: n } => Some(format!(
                 "line {number} is longer than the limit of {} MB ({n} bytes): not read; the next line is",
                 limit >> 20
             )),
-            LineRead::Line => match std::str::from_utf8(&buf) {
+            Line::Text { .. } => match std::str::from_utf8(&buf) {
                 Ok(_) => None,
                 Err(_) => Some("line is not valid UTF-8".to_owned()),
             },

@@ -8,7 +8,9 @@
 //!
 //! Operations are JSON lines (see [`crate::model::ops`]); every line is validated before any is
 //! applied, and a bad line is reported with its number while nothing is written. `--ops -`
-//! reads them from standard input.
+//! reads them from standard input. The file is read line by line: a line of more than 1 MB or
+//! a file of more than 64 MB ([`ops::MAX_OP_LINE_BYTES`], [`ops::MAX_OPS_FILE_BYTES`]) is
+//! refused as soon as the limit is passed (an endless input such as `/dev/zero` at once).
 //!
 //! `--auto-refine`: before each operation the grid is refined where its finger reaches
 //! ([`crate::surface::refine::for_finger`]): every patch column (row) holding a patch whose box
@@ -32,7 +34,6 @@
 use super::arg_error::{parse_primitive, parse_regulation};
 use super::primitive_args::ShapeArgs;
 use clap::Args as ClapArgs;
-use std::io::Read;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -133,28 +134,21 @@ fn sculpt(args: &SculptArgs) -> anyhow::Result<String> {
     if let Some(r) = args.regulation {
         model.regulation = r;
     }
-    let ops = match &args.ops {
+    // Streamed line by line: at most one line of 1 MB and a file of 64 MB are read
+    // (`ops::read_ops`), so `/dev/zero` or an endless pipe is refused at once.
+    let ops: Vec<(crate::surface::Op, String, usize)> = match &args.ops {
         None => Vec::new(),
         Some(path) => {
-            let text = if path.as_os_str() == "-" {
-                let mut s = String::new();
-                std::io::stdin().read_to_string(&mut s)?;
-                s
-            } else {
-                std::fs::read_to_string(path)
-                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
-            };
             let name = path.display().to_string();
-            let ops = ops::parse_ops(&text)
-                .map_err(|e| anyhow::anyhow!("{name}: {e}; nothing written"))?;
-            // The line of each operation (blank lines hold none), for refusals.
-            let lines = text
-                .lines()
-                .enumerate()
-                .filter(|(_, l)| !l.trim().is_empty())
-                .map(|(i, _)| i + 1);
-            ops.into_iter()
-                .zip(lines)
+            let read = if path.as_os_str() == "-" {
+                ops::read_ops(std::io::stdin().lock())
+            } else {
+                let file = std::fs::File::open(path)
+                    .map_err(|e| anyhow::anyhow!("{name}: {e}; nothing written"))?;
+                ops::read_ops(std::io::BufReader::with_capacity(1 << 16, file))
+            };
+            read.map_err(|e| anyhow::anyhow!("{name}: {e}; nothing written"))?
+                .into_iter()
                 .map(|(op, l)| (op, name.clone(), l))
                 .collect()
         }

@@ -399,7 +399,8 @@ impl Autosave {
         struct Head {
             autosave: Option<serde_json::Value>,
         }
-        let text = std::fs::read_to_string(path).ok()?;
+        let text =
+            nendo_file::read_text_limited(path, crate::model::MAX_FILE_BYTES, "model file").ok()?;
         let head = serde_json::from_str::<Head>(&text).ok()?.autosave?;
         let len = head.get("source_len")?.as_u64()?;
         let hash = u64::from_str_radix(head.get("source_fnv1a")?.as_str()?, 16).ok()?;
@@ -409,7 +410,9 @@ impl Autosave {
     /// The document file an autosave at `path` was of, if it recorded one.
     #[must_use]
     pub fn source_of(path: &Path) -> Option<PathBuf> {
-        let text = std::fs::read_to_string(beside(path, ".source")).ok()?;
+        // A path: 64 kB is far beyond any.
+        let text = nendo_file::read_text_limited(&beside(path, ".source"), 64 << 10, "source note")
+            .ok()?;
         let line = text.lines().next()?.trim_end();
         (!line.is_empty()).then(|| PathBuf::from(line))
     }

@@ -74,8 +74,17 @@ impl DiskStamp {
     /// # Errors
     /// When the file is there but cannot be read.
     pub fn of_file(path: &Path) -> std::io::Result<Option<Self>> {
-        match std::fs::read(path) {
-            Ok(bytes) => Ok(Some(Self::of_bytes(&bytes))),
+        // At most one byte more than a model file may hold: a larger file differs from any
+        // model loaded, whatever its stamp.
+        let mut bytes = Vec::new();
+        let read = std::fs::File::open(path).and_then(|f| {
+            std::io::Read::read_to_end(
+                &mut std::io::Read::take(f, crate::model::MAX_FILE_BYTES + 1),
+                &mut bytes,
+            )
+        });
+        match read {
+            Ok(_) => Ok(Some(Self::of_bytes(&bytes))),
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
             Err(e) => Err(e),
         }

@@ -207,6 +207,9 @@ fn free_bad_path(path: &Path) -> Option<PathBuf> {
         .find(|p| std::fs::symlink_metadata(p).is_err())
 }
 
+/// Largest settings file read: 4 MB (the remembered settings are a few kB).
+pub const MAX_SETTINGS_BYTES: u64 = 4 << 20;
+
 impl Settings {
     /// Reads `path` as [`Settings::load`] does, first keeping an unusable file as
     /// `PATH.bad` (see the module docs).
@@ -221,7 +224,10 @@ impl Settings {
             };
         };
         // Read but unusable: keep it aside before anything is written there.
-        if std::fs::read(path).is_err() {
+        let readable = std::fs::File::open(path)
+            .and_then(|mut f| std::io::Read::read(&mut f, &mut [0u8; 1]))
+            .is_ok();
+        if !readable {
             return SettingsLoad {
                 settings,
                 warning: Some(format!("{warning}; it is not written this session")),
@@ -256,18 +262,18 @@ impl Settings {
     /// [`Settings::load_keeping`]).
     #[must_use]
     pub fn load(path: &Path) -> (Settings, Option<String>) {
-        let text = match std::fs::read_to_string(path) {
+        // At most `MAX_SETTINGS_BYTES` is read: a runaway file is unusable, not a hang.
+        let text = match nendo_file::read_text_limited(path, MAX_SETTINGS_BYTES, "settings file") {
             Ok(t) => t,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            Err(nendo_file::ReadError::Io { error, .. })
+                if error.kind() == std::io::ErrorKind::NotFound =>
+            {
                 return (Settings::default(), None);
             }
             Err(e) => {
                 return (
                     Settings::default(),
-                    Some(format!(
-                        "settings {}: {e}; using the defaults",
-                        path.display()
-                    )),
+                    Some(format!("settings {e}; using the defaults")),
                 );
             }
         };

@@ -53,6 +53,10 @@ pub enum FigureError {
     /// parameter domain than its original).
     #[error("warp: {0}")]
     Warp(CurveError),
+    /// A warp would carry so many points by so many curves that its work is over the cap
+    /// ([`crate::curve::warp_work`]): refused before any work.
+    #[error("{0}")]
+    WarpTooLarge(#[from] crate::curve::warp_work::WarpTooLarge),
     /// Two lists that must correspond element by element differ in length (e.g. the curves laid
     /// over the source and over the destination of a morph).
     #[error("{what}: {left} against {right}")]

@@ -84,8 +84,9 @@ impl Morph {
     /// # Errors
     /// [`FigureError::Mismatch`] when the curve lists differ in length (or, with `skeleton`,
     /// when corresponding curves cannot be interpolated), [`FigureError::Warp`] when the curve
-    /// warp refuses them, [`FigureError::Option`] for a bad matching distance, and the
-    /// validation errors of the figures.
+    /// warp refuses them, [`FigureError::WarpTooLarge`] when a warp's work (curves × the
+    /// metacircles it carries) is over the cap, [`FigureError::Option`] for a bad matching
+    /// distance, and the validation errors of the figures.
     pub fn new(
         source: (&Figure, &[Curve<DVec2>]),
         destination: (&Figure, &[Curve<DVec2>]),
@@ -95,8 +96,19 @@ impl Morph {
         let (dst, dst_curves) = destination;
         src.validate()?;
         dst.validate()?;
-        let forward = curve_warp(src_curves, dst_curves, options.params)?;
-        let backward = curve_warp(dst_curves, src_curves, options.params)?;
+        // Each warp carries at most every metacircle of its side.
+        let forward = curve_warp(
+            src_curves,
+            dst_curves,
+            options.params,
+            src.metacircles.len() as u64,
+        )?;
+        let backward = curve_warp(
+            dst_curves,
+            src_curves,
+            options.params,
+            dst.metacircles.len() as u64,
+        )?;
         if options.skeleton {
             for (k, (a, b)) in src_curves.iter().zip(dst_curves).enumerate() {
                 lerp_curve(a, b, 0.5).ok_or_else(|| FigureError::Mismatch {
@@ -284,7 +296,8 @@ impl Morph {
     /// The figure at time `t` (clamped to `[0, 1]`): one metacircle per pair.
     ///
     /// # Errors
-    /// [`FigureError::NotFinite`] for a NaN `t`; [`FigureError::Warp`] if a skeleton warp fails.
+    /// [`FigureError::NotFinite`] for a NaN `t`; [`FigureError::Warp`] if a skeleton warp fails,
+    /// [`FigureError::WarpTooLarge`] if its work (curves × pairs) is over the cap.
     pub fn at(&self, t: f64) -> Result<Figure, FigureError> {
         if t.is_nan() {
             return Err(FigureError::NotFinite {
@@ -296,9 +309,11 @@ impl Morph {
         let lerp2 = |a: DVec2, b: DVec2| (1.0 - t) * a + t * b;
         let skeleton = if self.options.skeleton && !self.curves.0.is_empty() {
             let mid = self.curves_at(t);
+            // Each carries one centre per pair.
+            let n = self.pairs.len() as u64;
             Some((
-                curve_warp(&self.curves.0, &mid, self.options.params)?,
-                curve_warp(&self.curves.1, &mid, self.options.params)?,
+                curve_warp(&self.curves.0, &mid, self.options.params, n)?,
+                curve_warp(&self.curves.1, &mid, self.options.params, n)?,
             ))
         } else {
             None

@@ -23,7 +23,7 @@ use crate::curve::warp::WarpParams;
 
 use super::contour::Contour;
 use super::error::FigureError;
-use super::warp::{curve_warp, warp_contour};
+use super::warp::{curve_warp, divided_vertices, warp_contour, whole};
 
 /// A horizontal section: a closed contour at height `z` and the curves laid along it.
 #[derive(Debug, Clone, PartialEq)]
@@ -142,7 +142,16 @@ impl Section {
         params: WarpParams,
         max_edge: Option<f64>,
     ) -> Result<(Section, bool), FigureError> {
-        let warp = curve_warp(&self.curves, deformed, params)?;
+        // The points carried: the contour's vertices once divided (as below).
+        let points = match max_edge {
+            Some(m) if m > 0.0 => divided_vertices(&self.contour, m),
+            Some(_) => self.contour.points().len() as f64,
+            None => {
+                let (lo, hi) = self.contour.bounds();
+                divided_vertices(&self.contour, (hi - lo).length() / 100.0)
+            }
+        };
+        let warp = curve_warp(&self.curves, deformed, params, whole(points))?;
         if self.curves.as_slice() == deformed {
             return Ok((self.clone(), false));
         }

@@ -12,6 +12,7 @@ use glam::DVec2;
 
 use crate::curve::Curve;
 use crate::curve::warp::{CurveWarp, WarpParams};
+use crate::curve::warp_work::check_warp_work;
 
 use super::contour::Contour;
 use super::document::{FigureDocument, FilledPolygon};
@@ -28,15 +29,19 @@ pub struct WarpOptions {
     pub max_edge: Option<f64>,
 }
 
-/// The warp taking `originals[k]` to `deformed[k]`.
+/// The warp taking `originals[k]` to `deformed[k]`, to carry `points` points: its work,
+/// `pairs × points` weight evaluations, is checked against the cap of
+/// [`crate::curve::warp_work`] before the warp is built. Every warp of the figure part is made
+/// here.
 ///
 /// # Errors
-/// [`FigureError::Mismatch`] when the lists differ in length, [`FigureError::Warp`] when the
-/// curve warp refuses them.
+/// [`FigureError::Mismatch`] when the lists differ in length, [`FigureError::WarpTooLarge`]
+/// over the cap, [`FigureError::Warp`] when the curve warp refuses them.
 pub fn curve_warp(
     originals: &[Curve<DVec2>],
     deformed: &[Curve<DVec2>],
     params: WarpParams,
+    points: u64,
 ) -> Result<CurveWarp<DVec2>, FigureError> {
     if originals.len() != deformed.len() {
         return Err(FigureError::Mismatch {
@@ -45,6 +50,7 @@ pub fn curve_warp(
             right: deformed.len(),
         });
     }
+    check_warp_work(originals.len() as u64, points)?;
     CurveWarp::new(
         originals
             .iter()
@@ -54,6 +60,30 @@ pub fn curve_warp(
         params,
     )
     .map_err(FigureError::Warp)
+}
+
+/// The vertices a contour has once its edges are divided so that none is longer than
+/// `max_edge` (`Σ max(1, ⌈|e| / max_edge⌉)` over its edges; its own vertex count when
+/// `max_edge` is not a positive finite number), as a float: it may be beyond any integer.
+#[must_use]
+pub fn divided_vertices(contour: &Contour, max_edge: f64) -> f64 {
+    if max_edge.is_finite() && max_edge > 0.0 {
+        contour
+            .edges()
+            .map(|(a, b)| (a.distance(b) / max_edge).ceil().max(1.0))
+            .sum()
+    } else {
+        contour.points().len() as f64
+    }
+}
+
+/// A vertex count of [`divided_vertices`] as a whole number (saturating).
+pub(crate) fn whole(n: f64) -> u64 {
+    if n >= u64::MAX as f64 {
+        u64::MAX
+    } else {
+        n as u64
+    }
 }
 
 /// The figure with every metacircle centre warped.
@@ -80,10 +110,7 @@ pub fn warp_contour(
     what: &str,
 ) -> Result<Contour, FigureError> {
     if max_edge.is_finite() && max_edge > 0.0 {
-        let pieces: f64 = contour
-            .edges()
-            .map(|(a, b)| (a.distance(b) / max_edge).ceil().max(1.0))
-            .sum();
+        let pieces = divided_vertices(contour, max_edge);
         if pieces > MAX_WARPED_VERTICES as f64 {
             return Err(FigureError::Option(format!(
                 "{what}: edges divided to at most {} would make {:.0} vertices (at most {MAX_WARPED_VERTICES})",
@@ -103,14 +130,14 @@ pub fn warp_contour(
 /// the deformed ones.
 ///
 /// # Errors
-/// As [`curve_warp`] and [`warp_contour`]; [`FigureError::Option`] for a `max_edge` that is not
-/// positive.
+/// As [`curve_warp`] (the work counts every metacircle centre and every vertex of the divided
+/// contour and polygons) and [`warp_contour`]; [`FigureError::Option`] for a `max_edge` that
+/// is not positive.
 pub fn warp_document(
     doc: &FigureDocument,
     deformed: &[Curve<DVec2>],
     options: &WarpOptions,
 ) -> Result<FigureDocument, FigureError> {
-    let warp = curve_warp(&doc.curves, deformed, options.params)?;
     let moved = doc.curves.as_slice() != deformed;
     let max_edge = match options.max_edge {
         // Nothing moves: dividing the edges would only add vertices on them.
@@ -130,6 +157,15 @@ pub fn warp_document(
     } else {
         f64::INFINITY
     };
+    // The points carried: every centre and every vertex of the divided outlines.
+    let points = doc.figure.metacircles.len() as f64
+        + doc
+            .contour
+            .iter()
+            .chain(doc.polygons.iter().map(|p| &p.contour))
+            .map(|c| divided_vertices(c, max_edge))
+            .sum::<f64>();
+    let warp = curve_warp(&doc.curves, deformed, options.params, whole(points))?;
     let contour = match &doc.contour {
         Some(c) => Some(warp_contour(c, &warp, max_edge, "warped contour")?),
         None => None,

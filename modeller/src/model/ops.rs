@@ -312,6 +312,92 @@ pub fn parse_ops(text: &str) -> Result<Vec<Op>, OpLineError> {
     Ok(ops)
 }
 
+/// Longest line of an operations file: 1 MB (a drag of about 30 000 path points).
+pub const MAX_OP_LINE_BYTES: usize = 1 << 20;
+/// Largest operations file: 64 MB (about a million pushes).
+pub const MAX_OPS_FILE_BYTES: u64 = 64 << 20;
+
+/// Why an operations file cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum OpsFileError {
+    /// Reading failed.
+    #[error("cannot read: {0}")]
+    Io(#[from] std::io::Error),
+    /// A line longer than [`MAX_OP_LINE_BYTES`] (or one that never ends, as `/dev/zero`):
+    /// refused after reading one byte over the limit.
+    #[error("line {line} is longer than {} MB, the limit for an operation line; nothing read on", MAX_OP_LINE_BYTES >> 20)]
+    LineTooLong {
+        /// 1-based line number.
+        line: usize,
+    },
+    /// The file goes on past [`MAX_OPS_FILE_BYTES`]: refused at that byte.
+    #[error("larger than {} MB, the limit for an operations file (at line {line}); split it", MAX_OPS_FILE_BYTES >> 20)]
+    TooLarge {
+        /// The line being read at the limit.
+        line: usize,
+    },
+    /// A line is not UTF-8 text.
+    #[error("line {line}: not UTF-8 text")]
+    NotText {
+        /// 1-based line number.
+        line: usize,
+    },
+    /// A line does not read as an operation.
+    #[error("{0}")]
+    Bad(#[from] OpLineError),
+}
+
+/// Reads an operations file from `input` line by line, holding one line of at most
+/// [`MAX_OP_LINE_BYTES`] at a time and reading at most [`MAX_OPS_FILE_BYTES`] (+ 1): the
+/// operations with their 1-based line numbers, or the first bad line. Blank lines are skipped.
+///
+/// # Errors
+/// [`OpsFileError`]: a read error, a line or file over its limit, a line not UTF-8, a bad
+/// operation.
+pub fn read_ops(input: impl std::io::BufRead) -> Result<Vec<(Op, usize)>, OpsFileError> {
+    read_ops_limited(input, MAX_OP_LINE_BYTES, MAX_OPS_FILE_BYTES)
+}
+
+/// [`read_ops`] with other limits (`line_limit` bytes a line, `file_limit` bytes in all).
+///
+/// # Errors
+/// As [`read_ops`].
+pub fn read_ops_limited(
+    input: impl std::io::BufRead,
+    line_limit: usize,
+    file_limit: u64,
+) -> Result<Vec<(Op, usize)>, OpsFileError> {
+    use nendo_file::{Line, Overlong, read_line_bounded};
+    // One byte over the file limit is read, so that a longer file is told from one at it.
+    let mut input = input.take(file_limit.saturating_add(1));
+    let mut ops = Vec::new();
+    let mut buf = Vec::new();
+    let mut line = 0usize;
+    loop {
+        line += 1;
+        let got = read_line_bounded(&mut input, &mut buf, line_limit, Overlong::Stop)?;
+        match got {
+            Line::End => break,
+            // A long line cut by the file limit is the file's excess, not the line's.
+            _ if file_limit.saturating_add(1) - input.limit() > file_limit => {
+                return Err(OpsFileError::TooLarge { line });
+            }
+            Line::TooLong { .. } => return Err(OpsFileError::LineTooLong { line }),
+            Line::Text { .. } => {}
+        }
+        let text = std::str::from_utf8(&buf).map_err(|_| OpsFileError::NotText { line })?;
+        if text.trim().is_empty() {
+            continue;
+        }
+        let op = parse_op(text).map_err(|e| OpLineError {
+            line,
+            message: e.to_string(),
+        })?;
+        ops.push((op, line));
+    }
+    Ok(ops)
+}
+
 /// The JSON line of an operation.
 #[must_use]
 pub fn op_to_json(op: &Op) -> Value {
@@ -440,6 +526,41 @@ mod tests {
         for op in ops {
             assert_eq!(parse_op(&op_to_json(&op).to_string()), Ok(op));
         }
+    }
+
+    #[test]
+    fn an_operations_file_is_read_line_by_line_within_its_limits() {
+        let push = r#"{"op":"push","at":[0,0,0],"dir":[0,0,-1],"depth":0.1,"radius":1}"#;
+        let text = format!("{push}\r\n\n{push}\n");
+        let ops = read_ops_limited(text.as_bytes(), 100, 1000).expect("two operations");
+        assert_eq!(ops.iter().map(|(_, l)| *l).collect::<Vec<_>>(), [1, 3]);
+        // A line over its limit, wherever the buffer ends.
+        let long = format!("{push}\n{}{push}\n", " ".repeat(100));
+        let e = read_ops_limited(
+            std::io::BufReader::with_capacity(7, long.as_bytes()),
+            100,
+            1000,
+        )
+        .expect_err("a long line");
+        assert!(matches!(e, OpsFileError::LineTooLong { line: 2 }), "{e}");
+        assert!(e.to_string().contains("line 2 is longer than"), "{e}");
+        // The file over its limit: at the limit it reads, one byte more is refused.
+        let exact = text.len() as u64;
+        assert!(read_ops_limited(text.as_bytes(), 100, exact).is_ok());
+        let e = read_ops_limited(text.as_bytes(), 100, exact - 1).expect_err("over");
+        assert!(matches!(e, OpsFileError::TooLarge { line: 3 }), "{e}");
+        // Not text, and a bad operation, with their lines.
+        let e = read_ops_limited(&b"\n\xff\n"[..], 100, 1000).expect_err("not text");
+        assert!(matches!(e, OpsFileError::NotText { line: 2 }), "{e}");
+        let e = read_ops_limited(&b"\n\n{}\n"[..], 100, 1000).expect_err("bad");
+        assert!(
+            matches!(e, OpsFileError::Bad(OpLineError { line: 3, .. })),
+            "{e}"
+        );
+        // An endless line (`/dev/zero`) is refused after the line limit.
+        let zero = std::io::BufReader::new(std::io::Read::take(std::io::repeat(0), 1 << 40));
+        let e = read_ops(zero).expect_err("endless");
+        assert!(matches!(e, OpsFileError::LineTooLong { line: 1 }), "{e}");
     }
 
     #[test]

@@ -66,6 +66,9 @@ pub(super) struct LoopStatus {
     /// A recording error (the device errors are per device).
     pub(super) recording_error: Option<String>,
     pub(super) finished: bool,
+    /// Once finished: why the stream ended, if it says (a replayed trace's bad line, what an
+    /// interrupted recording dropped: [`HandStream::last_error`]).
+    pub(super) ended: Option<String>,
 }
 
 pub(super) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
@@ -164,6 +167,7 @@ impl DeviceSession {
                     status.devices = devices;
                     if finished {
                         status.finished = true;
+                        status.ended = stream.last_error();
                         break;
                     }
                 }

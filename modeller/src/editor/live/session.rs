@@ -7,9 +7,7 @@ use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 
 use nendo_devices::profile::{Input, MouseProfile};
-use nendo_devices::{
-    DeviceStatus, HandFrame, HandStream, Profile, StreamOptions, Trace, TrackerPose,
-};
+use nendo_devices::{DeviceStatus, HandFrame, HandStream, Profile, StreamOptions, TrackerPose};
 
 use crate::editor::document::Document;
 use crate::editor::hand_input::HandDriver;
@@ -220,48 +218,51 @@ impl LiveInput {
         })
     }
 
-    /// Plays a recorded trace as if it came from the devices.
+    /// Plays a recorded trace as if it came from the devices, streamed frame by frame as
+    /// `nendo replay` reads it ([`HandStream::replay_file`]): a trace of any length in the
+    /// memory of one frame line. A header that does not read is refused at once with a
+    /// message; a frame line that is an error (over 1 MB, or malformed before an `end` line)
+    /// ends the replay there, and the message when the stream ends names the file and line
+    /// (as it says what an interrupted recording dropped).
     pub(crate) fn replay(&mut self, path: &Path, doc: &mut Document) {
         self.disconnect_from(doc);
-        match Trace::read_recovering(path) {
-            Ok(recovered) => {
-                let trace = recovered.trace;
-                let h = &trace.header;
-                let finger = FingerModel::for_profile_name(h.profile.as_deref());
-                let driver = HandDriver::new(
-                    h.hand,
-                    h.world_from_tracker,
-                    finger,
-                    self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS),
-                )
-                .map(|d| d.with_filter(crate::hand::filter::for_trace(h, finger)));
-                let driver = match driver {
-                    Ok(d) => d,
-                    Err(e) => {
-                        self.message = Some(e.to_string());
-                        return;
-                    }
-                };
-                let stream = HandStream::replay(trace, 1.0, false, 1024);
-                match DeviceSession::start(stream, None, self.clutch) {
-                    Ok(mut s) => {
-                        *lock(&s.shared.waker) = self.waker.clone();
-                        self.latency.clear();
-                        s.replay = Some(path.to_path_buf());
-                        self.session = Some(s);
-                        self.driver = Some(driver);
-                        self.set_clutch(self.clutch);
-                        // An interrupted recording plays its complete frames, saying so.
-                        if let Some(i) = recovered.interrupted {
-                            self.message = Some(format!("{}: {i}", path.display()));
-                        }
-                    }
-                    Err(e) => self.message = Some(e.to_string()),
-                }
-            }
-            Err(e) => self.message = Some(format!("{}: {e}", path.display())),
-        }
         self.rate = (0, Some(Instant::now()), 0.0);
+        let stream = match HandStream::replay_file(path, 1.0, false, 1024) {
+            Ok(s) => s,
+            Err(e) => {
+                self.message = Some(format!("{}: {e}", path.display()));
+                return;
+            }
+        };
+        let Some(h) = stream.source_header() else {
+            return;
+        };
+        let finger = FingerModel::for_profile_name(h.profile.as_deref());
+        let driver = HandDriver::new(
+            h.hand,
+            h.world_from_tracker,
+            finger,
+            self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS),
+        )
+        .map(|d| d.with_filter(crate::hand::filter::for_trace(h, finger)));
+        let driver = match driver {
+            Ok(d) => d,
+            Err(e) => {
+                self.message = Some(e.to_string());
+                return;
+            }
+        };
+        match DeviceSession::start(stream, None, self.clutch) {
+            Ok(mut s) => {
+                *lock(&s.shared.waker) = self.waker.clone();
+                self.latency.clear();
+                s.replay = Some(path.to_path_buf());
+                self.session = Some(s);
+                self.driver = Some(driver);
+                self.set_clutch(self.clutch);
+            }
+            Err(e) => self.message = Some(e.to_string()),
+        }
     }
 
     /// Waits at most `within` for a device frame newer than those already in the inbox — the
@@ -293,7 +294,10 @@ impl LiveInput {
         };
         // `finished` first: the loop thread sets it after putting the last frames in the
         // inbox, so a session seen finished here has nothing left behind the take below.
-        let finished = lock(&session.shared.status).finished;
+        let (finished, ended) = {
+            let status = lock(&session.shared.status);
+            (status.finished, status.ended.clone())
+        };
         let stamped = std::mem::take(&mut *lock(&session.shared.inbox));
         let taken = Instant::now();
         let mut refused = None;
@@ -329,7 +333,11 @@ impl LiveInput {
             }
         }
         if finished {
-            self.message = Some("the stream ended".into());
+            // A replay's end says why it ended early, if it did.
+            self.message = Some(match ended {
+                Some(why) => format!("the stream ended: {why}"),
+                None => "the stream ended".into(),
+            });
             self.end_contact(doc);
             if let Some(mut s) = self.session.take() {
                 s.stop();

@@ -621,3 +621,77 @@ fn replay_with_defaults(trace: std::path::PathBuf, out: &std::path::Path) -> cra
     });
     crate::model::Model::read(out).expect("the replay").model
 }
+
+/// Polls `live` on `doc` until its session has ended (at most 30 s).
+fn poll_to_end(live: &mut LiveInput, doc: &mut Document) {
+    let deadline = Instant::now() + Duration::from_secs(30);
+    while live.is_connected() && Instant::now() < deadline {
+        live.poll(doc);
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(!live.is_connected(), "the replay ended");
+}
+
+/// The window's trace replay streams the file as `nendo replay` does: a frame line of 2 MB
+/// (over the 1 MB a frame line may hold) ends the replay with a message naming the file and
+/// the line, the frames before it have played, and the window goes on — the next replay of
+/// a good trace plays to its end.
+#[test]
+fn a_replayed_trace_with_a_2_mb_frame_line_is_refused_and_the_window_goes_on() {
+    let dir = std::env::temp_dir().join(format!("nendo-live-long-line-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let source =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../devices/traces/plane-palm.trace");
+    let text = std::fs::read_to_string(&source).expect("the shipped trace");
+    let (head, frames) = text.split_once("\nframes\n").expect("a frames line");
+    let lines: Vec<&str> = frames.lines().filter(|l| !l.starts_with("end ")).collect();
+    // Ten frames, the long line, the rest, and the `end` line: the long line is an error.
+    let header_lines = head.lines().count() + 1;
+    let long_line = header_lines + 11;
+    let mut bad = format!("{head}\nframes\n");
+    for l in &lines[..10] {
+        bad.push_str(l);
+        bad.push('\n');
+    }
+    bad.push_str(&"9".repeat(2 << 20));
+    bad.push('\n');
+    for l in &lines[10..] {
+        bad.push_str(l);
+        bad.push('\n');
+    }
+    bad.push_str(&format!("end {}\n", lines.len()));
+    let path = dir.join("long-line.trace");
+    std::fs::write(&path, &bad).expect("written");
+
+    let mut live = LiveInput::default();
+    let mut doc = plane_doc();
+    live.replay(&path, &mut doc);
+    assert!(live.is_connected(), "the header reads: the replay starts");
+    poll_to_end(&mut live, &mut doc);
+    let message = live.message.clone().unwrap_or_default();
+    assert!(
+        message.starts_with("the stream ended: ")
+            && message.contains(&path.display().to_string())
+            && message.contains(&format!("line {long_line}"))
+            && message.contains("longer than 1 MB"),
+        "{message}"
+    );
+    // The window goes on: a shipped trace replays to its end, without a message of error,
+    // and grooves the plane.
+    let groove = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../devices/traces/plane-groove.trace");
+    let revision = doc.revision();
+    live.replay(&groove, &mut doc);
+    assert!(live.is_connected());
+    poll_to_end(&mut live, &mut doc);
+    assert_eq!(live.message.as_deref(), Some("the stream ended"));
+    assert_ne!(doc.revision(), revision, "the good trace pressed the plane");
+
+    // A header that does not read is refused at once, the session not started.
+    let zero = std::path::Path::new("/dev/zero");
+    live.replay(zero, &mut doc);
+    assert!(!live.is_connected());
+    let message = live.message.clone().unwrap_or_default();
+    assert!(message.starts_with("/dev/zero: "), "{message}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

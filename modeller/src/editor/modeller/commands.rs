@@ -14,7 +14,7 @@ use crate::editor::lifecycle::{Next, Pending, PrimitiveForm, SaveError};
 use crate::editor::tools::Tool;
 use crate::mesh::Tessellation;
 use crate::model::Model;
-use crate::model::ops::{op_to_json, parse_ops};
+use crate::model::ops::{OpsFileError, op_to_json, read_ops};
 use crate::surface::refine;
 
 use super::*;
@@ -256,11 +256,15 @@ impl Modeller {
             DialogPurpose::OpenProfile
             | DialogPurpose::RecordTrace
             | DialogPurpose::ReplayTrace => self.live.dialog_chosen(purpose, &path),
-            DialogPurpose::ReplayOps => match std::fs::read_to_string(&path) {
-                Ok(text) => match parse_ops(&text) {
-                    Ok(ops) => self.replay = Some(Replay { ops, next: 0 }),
-                    Err(e) => self.set_status(format!("{}: {e}", path.display()), true),
-                },
+            // Streamed within the limits of `nendo sculpt --ops` (`read_ops`).
+            DialogPurpose::ReplayOps => match std::fs::File::open(&path)
+                .map_err(OpsFileError::from)
+                .and_then(|f| read_ops(std::io::BufReader::with_capacity(1 << 16, f)))
+            {
+                Ok(ops) => {
+                    let ops = ops.into_iter().map(|(op, _)| op).collect();
+                    self.replay = Some(Replay { ops, next: 0 });
+                }
                 Err(e) => self.set_status(format!("{}: {e}", path.display()), true),
             },
         }

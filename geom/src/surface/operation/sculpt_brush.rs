@@ -29,6 +29,15 @@
 //! distance `ρ` from the centre becomes `ρ (1 − ½ s w)`, whose derivative
 //! `1 − ½ s w − ½ s ρ w′(ρ) ≥ ½` for every non-increasing falloff, so the map never folds.
 //! A sample where the surface has no tangent plane does not move (`F = 0`).
+//!
+//! Limits of the rule: at a sharp corner of a stroke, points on its inner side equidistant
+//! from two pieces are pulled toward the nearer, so the pinch's field jumps there and the
+//! bicubic surface follows it only in the mean (the window's strokes, resampled every fifth
+//! of the radius, turn gently); at a stroke's end caps the pull turns toward the end point
+//! and the field's slope jumps (the plane test measures 12 % of the largest displacement
+//! there, 2.5 % for a dab). Where a brush overlaps its own images under a symmetry, the
+//! engine's envelope picks the stronger of two tangential pulls, and the commit makes the
+//! result exactly symmetric.
 
 use glam::DVec3;
 

@@ -219,6 +219,7 @@ pub fn fixed_region(s0: &[DVec3], op: &Op) -> Vec<usize> {
         | Op::Move { at, radius, .. }
         | Op::Smooth { at, radius, .. } => (vec![*at], *radius),
         Op::Drag { path, radius, .. } | Op::Groove { path, radius, .. } => (path.clone(), *radius),
+        Op::Sculpt(b) => (b.path.clone(), b.radius),
     };
     let reach = REGION_RADII * radius;
     (0..s0.len())

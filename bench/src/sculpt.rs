@@ -142,6 +142,11 @@ pub fn reversed(op: &Op) -> Op {
             radius,
         },
         other @ Op::Smooth { .. } => other,
+        // Inflate and crease reversed press the other way; flatten and pinch have no depth.
+        Op::Sculpt(mut b) => {
+            b.depth = -b.depth;
+            Op::Sculpt(b)
+        }
     }
 }
 

@@ -3,6 +3,7 @@
 
 mod analysis_display;
 mod bounded_inputs;
+mod brush_ops;
 mod brushes;
 mod closest_cli;
 mod closest_fast_paths;

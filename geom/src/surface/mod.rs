@@ -58,13 +58,14 @@ pub(crate) use net::{grid, group, primitive, ratio_check, spline};
 pub(crate) use operation::{grab, nearest, shape_fn, smooth};
 // The namespaces the workspace uses as modules.
 pub use constraint::{continuity, curvature, regulate, shape_operator};
-pub use operation::{brush, deviation, inverse, refine};
+pub use operation::{brush, deviation, inverse, refine, sculpt_brush};
 
 pub use bounds::Aabb;
 pub use brush::{Brush, Falloff};
 pub use continuity::{ContinuityReport, PoleReport};
 pub use engine::{LiveOperation, Placement, Presser, Sculptor, Stroke, Touched, deform, describe};
 pub use error::{SurfaceError, UnknownName};
+pub use sculpt_brush::{SculptBrush, SculptKind};
 
 pub use constraint::isometry::Isometry;
 pub use grab::Hold;

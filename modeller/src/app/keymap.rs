@@ -4,7 +4,7 @@
 //!
 //! The keys follow Blender's sculpt mode where they do not clash: F then a move sets the
 //! finger radius, Shift+F the depth, Ctrl inverts a stroke, Shift smooths, X toggles
-//! symmetry, G picks Move, Home frames the model, number keys pick tools. The orbit button is a setting ([`OrbitButton`]): the right button (nendo's
+//! symmetry, G picks Move, I Inflate, Shift+T Flatten, P Pinch, Shift+C Crease, Home frames the model, number keys pick tools. The orbit button is a setting ([`OrbitButton`]): the right button (nendo's
 //! default) or the middle one (Blender's). Each key gives the modeller a [`Command`]
 //! ([`KeyAction::command`]).
 
@@ -175,6 +175,10 @@ pub fn keys() -> Vec<KeyBinding> {
         KeyBinding::new(Modifiers::NONE, Key::X, KeyAction::ToggleSymmetry),
         KeyBinding::new(Modifiers::NONE, Key::E, KeyAction::CycleSurfaceMode),
         KeyBinding::new(Modifiers::NONE, Key::G, KeyAction::Tool(Tool::Move)),
+        KeyBinding::new(Modifiers::NONE, Key::I, KeyAction::Tool(Tool::Inflate)),
+        KeyBinding::new(Modifiers::SHIFT, Key::T, KeyAction::Tool(Tool::Flatten)),
+        KeyBinding::new(Modifiers::NONE, Key::P, KeyAction::Tool(Tool::Pinch)),
+        KeyBinding::new(Modifiers::SHIFT, Key::C, KeyAction::Tool(Tool::Crease)),
     ];
     keys.extend(
         Tool::ALL
@@ -217,11 +221,11 @@ pub fn mouse(orbit: OrbitButton) -> Vec<(&'static str, &'static str)> {
     let mut rows = vec![
         (
             "Left drag",
-            "the active tool (Push / Pull / Draw a line / Move / Smooth deform live while held)",
+            "the active tool (Push / Pull / Draw a line / Move / Smooth / Inflate / Flatten / Pinch / Crease deform live while held)",
         ),
         (
             "Ctrl + Left drag",
-            "the tool inverted: Push pulls, Pull pushes, a groove becomes a ridge",
+            "the tool inverted: Push pulls, Pull pushes, a groove becomes a ridge, Inflate deflates, a crease becomes a ridge",
         ),
         (
             "Shift + Left drag",
@@ -318,7 +322,7 @@ mod tests {
         );
     }
 
-    /// No two bindings share a key and modifiers, every tool has a number key, and a
+    /// No two bindings share a key and modifiers, every tool has a key, and a
     /// shifted binding comes before the same key unshifted (egui matches Shift loosely).
     #[test]
     fn bindings_are_distinct_and_ordered() {

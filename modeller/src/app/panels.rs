@@ -259,9 +259,15 @@ pub(super) fn tool_ui(
 ) -> Vec<Command> {
     let mut commands = Vec::new();
     let mut chosen = tool;
-    for (k, t) in Tool::ALL.into_iter().enumerate() {
+    let keys = super::keymap::keys();
+    for t in Tool::ALL {
+        let key: Vec<String> = keys
+            .iter()
+            .filter(|k| k.action == super::keymap::KeyAction::Tool(t))
+            .map(super::keymap::KeyBinding::keys)
+            .collect();
         ui.radio_value(&mut chosen, t, t.label())
-            .on_hover_text(format!("{} (key {})", tool_help(t), k + 1));
+            .on_hover_text(format!("{} (key {})", tool_help(t), key.join(", ")));
     }
     if chosen != tool {
         commands.push(Command::SelectTool(chosen));
@@ -537,6 +543,18 @@ fn tool_help(t: Tool) -> &'static str {
             "Drag over the clay to smooth it (Shift with Push, Pull or Draw a line does the same)"
         }
         Tool::Hand => "The mouse drives the virtual hand: the view ray is the finger",
+        Tool::Inflate => {
+            "Press or drag over the clay to swell it along its own normals by the depth, brush and strength (Ctrl: deflate)"
+        }
+        Tool::Flatten => {
+            "Press or drag over the clay to move it toward the average plane under the brush, by the brush strength"
+        }
+        Tool::Pinch => {
+            "Drag over the clay to draw it together toward the stroke along the surface, by the brush strength"
+        }
+        Tool::Crease => {
+            "Drag over the clay to pinch it toward the stroke and press it in by the depth: a sharp valley (Ctrl: a ridge)"
+        }
     }
 }
 

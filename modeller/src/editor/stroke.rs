@@ -313,6 +313,7 @@ pub fn edit_name(op: &Op) -> &'static str {
         Op::Move { .. } => "move",
         Op::Smooth { .. } => "smooth",
         Op::Brushed { op, .. } => edit_name(op),
+        Op::Sculpt(b) => b.kind.name(),
     }
 }
 

@@ -16,7 +16,8 @@
 //! (Asking for the lathe proper there was refused, the status line naming the turn the model
 //! lacks, and the strokes after it stayed radial.)
 //!
-//! With symmetry on, every window stroke (Push, Pull, Draw a line, Move, Smooth) is applied
+//! With symmetry on, every window stroke (Push, Pull, Draw a line, Move, Smooth, Inflate,
+//! Flatten, Pinch, Crease) is applied
 //! together with its mirror image across the plane `x = 0` as one operation
 //! ([`crate::surface::Sculptor::apply_mirrored`], as `nendo sculpt --mirror x`), and so is every
 //! contact of the Hand tool (the hand loop's envelope with the mirrored fingers, see
@@ -37,7 +38,9 @@
 //! [`Symmetry`] is found for it); otherwise (an odd number of insertions around a closed
 //! direction, the grid limit) the stroke goes on unrefined and the status line says so.
 
-use crate::surface::{Dirs, Grid, MirrorError, Op, Plane, Symmetry, SymmetrySpec, refine};
+use crate::surface::{
+    Dirs, Grid, MirrorError, Op, Plane, SculptBrush, Symmetry, SymmetrySpec, refine,
+};
 
 /// The mirror image of an operation across `plane`: every point and direction reflected.
 #[must_use]
@@ -103,6 +106,10 @@ pub fn reflect_op(op: &Op, plane: Plane) -> Op {
             radius: *radius,
             strength: *strength,
         },
+        Op::Sculpt(b) => Op::Sculpt(SculptBrush {
+            path: b.path.iter().map(|p| r(*p)).collect(),
+            ..b.clone()
+        }),
     }
 }
 

@@ -9,6 +9,10 @@
 //! {"op": "move", "at": [x, y, z], "to": [x, y, z], "radius": r_f}
 //! {"op": "smooth", "at": [x, y, z], "radius": r, "strength": s}
 //! {"op": "push", …, "brush": "soft", "strength": s}
+//! {"op": "inflate", "at": [x, y, z], "depth": h, "radius": R}
+//! {"op": "flatten", "at": [x, y, z], "radius": R}
+//! {"op": "pinch", "path": [[x, y, z], …], "radius": R, "brush": "soft", "strength": s}
+//! {"op": "crease", "path": [[x, y, z], …], "depth": h, "radius": R}
 //! ```
 //!
 //! A negative depth pulls (push) or raises a ridge (drag); see [`crate::surface::shape_fn`].
@@ -20,6 +24,12 @@
 //! A push or drag may name a brush (`"brush"`: `"finger"`, the default, `"soft"` or `"flat"`)
 //! and a `"strength"` (`0 < s ≤ 1`, default 1): the fraction of the depth it presses
 //! ([`crate::surface::brush`]); either member makes it an [`Op::Brushed`].
+//! The surface brushes ([`crate::surface::sculpt_brush`], an [`Op::Sculpt`]) take a dab point
+//! `at` or a stroke `path` (one or more points; exactly one of the two), a radius, the optional
+//! `"brush"` and `"strength"` (default `"finger"` and 1), and a depth for `inflate` (`h > 0`
+//! outward along the surface normal, `h < 0` inward) and `crease` (`h > 0` a valley pressed in,
+//! `h < 0` a ridge); `flatten` (toward the weighted average plane under the brush) and `pinch`
+//! (toward the stroke along the surface) take none. Numbers beyond `1e30` in size are refused.
 //! Blank lines are skipped. Every line is validated completely (members, numbers, the
 //! operation's own constraints) before any is applied: a missing, unknown or repeated member
 //! is refused with its path and column (see [`crate::json_doc`]), and a `dir` whose length
@@ -31,7 +41,7 @@ use serde::de::IgnoredAny;
 use serde_json::{Value, json};
 
 use crate::json_doc::{self, JsonError};
-use crate::surface::{Brush, Dirs, Falloff, Op, SurfaceError};
+use crate::surface::{Brush, Dirs, Falloff, Op, SculptBrush, SculptKind, SurfaceError};
 
 /// A bad line of an operations file.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -49,8 +59,11 @@ pub enum OpError {
     /// Not JSON, or a member missing, unknown, repeated or of the wrong type (with its path).
     #[error("{0}")]
     Json(#[from] JsonError),
-    /// An `op` other than `push`, `drag`, `move` and `smooth`.
-    #[error("unknown op {0:?}: expected \"push\", \"drag\", \"move\" or \"smooth\"")]
+    /// An `op` other than `push`, `drag`, `move`, `smooth`, `inflate`, `flatten`, `pinch` and
+    /// `crease`.
+    #[error(
+        "unknown op {0:?}: expected \"push\", \"drag\", \"move\", \"smooth\", \"inflate\", \"flatten\", \"pinch\" or \"crease\""
+    )]
     UnknownOp(String),
     /// A non-zero direction whose length over- or underflows a double, so that normalising it
     /// gives no finite unit vector (e.g. `[1e308, 1e308, -1e308]`).
@@ -121,6 +134,20 @@ struct SmoothDoc {
     at: [f64; 3],
     radius: f64,
     strength: f64,
+}
+
+/// `{"op": "inflate" | "flatten" | "pinch" | "crease", "at" | "path", "depth", "radius"}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SculptDoc {
+    #[allow(dead_code)]
+    op: IgnoredAny,
+    at: Option<[f64; 3]>,
+    path: Option<Vec<[f64; 3]>>,
+    depth: Option<f64>,
+    radius: f64,
+    brush: Option<String>,
+    strength: Option<f64>,
 }
 
 /// A `dir` member: a vector `[dx, dy, dz]` or the word `"normal"`.
@@ -264,7 +291,10 @@ pub fn parse_op(text: &str) -> Result<Op, OpError> {
                 strength: d.strength,
             }
         }
-        _ => return Err(OpError::UnknownOp(kind)),
+        name => match SculptKind::from_name(name) {
+            Some(kind) => return sculpt_op(kind, json_doc::from_str(text)?),
+            None => return Err(OpError::UnknownOp(kind)),
+        },
     };
     if let Op::Push { dir, .. } | Op::Drag { dir, .. } = &op {
         check_dir(*dir)?;
@@ -292,6 +322,52 @@ pub fn parse_op(text: &str) -> Result<Op, OpError> {
     };
     op.validate()?;
     Ok(op)
+}
+
+/// The surface brush of a [`SculptDoc`], validated.
+fn sculpt_op(kind: SculptKind, d: SculptDoc) -> Result<Op, OpError> {
+    let path: Vec<DVec3> = match (d.at, d.path) {
+        (Some(at), None) => vec![DVec3::from_array(at)],
+        (None, Some(path)) => path.into_iter().map(DVec3::from_array).collect(),
+        (Some(_), Some(_)) => {
+            return Err(JsonError::at("path", "give either \"at\" or \"path\", not both").into());
+        }
+        (None, None) => {
+            return Err(JsonError::at(
+                "at",
+                "missing field \"at\" (a point; or \"path\", the stroke's points)",
+            )
+            .into());
+        }
+    };
+    let depth = match (kind.has_depth(), d.depth) {
+        (true, Some(h)) => h,
+        (true, None) => {
+            return Err(JsonError::at("depth", format!("{} needs \"depth\"", kind.name())).into());
+        }
+        (false, None) => 0.0,
+        (false, Some(_)) => {
+            return Err(
+                JsonError::at("depth", format!("{} takes no \"depth\"", kind.name())).into(),
+            );
+        }
+    };
+    let falloff = match d.brush {
+        None => Falloff::Finger,
+        Some(n) => Falloff::from_name(&n).ok_or_else(|| {
+            JsonError::at(
+                "brush",
+                format!("unknown brush {n:?}: expected \"finger\", \"soft\" or \"flat\""),
+            )
+        })?,
+    };
+    let brush = Brush {
+        falloff,
+        strength: d.strength.unwrap_or(1.0),
+    };
+    Ok(Op::Sculpt(SculptBrush::try_new(
+        kind, path, d.radius, depth, brush,
+    )?))
 }
 
 /// Parses a whole operations file, stopping at the first bad line.
@@ -462,6 +538,27 @@ pub fn op_to_json(op: &Op) -> Value {
             radius,
             strength,
         } => json!({"op": "smooth", "at": p(at), "radius": radius, "strength": strength}),
+        Op::Sculpt(b) => {
+            let mut doc = json!({
+                "op": b.kind.name(),
+                "radius": b.radius,
+                "brush": b.brush.falloff.name(),
+                "strength": b.brush.strength,
+            });
+            if let Some(obj) = doc.as_object_mut() {
+                match b.path.as_slice() {
+                    [at] => obj.insert("at".to_string(), p(at)),
+                    path => obj.insert(
+                        "path".to_string(),
+                        Value::Array(path.iter().map(p).collect()),
+                    ),
+                };
+                if b.kind.has_depth() {
+                    obj.insert("depth".to_string(), json!(b.depth));
+                }
+            }
+            doc
+        }
     }
 }
 
@@ -523,6 +620,20 @@ mod tests {
                 },
             },
         ];
+        let sculpts = SculptKind::ALL.map(|kind| {
+            let path = if kind == SculptKind::Pinch {
+                vec![DVec3::new(0.5, 0.5, 0.0)]
+            } else {
+                vec![DVec3::ZERO, DVec3::new(0.5, 0.25, 0.0)]
+            };
+            let depth = if kind.has_depth() { -0.3 } else { 0.0 };
+            let brush = Brush {
+                falloff: Falloff::Flat,
+                strength: 0.75,
+            };
+            Op::Sculpt(SculptBrush::try_new(kind, path, 1.5, depth, brush).unwrap())
+        });
+        let ops = ops.into_iter().chain(sculpts);
         for op in ops {
             assert_eq!(parse_op(&op_to_json(&op).to_string()), Ok(op));
         }
@@ -657,6 +768,39 @@ mod tests {
             (
                 "{\"op\":\"smooth\",\"at\":[0,0,0],\"radius\":1}",
                 "missing field \"strength\"",
+            ),
+            (
+                "{\"op\":\"inflate\",\"at\":[0,0,0],\"radius\":1}",
+                "needs \"depth\"",
+            ),
+            (
+                "{\"op\":\"pinch\",\"at\":[0,0,0],\"depth\":1,\"radius\":1}",
+                "takes no \"depth\"",
+            ),
+            (
+                "{\"op\":\"flatten\",\"at\":[0,0,0],\"path\":[[0,0,0]],\"radius\":1}",
+                "not both",
+            ),
+            ("{\"op\":\"flatten\",\"radius\":1}", "missing field \"at\""),
+            (
+                "{\"op\":\"crease\",\"at\":[0,0,0],\"depth\":0.1,\"radius\":-1}",
+                "radius",
+            ),
+            (
+                "{\"op\":\"crease\",\"at\":[0,0,0],\"depth\":1e308,\"radius\":1}",
+                "depth",
+            ),
+            (
+                "{\"op\":\"pinch\",\"at\":[0,0,0],\"radius\":1e308}",
+                "radius",
+            ),
+            (
+                "{\"op\":\"pinch\",\"at\":[0,0,0],\"radius\":1,\"brush\":\"hard\"}",
+                "unknown brush",
+            ),
+            (
+                "{\"op\":\"inflate\",\"at\":[0,0,0],\"depth\":1,\"radius\":1,\"strength\":2}",
+                "strength",
             ),
         ] {
             let e = parse_op(line).unwrap_err().to_string();

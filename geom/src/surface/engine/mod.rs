@@ -17,7 +17,8 @@
 //!    ([`crate::surface::verify()`]); a refusal puts the grid back bit for bit.
 //!
 //! Two drivers share it: [`Sculptor`] applies one shape-function operation (a finger on the
-//! current grid), [`Presser`] one contact of the hand (a memoised envelope of placements on
+//! current grid, or a surface brush — inflate, flatten, pinch, crease — whose field reads the
+//! grid's normals: `sculpt_field`), [`Presser`] one contact of the hand (a memoised envelope of placements on
 //! the contact's reference grid, re-applied incrementally frame by frame); [`LiveOperation`]
 //! shows one operation live (a pinch, a stroke), re-applied to its start each time it changes. Everything runs in
 //! a fixed order on plain `f64` arithmetic: the same operation applied to the same grid gives
@@ -28,6 +29,7 @@ mod field;
 mod live;
 
 mod presser;
+mod sculpt_field;
 mod sculptor;
 
 pub use live::LiveOperation;

@@ -125,7 +125,8 @@ impl Sculptor {
     }
 
     /// Applies one operation: push, pull, draw a line (along a fixed direction, per-point
-    /// directions or the surface normals), move or smooth.
+    /// directions or the surface normals), move, smooth, or a surface brush (inflate, flatten,
+    /// pinch, crease).
     ///
     /// # Errors
     /// [`SurfaceError::BadOp`] for an invalid operation; [`SurfaceError::OutOfRange`] or
@@ -211,6 +212,7 @@ impl Sculptor {
                 radius,
                 strength,
             } => self.apply_smooth(grid, *at, *radius, *strength, regulation, symmetry),
+            Op::Sculpt(brush) => self.apply_sculpt(grid, brush, regulation, symmetry),
             _ => {
                 let finger = op.finger_on(grid)?;
                 self.apply_field(grid, &finger, regulation, symmetry, None)
@@ -240,12 +242,28 @@ impl Sculptor {
         symmetry: Option<&Symmetry>,
         hold: Option<Hold>,
     ) -> Result<Touched, SurfaceError> {
+        let mut segments = std::mem::take(&mut self.segments);
         let mut field = FingerField {
             finger,
             depth: finger.reach_depth(&grid.bounds()),
             images: symmetry.map_or(&[], Symmetry::field_images),
-            segments: &mut self.segments,
+            segments: &mut segments,
         };
+        let examined = self.gather(grid, &mut field, symmetry, hold.as_ref());
+        self.segments = segments;
+        self.commit_updates(grid, regulation, symmetry, hold.as_ref(), examined)
+    }
+
+    /// Steps 1–3 of the engine for one field on the unchanged `grid`: the patches it may
+    /// reach, their flows and control-point updates into `self.updates` (a move's grabbed
+    /// patches included); returns how many patches were examined.
+    pub(super) fn gather(
+        &mut self,
+        grid: &Grid,
+        field: &mut impl DisplacementField,
+        symmetry: Option<&Symmetry>,
+        hold: Option<&Hold>,
+    ) -> usize {
         // 1. Reach (and the mirror image's).
         self.candidates.clear();
         grid.hierarchy()
@@ -253,14 +271,14 @@ impl Sculptor {
         // 2–3. Flows and control-point updates, from the unchanged net.
         self.updates.clear();
         let updates = &mut self.updates;
-        displace(grid, &self.candidates, &mut field, |p, delta| {
+        displace(grid, &self.candidates, field, |p, delta| {
             if let Some(delta) = delta {
                 updates.push((p, delta));
             }
         });
         // A move lands on its grabbed patch (and its mirror image's) even where the falloff
         // moved none of its samples.
-        if let Some(h) = &hold {
+        if let Some(h) = hold {
             let mut held = vec![h.patch];
             if let Some(s) = symmetry {
                 held.extend(s.patch_images(h.patch));
@@ -271,14 +289,13 @@ impl Sculptor {
                 }
             }
         }
-        let examined = self.candidates.len();
-        self.commit_updates(grid, regulation, symmetry, hold.as_ref(), examined)
+        self.candidates.len()
     }
 
     /// Writes the updates in `self.updates` and commits them: the groups around the moved
     /// patches regulated, the mirror, the move's landing, verification (restoring the grid
     /// on a refusal), boxes.
-    fn commit_updates(
+    pub(super) fn commit_updates(
         &mut self,
         grid: &mut Grid,
         regulation: Regulation,

@@ -9,5 +9,6 @@ pub(crate) mod grab;
 pub mod inverse;
 pub(crate) mod nearest;
 pub mod refine;
+pub mod sculpt_brush;
 pub(crate) mod shape_fn;
 pub(crate) mod smooth;

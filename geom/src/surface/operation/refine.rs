@@ -445,7 +445,8 @@ pub struct FingerRefinement {
 /// Operations whose direction follows the surface (`"normal"`) get their finger on `grid`
 /// ([`Op::finger_on`]); a move or a smooth reaches like a push of its radius at its point
 /// along the inward normal there (as deep as the move is long; a tenth of the radius for a
-/// smooth).
+/// smooth); a surface brush (inflate, flatten, pinch, crease) like a push or a groove along
+/// the normals of its stroke, `max(|h|, R/10)` deep.
 ///
 /// # Errors
 /// [`RefineError::Surface`] with [`SurfaceError::BadOp`] for an invalid operation (or one whose
@@ -457,14 +458,31 @@ pub fn for_finger(grid: &Grid, op: &Op) -> Result<FingerRefinement, RefineError>
         Op::Smooth { at, radius, .. } => Some((*at, 0.1 * radius, *radius)),
         _ => None,
     };
-    let finger = match reach {
-        Some((at, depth, radius)) => Op::PushNormal {
+    let finger = match (reach, op) {
+        (_, Op::Sculpt(b)) => {
+            let depth = b.depth.abs().max(0.1 * b.radius);
+            match b.path.as_slice() {
+                [at] => Op::PushNormal {
+                    at: *at,
+                    depth,
+                    radius: b.radius,
+                },
+                path => Op::Groove {
+                    path: path.to_vec(),
+                    dirs: crate::surface::shape_fn::Dirs::Normal,
+                    depth,
+                    radius: b.radius,
+                },
+            }
+            .finger_on(grid)?
+        }
+        (Some((at, depth, radius)), _) => Op::PushNormal {
             at,
             depth: depth.max(1e-3 * radius),
             radius,
         }
         .finger_on(grid)?,
-        None => op.finger_on(grid)?,
+        (None, _) => op.finger_on(grid)?,
     };
     let target = finger.radius() / 2.0;
     let mut total = Refinement::none(grid);

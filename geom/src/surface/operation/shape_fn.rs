@@ -27,6 +27,7 @@
 use glam::DVec3;
 
 use super::brush::{Brush, Falloff};
+use super::sculpt_brush::SculptBrush;
 use crate::surface::bounds::Aabb;
 use crate::surface::error::SurfaceError;
 
@@ -104,6 +105,8 @@ pub enum Op {
         /// The brush.
         brush: Brush,
     },
+    /// Inflate, flatten, pinch or crease: a brush that follows the surface ([`super::sculpt_brush`]).
+    Sculpt(SculptBrush),
 }
 
 /// The directions of a [`Op::Groove`].
@@ -131,6 +134,7 @@ impl Op {
         let bad = |s: &str| Err(SurfaceError::BadOp(s.to_string()));
         let radius_ok = |r: f64| r.is_finite() && r > 0.0;
         match self {
+            Op::Sculpt(b) => b.validate(),
             Op::Brushed { op, brush } => {
                 brush.validate()?;
                 match **op {
@@ -300,8 +304,8 @@ impl Op {
                 self.validate()?;
                 return Ok(op.scaled(brush.strength).finger()?.with(*brush));
             }
-            Op::Move { .. } | Op::Smooth { .. } => {
-                return bad("move and smooth are not pressing fingers");
+            Op::Move { .. } | Op::Smooth { .. } | Op::Sculpt(_) => {
+                return bad("move, smooth and the surface brushes are not pressing fingers");
             }
         };
         if !dir.is_finite() {

@@ -39,7 +39,7 @@ use super::tools::{Tool, ToolContext, ToolSettings, ToolState};
 use crate::curve::Curve;
 use crate::mesh::{MeshFormat, Tessellation};
 use crate::render::{LineBatch, SphereInstance, Style};
-use crate::surface::{Op, Plane};
+use crate::surface::{Op, Plane, SculptKind};
 
 mod commands;
 mod editing;
@@ -848,6 +848,9 @@ impl Modeller {
                 | Op::Drag { depth, .. }
                 | Op::Groove { depth, .. } => *depth,
                 Op::Brushed { op, brush } => brush.strength * signed_depth(op),
+                // A crease presses in for a positive depth, an inflate out.
+                Op::Sculpt(b) if b.kind == SculptKind::Inflate => -b.brush.strength * b.depth,
+                Op::Sculpt(b) => b.brush.strength * b.depth,
                 Op::Move { .. } | Op::Smooth { .. } => 0.0,
             }
         }

@@ -689,7 +689,8 @@ fn symmetry_is_offered_only_for_a_symmetric_model() {
 }
 
 /// With symmetry on (and auto-refine, the window's default), every live stroke — Push,
-/// Pull, Draw a line, Move, Smooth, and Shift+Push smoothing — changes both sides of the
+/// Pull, Draw a line, Move, Smooth, Shift+Push smoothing, and the surface brushes (Inflate,
+/// Flatten, Pinch, Crease, on the clay the strokes before them left) — changes both sides of the
 /// plane and leaves the model symmetric to 1e-12; each is one undo step back to the
 /// bit-identical model before it.
 #[test]
@@ -706,6 +707,10 @@ fn mirrored_live_strokes_keep_the_model_symmetric() {
         (Tool::Move, false),
         (Tool::Smooth, false),
         (Tool::Push, true),
+        (Tool::Inflate, false),
+        (Tool::Flatten, false),
+        (Tool::Pinch, false),
+        (Tool::Crease, false),
     ];
     for (tool, shift) in cases {
         m.apply(Command::SelectTool(tool));

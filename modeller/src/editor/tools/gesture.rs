@@ -8,7 +8,7 @@ use crate::curve::edit::{Grab, split};
 use crate::editor::curve_edit::{CurveJoint, joint_points, joints, tangent_edit};
 use crate::mesh::SurfaceHit;
 use crate::render::{LineBatch, Rgba, SphereInstance, ToolFootprint};
-use crate::surface::{Dirs, Op};
+use crate::surface::{Brush, Dirs, Op, SculptBrush};
 
 use super::{Edit, Tool, ToolContext, ToolSettings};
 
@@ -220,6 +220,9 @@ impl ToolState {
             })),
             // Each path point presses along the surface's inward normal at the point nearest
             // to it (outward for a ridge): the groove follows the clay (issue 12).
+            Gesture::Stroke { path, .. } if tool.sculpt_kind().is_some() => {
+                sculpt_op(tool, path.clone(), sign * depth, settings)
+            }
             Gesture::Stroke { path, .. } if path.len() >= 2 => Some(settings.brushed(Op::Groove {
                 path: path.clone(),
                 dirs: Dirs::Normal,
@@ -263,6 +266,9 @@ impl ToolState {
             return None;
         }
         let hit = self.hover.surface?;
+        if tool.sculpt_kind().is_some() {
+            return sculpt_op(tool, vec![hit.point], settings.depth, settings);
+        }
         if matches!(self.acting_tool(tool), Tool::Move | Tool::Smooth) {
             return Some(Op::Smooth {
                 at: hit.point,
@@ -335,12 +341,18 @@ impl ToolState {
                 };
                 Vec::new()
             }
-            Tool::Push | Tool::Pull | Tool::DrawLine => {
+            Tool::Push
+            | Tool::Pull
+            | Tool::DrawLine
+            | Tool::Inflate
+            | Tool::Flatten
+            | Tool::Pinch
+            | Tool::Crease => {
                 let Some(hit) = ctx.pick_surface(pixel) else {
                     return Vec::new();
                 };
                 let facing = facing_normal(&hit, ctx);
-                self.gesture = if tool == Tool::DrawLine {
+                self.gesture = if tool == Tool::DrawLine || tool.sculpt_kind().is_some() {
                     Gesture::Stroke {
                         path: vec![hit.point],
                         facing,
@@ -692,6 +704,20 @@ impl ToolState {
             }
         }
     }
+}
+
+/// The surface brush of `tool` along `path` (one point: a dab) with the panel's radius, brush
+/// and brush strength; `depth` (signed: Ctrl inverts) for inflate and crease only.
+fn sculpt_op(tool: Tool, path: Vec<DVec3>, depth: f64, settings: &ToolSettings) -> Option<Op> {
+    let kind = tool.sculpt_kind()?;
+    let depth = if kind.has_depth() { depth } else { 0.0 };
+    let brush = Brush {
+        falloff: settings.falloff,
+        strength: settings.press_strength,
+    };
+    SculptBrush::try_new(kind, path, settings.radius, depth, brush)
+        .ok()
+        .map(Op::Sculpt)
 }
 
 /// The surface normal at a hit, turned towards the viewer.

@@ -9,6 +9,7 @@
 //! | tangent | drag a control point next to a joint of two curves: the other side follows, collinear |
 //! | move | press on the surface and drag: the grabbed surface point follows the cursor on the plane through it facing the camera (the wheel moves that plane nearer / farther), the clay within the finger radius following ([`Op::Move`]); release keeps it, Esc or a right click cancels |
 //! | smooth | press and drag over the surface: smoothing dabs ([`Op::Smooth`], the panel's strength) at even spacing along the path, each on the surface the previous ones left; Shift held while pressing with Push, Pull or Draw a line smooths too |
+//! | inflate, flatten, pinch, crease | press on the surface (a dab) and drag along it (a stroke, its path resampled as a drawn line's): the surface brush ([`Op::Sculpt`], [`crate::surface::sculpt_brush`]) with the panel's radius, depth (inflate, crease), brush and brush strength, live from the press; Ctrl deflates (inflate) or raises a ridge (crease) |
 //! | hand | the mouse as the virtual hand ([`super::hand_input::MouseHandTool`], driven by the modeller): press pushes, drag draws a groove, with Shift (or "ridges") it grips and pulls; the wheel while pressed goes deeper |
 //!
 //! Tools read the surface, the curves and the camera through a [`ToolContext`] and answer with
@@ -26,7 +27,7 @@ pub use gesture::ToolState;
 
 use crate::curve::Curve;
 use crate::curve::edit::GrabOptions;
-use crate::surface::{Falloff, Op};
+use crate::surface::{Falloff, Op, SculptKind};
 
 /// The tools.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -50,11 +51,20 @@ pub enum Tool {
     /// The mouse as the virtual hand: the view ray is the finger (the modeller drives a
     /// [`super::hand_input::MouseHandTool`]; the gestures here ignore it).
     Hand,
+    /// Inflate the clay along its normals (Blender's I).
+    Inflate,
+    /// Flatten the clay toward the average plane under the brush (Blender's Shift+T).
+    Flatten,
+    /// Pinch the clay toward the stroke (Blender's P).
+    Pinch,
+    /// Crease: pinch and press in along the stroke (Blender's Shift+C).
+    Crease,
 }
 
 impl Tool {
     /// Every tool, in panel order.
-    pub const ALL: [Tool; 9] = [
+    /// The surface brushes come last, so that the number keys keep their tools.
+    pub const ALL: [Tool; 13] = [
         Tool::Push,
         Tool::Pull,
         Tool::DrawLine,
@@ -64,6 +74,10 @@ impl Tool {
         Tool::SplitCurve,
         Tool::Tangent,
         Tool::Hand,
+        Tool::Inflate,
+        Tool::Flatten,
+        Tool::Pinch,
+        Tool::Crease,
     ];
 
     /// The tool's name in the panel.
@@ -79,6 +93,22 @@ impl Tool {
             Tool::Move => "Move",
             Tool::Smooth => "Smooth",
             Tool::Hand => "Hand (the mouse as the hand)",
+            Tool::Inflate => "Inflate",
+            Tool::Flatten => "Flatten",
+            Tool::Pinch => "Pinch",
+            Tool::Crease => "Crease",
+        }
+    }
+
+    /// The surface brush the tool applies (inflate, flatten, pinch, crease).
+    #[must_use]
+    pub fn sculpt_kind(self) -> Option<SculptKind> {
+        match self {
+            Tool::Inflate => Some(SculptKind::Inflate),
+            Tool::Flatten => Some(SculptKind::Flatten),
+            Tool::Pinch => Some(SculptKind::Pinch),
+            Tool::Crease => Some(SculptKind::Crease),
+            _ => None,
         }
     }
 
@@ -87,7 +117,16 @@ impl Tool {
     pub fn sculpts(self) -> bool {
         matches!(
             self,
-            Tool::Push | Tool::Pull | Tool::DrawLine | Tool::Move | Tool::Smooth | Tool::Hand
+            Tool::Push
+                | Tool::Pull
+                | Tool::DrawLine
+                | Tool::Move
+                | Tool::Smooth
+                | Tool::Hand
+                | Tool::Inflate
+                | Tool::Flatten
+                | Tool::Pinch
+                | Tool::Crease
         )
     }
 

@@ -175,3 +175,48 @@ fn matcaps_render_their_formulas() {
         }
     }
 }
+
+/// `nendo render --ortho --matcap NAME` draws headless and says it was orthographic; a name
+/// that is no matcap is refused, naming the ones there are.
+#[test]
+fn render_draws_orthographic_with_a_matcap() {
+    let dir = crate::support::temp_dir("render-ortho-matcap");
+    let model = dir.join("plane.json");
+    let plane = Primitive::Plane
+        .build(&PrimitiveParams::default())
+        .expect("plane");
+    std::fs::write(&model, nendo::model::Model::new(plane).to_json_string()).expect("model");
+    let png = dir.join("out.png");
+    let (model_s, png_s) = (model.display().to_string(), png.display().to_string());
+    let out = crate::support::run(&[
+        "render",
+        &model_s,
+        "--png",
+        &png_s,
+        "--size",
+        "160x120",
+        "--ortho",
+        "--matcap",
+        "red-wax",
+        "--view",
+        "top",
+        "--no-edges",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("from top (orthographic)"), "{stderr}");
+    let image = RgbaImage::read_png(&std::fs::read(&png).expect("png")).expect("decodes");
+    let centre = pixel(&image, 80, 60);
+    // The plane faces the viewer: the matcap's colour at the view-space normal (0, 0, 1).
+    let want = Matcap::RedWax.colour(Vec3::Z).to_array().map(srgb8);
+    let d = want.iter().zip(centre).map(|(a, b)| a.abs_diff(b)).max();
+    assert!(d <= Some(1), "red wax: {centre:?}, its formula {want:?}");
+    let out = crate::support::run(&["render", &model_s, "--png", &png_s, "--matcap", "chrome"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("expected clay, red-wax or soft-grey"),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

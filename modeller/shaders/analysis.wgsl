@@ -123,7 +123,7 @@ fn analysis_ramp(t: f32) -> vec3<f32> {
 
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    let w = normalize(globals.eye - in.world);
+    let w = to_viewer(in.world);
     let d = derivatives(in.patch_index, in.uv);
     let e = dot(d.su, d.su);
     let f = dot(d.su, d.sv);

@@ -6,6 +6,9 @@
 // triangle's facing, see `seen_normal`), so the surface reads the same from either side. Optional overlays: the G1 seam heat map and the
 // tool footprint (the ring where the distance to the finger axis equals the finger radius —
 // exactly the samples the push shape function reaches).
+//
+// With a matcap chosen (`globals.matcap` 1, 2, 3) the lights are replaced by the matcap's
+// formula of the view-space normal (`render::matcap`, which evaluates the same on the CPU).
 
 // `Globals` and its binding `globals` come from `globals.wgsl`, prepended at build time.
 
@@ -76,9 +79,32 @@ fn seen_normal(normal: vec3<f32>, world: vec3<f32>, to_eye: vec3<f32>, front: bo
     return n;
 }
 
+// The matcap `code` (1 clay, 2 red wax, 3 soft grey) for the view-space unit normal `n`: the
+// formulas of `render::matcap` (keep in sync with `Matcap::colour`).
+fn matcap_colour(code: f32, n: vec3<f32>) -> vec3<f32> {
+    let l = normalize(vec3<f32>(-0.45, 0.55, 0.70));
+    let h = normalize(l + vec3<f32>(0.0, 0.0, 1.0));
+    let nl = dot(n, l);
+    let spec_base = max(dot(n, h), 0.0);
+    let facing = max(n.z, 0.0);
+    if code < 1.5 {
+        let wrap = max((nl + 0.5) / 1.5, 0.0);
+        return vec3<f32>(0.62, 0.42, 0.31) * (0.16 + 0.9 * wrap) * (0.6 + 0.4 * facing)
+            + vec3<f32>(0.05 * pow(spec_base, 10.0));
+    } else if code < 2.5 {
+        let wrap = max((nl + 0.3) / 1.3, 0.0);
+        let rim = pow(1.0 - facing, 4.0);
+        return vec3<f32>(0.50, 0.045, 0.035) * (0.08 + 0.85 * wrap)
+            + vec3<f32>(0.9 * pow(spec_base, 90.0))
+            + vec3<f32>(0.45, 0.12, 0.10) * rim;
+    }
+    let wrap = max((nl + 1.0) / 2.0, 0.0);
+    return vec3<f32>(0.66 * (0.32 + 0.48 * wrap + 0.2 * (0.5 + 0.5 * n.y)));
+}
+
 @fragment
 fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let to_eye = normalize(globals.eye - in.world);
+    let to_eye = to_viewer(in.world);
     let n = seen_normal(in.normal, in.world, to_eye, front);
     var albedo = globals.clay.rgb;
 
@@ -98,6 +124,16 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> @location(0) ve
     let diffuse = max((dot(n, globals.key_light) + wrap) / (1.0 + wrap), 0.0);
     let rim = pow(1.0 - max(dot(n, to_eye), 0.0), 3.0) * 0.12;
     var colour = albedo * (0.42 * ambient + 0.95 * diffuse) + vec3<f32>(rim);
+    if globals.matcap > 0.5 {
+        let back = cross(globals.view_right, globals.view_up);
+        let nv = vec3<f32>(dot(n, globals.view_right), dot(n, globals.view_up), dot(n, back));
+        colour = matcap_colour(globals.matcap, nv);
+        if globals.heat_on > 0.5 && in.seam.x > 0.0 {
+            let t = clamp(in.seam.x / max(globals.heat_max_deg, 1e-6), 0.0, 1.0);
+            let visible = clamp(in.seam.x / max(0.01 * globals.heat_max_deg, 1e-9), 0.0, 1.0);
+            colour = mix(colour, heat_ramp(t), 0.9 * visible * clamp(in.seam.y * 1.5, 0.0, 1.0));
+        }
+    }
 
     if globals.tool_on > 0.5 {
         let d = in.world - globals.tool_center;

@@ -17,8 +17,21 @@ struct Globals {
     tool_on: f32,
     viewport: vec2<f32>,
     line_depth_bias: f32,
+    // The eye is homogeneous: (eye, 1) a camera position, (eye, 0) the direction towards an
+    // orthographic camera. The direction to the viewer is `to_viewer(x)` below.
+    eye_w: f32,
+    view_right: vec3<f32>,
+    // 0: the lit shading; 1, 2, 3: a matcap (`render::matcap`).
+    matcap: f32,
+    view_up: vec3<f32>,
     pad: f32,
 };
 
 @group(0) @binding(0) var<uniform> globals: Globals;
+
+// The unit vector from the world point `x` towards the viewer: towards the eye of a
+// perspective camera, the view direction's opposite for an orthographic one.
+fn to_viewer(x: vec3<f32>) -> vec3<f32> {
+    return normalize(globals.eye - globals.eye_w * x);
+}
 

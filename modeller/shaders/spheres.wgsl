@@ -32,7 +32,7 @@ fn vs_main(in: VertexIn) -> VertexOut {
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let n = normalize(in.normal);
-    let to_eye = normalize(globals.eye - in.world);
+    let to_eye = to_viewer(in.world);
     let diffuse = max((dot(n, globals.key_light) + 0.4) / 1.4, 0.0);
     let ambient = mix(0.25, 0.45, 0.5 + 0.5 * n.z);
     let rim = pow(1.0 - max(dot(n, to_eye), 0.0), 2.0) * 0.25;

@@ -60,4 +60,7 @@ mod window_symmetry;
 // It measures strokes through `nendo_bench::live`, which times the renderer (`gui`).
 #[cfg(feature = "gui")]
 mod undo_history;
+mod view_modes;
+#[cfg(feature = "gui")]
+mod view_render;
 mod vmc_cli;

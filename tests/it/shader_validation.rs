@@ -122,6 +122,10 @@ fn globals_layout_matches_the_rust_struct() {
         ("tool_on", offset_of!(Globals, tool_on)),
         ("viewport", offset_of!(Globals, viewport)),
         ("line_depth_bias", offset_of!(Globals, line_depth_bias)),
+        ("eye_w", offset_of!(Globals, eye_w)),
+        ("view_right", offset_of!(Globals, view_right)),
+        ("matcap", offset_of!(Globals, matcap)),
+        ("view_up", offset_of!(Globals, view_up)),
         ("pad", offset_of!(Globals, pad)),
     ]
     .into_iter()

@@ -1,12 +1,12 @@
 //! The panel's surface-analysis controls: the display mode (clay, zebra, curvature,
-//! isophotes) with its settings, the curvature map's legend and range, and the seam heat
-//! map's measure (G1 angle or G2 curvature mismatch).
+//! isophotes) with its settings, the curvature map's legend and range, the seam heat map's
+//! measure (G1 angle or G2 curvature mismatch), and the clay's shading (lit or a matcap).
 
 use egui::{Color32, Ui};
 
 use crate::mesh::PatchPoints;
 use crate::render::display_mode::{auto_range, legend_colour};
-use crate::render::{CurvatureKind, SurfaceAnalysis, SurfaceMode};
+use crate::render::{CurvatureKind, Matcap, SurfaceAnalysis, SurfaceMode};
 
 /// The controls, editing `analysis` in place; `patches` for fitting the curvature range.
 pub(super) fn analysis_ui(ui: &mut Ui, analysis: &mut SurfaceAnalysis, patches: &[PatchPoints]) {
@@ -80,6 +80,19 @@ pub(super) fn analysis_ui(ui: &mut Ui, analysis: &mut SurfaceAnalysis, patches: 
                 .text("% = red (G2)"),
         );
     }
+}
+
+/// The clay's shading: lit, or one of the matcaps (remembered in the settings).
+pub(super) fn matcap_ui(ui: &mut Ui, matcap: &mut Option<Matcap>) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("shading").on_hover_text(
+            "lit: the scene's lights; a matcap colours the clay by its normal as seen from the camera, the same look from every side",
+        );
+        ui.radio_value(matcap, None, "lit");
+        for m in Matcap::ALL {
+            ui.radio_value(matcap, Some(m), m.label());
+        }
+    });
 }
 
 fn kind_label(kind: CurvatureKind) -> &'static str {

@@ -4,9 +4,16 @@
 //!
 //! The keys follow Blender's sculpt mode where they do not clash: F then a move sets the
 //! finger radius, Shift+F the depth, Ctrl inverts a stroke, Shift smooths, X toggles
-//! symmetry, G picks Move, I Inflate, Shift+T Flatten, P Pinch, Shift+C Crease, Home frames the model, number keys pick tools. The orbit button is a setting ([`OrbitButton`]): the right button (nendo's
+//! symmetry, G picks Move, I Inflate, Shift+T Flatten, P Pinch, Shift+C Crease, Home frames
+//! the model, number keys pick tools, numpad 5 toggles the orthographic view. The orbit button
+//! is a setting ([`OrbitButton`]): the right button (nendo's
 //! default) or the middle one (Blender's). Each key gives the modeller a [`Command`]
 //! ([`KeyAction::command`]).
+//!
+//! egui names keys by what they type, so numpad 5 and the main 5 are one `Key::Num5`; keys
+//! that must be told apart by where they are ([`physical_keys`]) are read from winit's
+//! physical key code by the window (`app::window`) before egui sees them, and only while no
+//! text field has the keyboard.
 
 use egui::{Key, Modifiers};
 
@@ -41,6 +48,8 @@ pub enum KeyAction {
     ToggleRadial,
     /// Show the surface in the next display mode.
     CycleSurfaceMode,
+    /// Switch the view between perspective and orthographic.
+    ToggleProjection,
     /// Pick a tool.
     Tool(Tool),
 }
@@ -62,6 +71,7 @@ impl KeyAction {
             KeyAction::ToggleSymmetry => Command::ToggleSymmetry,
             KeyAction::ToggleRadial => Command::ToggleRadial,
             KeyAction::CycleSurfaceMode => Command::CycleSurfaceMode,
+            KeyAction::ToggleProjection => Command::ToggleProjection,
             KeyAction::Tool(tool) => Command::SelectTool(tool),
         }
     }
@@ -93,6 +103,9 @@ impl KeyAction {
             }
             KeyAction::CycleSurfaceMode => {
                 "surface display: clay → zebra stripes → curvature map → isophotes (from the patches' exact derivatives, per pixel)".into()
+            }
+            KeyAction::ToggleProjection => {
+                "view: perspective ↔ orthographic (parallel rays; the framing at the orbit target kept), as in Blender".into()
             }
             KeyAction::Tool(tool) => format!("tool: {}", tool.label()),
         }
@@ -187,6 +200,38 @@ pub fn keys() -> Vec<KeyBinding> {
             .map(|(tool, key)| KeyBinding::new(Modifiers::NONE, key, KeyAction::Tool(*tool))),
     );
     keys
+}
+
+/// A key read by where it is on the keyboard (winit's physical key code), not by what it
+/// types: what egui cannot tell apart (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PhysicalBinding {
+    /// The key's position.
+    pub code: winit::keyboard::KeyCode,
+    /// The key as written in the help.
+    pub label: &'static str,
+    /// What it does.
+    pub action: KeyAction,
+}
+
+/// The keys read by position: numpad 5 toggles the orthographic view (Blender's key), while
+/// the main 5 keeps picking its tool.
+#[must_use]
+pub fn physical_keys() -> Vec<PhysicalBinding> {
+    vec![PhysicalBinding {
+        code: winit::keyboard::KeyCode::Numpad5,
+        label: "Numpad 5",
+        action: KeyAction::ToggleProjection,
+    }]
+}
+
+/// The action of the key at `code`, if it is one of [`physical_keys`].
+#[must_use]
+pub fn physical_action(code: winit::keyboard::KeyCode) -> Option<KeyAction> {
+    physical_keys()
+        .into_iter()
+        .find(|b| b.code == code)
+        .map(|b| b.action)
 }
 
 /// The actions of the keys pressed this frame, in the order they were pressed (each press
@@ -300,6 +345,13 @@ pub fn markdown(orbit: OrbitButton) -> String {
             binding.action.describe()
         ));
     }
+    for binding in physical_keys() {
+        s.push_str(&format!(
+            "| {} | {} |\n",
+            binding.label,
+            binding.action.describe()
+        ));
+    }
     for (keys, does) in held() {
         s.push_str(&format!("| {keys} | {does} |\n"));
     }
@@ -350,6 +402,17 @@ mod tests {
         assert!(
             keys.iter().all(|k| k.key != CLUTCH_KEY),
             "the clutch key is held, never a shortcut"
+        );
+        // Numpad 5 is read by position; the main 5 keeps its tool.
+        assert_eq!(
+            physical_action(winit::keyboard::KeyCode::Numpad5),
+            Some(KeyAction::ToggleProjection)
+        );
+        assert_eq!(physical_action(winit::keyboard::KeyCode::Digit5), None);
+        assert!(
+            keys.iter()
+                .any(|k| k.key == Key::Num5 && matches!(k.action, KeyAction::Tool(_))),
+            "5 picks a tool"
         );
         assert_eq!(
             keys.iter()

@@ -94,6 +94,11 @@ pub(super) fn help_ui(ctx: &egui::Context, orbit: OrbitButton) -> bool {
                         ui.add(egui::Label::new(binding.action.describe()).wrap());
                         ui.end_row();
                     }
+                    for binding in keymap::physical_keys() {
+                        ui.strong(binding.label);
+                        ui.add(egui::Label::new(binding.action.describe()).wrap());
+                        ui.end_row();
+                    }
                     for (keys, does) in keymap::held() {
                         ui.strong(keys);
                         ui.add(egui::Label::new(does).wrap());
@@ -425,7 +430,7 @@ pub(super) fn display_ui(
 ) {
     let o = overlays;
     ui.checkbox(&mut o.patch_edges, "patch boundaries")
-        .on_hover_text("Draw the edges between the Bezier patches the surface is made of (off by default: refined grids draw them as dense bands)");
+        .on_hover_text("Draw the edges between the Bezier patches the surface is made of (off by default: refined grids draw them as dense bands); the lines refinement added are drawn fainter than the primitive's own");
     ui.checkbox(&mut o.control_net, "control net")
         .on_hover_text("Draw the patches' control points, joined row by row: the numbers the surface is made from");
     ui.checkbox(&mut o.control_polygons, "curve control polygons")

@@ -8,6 +8,7 @@
 use crate::app::dialogs;
 use crate::app::file_dialog::FileDialog;
 use crate::app::panels::{self, FrameRate, PANEL_WIDTH};
+use crate::editor::Projection;
 use crate::editor::command::Command;
 use crate::editor::modeller::{FileRequest, Modeller};
 
@@ -137,9 +138,24 @@ fn side_panel_ui(ui: &mut egui::Ui, m: &mut Modeller, commands: &mut Vec<Command
             let max_seam_deg = m.surface().max_seam_deg;
             let panel = m.panel_mut();
             panels::display_ui(ui, &mut panel.overlays, &mut panel.orbit, max_seam_deg);
+            let mut ortho = m.camera().projection == Projection::Orthographic;
+            if ui
+                .checkbox(&mut ortho, "orthographic view (numpad 5)")
+                .on_hover_text("Parallel rays, as in Blender: sizes read the same at every depth; the framing at the orbit target is kept")
+                .changed()
+            {
+                commands.push(Command::SetProjection(if ortho {
+                    Projection::Orthographic
+                } else {
+                    Projection::Perspective
+                }));
+            }
             ui.separator();
             let mut analysis = m.panel().analysis;
             super::analysis_panel::analysis_ui(ui, &mut analysis, m.surface_patches());
+            if analysis.mode == crate::render::SurfaceMode::Clay {
+                super::analysis_panel::matcap_ui(ui, &mut m.panel_mut().matcap);
+            }
             m.panel_mut().analysis = analysis;
         });
     egui::CollapsingHeader::new("Export")

@@ -582,6 +582,19 @@ impl ApplicationHandler for WindowApp {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(gfx) = self.gfx.as_mut() else { return };
+        // Keys read by position (numpad 5: egui would take it for the main 5) never reach egui,
+        // unless a text field has the keyboard.
+        if let WindowEvent::KeyboardInput { event: key, .. } = &event
+            && let winit::keyboard::PhysicalKey::Code(code) = key.physical_key
+            && let Some(action) = super::keymap::physical_action(code)
+            && !self.egui_ctx.egui_wants_keyboard_input()
+        {
+            if key.state == ElementState::Pressed && !key.repeat {
+                self.modeller.apply(action.command());
+                gfx.window.request_redraw();
+            }
+            return;
+        }
         let queued = gfx.egui_state.egui_input().events.len();
         let response = gfx.egui_state.on_window_event(&gfx.window, &event);
         let arrival = Arrival {

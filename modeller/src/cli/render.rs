@@ -1,6 +1,8 @@
-//! `nendo render MODEL.json --png OUT.png [--size WxH] [--view iso] [--display zebra]`: draws
-//! a model headless with the window's renderer (offscreen, on any wgpu adapter — Mesa's
-//! lavapipe without a GPU), in clay or an analysis mode ([`crate::render::display_mode`]).
+//! `nendo render MODEL.json --png OUT.png [--size WxH] [--view iso] [--ortho] [--display zebra]
+//! [--matcap red-wax]`: draws a model headless with the window's renderer (offscreen, on any
+//! wgpu adapter — Mesa's lavapipe without a GPU), in clay (lit or with a matcap,
+//! [`crate::render::matcap`]) or an analysis mode ([`crate::render::display_mode`]), in
+//! perspective or orthographic projection ([`crate::editor::camera`]).
 
 use clap::Args as ClapArgs;
 use std::path::PathBuf;
@@ -14,7 +16,7 @@ use crate::mesh::Tessellation;
 use crate::model::Model;
 use crate::render::display_mode::auto_range;
 use crate::render::{
-    CurvatureKind, GpuContext, LineBatch, OFFSCREEN_FORMAT, Offscreen, Renderer, Style,
+    CurvatureKind, GpuContext, LineBatch, Matcap, OFFSCREEN_FORMAT, Offscreen, Renderer, Style,
     SurfaceAnalysis, SurfaceMode,
 };
 
@@ -32,6 +34,12 @@ pub struct RenderArgs {
     /// Where to look from: front, back, left, right, top, bottom, iso.
     #[arg(long, default_value = "iso")]
     pub view: ViewPreset,
+    /// Orthographic projection (parallel rays) instead of perspective, framed to fit.
+    #[arg(long)]
+    pub ortho: bool,
+    /// Shade the clay with a matcap instead of the lights: clay, red-wax or soft-grey.
+    #[arg(long, value_name = "NAME")]
+    pub matcap: Option<Matcap>,
     /// Colour the seams by their G1 error.
     #[arg(long)]
     pub heat: bool,
@@ -181,10 +189,15 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let (w, h) = args.size;
     let aspect = w as f32 / h as f32;
     let points = framing_points(&model, &patches, &display, &overlays);
-    let camera = crate::editor::OrbitCamera::framing(args.view, &points, aspect);
+    let mut camera = crate::editor::OrbitCamera::framing(args.view, &points, aspect);
+    if args.ortho {
+        camera.projection = crate::editor::Projection::Orthographic;
+        camera.frame(&points, aspect);
+    }
     let style = Style {
         heat_map: args.heat,
         heat_max_deg: args.heat_max,
+        matcap: args.matcap,
         ..Style::default()
     };
     let view = camera.view(aspect);
@@ -193,11 +206,12 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let image = Offscreen::new(&gpu.device, [w, h], args.samples).render(&gpu, &renderer)?;
     image.save_png(&args.png)?;
     eprintln!(
-        "{}: {}x{} from {}, {} patches, {} triangles, on {} in {:.0} ms",
+        "{}: {}x{} from {}{}, {} patches, {} triangles, on {} in {:.0} ms",
         args.png.display(),
         w,
         h,
         args.view,
+        if args.ortho { " (orthographic)" } else { "" },
         patches.len(),
         display.mesh.triangle_count(),
         gpu.describe(),

@@ -5,6 +5,23 @@
 //! `e = (cos θ cos ψ, cos θ sin ψ, sin θ)`, the camera's right is `r = (−sin ψ, cos ψ, 0)` and
 //! its up is `e × r`; `world_from_view = [r, e × r, e, eye]` (the camera looks down `−e`).
 //! `r` does not depend on `θ`, so straight top and bottom views are well defined.
+//!
+//! ## Orthographic projection
+//! The camera projects in perspective (field of view `φ`, the vertical `fov_y`) or
+//! orthographically ([`Projection`], numpad 5 in the window, `nendo render --ortho`). The
+//! orthographic view shows the box `|x| ≤ h·a`, `|y| ≤ h` of the view plane with the half
+//! height
+//!
+//! ```text
+//! h = d · tan(φ/2)          (d the distance from the eye to the target)
+//! ```
+//!
+//! the half height the perspective view shows at the target's depth, so toggling keeps the
+//! framing there; zooming and panning change `d` and the target alike in both. Its rays are
+//! parallel: the ray through the pixel at NDC `(x, y)` runs along `−e` from
+//! `target + (d + R)·e + x·h·a·r + y·h·u`, with `R = 20 d + 10` (the perspective view's far
+//! reach): the orthographic view draws, and picks in, the slab of depths `(−R, R)` around the
+//! eye's plane, so nothing between the eye and the target is cut off when zooming in.
 
 use glam::{Mat4, Vec2, Vec3};
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
@@ -94,6 +111,36 @@ impl FromStr for ViewPreset {
     }
 }
 
+/// How the camera projects the scene (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Projection {
+    /// Perspective, of the camera's field of view.
+    #[default]
+    Perspective,
+    /// Orthographic: parallel rays, the perspective view's framing at the target.
+    Orthographic,
+}
+
+impl Projection {
+    /// The other projection (what numpad 5 does).
+    #[must_use]
+    pub fn toggled(self) -> Self {
+        match self {
+            Projection::Perspective => Projection::Orthographic,
+            Projection::Orthographic => Projection::Perspective,
+        }
+    }
+
+    /// `perspective` or `orthographic`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Projection::Perspective => "perspective",
+            Projection::Orthographic => "orthographic",
+        }
+    }
+}
+
 /// An orbit camera.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OrbitCamera {
@@ -105,8 +152,11 @@ pub struct OrbitCamera {
     pub yaw: f32,
     /// Pitch `θ` above the XY plane, radians, in `[−π/2, π/2]`.
     pub pitch: f32,
-    /// Vertical field of view, radians.
+    /// Vertical field of view, radians (in orthographic projection it sets the half height
+    /// `distance · tan(fov_y / 2)`).
     pub fov_y: f32,
+    /// Perspective or orthographic.
+    pub projection: Projection,
 }
 
 impl Default for OrbitCamera {
@@ -118,6 +168,7 @@ impl Default for OrbitCamera {
             yaw,
             pitch,
             fov_y: 0.7,
+            projection: Projection::Perspective,
         }
     }
 }
@@ -141,7 +192,9 @@ impl OrbitCamera {
     }
 
     /// Looks at the centre of the bounding box of `points` from the nearest distance at which
-    /// every point is in view, with a 5 % margin (nothing changes for no points).
+    /// every point is in view, with a 5 % margin (nothing changes for no points). In
+    /// orthographic projection a point is in view when `|x| ≤ d tan_x` and `|y| ≤ d tan_y`,
+    /// whatever its depth.
     pub fn frame(&mut self, points: &[Vec3], aspect: f32) {
         let Some(first) = points.first() else { return };
         let (lo, hi) = points
@@ -158,6 +211,10 @@ impl OrbitCamera {
             // |x| ≤ (d − z) tan_x and |y| ≤ (d − z) tan_y.
             let q = *p - self.target;
             let (x, y, z) = (q.dot(r), q.dot(u), q.dot(e));
+            let z = match self.projection {
+                Projection::Perspective => z,
+                Projection::Orthographic => 0.0,
+            };
             distance = distance.max(x.abs() / tan_x + z).max(y.abs() / tan_y + z);
             depth = depth.max(z);
         }
@@ -202,38 +259,109 @@ impl OrbitCamera {
         )
     }
 
+    /// The half height of the view at the target's depth, `h = distance · tan(fov_y / 2)`:
+    /// the orthographic view's half height (see the module docs).
+    #[must_use]
+    pub fn half_height(&self) -> f32 {
+        self.distance * (0.5 * self.fov_y).tan()
+    }
+
+    /// How far beyond the target the view reaches: the perspective far plane's distance
+    /// from the eye, and in orthographic projection the half depth `R` of the slab drawn.
+    #[must_use]
+    pub fn reach(&self) -> f32 {
+        self.distance * 20.0 + 10.0
+    }
+
     /// The view for a viewport of aspect ratio `aspect` (width / height).
     #[must_use]
     pub fn view(&self, aspect: f32) -> View {
         let world_from_view = self.world_from_view();
-        let near = (self.distance * 0.01).max(1e-4);
-        let far = self.distance * 20.0 + 10.0;
-        let proj =
-            glam::camera::rh::proj::directx::perspective(self.fov_y, aspect.max(1e-3), near, far);
+        let aspect = aspect.max(1e-3);
+        let proj = match self.projection {
+            Projection::Perspective => {
+                let near = (self.distance * 0.01).max(1e-4);
+                glam::camera::rh::proj::directx::perspective(self.fov_y, aspect, near, self.reach())
+            }
+            Projection::Orthographic => {
+                let h = self.half_height().max(1e-6);
+                let w = h * aspect;
+                let reach = self.reach();
+                glam::camera::rh::proj::directx::orthographic(-w, w, -h, h, -reach, reach)
+            }
+        };
         View {
             clip_from_world: proj * world_from_view.inverse(),
             world_from_view,
         }
     }
 
-    /// The ray from the eye through `pixel` (origin top-left) of a viewport of `size` pixels.
+    /// The ray through `pixel` (origin top-left) of a viewport of `size` pixels: from the eye
+    /// in perspective; in orthographic projection along `−e` from the near side of the slab
+    /// drawn (see the module docs).
     #[must_use]
     pub fn ray(&self, pixel: Vec2, size: Vec2) -> Ray {
         let size = size.max(Vec2::ONE);
         let ndc = Vec2::new(2.0 * pixel.x / size.x - 1.0, 1.0 - 2.0 * pixel.y / size.y);
         let t = (0.5 * self.fov_y).tan();
-        let dir =
-            self.right() * (ndc.x * t * size.x / size.y) + self.up() * (ndc.y * t) - self.to_eye();
-        Ray {
-            origin: self.eye().as_dvec3(),
-            direction: dir.normalize().as_dvec3(),
+        let across = self.right() * (ndc.x * t * size.x / size.y) + self.up() * (ndc.y * t);
+        match self.projection {
+            Projection::Perspective => Ray {
+                origin: self.eye().as_dvec3(),
+                direction: (across - self.to_eye()).normalize().as_dvec3(),
+            },
+            Projection::Orthographic => {
+                let (e, d) = (self.to_eye().as_dvec3(), f64::from(self.distance));
+                Ray {
+                    origin: self.target.as_dvec3()
+                        + (d + f64::from(self.reach())) * e
+                        + d * across.as_dvec3(),
+                    direction: -e,
+                }
+            }
+        }
+    }
+
+    /// The parameter along [`OrbitCamera::ray`] at which the ray through `p`'s pixel reaches
+    /// `p`: its distance from the eye in perspective, from the ray's origin plane in
+    /// orthographic projection.
+    #[must_use]
+    pub fn ray_parameter(&self, p: glam::DVec3) -> f64 {
+        let eye = self.eye().as_dvec3();
+        match self.projection {
+            Projection::Perspective => (p - eye).length(),
+            Projection::Orthographic => {
+                f64::from(self.reach()) + (eye - p).dot(self.to_eye().as_dvec3())
+            }
+        }
+    }
+
+    /// The unit vector from `p` towards the viewer: towards the eye in perspective, `e` in
+    /// orthographic projection.
+    #[must_use]
+    pub fn towards_viewer(&self, p: glam::DVec3) -> glam::DVec3 {
+        match self.projection {
+            Projection::Perspective => (self.eye().as_dvec3() - p).normalize_or_zero(),
+            Projection::Orthographic => self.to_eye().as_dvec3(),
         }
     }
 
     /// World units per pixel at the target's depth, for a viewport `height` pixels high.
     #[must_use]
     pub fn units_per_pixel(&self, height: f32) -> f32 {
-        2.0 * self.distance * (0.5 * self.fov_y).tan() / height.max(1.0)
+        2.0 * self.half_height() / height.max(1.0)
+    }
+
+    /// World units per pixel at ray parameter `t` ([`OrbitCamera::ray`]), for a viewport
+    /// `height` pixels high: `2 t tan(φ/2) / height` in perspective, the same at every depth in
+    /// orthographic projection.
+    #[must_use]
+    pub fn units_per_pixel_at(&self, t: f64, height: f32) -> f64 {
+        let height = f64::from(height.max(1.0));
+        match self.projection {
+            Projection::Perspective => 2.0 * t * f64::from((0.5 * self.fov_y).tan()) / height,
+            Projection::Orthographic => 2.0 * f64::from(self.half_height()) / height,
+        }
     }
 
     /// Orbits by a drag of `delta` pixels: right turns the model to the right, down tilts the
@@ -284,8 +412,17 @@ mod tests {
     /// the eye closer.
     #[test]
     fn zoom_toward_keeps_the_point_under_the_cursor() {
+        for projection in [Projection::Perspective, Projection::Orthographic] {
+            zoom_toward_keeps_the_point_under_the_cursor_in(projection);
+        }
+    }
+
+    fn zoom_toward_keeps_the_point_under_the_cursor_in(projection: Projection) {
         let size = Vec2::new(800.0, 600.0);
-        let mut cam = OrbitCamera::default();
+        let mut cam = OrbitCamera {
+            projection,
+            ..OrbitCamera::default()
+        };
         let pixel = Vec2::new(620.0, 150.0);
         let normal = cam.to_eye();
         let ray = cam.ray(pixel, size);
@@ -319,24 +456,82 @@ mod tests {
         assert!((top.up() - Vec3::Y).length() < 1e-6);
     }
 
+    /// In both projections the ray through a point's pixel passes through the point, at the
+    /// parameter [`OrbitCamera::ray_parameter`] gives; orthographic rays are parallel to the
+    /// view direction, and a point nearer than the eye's plane is still in front of them.
     #[test]
     fn the_ray_through_a_projected_point_passes_through_it() {
-        let camera = OrbitCamera {
-            target: Vec3::new(1.0, 2.0, 0.5),
-            distance: 7.0,
+        for projection in [Projection::Perspective, Projection::Orthographic] {
+            let camera = OrbitCamera {
+                target: Vec3::new(1.0, 2.0, 0.5),
+                distance: 7.0,
+                projection,
+                ..OrbitCamera::default()
+            };
+            let size = Vec2::new(640.0, 480.0);
+            let view = camera.view(size.x / size.y);
+            let behind_eye = camera.eye() + 0.5 * camera.to_eye() + 0.3 * camera.right();
+            let points = [Vec3::new(1.7, 1.4, 1.1), behind_eye];
+            let count = if projection == Projection::Orthographic {
+                2
+            } else {
+                1
+            };
+            for p in &points[..count] {
+                let clip = view.clip_from_world * p.extend(1.0);
+                let ndc = clip.truncate() / clip.w;
+                assert!(
+                    (0.0..=1.0).contains(&ndc.z),
+                    "{projection:?}: depth {}",
+                    ndc.z
+                );
+                let pixel = Vec2::new((ndc.x + 1.0) * 0.5 * size.x, (1.0 - ndc.y) * 0.5 * size.y);
+                let ray = camera.ray(pixel, size);
+                let to_p = p.as_dvec3() - ray.origin;
+                let off = (to_p - ray.direction * to_p.dot(ray.direction)).length();
+                assert!(off < 1e-4, "{projection:?}: {off}");
+                let t = camera.ray_parameter(p.as_dvec3());
+                assert!(t > 0.0, "{projection:?}: in front of the ray");
+                assert!((ray.at(t) - p.as_dvec3()).length() < 1e-4, "{projection:?}");
+                if projection == Projection::Orthographic {
+                    let along = ray.direction + camera.to_eye().as_dvec3();
+                    assert!(along.length() < 1e-6, "parallel rays");
+                }
+            }
+        }
+    }
+
+    /// Toggling the projection keeps the framing at the target: a point on the plane through
+    /// the target facing the camera stays on its pixel, and so does the pixel size there.
+    #[test]
+    fn the_toggle_keeps_the_framing_at_the_target() {
+        let size = Vec2::new(640.0, 480.0);
+        let persp = OrbitCamera {
+            target: Vec3::new(0.5, -1.0, 0.2),
+            distance: 9.0,
             ..OrbitCamera::default()
         };
-        let size = Vec2::new(640.0, 480.0);
-        let view = camera.view(size.x / size.y);
-        let p = Vec3::new(1.7, 1.4, 1.1);
-        let clip = view.clip_from_world * p.extend(1.0);
-        let ndc = clip.truncate() / clip.w;
-        assert!((0.0..=1.0).contains(&ndc.z));
-        let pixel = Vec2::new((ndc.x + 1.0) * 0.5 * size.x, (1.0 - ndc.y) * 0.5 * size.y);
-        let ray = camera.ray(pixel, size);
-        let to_p = p.as_dvec3() - ray.origin;
-        let off = (to_p - ray.direction * to_p.dot(ray.direction)).length();
-        assert!(off < 1e-4, "{off}");
+        let ortho = OrbitCamera {
+            projection: persp.projection.toggled(),
+            ..persp
+        };
+        assert_eq!(ortho.projection, Projection::Orthographic);
+        let pixel = |c: &OrbitCamera, p: Vec3| {
+            let clip = c.view(size.x / size.y).clip_from_world * p.extend(1.0);
+            Vec2::new(clip.x / clip.w, clip.y / clip.w)
+        };
+        for (x, y) in [(0.0, 0.0), (2.0, 1.0), (-3.0, 2.5)] {
+            let p = persp.target + x * persp.right() + y * persp.up();
+            let (a, b) = (pixel(&persp, p), pixel(&ortho, p));
+            assert!((a - b).length() < 1e-5, "{a} vs {b}");
+        }
+        assert_eq!(persp.units_per_pixel(480.0), ortho.units_per_pixel(480.0));
+        let t = f64::from(persp.distance);
+        let (a, b) = (
+            persp.units_per_pixel_at(t, 480.0),
+            ortho.units_per_pixel_at(ortho.ray_parameter(persp.target.as_dvec3()), 480.0),
+        );
+        assert!((a - b).abs() < 1e-6 * a, "{a} vs {b}");
     }
 
     #[test]
@@ -352,15 +547,19 @@ mod tests {
                     )
                 })
                 .collect();
-            let camera = OrbitCamera::framing(preset, &corners, 16.0 / 9.0);
-            let view = camera.view(16.0 / 9.0);
-            for c in corners {
-                let clip = view.clip_from_world * c.extend(1.0);
-                let ndc = clip.truncate() / clip.w;
-                assert!(
-                    ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z),
-                    "{preset}: {ndc}"
-                );
+            for projection in [Projection::Perspective, Projection::Orthographic] {
+                let mut camera = OrbitCamera::framing(preset, &corners, 16.0 / 9.0);
+                camera.projection = projection;
+                camera.frame(&corners, 16.0 / 9.0);
+                let view = camera.view(16.0 / 9.0);
+                for c in &corners {
+                    let clip = view.clip_from_world * c.extend(1.0);
+                    let ndc = clip.truncate() / clip.w;
+                    assert!(
+                        ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0 && (0.0..=1.0).contains(&ndc.z),
+                        "{preset} {projection:?}: {ndc}"
+                    );
+                }
             }
         }
     }

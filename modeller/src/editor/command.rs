@@ -58,6 +58,10 @@ pub enum Command {
     ToggleRadial,
     /// Show the surface in the next display mode: clay → zebra → curvature → isophotes.
     CycleSurfaceMode,
+    /// Switch the view between perspective and orthographic (numpad 5).
+    ToggleProjection,
+    /// Project the view in perspective or orthographically (the Display panel).
+    SetProjection(crate::editor::camera::Projection),
     /// Set the finger radius by moving the mouse (a left click keeps it, Esc or another
     /// click restores it).
     AdjustRadius,

@@ -53,7 +53,7 @@ pub mod stroke;
 pub mod symmetry;
 pub mod tools;
 
-pub use camera::{OrbitCamera, ViewPreset};
+pub use camera::{OrbitCamera, Projection, ViewPreset};
 pub use command::Command;
 pub use document::Document;
 pub use modeller::Modeller;

@@ -10,13 +10,14 @@ use crate::curve::{Curve, Point};
 use crate::mesh::{PatchPoints, Tessellation, TriMesh, seam_angles_deg, seam_bands, tessellate};
 use crate::model::Model;
 use crate::render::{LineBatch, Rgba};
+use crate::surface::Grid;
 
 /// What to draw besides the clay.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Overlays {
     /// Patch boundaries as lines (off by default in the window: after refinement they are
     /// dense bands across the model that read as stripes on the clay; the Display panel's
-    /// "patch boundaries" shows them).
+    /// "patch boundaries" shows them, the lines refinement made fainter than the primitive's).
     pub patch_edges: bool,
     /// The control net of the patches.
     pub control_net: bool,
@@ -75,19 +76,50 @@ impl SurfaceDisplay {
     }
 
     /// Adds the patch boundaries (the tessellation's own edge vertices, so the lines lie exactly
-    /// on the drawn surface).
+    /// on the drawn surface), all as the primitive's own lines.
     pub fn patch_edges(&self, lines: &mut LineBatch) {
+        self.edges(None, lines);
+    }
+
+    /// Adds the patch boundaries of `grid` (this display's tessellation of it), the lines
+    /// refinement made ([`crate::surface::Grid::refined_u`]) fainter ([`Rgba::REFINED_EDGE`])
+    /// than the primitive's own ([`Rgba::PATCH_EDGE`]). A tessellation of other patches than
+    /// the grid's (a stroke's refinement not yet shown) draws every line as the primitive's.
+    pub fn grid_edges(&self, grid: &Grid, lines: &mut LineBatch) {
+        self.edges(Some(grid), lines);
+    }
+
+    fn edges(&self, grid: Option<&Grid>, lines: &mut LineBatch) {
+        let grid = grid.filter(|g| g.patch_count() == self.mesh.blocks.len());
+        // The colour of u line `k` (v line `q` with `along_v`), wrapping round a closed grid.
+        let colour = |along_v: bool, k: usize| {
+            let refined = grid.is_some_and(|g| {
+                let marks = if along_v {
+                    g.refined_v()
+                } else {
+                    g.refined_u()
+                };
+                !marks.is_empty() && marks[k % marks.len()]
+            });
+            if refined {
+                Rgba::REFINED_EDGE
+            } else {
+                Rgba::PATCH_EDGE
+            }
+        };
+        let columns = grid.map_or(1, Grid::patches_u);
         let at = |v: u32| self.mesh.positions[v as usize];
         for b in &self.mesh.blocks {
-            lines.polyline((0..=b.m_u).map(|k| at(b.vertex(k, 0))), Rgba::PATCH_EDGE);
+            let (iu, iv) = (b.patch as usize % columns, b.patch as usize / columns);
+            lines.polyline((0..=b.m_u).map(|k| at(b.vertex(k, 0))), colour(true, iv));
             lines.polyline(
                 (0..=b.m_u).map(|k| at(b.vertex(k, b.m_v))),
-                Rgba::PATCH_EDGE,
+                colour(true, iv + 1),
             );
-            lines.polyline((0..=b.m_v).map(|l| at(b.vertex(0, l))), Rgba::PATCH_EDGE);
+            lines.polyline((0..=b.m_v).map(|l| at(b.vertex(0, l))), colour(false, iu));
             lines.polyline(
                 (0..=b.m_v).map(|l| at(b.vertex(b.m_u, l))),
-                Rgba::PATCH_EDGE,
+                colour(false, iu + 1),
             );
         }
     }
@@ -211,7 +243,7 @@ pub fn model_lines(
     lines: &mut LineBatch,
 ) {
     if overlays.patch_edges {
-        display.patch_edges(lines);
+        display.grid_edges(&model.surface, lines);
     }
     if overlays.control_net {
         control_net(patches, lines);

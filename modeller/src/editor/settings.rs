@@ -7,9 +7,13 @@
 //!  "ports":{"mine":{"glove":"/dev/ttyUSB1","tracker":"/dev/ttyUSB0"}},
 //!  "record":true,"record_folder":"/home/me/traces","trace_folder":"/home/me/traces",
 //!  "orbit":"right","finger_radius":null,"devices_open":true,"pressing":"index,middle",
+//!  "matcap":"red-wax",
 //!  "fitted":["cyberglove2-18-fastrak","/home/me/.config/nendo/profiles/cyberglove2-18-fastrak-mine.json"],
 //!  "brush":{"radius":1.25,"depth":0.3,"strength":1.0,"falloff":"soft","smooth_strength":0.5,"ridge":false}}
 //! ```
+//!
+//! `matcap` is the clay's matcap (`clay`, `red-wax`, `soft-grey`; [`crate::render::matcap`]),
+//! `null` or missing for the lit shading (a name not known is the lit shading too).
 //!
 //! `brush` holds the sculpting tools' panel: finger radius, depth, brush strength and falloff
 //! (`finger`, `soft`, `flat`; [`crate::surface::brush`]), smoothing strength and ridges.
@@ -71,6 +75,8 @@ pub struct Settings {
     /// The profiles (keyed like `profile`) whose hand has been fitted to the model: their
     /// next connects keep the profile's scale instead of fitting it again.
     pub fitted: Vec<String>,
+    /// The clay's matcap by name (`None`: the lit shading).
+    pub matcap: Option<String>,
     /// The sculpting tools' brush (a file without it gives the defaults).
     pub brush: BrushSettings,
 }
@@ -147,6 +153,7 @@ impl Default for Settings {
             devices_open: false,
             pressing: None,
             fitted: Vec::new(),
+            matcap: None,
             brush: BrushSettings::default(),
         }
     }
@@ -340,6 +347,7 @@ mod tests {
             devices_open: true,
             pressing: Some("index,middle,palm".into()),
             fitted: vec!["cyberglove2-18-fastrak".into()],
+            matcap: Some("red-wax".into()),
             ..Settings::default()
         };
         s.ports.insert(

@@ -6,6 +6,7 @@
 //!  "surface": {"topology": "sphere", "patches_u": 8, "patches_v": 4,
 //!              "regulation": "exact",
 //!              "ratios": {"u": [1, …], "v": [1, …]},
+//!              "refined": {"u": [1, 3], "v": []},
 //!              "patches": [[[x, y, z], … 16 points …], …]},
 //!  "curves": [{"bezier": [[x, y, z], …]}, {"bspline": {"degree": 3, "knots": […], "points": […]}}]}
 //! ```
@@ -23,6 +24,10 @@
 //!   A saved ratio of a line whose rows of control points share one ratio must be that ratio
 //!   within [`crate::surface::RATIO_TOLERANCE`] (`1e-7` relative), or the file is refused
 //!   naming the line and both values ([`crate::surface::Grid::ratio_mismatch`]).
+//! - `refined` (optional) lists the grid lines refinement made (u and v grid vertex indices,
+//!   as for `ratios`; see [`crate::surface::Grid::refined_u`]): the window draws them fainter
+//!   than the primitive's own lines. Written only when there is one; a file without it reads
+//!   as all lines the primitive's own. An index past the grid lines is refused, naming it.
 //! - `curves` (optional, default empty) in the JSON form of [`crate::curve::json`].
 //! - `autosave` (optional) marks the window's autosave file ([`crate::editor::autosave`]);
 //!   reading a model passes over it.
@@ -129,7 +134,43 @@ struct SurfaceDoc {
     regulation: Option<Regulation>,
     #[serde(default)]
     ratios: Option<RatiosDoc>,
+    #[serde(default)]
+    refined: Option<RefinedDoc>,
     patches: Vec<[[f64; 3]; 16]>,
+}
+
+/// The `surface.refined` member as read: indices of the grid lines refinement made.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RefinedDoc {
+    #[serde(default)]
+    u: Vec<usize>,
+    #[serde(default)]
+    v: Vec<usize>,
+}
+
+/// The indices of the marked lines.
+fn marked(marks: &[bool]) -> Vec<usize> {
+    marks
+        .iter()
+        .enumerate()
+        .filter_map(|(k, m)| m.then_some(k))
+        .collect()
+}
+
+/// Marks from indices: one per line of `count`; an index past them is an error naming it.
+fn marks(indices: &[usize], count: usize, direction: &str) -> Result<Vec<bool>, ModelError> {
+    let mut out = vec![false; count];
+    for (i, &k) in indices.iter().enumerate() {
+        let Some(m) = out.get_mut(k) else {
+            return Err(ModelError::Format(format!(
+                "surface.refined.{direction}[{i}]: grid line {k} does not exist (the grid has {count} {direction} lines, 0 to {})",
+                count.saturating_sub(1)
+            )));
+        };
+        *m = true;
+    }
+    Ok(out)
 }
 
 /// The `surface.ratios` member as read.
@@ -251,17 +292,22 @@ impl Model {
                 )
             })
             .collect();
+        let mut surface = json!({
+            "topology": g.topology().name(),
+            "patches_u": g.patches_u(),
+            "patches_v": g.patches_v(),
+            "regulation": self.regulation.name(),
+            "ratios": {"u": g.ratios_u(), "v": g.ratios_v()},
+        });
+        let (ru, rv) = (marked(g.refined_u()), marked(g.refined_v()));
+        if !(ru.is_empty() && rv.is_empty()) {
+            surface["refined"] = json!({"u": ru, "v": rv});
+        }
+        surface["patches"] = Value::Array(patches);
         json!({
             "format": FORMAT,
             "version": VERSION,
-            "surface": {
-                "topology": g.topology().name(),
-                "patches_u": g.patches_u(),
-                "patches_v": g.patches_v(),
-                "regulation": self.regulation.name(),
-                "ratios": {"u": g.ratios_u(), "v": g.ratios_v()},
-                "patches": patches,
-            },
+            "surface": surface,
             "curves": self.curves.iter().map(dyn_curve_to_json).collect::<Vec<_>>(),
         })
     }
@@ -358,6 +404,11 @@ impl Model {
                     crate::surface::RATIO_TOLERANCE
                 )));
             }
+        }
+        if let Some(r) = s.refined {
+            let u = marks(&r.u, surface.vertices_u(), "u")?;
+            let v = marks(&r.v, surface.vertices_v(), "v")?;
+            surface.set_refined(&u, &v)?;
         }
         Ok(Loaded {
             model: Model {

@@ -18,7 +18,9 @@ use bytemuck::{Pod, Zeroable};
 pub struct Globals {
     /// Column-major `clip_from_world` (wgpu's 0..1 depth).
     pub clip_from_world: [[f32; 4]; 4],
-    /// Camera position in world space.
+    /// The eye in homogeneous world coordinates `(eye, eye_w)`: the camera position with
+    /// `eye_w = 1`, or with `eye_w = 0` the unit direction towards an orthographic camera; the
+    /// shaders' direction to the viewer is `normalize(eye − eye_w · x)`.
     pub eye: [f32; 3],
     /// Seam angle (degrees) at the red end of the heat map.
     pub heat_max_deg: f32,
@@ -40,10 +42,18 @@ pub struct Globals {
     pub viewport: [f32; 2],
     /// Clip-space depth subtracted from lines (times `w`).
     pub line_depth_bias: f32,
+    /// 1 for a perspective camera, 0 for an orthographic one (see `eye`).
+    pub eye_w: f32,
+    /// The camera's right, world space (a matcap's view-space x).
+    pub view_right: [f32; 3],
+    /// The matcap's number ([`crate::render::Matcap::code`]); 0 for the lit shading.
+    pub matcap: f32,
+    /// The camera's up, world space (a matcap's view-space y).
+    pub view_up: [f32; 3],
     /// Padding to a multiple of 16 bytes.
     pub pad: f32,
 }
-const _: () = assert!(std::mem::size_of::<Globals>() == 160);
+const _: () = assert!(std::mem::size_of::<Globals>() == 192);
 
 /// A vertex of the tessellated surface. Keep in sync with `VertexIn` in
 /// `modeller/shaders/clay.wgsl`.

@@ -34,6 +34,7 @@ mod buffer;
 mod context;
 pub mod display_mode;
 pub mod gpu_data;
+pub mod matcap;
 #[cfg(feature = "gui")]
 mod offscreen;
 #[cfg(feature = "gui")]
@@ -48,6 +49,7 @@ pub use analysis::ANALYSIS_WGSL;
 pub use context::GpuContext;
 pub use display_mode::{CurvatureKind, SurfaceAnalysis, SurfaceMode};
 pub use gpu_data::SphereInstance;
+pub use matcap::Matcap;
 #[cfg(feature = "gui")]
 pub use offscreen::{OFFSCREEN_FORMAT, Offscreen, RgbaImage};
 #[cfg(feature = "gui")]

@@ -365,9 +365,10 @@ impl Renderer {
             .transform_vector3(view_to_light)
             .normalize_or(Vec3::Z);
         let tool = style.tool.unwrap_or_default();
+        let eye = view.eye_homogeneous();
         let globals = Globals {
             clip_from_world: view.clip_from_world.to_cols_array_2d(),
-            eye: view.eye().to_array(),
+            eye: eye.truncate().to_array(),
             heat_max_deg: style.heat_max_deg,
             key_light: key_light.to_array(),
             heat_on: if style.heat_map { 1.0 } else { 0.0 },
@@ -378,6 +379,20 @@ impl Renderer {
             tool_on: if style.tool.is_some() { 1.0 } else { 0.0 },
             viewport: viewport_px,
             line_depth_bias: style.line_depth_bias,
+            eye_w: eye.w,
+            view_right: view
+                .world_from_view
+                .x_axis
+                .truncate()
+                .normalize_or(Vec3::X)
+                .to_array(),
+            matcap: style.matcap.map_or(0.0, |m| m.code() as f32),
+            view_up: view
+                .world_from_view
+                .y_axis
+                .truncate()
+                .normalize_or(Vec3::Y)
+                .to_array(),
             pad: 0.0,
         };
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
@@ -578,6 +593,25 @@ impl View {
     #[must_use]
     pub fn eye(&self) -> Vec3 {
         self.world_from_view.w_axis.truncate()
+    }
+
+    /// True for an orthographic projection: clip `w` does not depend on the point (the
+    /// projection's last row is `(0, 0, 0, 1)`).
+    #[must_use]
+    pub fn is_orthographic(&self) -> bool {
+        self.clip_from_world.row(3).truncate().abs().max_element() < 1e-6
+    }
+
+    /// The eye in homogeneous coordinates: `(eye, 1)` for a perspective view, `(e, 0)` for an
+    /// orthographic one, `e` the unit direction towards the camera (view space's +z).
+    #[must_use]
+    pub fn eye_homogeneous(&self) -> glam::Vec4 {
+        if self.is_orthographic() {
+            let e = self.world_from_view.z_axis.truncate().normalize_or(Vec3::Z);
+            e.extend(0.0)
+        } else {
+            self.eye().extend(1.0)
+        }
     }
 
     /// The view matrices of an identity camera (for defaults).

@@ -38,6 +38,8 @@ pub struct Style {
     pub tool: Option<ToolFootprint>,
     /// Clip-space depth by which lines are pulled towards the camera (times `w`).
     pub line_depth_bias: f32,
+    /// Shade the clay with a matcap instead of the lights ([`super::matcap`]); `None`: lit.
+    pub matcap: Option<super::matcap::Matcap>,
 }
 
 impl Default for Style {
@@ -48,6 +50,7 @@ impl Default for Style {
             heat_max_deg: 1.0,
             tool: None,
             line_depth_bias: 2e-5,
+            matcap: None,
         }
     }
 }
@@ -59,6 +62,9 @@ pub struct Rgba(pub [f32; 4]);
 impl Rgba {
     /// Patch boundaries: a dark line on the clay.
     pub const PATCH_EDGE: Rgba = Rgba([0.05, 0.035, 0.03, 0.85]);
+    /// Patch boundaries made by refinement: the same line, fainter (a third of the opacity),
+    /// so the primitive's own grid still reads through the bands a refinement adds.
+    pub const REFINED_EDGE: Rgba = Rgba([0.05, 0.035, 0.03, 0.28]);
     /// The control net.
     pub const CONTROL_NET: Rgba = Rgba([0.1, 0.35, 0.9, 0.9]);
     /// Curves.

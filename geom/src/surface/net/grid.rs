@@ -25,6 +25,13 @@
 //! `ρ = |P₊ − P₀| / |P₀ − P₋|` of the three-point rows of control points that cross it, taken
 //! (as a mean over the line) when the grid is built. The default regulation keeps every such
 //! row collinear with exactly that ratio, which makes the surface G1 along whole edges.
+//!
+//! ## Refined lines
+//! Each grid line also records whether refinement made it ([`Grid::refined_u`],
+//! [`Grid::refined_v`]): a grid as built has none; a refinement
+//! ([`crate::surface::refine`]) marks the lines it inserts and keeps the marks of the lines it
+//! keeps. The surface does not depend on them — the window draws refined lines fainter than
+//! the primitive's own.
 
 use glam::DVec3;
 
@@ -49,6 +56,10 @@ pub struct Grid {
     ratios_u: Vec<f64>,
     /// Reference spacing ratio per v grid line `q` (lattice row `3q`); 1 on boundaries and poles.
     ratios_v: Vec<f64>,
+    /// Per u grid line: made by refinement (see the module docs).
+    refined_u: Vec<bool>,
+    /// Per v grid line: made by refinement.
+    refined_v: Vec<bool>,
     hierarchy: Hierarchy,
 }
 
@@ -158,8 +169,12 @@ impl Grid {
             nodes,
             ratios_u: Vec::new(),
             ratios_v: Vec::new(),
+            refined_u: Vec::new(),
+            refined_v: Vec::new(),
             hierarchy: Hierarchy::new(0, 0, Vec::new()),
         };
+        grid.refined_u = vec![false; grid.vertices_u()];
+        grid.refined_v = vec![false; grid.vertices_v()];
         grid.ratios_u = (0..grid.vertices_u())
             .map(|k| grid.measure_ratio_u(k))
             .collect();
@@ -474,6 +489,39 @@ impl Grid {
         self.ratios_v = (0..v.len())
             .map(|q| if self.v_line_shared(q) { v[q] } else { 1.0 })
             .collect();
+        Ok(())
+    }
+
+    /// Per u grid line `k` (one per [`Grid::vertices_u`]): true when refinement made it, false
+    /// for the lines the grid was built with (see the module docs).
+    #[must_use]
+    pub fn refined_u(&self) -> &[bool] {
+        &self.refined_u
+    }
+
+    /// Per v grid line `q` (one per [`Grid::vertices_v`]): true when refinement made it.
+    #[must_use]
+    pub fn refined_v(&self) -> &[bool] {
+        &self.refined_v
+    }
+
+    /// Marks which grid lines refinement made (e.g. as saved with a model).
+    ///
+    /// # Errors
+    /// [`SurfaceError::WrongCount`] unless there is one mark per grid line
+    /// ([`Grid::vertices_u`], [`Grid::vertices_v`]); nothing changes then.
+    pub fn set_refined(&mut self, u: &[bool], v: &[bool]) -> Result<(), SurfaceError> {
+        for (got, expected) in [(u.len(), self.vertices_u()), (v.len(), self.vertices_v())] {
+            if got != expected {
+                return Err(SurfaceError::WrongCount {
+                    what: "refined-line marks",
+                    expected,
+                    got,
+                });
+            }
+        }
+        self.refined_u = u.to_vec();
+        self.refined_v = v.to_vec();
         Ok(())
     }
 

@@ -51,6 +51,11 @@
 //! satisfies the new ones after: regulating it right away moves nothing, and sculpting it keeps
 //! exact G1. Open boundaries and pole rows keep ratio 1 (not shared).
 //!
+//! ## Refined lines
+//! The refined grid marks the lines inserted as refined and keeps the marks of the old lines
+//! ([`crate::surface::Grid::refined_u`]), so the primitive's own lines stay known however often
+//! it is refined.
+//!
 //! ## Refinement where the finger needs it
 //! [`for_finger`]: with `r_f` the finger radius, the target size is `h = r_f / 2`. A patch is
 //! *reached* when its control-point box may come within `r_f` of the finger
@@ -381,6 +386,9 @@ impl Refinement {
         let ru = new_ratios(grid.ratios_u(), &self.u, t.closed_u());
         let rv = new_ratios(grid.ratios_v(), &self.v, t.closed_v());
         out.set_ratios(&ru, &rv)?;
+        let mu = new_marks(grid.refined_u(), &self.u, t.closed_u());
+        let mv = new_marks(grid.refined_v(), &self.v, t.closed_v());
+        out.set_refined(&mu, &mv)?;
         Ok(out)
     }
 
@@ -752,6 +760,21 @@ fn new_ratios(old: &[f64], segments: &[Vec<f64>], closed: bool) -> Vec<f64> {
     }
     if !closed {
         out.push(old[count]);
+    }
+    out
+}
+
+/// The refined-line marks after splitting each segment `c` at `segments[c]`: line `c` keeps
+/// its mark, the lines inserted inside segment `c` are marked (in the order of
+/// [`new_ratios`]).
+fn new_marks(old: &[bool], segments: &[Vec<f64>], closed: bool) -> Vec<bool> {
+    let mut out = Vec::with_capacity(old.len() + segments.iter().map(Vec::len).sum::<usize>());
+    for (c, inserted) in segments.iter().enumerate() {
+        out.push(old.get(c).copied().unwrap_or(false));
+        out.extend(std::iter::repeat_n(true, inserted.len()));
+    }
+    if !closed {
+        out.push(old.get(segments.len()).copied().unwrap_or(false));
     }
     out
 }

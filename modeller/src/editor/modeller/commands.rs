@@ -90,6 +90,10 @@ impl Modeller {
                 };
                 self.set_symmetry_spec(next);
             }
+            Command::ToggleProjection => {
+                self.set_projection(self.camera.projection.toggled());
+            }
+            Command::SetProjection(projection) => self.set_projection(projection),
             Command::CycleSurfaceMode => {
                 let mode = self.panel.analysis.mode.next();
                 self.panel.analysis.mode = mode;
@@ -320,6 +324,15 @@ impl Modeller {
                 self.export_job = Some(job);
             }
             Err(e) => self.set_status(e.to_string(), true),
+        }
+    }
+
+    /// Projects the view in perspective or orthographically, the framing at the orbit target
+    /// kept (see [`crate::editor::camera`]).
+    fn set_projection(&mut self, projection: crate::editor::camera::Projection) {
+        if self.camera.projection != projection {
+            self.camera.projection = projection;
+            self.set_status(format!("view: {}", projection.name()), false);
         }
     }
 

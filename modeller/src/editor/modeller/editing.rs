@@ -278,7 +278,7 @@ impl Modeller {
         }
         let settings = &self.tools.settings;
         let hover = self.tools.state.hover_hit().map_or_else(
-            || f64::from(self.camera.distance),
+            || self.camera.ray_parameter(self.camera.target.as_dvec3()),
             |hit| (hit.t - settings.radius).max(0.0),
         );
         let result = self.hand.feed(

@@ -118,6 +118,8 @@ pub struct PanelSettings {
     pub devices_open: bool,
     /// How the surface is drawn: clay or an analysis mode, and the seam heat map's measure.
     pub analysis: crate::render::SurfaceAnalysis,
+    /// The clay shaded with a matcap instead of the lights (`None`: lit).
+    pub matcap: Option<crate::render::Matcap>,
 }
 
 /// What F (radius) or Shift+F (depth) is adjusting.
@@ -235,6 +237,7 @@ impl Modeller {
                 orbit: OrbitButton::default(),
                 devices_open: false,
                 analysis: crate::render::SurfaceAnalysis::default(),
+                matcap: None,
             },
             auto_refine: true,
             dialog: None,
@@ -279,6 +282,10 @@ impl Modeller {
             Some("middle") => OrbitButton::Middle,
             _ => OrbitButton::Right,
         };
+        self.panel.matcap = settings
+            .matcap
+            .as_deref()
+            .and_then(crate::render::Matcap::from_name);
         // What is in effect now, so only a real change writes the file.
         let current = self.current_settings(&settings);
         self.settings = loaded.writable.then_some((path, current));
@@ -297,6 +304,7 @@ impl Modeller {
             .into(),
         );
         s.devices_open = self.panel.devices_open;
+        s.matcap = self.panel.matcap.map(|m| m.name().to_string());
         s.brush = BrushSettings::from_tools(&self.tools.settings);
         s
     }
@@ -667,6 +675,7 @@ impl Modeller {
                 self.panel.overlays.heat_max_deg
             },
             tool: self.tools.state.footprint(tool, &ctx, settings),
+            matcap: self.panel.matcap,
             ..Style::default()
         }
     }

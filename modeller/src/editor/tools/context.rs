@@ -32,9 +32,10 @@ impl ToolContext<'_> {
         pick(self.patches, self.mesh, &self.ray(pixel))
     }
 
-    /// World units per pixel at distance `t` from the eye.
+    /// World units per pixel at parameter `t` along a view ray (in perspective, distance `t`
+    /// from the eye; the same at every depth in orthographic projection).
     pub(super) fn units_per_pixel_at(&self, t: f64) -> f64 {
-        2.0 * t * f64::from((0.5 * self.camera.fov_y).tan()) / f64::from(self.viewport.y.max(1.0))
+        self.camera.units_per_pixel_at(t, self.viewport.y)
     }
 
     /// The nearest curve to the ray through `pixel`, within `PICK_PIXELS` on screen:

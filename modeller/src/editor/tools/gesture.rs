@@ -417,7 +417,7 @@ impl ToolState {
                     return Vec::new();
                 };
                 let handle = if left_side { ql } else { qr };
-                let ray_t = (handle - ctx.camera.eye().as_dvec3()).length();
+                let ray_t = ctx.camera.ray_parameter(handle);
                 self.gesture = Gesture::Tangent {
                     left_index,
                     right_index,
@@ -722,7 +722,7 @@ fn sculpt_op(tool: Tool, path: Vec<DVec3>, depth: f64, settings: &ToolSettings) 
 
 /// The surface normal at a hit, turned towards the viewer.
 fn facing_normal(hit: &SurfaceHit, ctx: &ToolContext<'_>) -> DVec3 {
-    let to_eye = ctx.camera.eye().as_dvec3() - hit.point;
+    let to_eye = ctx.camera.towards_viewer(hit.point);
     if hit.normal.dot(to_eye) >= 0.0 {
         hit.normal
     } else {

@@ -265,3 +265,64 @@ fn a_slightly_smaller_finger_does_not_split_again() {
         assert!(lu <= 0.3 + 1e-12 && lv <= 0.3 + 1e-12, "{lu} {lv}");
     }
 }
+
+/// Refinement marks the lines it inserts and keeps the marks of the old ones, through
+/// refinements one after another: checked against where the primitive's own lines are (the
+/// plane's x and y of its 3 × 2 lines, the sphere's meridian angles of its 8 columns), not
+/// against the bookkeeping.
+#[test]
+fn refined_lines_are_marked_and_the_primitive_lines_kept() {
+    let plane = build(Primitive::Plane, (3, 2));
+    assert!(
+        plane
+            .refined_u()
+            .iter()
+            .chain(plane.refined_v())
+            .all(|r| !r)
+    );
+    let once = Refinement::new(&plane, &[0.5, 2.25, 2.75], &[1.5])
+        .unwrap()
+        .apply(&plane)
+        .unwrap();
+    let twice = uniform(&once, 2).unwrap();
+    // The fraction of the way from `a` to `b` at which `p` lies, times `count`: a whole
+    // number on the primitive's own lines.
+    let on_line = |a: DVec3, b: DVec3, p: DVec3, count: f64| {
+        let s = (p - a).dot(b - a) / (b - a).length_squared() * count;
+        (s - s.round()).abs() < 1e-9
+    };
+    let node = |g: &Grid, a: usize, b: usize| g.nodes()[g.node_id(a as isize, b as isize).unwrap()];
+    let (a0, a1) = (node(&plane, 0, 0), node(&plane, 9, 0));
+    let (b0, b1) = (node(&plane, 0, 0), node(&plane, 0, 6));
+    let (la, lb) = twice.lattice_size();
+    assert_eq!(twice.refined_u().len(), twice.vertices_u());
+    for (k, &refined) in twice.refined_u().iter().enumerate() {
+        let original = on_line(a0, a1, node(&twice, 3 * k, 0), 3.0);
+        assert_eq!(refined, !original, "u line {k}");
+    }
+    for (q, &refined) in twice.refined_v().iter().enumerate() {
+        let original = on_line(b0, b1, node(&twice, 0, 3 * q), 2.0);
+        assert_eq!(refined, !original, "v line {q}");
+    }
+    assert_eq!(twice.refined_u().iter().filter(|r| !**r).count(), 4);
+    assert_eq!(twice.refined_v().iter().filter(|r| !**r).count(), 3);
+    assert!(la > 0 && lb > 0);
+
+    // Closed: the sphere's 8 meridians stay marked original after an insertion and its
+    // opposite, whatever their angles become in the list.
+    let sphere = build(Primitive::Sphere, (8, 4));
+    let refined = Refinement::new(&sphere, &[0.5, 4.5], &[1.25])
+        .unwrap()
+        .apply(&sphere)
+        .unwrap();
+    assert_eq!(refined.refined_u().len(), 10);
+    let first = node(&sphere, 0, 6);
+    let base = first.y.atan2(first.x);
+    for (k, &marked) in refined.refined_u().iter().enumerate() {
+        let p = node(&refined, 3 * k, 6);
+        let turns = (p.y.atan2(p.x) - base) / std::f64::consts::FRAC_PI_4;
+        let on_a_meridian = (turns - turns.round()).abs() < 1e-6;
+        assert_eq!(marked, !on_a_meridian, "meridian {k} at {turns} eighths");
+    }
+    assert_eq!(refined.refined_v().iter().filter(|r| **r).count(), 1);
+}

@@ -244,15 +244,19 @@ fn brush_settings_survive_a_restart_per_tool_and_old_files_still_read() {
     let dir = temp_dir("brush-settings");
     let path = dir.join("settings.json");
     // Each tool its own brush, as the window keeps them.
-    let mut push = ToolSettings::default();
-    push.radius = 0.72;
-    push.depth = 0.33;
-    push.press_strength = 0.4;
-    push.falloff = Falloff::Soft;
-    push.ridge = true;
-    let mut smooth = ToolSettings::default();
-    smooth.radius = 2.5;
-    smooth.strength = 0.8;
+    let push = ToolSettings {
+        radius: 0.72,
+        depth: 0.33,
+        press_strength: 0.4,
+        falloff: Falloff::Soft,
+        ridge: true,
+        ..ToolSettings::default()
+    };
+    let smooth = ToolSettings {
+        radius: 2.5,
+        strength: 0.8,
+        ..ToolSettings::default()
+    };
     let mut s = Settings::default();
     s.brush.store(Tool::Pull, &push);
     s.brush.store(Tool::Smooth, &smooth);

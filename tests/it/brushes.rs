@@ -3,8 +3,8 @@
 //! the settings file.
 
 use glam::DVec3;
-use nendo::editor::settings::{BrushSettings, Settings};
-use nendo::editor::tools::ToolSettings;
+use nendo::editor::settings::{BrushSettings, Brushes, Settings};
+use nendo::editor::tools::{Tool, ToolSettings};
 use nendo::surface::{
     Brush, Dirs, Falloff, Grid, Op, Primitive, PrimitiveParams, Regulation, Sculptor, nearest,
     refine,
@@ -240,23 +240,38 @@ fn a_drawn_groove_is_swept_not_dabbed() {
 }
 
 #[test]
-fn brush_settings_survive_a_restart_and_old_files_still_read() {
+fn brush_settings_survive_a_restart_per_tool_and_old_files_still_read() {
     let dir = temp_dir("brush-settings");
     let path = dir.join("settings.json");
+    // Each tool its own brush, as the window keeps them.
+    let push = ToolSettings {
+        radius: 0.72,
+        depth: 0.33,
+        press_strength: 0.4,
+        falloff: Falloff::Soft,
+        ridge: true,
+        ..ToolSettings::default()
+    };
+    let smooth = ToolSettings {
+        radius: 2.5,
+        strength: 0.8,
+        ..ToolSettings::default()
+    };
     let mut s = Settings::default();
-    s.brush.radius = 0.72;
-    s.brush.depth = 0.33;
-    s.brush.strength = 0.4;
-    s.brush.smooth_strength = 0.8;
-    s.brush.falloff = "soft".into();
-    s.brush.ridge = true;
+    s.brush.store(Tool::Pull, &push);
+    s.brush.store(Tool::Smooth, &smooth);
     s.save(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        text.contains("\"push\"") && text.contains("\"smooth\""),
+        "{text}"
+    );
     let (back, warning) = Settings::load(&path);
     assert!(warning.is_none(), "{warning:?}");
     assert_eq!(back.brush, s.brush);
-    // What the window takes from them.
+    // What the window takes from them when each tool is picked.
     let mut tools = ToolSettings::default();
-    back.brush.apply_to(&mut tools);
+    back.brush.restore(Tool::Push, &mut tools);
     assert_eq!(
         (
             tools.radius,
@@ -264,19 +279,54 @@ fn brush_settings_survive_a_restart_and_old_files_still_read() {
             tools.press_strength,
             tools.strength
         ),
-        (0.72, 0.33, 0.4, 0.8)
+        (0.72, 0.33, 0.4, 0.5)
     );
     assert!(tools.ridge && tools.falloff == Falloff::Soft);
-    assert_eq!(BrushSettings::from_tools(&tools), s.brush);
+    back.brush.restore(Tool::Smooth, &mut tools);
+    assert_eq!((tools.radius, tools.strength), (2.5, 0.8));
+    assert!(!tools.ridge && tools.falloff == Falloff::Finger);
+    // A tool not remembered, or a curve tool, leaves the panel as it is.
+    let before = tools;
+    back.brush.restore(Tool::Move, &mut tools);
+    back.brush.restore(Tool::GrabCurve, &mut tools);
+    assert_eq!(tools, before);
+    // The older file: one brush for every tool.
+    std::fs::write(
+        &path,
+        r#"{"format":"nendo-settings","version":1,"record":true,
+            "brush":{"radius":0.72,"depth":0.33,"strength":0.4,"falloff":"soft","smooth_strength":0.8,"ridge":true}}"#,
+    )
+    .unwrap();
+    let (old, warning) = Settings::load(&path);
+    assert!(warning.is_none() && old.record, "{warning:?}");
+    let one = BrushSettings {
+        radius: 0.72,
+        depth: 0.33,
+        strength: 0.4,
+        falloff: "soft".into(),
+        smooth_strength: 0.8,
+        ridge: true,
+    };
+    for tool in [
+        Tool::Push,
+        Tool::Pull,
+        Tool::DrawLine,
+        Tool::Smooth,
+        Tool::Move,
+        Tool::Hand,
+    ] {
+        let key = Brushes::key(tool).expect("a sculpting tool");
+        assert_eq!(old.brush.tools.get(key), Some(&one), "{tool:?}");
+    }
     // A file from before the brush settings reads with the defaults, no warning.
     std::fs::write(
         &path,
         r#"{"format":"nendo-settings","version":1,"record":true,"orbit":"middle"}"#,
     )
     .unwrap();
-    let (old, warning) = Settings::load(&path);
-    assert!(warning.is_none() && old.record);
-    assert_eq!(old.brush, BrushSettings::default());
+    let (older, warning) = Settings::load(&path);
+    assert!(warning.is_none() && older.record);
+    assert_eq!(older.brush, Brushes::default());
     // Out-of-range numbers and unknown falloffs keep the window in range.
     let odd = BrushSettings {
         radius: 1e9,

@@ -50,6 +50,7 @@ mod safe_writer;
 mod sculpt_limits;
 mod shader_validation;
 mod shading;
+mod smoothing;
 mod support;
 mod surface_deform;
 mod surface_grid;

@@ -7,8 +7,9 @@
 //! - [`Group`] / [`Pole`]: the connected control-point groups regulation works on ([`group`]).
 //! - [`Op`] (push / pull / drag, along a direction or the normals; move; smooth) and its
 //!   [`Finger`]: the shape functions ([`shape_fn`]); [`nearest`]: the surface point nearest a
-//!   point; [`grab`]: the exact landing of a move; [`smooth`]: the thin-plate energy a
-//!   smoothing stroke lowers; [`mirror`]: symmetry about `x = 0`, `y = 0` or `z = 0`, radial about the z axis, and groups of them.
+//!   point; [`grab`]: the exact landing of a move; [`fairing`]: the smoothing dab (implicit
+//!   fairing of the surface under the brush); [`smooth`]: the thin-plate energy a smoothing
+//!   dab must lower; [`mirror`]: symmetry about `x = 0`, `y = 0` or `z = 0`, radial about the z axis, and groups of them.
 //! - [`continuity::report`]: G0 gap, G1 angles along shared edges, pole spread ([`continuity`]);
 //!   [`curvature::g2_report`]: the curvature mismatch (G2) across every seam and at poles.
 //! - The deformation engine ([`engine`]): one pipeline — displacement field → reachable
@@ -58,7 +59,7 @@ pub(crate) use net::{grid, group, primitive, ratio_check, spline};
 pub(crate) use operation::{grab, nearest, shape_fn, smooth};
 // The namespaces the workspace uses as modules.
 pub use constraint::{continuity, curvature, regulate, shape_operator};
-pub use operation::{brush, deviation, inverse, refine, sculpt_brush};
+pub use operation::{brush, deviation, fairing, inverse, refine, sculpt_brush};
 
 pub use bounds::Aabb;
 pub use brush::{Brush, Falloff};

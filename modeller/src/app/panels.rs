@@ -295,7 +295,7 @@ pub(super) fn tool_ui(
         egui::Slider::new(&mut s.strength, STRENGTH_RANGE)
             .text("smooth strength"),
     )
-    .on_hover_text("How much each smoothing dab relaxes the clay toward a fairer shape (a step down the thin-plate bending energy): 1 takes the whole step");
+    .on_hover_text("How much each smoothing dab relaxes the clay under the brush (an implicit fairing step of the surface: the dab diffuses it over about r·√(0.2·strength)): 1 is the longest step");
     egui::ComboBox::from_label("brush")
         .selected_text(s.falloff.name())
         .show_ui(ui, |ui| {

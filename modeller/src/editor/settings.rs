@@ -9,14 +9,19 @@
 //!  "orbit":"right","finger_radius":null,"devices_open":true,"pressing":"index,middle",
 //!  "matcap":"red-wax",
 //!  "fitted":["cyberglove2-18-fastrak","/home/me/.config/nendo/profiles/cyberglove2-18-fastrak-mine.json"],
-//!  "brush":{"radius":1.25,"depth":0.3,"strength":1.0,"falloff":"soft","smooth_strength":0.5,"ridge":false}}
+//!  "brush":{"push":{"radius":1.25,"depth":0.3,"strength":1.0,"falloff":"soft","smooth_strength":0.5,"ridge":false},
+//!           "smooth":{"radius":2.0,"depth":0.3,"strength":1.0,"falloff":"finger","smooth_strength":0.8,"ridge":false}}}
 //! ```
 //!
 //! `matcap` is the clay's matcap (`clay`, `red-wax`, `soft-grey`; [`crate::render::matcap`]),
 //! `null` or missing for the lit shading (a name not known is the lit shading too).
 //!
-//! `brush` holds the sculpting tools' panel: finger radius, depth, brush strength and falloff
-//! (`finger`, `soft`, `flat`; [`crate::surface::brush`]), smoothing strength and ridges.
+//! `brush` holds the sculpting tools' panel per tool (`push` for Push and Pull, `line`,
+//! `smooth`, `move`, `hand`, `inflate`, `flatten`, `pinch`, `crease`; [`Brushes`]): finger radius, depth, brush strength and falloff
+//! (`finger`, `soft`, `flat`; [`crate::surface::brush`]), smoothing strength and ridges. Each
+//! tool is restored with its own when picked; a tool not in the file takes the panel as it is.
+//! A file from before the per-tool brushes, with one `brush` for every tool
+//! (`"brush":{"radius":1.25,…}`), is read as that brush for each of them.
 //!
 //! Every member is optional (a missing one takes its default); unknown members are ignored,
 //! so an older nendo reads a newer file. A file that cannot be parsed (a syntax error, another
@@ -29,7 +34,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use crate::editor::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, ToolSettings};
+use crate::editor::tools::{DEPTH_RANGE, RADIUS_RANGE, STRENGTH_RANGE, Tool, ToolSettings};
 use crate::surface::Falloff;
 
 /// The format name the file carries.
@@ -77,8 +82,83 @@ pub struct Settings {
     pub fitted: Vec<String>,
     /// The clay's matcap by name (`None`: the lit shading).
     pub matcap: Option<String>,
-    /// The sculpting tools' brush (a file without it gives the defaults).
-    pub brush: BrushSettings,
+    /// The sculpting tools' brushes, per tool (a file without them gives the defaults).
+    pub brush: Brushes,
+}
+
+/// The brush of each sculpting tool, keyed by [`Brushes::key`] (see the module docs).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(from = "BrushesDoc", into = "BTreeMap<String, BrushSettings>")]
+pub struct Brushes {
+    /// Per tool key.
+    pub tools: BTreeMap<String, BrushSettings>,
+}
+
+/// How `brush` reads: per tool, or (older files) one brush for every tool.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum BrushesDoc {
+    PerTool(BTreeMap<String, BrushSettings>),
+    Single(BrushSettings),
+}
+
+impl From<BrushesDoc> for Brushes {
+    fn from(doc: BrushesDoc) -> Self {
+        match doc {
+            BrushesDoc::PerTool(tools) => Brushes { tools },
+            BrushesDoc::Single(one) => Brushes {
+                tools: Brushes::KEYS
+                    .iter()
+                    .map(|k| ((*k).to_string(), one.clone()))
+                    .collect(),
+            },
+        }
+    }
+}
+
+impl From<Brushes> for BTreeMap<String, BrushSettings> {
+    fn from(b: Brushes) -> Self {
+        b.tools
+    }
+}
+
+impl Brushes {
+    /// Every tool key.
+    pub const KEYS: [&'static str; 9] = [
+        "push", "line", "smooth", "move", "hand", "inflate", "flatten", "pinch", "crease",
+    ];
+
+    /// The key `tool`'s brush is kept under (`None`: a curve tool, which has no brush).
+    #[must_use]
+    pub fn key(tool: Tool) -> Option<&'static str> {
+        match tool {
+            Tool::Push | Tool::Pull => Some("push"),
+            Tool::DrawLine => Some("line"),
+            Tool::Smooth => Some("smooth"),
+            Tool::Move => Some("move"),
+            Tool::Hand => Some("hand"),
+            Tool::Inflate => Some("inflate"),
+            Tool::Flatten => Some("flatten"),
+            Tool::Pinch => Some("pinch"),
+            Tool::Crease => Some("crease"),
+            Tool::GrabCurve | Tool::SplitCurve | Tool::Tangent => None,
+        }
+    }
+
+    /// Keeps the panel's brush `t` as `tool`'s.
+    pub fn store(&mut self, tool: Tool, t: &ToolSettings) {
+        if let Some(k) = Self::key(tool) {
+            self.tools
+                .insert(k.to_string(), BrushSettings::from_tools(t));
+        }
+    }
+
+    /// Sets the panel's brush `t` to `tool`'s, when it has one remembered.
+    pub fn restore(&self, tool: Tool, t: &mut ToolSettings) {
+        if let Some(b) = Self::key(tool).and_then(|k| self.tools.get(k)) {
+            b.apply_to(t);
+        }
+    }
 }
 
 /// The brush settings of the sculpting tools (see the module docs; every member optional).
@@ -154,7 +234,7 @@ impl Default for Settings {
             pressing: None,
             fitted: Vec::new(),
             matcap: None,
-            brush: BrushSettings::default(),
+            brush: Brushes::default(),
         }
     }
 }

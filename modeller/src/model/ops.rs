@@ -19,8 +19,8 @@
 //! `"dir": "normal"` presses each point along the surface's inward normal at the surface point
 //! nearest to it (outward for a negative depth); `"dirs"` gives one direction per path point
 //! (a drag has exactly one of `dir` and `dirs`). `move` takes the surface point nearest `at`
-//! exactly to `to` ([`crate::surface::grab`]); `smooth` (`0 < strength ≤ 1`) lowers the
-//! thin-plate energy within `radius` of `at` ([`crate::surface::smooth`]).
+//! exactly to `to` ([`crate::surface::grab`]); `smooth` (`0 < strength ≤ 1`) fairs the
+//! surface within `radius` of `at` (an implicit diffusion step, [`crate::surface::fairing`]).
 //! A push or drag may name a brush (`"brush"`: `"finger"`, the default, `"soft"` or `"flat"`)
 //! and a `"strength"` (`0 < s ≤ 1`, default 1): the fraction of the depth it presses
 //! ([`crate::surface::brush`]); either member makes it an [`Op::Brushed`].

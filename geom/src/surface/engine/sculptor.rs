@@ -4,10 +4,11 @@
 use glam::DVec3;
 
 use super::commit::{Commit, other_grid};
-use super::field::{DisplacementField, Envelope, displace};
+use super::field::{DisplacementField, Envelope, displace, patch_update};
 use crate::surface::Isometry;
 use crate::surface::bounds::Aabb;
 use crate::surface::error::SurfaceError;
+use crate::surface::fairing::Fairing;
 use crate::surface::grab::Hold;
 use crate::surface::grid::Grid;
 use crate::surface::group::PoleEnd;
@@ -16,9 +17,7 @@ use crate::surface::mirror::Symmetry;
 use crate::surface::nearest::nearest;
 use crate::surface::regulate::Regulation;
 use crate::surface::shape_fn::{Finger, Op};
-use crate::surface::smooth::{
-    EnergyDrop, HALVINGS, ThinPlateStep, energy_of, patch_energy, thin_plate_matrix,
-};
+use crate::surface::smooth::{EnergyDrop, HALVINGS, energy_of, patch_energy, thin_plate_matrix};
 use crate::surface::topology::wrap;
 use std::collections::HashMap;
 
@@ -48,7 +47,7 @@ pub struct Sculptor {
     segments: Vec<usize>,
     vertices: Vec<(usize, usize)>,
     poles: Vec<PoleEnd>,
-    smoothing: ThinPlateStep,
+    smoothing: Fairing,
     commit: Commit,
     last_energy: Option<EnergyDrop>,
 }
@@ -370,7 +369,11 @@ impl Sculptor {
         })
     }
 
-    /// A smoothing stroke (see [`crate::surface::smooth`]).
+    /// A smoothing dab: the implicit fairing of the samples under the brush
+    /// ([`crate::surface::fairing`]) taken through the Bernstein inverse
+    /// ([`patch_update`]), then committed like every operation; a dab whose regulated result
+    /// does not lower the thin-plate energy of what it touched ([`crate::surface::smooth`]) is
+    /// taken again at half the strength.
     fn apply_smooth(
         &mut self,
         grid: &mut Grid,
@@ -391,9 +394,13 @@ impl Sculptor {
             .collect();
         let mut step = strength;
         let mut last = EnergyDrop::default();
+        let (m, n, topology) = (grid.patches_u(), grid.patches_v(), grid.topology());
         for halvings in 0..=HALVINGS {
             self.smoothing
-                .updates(grid, &h, &centres, radius, step, &mut self.updates);
+                .flows(grid, &centres, radius, step, &mut self.updates);
+            for (p, flows) in &mut self.updates {
+                *flows = patch_update(flows, *p / m, n, topology);
+            }
             if self.updates.is_empty() {
                 break;
             }

@@ -1,10 +1,12 @@
 //! What an operation asks of the surface: shape functions and their fingers, the nearest surface
-//! point, the exact landing of a move, the thin-plate smoothing step, the Bernstein inverse,
+//! point, the exact landing of a move, the smoothing dab (implicit fairing) and the thin-plate
+//! energy that accepts it, the Bernstein inverse,
 //! refinement, and the deviation from an operation's ideal shape. Uses the layers below; the
 //! engine ([`super::engine`]) runs them.
 
 pub mod brush;
 pub mod deviation;
+pub mod fairing;
 pub(crate) mod grab;
 pub mod inverse;
 pub(crate) mod nearest;

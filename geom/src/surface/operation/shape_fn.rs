@@ -87,14 +87,15 @@ pub enum Op {
         /// The finger radius `r_f`.
         radius: f64,
     },
-    /// Smooth: one damped descent step on the thin-plate energy of the control points within
-    /// `radius` of `at` ([`crate::surface::smooth`]).
+    /// Smooth: one implicit fairing dab on the surface within `radius` of `at`
+    /// ([`crate::surface::fairing`]).
     Smooth {
         /// The centre of the brush.
         at: DVec3,
         /// The brush radius.
         radius: f64,
-        /// How much of the step is taken, `0 < s ≤ 1`.
+        /// The dab's diffusion time in units of [`crate::surface::fairing::DIFFUSION`]` · r²`,
+        /// `0 < s ≤ 1`.
         strength: f64,
     },
     /// A pressing operation (push, pull, draw a line) with a brush: its falloff and the

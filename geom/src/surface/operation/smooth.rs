@@ -1,5 +1,7 @@
-//! Smoothing: a damped descent step on the **thin-plate energy** of the control points within
-//! the brush's reach.
+//! The **thin-plate energy** a smoothing stroke lowers: the measure by which the engine
+//! accepts a smoothing dab ([`crate::surface::fairing`] moves the surface, the regulation
+//! restores G1 and may give a little back; a dab that did not lower the energy of the patches
+//! it touched is taken again at half the strength, up to [`HALVINGS`] times, or not at all).
 //!
 //! The energy of a grid is the sum over its patches of
 //!
@@ -9,26 +11,9 @@
 //! ```
 //!
 //! with `M_ik = ∫ B_i B_k`, `A′_ik = ∫ B_i′ B_k′`, `A″_ik = ∫ B_i″ B_k″` over `[0, 1]` (cubic
-//! Bernstein polynomials; computed exactly by 4-point Gauss–Legendre quadrature). It is a
-//! quadratic form in the control points, its gradient `g_n = 2 Σ_p Σ_{a=n} (H X_p)_a` summed over
-//! the patches holding node `n`.
-//!
-//! A stroke `{"op":"smooth","at":A,"radius":r,"strength":s}` moves each control point `n`
-//! within `r` of `A` by
-//!
-//! ```text
-//! d_n = − (s/2) · f_n · g_n / D_n,     f_n = 1 − |P_n − A|²/r²,   D_n = Σ_p Σ_{a=n} Σ_b |H_ab|
-//! ```
-//!
-//! `diag(D) − H` is diagonally dominant with a non-negative diagonal, so `H ≤ diag(D)`, and
-//! with `F = diag(f) ≤ I`: `E(X + d) ≤ E − (s/2)(1 − s/2) gᵀ F D⁻¹ g` — the step lowers the
-//! energy for every `0 < s ≤ 1` and moves nothing as `s → 0`. The regulation then restores G1
-//! (it may give a little back): the operation measures the energy of the touched patches
-//! before and after the whole stroke, and when it did not drop it halves the step (up to
-//! [`HALVINGS`] times) or, failing that, leaves the grid as it was.
-//!
-//! The energy is parametric (it measures the control net's bending in `(u, v)`, not the
-//! surface's curvature): like every smoothing brush it also shrinks what it flattens.
+//! Bernstein polynomials; computed exactly by 4-point Gauss–Legendre quadrature), a quadratic
+//! form in the control points. It is parametric: it measures the control net's bending in
+//! `(u, v)`, not the surface's curvature.
 
 // Per-coordinate and per-slot loops index several small fixed arrays at once; the index
 // form follows the formulas.
@@ -37,10 +22,9 @@
 use glam::DVec3;
 
 use crate::surface::grid::Grid;
-use crate::surface::marks::Marks;
 use crate::surface::patch::PatchPoints;
 
-/// How many times a stroke's step is halved when the regulated result does not lower the
+/// How many times a dab's strength is halved when the regulated result does not lower the
 /// energy.
 pub const HALVINGS: usize = 8;
 
@@ -151,96 +135,6 @@ impl EnergyDrop {
             (self.before - self.after) / self.before
         } else {
             0.0
-        }
-    }
-}
-
-/// One damped thin-plate step over the control points within `radius` of the centres (the
-/// stroke's point and, with a mirror, its mirror image): every node `x` moves by
-/// `−½ · step · f(x) · g / d`, with `g = ∂E/∂x` the thin-plate gradient summed over the
-/// patches holding it, `d = Σ |H_a|₁` the bound of its rows (so `step ≤ 1` cannot overshoot
-/// along any one node), and `f(x) = max(0, 1 − |x − c|²/r²)` the falloff from the nearest
-/// centre. Keeps its scratch between steps.
-#[derive(Debug, Clone, Default)]
-pub(crate) struct ThinPlateStep {
-    nodes: Marks,
-    /// Per node: thin-plate gradient and its bound.
-    grad: Vec<(DVec3, f64)>,
-    /// The patches within reach of the last step.
-    pub(crate) candidates: Vec<usize>,
-}
-
-impl ThinPlateStep {
-    /// The per-patch control-point updates of one step, into `updates` (patches whose
-    /// update is all zero are left out).
-    // The slot loops index the patch's points, ids and the matrix rows together.
-    #[allow(clippy::needless_range_loop)]
-    pub(crate) fn updates(
-        &mut self,
-        grid: &Grid,
-        h: &[[f64; 16]; 16],
-        centres: &[DVec3],
-        radius: f64,
-        step: f64,
-        updates: &mut Vec<(usize, [DVec3; 16])>,
-    ) {
-        self.candidates.clear();
-        grid.hierarchy().query(
-            &|b| {
-                centres.iter().any(|c| {
-                    let d = (b.min - *c).max(*c - b.max).max(DVec3::ZERO);
-                    d.length() <= radius
-                })
-            },
-            &mut self.candidates,
-        );
-        self.candidates.sort_unstable();
-        let len = grid.nodes().len();
-        if self.grad.len() != len {
-            self.grad = vec![(DVec3::ZERO, 0.0); len];
-        }
-        self.nodes.start(len);
-        let m = grid.patches_u();
-        let row_abs: [f64; 16] = std::array::from_fn(|a| h[a].iter().map(|x| x.abs()).sum());
-        // Gradient and bound per node over every patch holding it (all are candidates: a
-        // node within reach lies in the box of every patch holding it).
-        for &p in &self.candidates {
-            let ids = grid.patch_node_ids(p % m, p / m);
-            let x = grid.patch_at(p);
-            for a in 0..16 {
-                let mut y = DVec3::ZERO;
-                for b in 0..16 {
-                    y += x[b] * h[a][b];
-                }
-                let id = ids[a];
-                if self.nodes.mark(id) {
-                    self.grad[id] = (DVec3::ZERO, 0.0);
-                }
-                self.grad[id].0 += 2.0 * y;
-                self.grad[id].1 += row_abs[a];
-            }
-        }
-        let r2 = radius * radius;
-        let nodes = grid.nodes();
-        let delta_of = |id: usize, grad: &[(DVec3, f64)]| {
-            let f = centres
-                .iter()
-                .map(|c| 1.0 - (nodes[id] - *c).length_squared() / r2)
-                .fold(0.0f64, f64::max);
-            let (g, d) = grad[id];
-            if f > 0.0 && d > 0.0 {
-                g * (-0.5 * step * f / d)
-            } else {
-                DVec3::ZERO
-            }
-        };
-        updates.clear();
-        for &p in &self.candidates {
-            let ids = grid.patch_node_ids(p % m, p / m);
-            let delta: [DVec3; 16] = std::array::from_fn(|a| delta_of(ids[a], &self.grad));
-            if delta.iter().any(|d| *d != DVec3::ZERO) {
-                updates.push((p, delta));
-            }
         }
     }
 }

@@ -301,6 +301,9 @@ impl Modeller {
         if tool != self.tools.active {
             self.cancel_stroke();
             self.end_hand_contacts();
+            // Each sculpting tool keeps its own brush (curve tools leave the panel as it is).
+            self.brushes.store(self.tools.active, &self.tools.settings);
+            self.brushes.restore(tool, &mut self.tools.settings);
             self.tools.active = tool;
         }
     }

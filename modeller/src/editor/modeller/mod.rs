@@ -32,7 +32,7 @@ use super::lifecycle::{DocumentSession, Pending, PrimitiveForm};
 use super::live::{LatencySummary, LiveInput, ViewAnchor};
 use super::reach::ReachedPatches;
 use super::scene::{Overlays, SurfaceDisplay, framing_points, model_lines};
-use super::settings::{BrushSettings, Settings};
+use super::settings::{Brushes, Settings};
 use super::stroke::LiveStroke;
 use super::symmetry::MirrorToggle;
 use super::tools::{Tool, ToolContext, ToolSettings, ToolState};
@@ -166,6 +166,8 @@ pub struct Modeller {
     live: LiveInput,
     /// The remembered settings as last written, and where (`None`: nothing is remembered).
     settings: Option<(PathBuf, Settings)>,
+    /// Every sculpting tool's brush but the active one's (which is the panel's).
+    brushes: Brushes,
     /// What is derived from the document.
     cache: DisplayCache,
     /// Reframe the camera on the next refresh (new model).
@@ -228,6 +230,7 @@ impl Modeller {
             hand: HandToolState::default(),
             live: LiveInput::default(),
             settings: None,
+            brushes: Brushes::default(),
             cache: DisplayCache::default(),
             frame_pending: true,
             panel: PanelSettings {
@@ -277,7 +280,9 @@ impl Modeller {
         }
         self.live.apply_settings(&settings);
         self.panel.devices_open = settings.devices_open;
-        settings.brush.apply_to(&mut self.tools.settings);
+        self.brushes = settings.brush.clone();
+        self.brushes
+            .restore(self.tools.active, &mut self.tools.settings);
         self.panel.orbit = match settings.orbit.as_deref() {
             Some("middle") => OrbitButton::Middle,
             _ => OrbitButton::Right,
@@ -305,7 +310,8 @@ impl Modeller {
         );
         s.devices_open = self.panel.devices_open;
         s.matcap = self.panel.matcap.map(|m| m.name().to_string());
-        s.brush = BrushSettings::from_tools(&self.tools.settings);
+        s.brush = self.brushes.clone();
+        s.brush.store(self.tools.active, &self.tools.settings);
         s
     }
 

@@ -337,8 +337,20 @@ pub fn decode_table(scale: f64) -> String {
             format!("{:.3e}", row.records_per_s),
         ]);
     }
+    let vmc = match nendo_devices::vmc_throughput(scale) {
+        Some(v) => format!(
+            "VMC receiver (OSC bundles of a right arm and hand, {} bytes, over loopback UDP): {} of {} received and parsed, {:.3e} packets/s (wall, socket included); parsing {:.1} µs CPU per packet ({:.3e} packets/s of one core).\n",
+            v.bytes_per_packet,
+            v.received,
+            v.sent,
+            v.packets_per_s,
+            v.parse_us_per_packet,
+            1e6 / v.parse_us_per_packet.max(1e-9)
+        ),
+        None => "VMC receiver: no loopback UDP socket could be bound\n".to_string(),
+    };
     format!(
-        "Decode throughput per protocol (emulator streams pushed in 64-byte pieces; median of 11 batches).\n{}",
+        "Decode throughput per protocol (emulator streams pushed in 64-byte pieces; median of 11 batches).\n{}{vmc}",
         t.render()
     )
 }

@@ -1,5 +1,6 @@
 //! Filtering as trackers do it: a plausibility gate, then a One-Euro filter, on the tracker's
-//! position and orientation and on every glove joint ([`FrameFilter`]).
+//! position and orientation, on every glove joint, and on every joint of a skeleton hand
+//! (its position and orientation, [`skeleton`]) ([`FrameFilter`]).
 //!
 //! A hand frame goes through [`FrameFilter::apply`] before anything reads it (in nendo: the
 //! first thing the hand loop does with a frame, so the window and `nendo replay` filter the
@@ -91,6 +92,7 @@
 
 mod gate;
 pub mod one_euro;
+mod skeleton;
 #[cfg(test)]
 mod tests;
 
@@ -98,6 +100,7 @@ use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
 use crate::frame::QUATERNION_NORM_TOLERANCE;
+use crate::skeleton::HandJoint;
 use crate::{HandFrame, Joint, JointAngles, POSITION_LIMIT_M, SourceState, TrackerPose};
 use gate::{Gate, Limits};
 pub use gate::{Rejection, Verdict};
@@ -373,6 +376,12 @@ pub struct FilterStats {
     pub joints: Rejections,
     /// Joint angles rejected, per joint ([`Joint::index`]).
     pub per_joint: [u64; Joint::COUNT],
+    /// Skeleton samples judged (frames carrying a new skeleton, [`skeleton`]).
+    pub skeleton_samples: u64,
+    /// Skeleton joint positions rejected, over every joint.
+    pub skeleton_positions: Rejections,
+    /// Skeleton joint orientations rejected, over every joint.
+    pub skeleton_orientations: Rejections,
     /// Holds that ended by accepting a lasting jump (rule 4 of the gate).
     pub resyncs: u64,
     /// Frames with at least one value held.
@@ -383,7 +392,11 @@ impl FilterStats {
     /// Every rejected value: positions, orientations and joint angles.
     #[must_use]
     pub fn rejected(&self) -> u64 {
-        self.position.total() + self.orientation.total() + self.joints.total()
+        self.position.total()
+            + self.orientation.total()
+            + self.joints.total()
+            + self.skeleton_positions.total()
+            + self.skeleton_orientations.total()
     }
 }
 
@@ -396,13 +409,29 @@ pub struct Held {
     pub orientation: Option<Rejection>,
     /// The joints held ([`Joint::index`] bits).
     pub joints: u32,
+    /// The skeleton joints whose position was held ([`HandJoint::index`] bits).
+    pub skeleton_positions: u32,
+    /// The skeleton joints whose orientation was held ([`HandJoint::index`] bits).
+    pub skeleton_orientations: u32,
 }
 
 impl Held {
     /// Nothing held.
     #[must_use]
     pub fn is_empty(&self) -> bool {
-        self.position.is_none() && self.orientation.is_none() && self.joints == 0
+        self.position.is_none()
+            && self.orientation.is_none()
+            && self.joints == 0
+            && self.skeleton_positions == 0
+            && self.skeleton_orientations == 0
+    }
+
+    /// The skeleton joints held, by position or orientation.
+    pub fn skeleton_joints(&self) -> impl Iterator<Item = HandJoint> + '_ {
+        let bits = self.skeleton_positions | self.skeleton_orientations;
+        HandJoint::ALL
+            .into_iter()
+            .filter(move |j| bits & (1 << j.index()) != 0)
     }
 
     /// The joints held.
@@ -505,6 +534,7 @@ pub struct FrameFilter {
     position: Channel<[f64; 3], OneEuro<3>>,
     orientation: Channel<glam::DQuat, OneEuroRotation>,
     joints: Vec<Channel<[f64; 1], OneEuro<1>>>,
+    skeleton: skeleton::SkeletonChannels,
     stats: FilterStats,
     held: Held,
 }
@@ -532,6 +562,7 @@ impl FrameFilter {
             joints: (0..Joint::COUNT)
                 .map(|_| Channel::new(OneEuro::new(settings.joints)))
                 .collect(),
+            skeleton: skeleton::SkeletonChannels::new(&settings),
             stats: FilterStats::default(),
             held: Held::default(),
         }
@@ -575,12 +606,14 @@ impl FrameFilter {
             // Time went back: another stream (a trace played after another).
             self.reset_tracker();
             self.reset_glove();
+            self.reset_skeleton();
         }
         self.last_time = Some(t);
         let unmarked = !frame.status.tracker_fresh && !frame.status.glove_fresh;
         let mut out = *frame;
         out.pose = self.tracker(frame, t, unmarked);
         out.joints = self.glove(frame, t, unmarked);
+        out.skeleton = self.skeleton(frame, t, unmarked);
         if !self.held.is_empty() {
             self.stats.frames_held += 1;
         }

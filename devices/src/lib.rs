@@ -84,7 +84,7 @@ pub use mouse::{MouseDevice, ViewRay};
 pub use profile::{HandSize, Profile, WorldFromTracker};
 pub use skeleton::{HandJoint, JointPose, JointSource, Skeleton, SkeletonSource};
 pub use stream::{DeviceRole, DeviceStatus, HandStream, StreamOptions, StreamStats};
-pub use throughput::{ThroughputRow, decode_throughput};
+pub use throughput::{ThroughputRow, VmcThroughput, decode_throughput, vmc_throughput};
 pub use trace::{
     Recovered, SceneText, Trace, TraceHeader, TraceRecorder, TraceStream, TraceWriter,
 };

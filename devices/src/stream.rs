@@ -486,9 +486,13 @@ impl HandStream {
                 let sources = [glove.map(Source::Glove), tracker.map(Source::Tracker)];
                 HandStream::start_sources(sources, watchdog, options, start)
             }
-            Input::Skeleton(SkeletonProfile::Vmc { listen }) => {
+            Input::Skeleton(SkeletonProfile::Vmc {
+                listen,
+                bone_timeout_s,
+            }) => {
                 let listen = options.vmc_listen.as_deref().unwrap_or(listen);
-                let receiver = crate::vmc::VmcReceiver::new(listen, profile.hand)?;
+                let mut receiver = crate::vmc::VmcReceiver::new(listen, profile.hand)?;
+                receiver.set_bone_timeout(*bone_timeout_s);
                 let sources = [None, Some(Source::Skeleton(Box::new(receiver)))];
                 HandStream::start_sources(sources, watchdog, options, start)
             }

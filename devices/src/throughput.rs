@@ -235,3 +235,97 @@ mod tests {
         }
     }
 }
+
+/// The VMC receiver's row of the `nendo bench input` table ([`vmc_throughput`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VmcThroughput {
+    /// Bundles sent over loopback UDP.
+    pub sent: usize,
+    /// Bundles the receiver took from its socket and parsed into a hand.
+    pub received: usize,
+    /// Bytes per bundle (the right arm and hand, every bone).
+    pub bytes_per_packet: usize,
+    /// Received and parsed bundles per second of wall time, socket included.
+    pub packets_per_s: f64,
+    /// Parsing alone (OSC decode, composing, converting, making the missing joints): CPU
+    /// microseconds per bundle, the median of 11 single-threaded batches.
+    pub parse_us_per_packet: f64,
+}
+
+/// The VMC receiver's throughput: `2 000 · scale` bundles (a straight right arm) sent as fast
+/// as a thread can send them to a [`crate::vmc::VmcReceiver`] on `127.0.0.1`, read and
+/// parsed until the socket has been quiet for 0.3 s; and the parse time per bundle measured
+/// apart on the same bundle. Loopback UDP drops what overflows the socket's buffer: `received`
+/// says how many got through. `None` when no loopback socket can be bound.
+pub fn vmc_throughput(scale: f64) -> Option<VmcThroughput> {
+    use crate::skeleton::SkeletonSource;
+    use crate::vmc::VmcReceiver;
+    use crate::vmc::send::{bundle, straight_arms};
+    use glam::{DQuat, DVec3};
+    use std::time::Duration;
+    let sent = ((2_000.0 * if scale.is_finite() { scale } else { 1.0 }) as usize).max(100);
+    let hand = crate::profile::HandSize::default();
+    let packet = bundle(
+        (DVec3::ZERO, DQuat::IDENTITY),
+        &straight_arms(hand.side, DQuat::IDENTITY),
+        0.0,
+    )
+    .ok()?;
+    // Parsing alone.
+    let mut state = crate::vmc::VmcState::new(hand);
+    let batch = 500;
+    let mut per: Vec<f64> = (0..11)
+        .map(|_| {
+            let t = Instant::now();
+            for _ in 0..batch {
+                std::hint::black_box(state.packet(std::hint::black_box(&packet)));
+            }
+            t.elapsed().as_secs_f64() * 1e6 / batch as f64
+        })
+        .collect();
+    per.sort_by(f64::total_cmp);
+    // Over the socket.
+    let mut rx = VmcReceiver::new("127.0.0.1:0", hand).ok()?;
+    rx.start().ok()?;
+    let to = rx.local_addr()?;
+    let tx = std::net::UdpSocket::bind("127.0.0.1:0").ok()?;
+    let bytes = packet.clone();
+    let sender = std::thread::spawn(move || {
+        for _ in 0..sent {
+            let _ = tx.send_to(&bytes, to);
+        }
+    });
+    let mut out = Vec::new();
+    let mut received = 0;
+    let mut first: Option<Instant> = None;
+    let mut last = Instant::now();
+    loop {
+        out.clear();
+        if rx.read(Duration::from_millis(300), &mut out).is_err() {
+            break;
+        }
+        if out.is_empty() {
+            if sender.is_finished() {
+                break;
+            }
+            continue;
+        }
+        first.get_or_insert_with(Instant::now);
+        last = Instant::now();
+        received += out.len();
+    }
+    let _ = sender.join();
+    rx.stop();
+    let wall = first.map_or(0.0, |f| (last - f).as_secs_f64());
+    Some(VmcThroughput {
+        sent,
+        received,
+        bytes_per_packet: packet.len(),
+        packets_per_s: if wall > 0.0 {
+            received as f64 / wall
+        } else {
+            0.0
+        },
+        parse_us_per_packet: per[per.len() / 2],
+    })
+}

@@ -14,7 +14,7 @@
 //! | anything else (`/VMC/Ext/Blend/…`, `/VMC/Ext/Cam`, …) | | ignored and counted |
 //!
 //! A bone keeps its last pose until a new one comes (a sender may spread its bones over
-//! several datagrams). Numbers may be OSC floats, doubles or ints. A message of a known address with the wrong
+//! several datagrams), for at most the profile's `bone_timeout_s` (see "Stale bones"). Numbers may be OSC floats, doubles or ints. A message of a known address with the wrong
 //! arguments, a non-finite number or a quaternion far from unit norm is **invalid**: counted,
 //! and the bone is forgotten until a good message for it comes again (a hand through it then
 //! cannot be composed). A datagram that does not decode as OSC (truncated, garbage) is
@@ -45,11 +45,26 @@
 //! 90° about nendo's −Y, which turns +X toward +Z — up again. The profile's
 //! `world_from_tracker` then places it in the world.
 //!
+//! ## Stale bones
+//!
+//! A bone not refreshed for longer than the profile's `bone_timeout_s`
+//! ([`DEFAULT_BONE_TIMEOUT_S`], 0.5 s) is **stale**: it counts as never sent, so the joints
+//! composed through it are missing (their validity false) instead of keeping a pose the hand
+//! left long ago — a tracker that loses one finger (occluded, out of the camera) while it
+//! keeps sending the others. Time is the receiver's clock at each datagram
+//! ([`VmcState::packet_at`]): staleness is decided when a datagram comes, so a sender that
+//! stops altogether is the stream watchdog's business (silent, then lost). A stale finger's
+//! joints are missing, so that finger does not press (the hand loop takes only the fingers
+//! whose chains are whole); a stale wrist, or a stale index, middle or little knuckle (the
+//! palm is made from them), takes the whole hand with it.
+//!
 //! ## Frames
 //!
-//! Every datagram that brought a bone or the root and leaves the profile's hand composable
-//! gives one [`Skeleton`] (senders send one bundle per frame); one that leaves it incomplete
-//! (a bone of the chain never sent, or forgotten) gives none and is counted. Frames that stop
+//! Every datagram that brought a bone or the root and leaves the profile's palm composable
+//! (the wrist and the index, middle and little knuckles) gives one [`Skeleton`] (senders send
+//! one bundle per frame), with the joints that can be composed and the rest missing; one that
+//! leaves the hand incomplete (a bone of the chain never sent, forgotten or stale) is counted
+//! as a fault, and gives no skeleton when not even the palm can be made. Frames that stop
 //! arriving make the source silent, then lost, through the stream's watchdog, as for a serial
 //! device.
 //!
@@ -72,6 +87,9 @@ use crate::skeleton::{HandJoint, JointPose, JointSource, Skeleton, SkeletonSourc
 
 /// The VMC protocol's default port.
 pub const DEFAULT_PORT: u16 = 39539;
+/// How long a bone's pose stays good without a new one by default, seconds (a profile's
+/// `bone_timeout_s`): fifteen frames of a 30 Hz webcam tracker.
+pub const DEFAULT_BONE_TIMEOUT_S: f64 = 0.5;
 /// The largest datagram read (a UDP datagram's limit).
 const MAX_DATAGRAM: usize = 65_536;
 /// Distinct bone names kept for the status panel (a sender cannot grow it without end).
@@ -163,9 +181,14 @@ pub struct VmcState {
     side: Side,
     hand: HandSize,
     root: Pose,
-    bones: std::collections::HashMap<String, Pose>,
+    /// Every bone's local pose and the time it came, seconds on the receiver's clock.
+    bones: std::collections::HashMap<String, (Pose, f64)>,
     seen: BTreeSet<String>,
     stats: DeviceStats,
+    /// The time of the latest datagram, seconds.
+    now: f64,
+    /// Bones older than this are stale, seconds.
+    timeout: f64,
 }
 
 impl VmcState {
@@ -179,7 +202,41 @@ impl VmcState {
             bones: Default::default(),
             seen: BTreeSet::new(),
             stats: DeviceStats::default(),
+            now: 0.0,
+            timeout: DEFAULT_BONE_TIMEOUT_S,
         }
+    }
+
+    /// Sets how long a bone stays good without a new pose, seconds (see "Stale bones"; a
+    /// value that is not positive and finite keeps the current one).
+    pub fn set_bone_timeout(&mut self, seconds: f64) {
+        if seconds.is_finite() && seconds > 0.0 {
+            self.timeout = seconds;
+        }
+    }
+
+    /// The hand-chain bones that are stale now (for a status panel).
+    pub fn stale(&self) -> Vec<String> {
+        let mut v: Vec<String> = self
+            .bones
+            .iter()
+            .filter(|(_, (_, at))| !self.is_fresh(*at))
+            .map(|(name, _)| name.clone())
+            .collect();
+        v.sort();
+        v
+    }
+
+    fn is_fresh(&self, at: f64) -> bool {
+        self.now - at <= self.timeout
+    }
+
+    /// A bone's local pose, if it was sent and is not stale.
+    fn bone(&self, name: &str) -> Option<Pose> {
+        self.bones
+            .get(name)
+            .filter(|(_, at)| self.is_fresh(*at))
+            .map(|(p, _)| *p)
     }
 
     /// The counters (see the module docs).
@@ -192,8 +249,19 @@ impl VmcState {
         self.seen.iter().cloned().collect()
     }
 
-    /// Reads one datagram; returns the hand it completes, if any (see the module docs).
+    /// Reads one datagram at the time of the last one (no bone goes stale): see
+    /// [`VmcState::packet_at`].
     pub fn packet(&mut self, bytes: &[u8]) -> Option<Skeleton> {
+        self.packet_at(bytes, self.now)
+    }
+
+    /// Reads one datagram that came at `now` seconds on the receiver's clock (never before
+    /// the last one's: an earlier time is taken as the last one's); returns the hand it
+    /// gives, if any (see the module docs).
+    pub fn packet_at(&mut self, bytes: &[u8], now: f64) -> Option<Skeleton> {
+        if now.is_finite() && now > self.now {
+            self.now = now;
+        }
         self.stats.decode.bytes_in += bytes.len() as u64;
         // rosc reads a bundle's elements while they decode and leaves the rest: a datagram
         // with bytes left over is truncated or has garbage after it, and is refused whole.
@@ -213,7 +281,7 @@ impl VmcState {
             return None;
         }
         let skeleton = self.skeleton();
-        if skeleton.is_none() {
+        if !skeleton.as_ref().is_some_and(Skeleton::is_complete) {
             self.stats.faults += 1;
         }
         skeleton
@@ -253,7 +321,7 @@ impl VmcState {
                         self.root = (DVec3::ZERO, DQuat::IDENTITY);
                     }
                     (false, Some(p)) if is_hand_chain(&name) => {
-                        self.bones.insert(name, p);
+                        self.bones.insert(name, (p, self.now));
                     }
                     (false, Some(_)) => {}
                     (false, None) => {
@@ -271,9 +339,10 @@ impl VmcState {
         }
     }
 
-    /// A bone's pose in Unity's world, through the nearest ancestors the sender has sent.
+    /// A bone's pose in Unity's world, through the nearest ancestors the sender has sent
+    /// (stale bones count as not sent).
     fn world(&self, bone: &str, depth: usize) -> Option<Pose> {
-        let (p, q) = *self.bones.get(bone)?;
+        let (p, q) = self.bone(bone)?;
         if bone == "Hips" {
             let (rp, rq) = self.root;
             return Some((rp + rq * p, rq * q));
@@ -281,15 +350,14 @@ impl VmcState {
         if depth > 16 {
             return None;
         }
-        let parent = parents(bone)
-            .into_iter()
-            .find(|b| self.bones.contains_key(b))?;
+        let parent = parents(bone).into_iter().find(|b| self.bone(b).is_some())?;
         let (pp, pq) = self.world(&parent, depth + 1)?;
         Some((pp + pq * p, pq * q))
     }
 
-    /// The profile's hand, composed and converted, if its chain is complete (the tips,
-    /// metacarpals and palm made).
+    /// The profile's hand, composed and converted (the tips, metacarpals and palm made):
+    /// every joint whose bones are sent and fresh, the others missing; `None` when not even
+    /// the palm can be made (see the module docs).
     pub fn skeleton(&self) -> Option<Skeleton> {
         let side = match self.side {
             Side::Right => "Right",
@@ -297,12 +365,15 @@ impl VmcState {
         };
         let mut s = Skeleton::new(self.side);
         for (bone, joint) in BONE_MAP {
-            let (p, q) = self.world(&format!("{side}{bone}"), 0)?;
-            let pose = JointPose::new(position_from_unity(p), rotation_from_unity(q), None).ok()?;
-            s.set(joint, pose, JointSource::Measured);
+            let Some((p, q)) = self.world(&format!("{side}{bone}"), 0) else {
+                continue;
+            };
+            if let Ok(pose) = JointPose::new(position_from_unity(p), rotation_from_unity(q), None) {
+                s.set(joint, pose, JointSource::Measured);
+            }
         }
         s.make_missing(&self.hand);
-        s.is_complete().then_some(s)
+        s.get(HandJoint::Palm).is_some().then_some(s)
     }
 }
 
@@ -339,6 +410,8 @@ pub struct VmcReceiver {
     state: VmcState,
     starts: u64,
     buffer: Vec<u8>,
+    /// The receiver's clock for stale bones.
+    clock: std::time::Instant,
 }
 
 impl VmcReceiver {
@@ -354,7 +427,13 @@ impl VmcReceiver {
             state: VmcState::new(hand),
             starts: 0,
             buffer: vec![0; MAX_DATAGRAM],
+            clock: std::time::Instant::now(),
         })
+    }
+
+    /// Sets how long a bone stays good without a new pose ([`VmcState::set_bone_timeout`]).
+    pub fn set_bone_timeout(&mut self, seconds: f64) {
+        self.state.set_bone_timeout(seconds);
     }
 
     /// The bound address (the port chosen, for `:0`), once started.
@@ -445,7 +524,8 @@ impl VmcReceiver {
             match socket.recv(&mut self.buffer) {
                 Ok(n) => {
                     let bytes = &self.buffer[..n.min(MAX_DATAGRAM)];
-                    if let Some(s) = self.state.packet(bytes) {
+                    let now = self.clock.elapsed().as_secs_f64();
+                    if let Some(s) = self.state.packet_at(bytes, now) {
                         out.push(s);
                     }
                 }

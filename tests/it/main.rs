@@ -32,6 +32,7 @@ mod hand_latency;
 mod hand_poses;
 mod hand_side;
 mod hand_skeleton;
+mod hand_skeleton_filter;
 mod hand_traces;
 mod limits_cli;
 mod memory_limits;

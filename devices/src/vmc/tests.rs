@@ -123,16 +123,27 @@ fn a_missing_bone_a_nan_garbage_and_other_addresses_are_counted_not_fatal() {
     let side = Side::Right;
     let all = straight_arms(side, DQuat::IDENTITY);
     let mut state = VmcState::new(hand(side));
-    // Missing: no RightIndexIntermediate.
+    // Missing: no RightIndexIntermediate. The hand comes without the index's intermediate,
+    // distal and tip, and the datagram is counted as a fault.
     let missing: Vec<_> = all
         .iter()
         .filter(|b| b.0 != "RightIndexIntermediate")
         .cloned()
         .collect();
-    assert!(
-        state
-            .packet(&bundle(root(), &missing, 0.0).unwrap())
-            .is_none()
+    let partial = state
+        .packet(&bundle(root(), &missing, 0.0).unwrap())
+        .expect("the palm can be made");
+    assert!(!partial.is_complete());
+    for j in [
+        HandJoint::IndexIntermediate,
+        HandJoint::IndexDistal,
+        HandJoint::IndexTip,
+    ] {
+        assert_eq!(partial.source(j), JointSource::Missing, "{j}");
+    }
+    assert_eq!(
+        partial.source(HandJoint::IndexProximal),
+        JointSource::Measured
     );
     assert_eq!(state.stats().faults, 1);
     // Whole: a hand.
@@ -212,4 +223,67 @@ fn the_receiver_reads_datagrams_from_a_socket() {
     assert_eq!(rx.stats().starts, 1);
     rx.stop();
     assert!(rx.read(Duration::from_millis(1), &mut out).is_err());
+}
+
+#[test]
+fn a_bone_not_refreshed_within_the_timeout_goes_missing() {
+    let side = Side::Right;
+    let all = straight_arms(side, DQuat::IDENTITY);
+    let no_ring: Vec<_> = all
+        .iter()
+        .filter(|b| !b.0.starts_with("RightRing"))
+        .cloned()
+        .collect();
+    let ring = [
+        HandJoint::RingProximal,
+        HandJoint::RingIntermediate,
+        HandJoint::RingDistal,
+        HandJoint::RingTip,
+    ];
+    let mut state = VmcState::new(hand(side));
+    state.set_bone_timeout(0.5);
+    let first = state
+        .packet_at(&bundle(root(), &all, 0.0).unwrap(), 0.0)
+        .unwrap();
+    assert!(first.is_complete());
+    // The sender stops the ring finger's bones: 30 Hz of the others for a second.
+    let mut faults_from = None;
+    for k in 1..=30 {
+        let t = f64::from(k) / 30.0;
+        let s = state
+            .packet_at(&bundle(root(), &no_ring, t as f32).unwrap(), t)
+            .expect("the palm can still be made");
+        let stale = t > 0.5;
+        for j in ring {
+            assert_eq!(s.get(j).is_some(), !stale, "{j} at {t:.3} s");
+        }
+        assert_eq!(s.is_complete(), !stale);
+        for j in [HandJoint::IndexTip, HandJoint::LittleTip, HandJoint::Palm] {
+            assert!(s.get(j).is_some(), "{j} at {t:.3} s");
+        }
+        if stale && faults_from.is_none() {
+            faults_from = Some(state.stats().faults);
+        }
+    }
+    // Every datagram after the timeout left the hand incomplete.
+    assert_eq!(state.stats().faults, 15, "{:?}", state.stats());
+    assert!(faults_from.is_some());
+    assert!(state.stale().contains(&"RightRingProximal".to_owned()));
+    // The ring's bones come back: the hand is whole again at once.
+    let back = state
+        .packet_at(&bundle(root(), &all, 1.1).unwrap(), 1.1)
+        .unwrap();
+    assert!(back.is_complete());
+    assert!(state.stale().is_empty());
+    // Without a time (packet), nothing goes stale.
+    let mut state = VmcState::new(hand(side));
+    assert!(state.packet(&bundle(root(), &all, 0.0).unwrap()).is_some());
+    for _ in 0..100 {
+        assert!(
+            state
+                .packet(&bundle(root(), &no_ring, 0.0).unwrap())
+                .unwrap()
+                .is_complete()
+        );
+    }
 }

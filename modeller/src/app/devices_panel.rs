@@ -245,6 +245,22 @@ impl LiveInput {
         if profile.tracker().is_some() {
             port_picker(ui, "tracker port", &mut self.tracker_port, &serial);
         }
+        if let Input::Skeleton(s) = &profile.input {
+            // A VMC receiver: where it listens, applied on (re)connect and remembered.
+            ui.horizontal(|ui| {
+                ui.label("VMC listen (ADDR:PORT)");
+                ui.add(
+                    egui::TextEdit::singleline(&mut self.tracker_port)
+                        .desired_width(ui.available_width())
+                        .hint_text(s.listen()),
+                );
+            });
+            if let Some(e) = self.listen_error() {
+                ui.colored_label(ERROR, e);
+            } else {
+                ui.small("applied on Connect (Connect again to move a running receiver)");
+            }
+        }
         if let Some(inv) = &self.inventory {
             if let Some(e) = &inv.serial_error {
                 ui.small(format!("serial ports: {e}"));

@@ -20,6 +20,7 @@
 
 use glam::DVec3;
 use nendo_devices::profile::MouseProfile;
+use nendo_devices::skeleton::{HandJoint, JointSource};
 use nendo_devices::{HandFrame, HandSize, Timestamp, ViewRay, WorldFromTracker, buttons};
 use std::time::Instant;
 
@@ -306,8 +307,10 @@ impl HandDriver {
         self.feedback = None;
     }
 
-    /// Draws the hand: palm, fingers as joint chains, the capsule of every pressing part (the
-    /// fingers and palm in the loop's set), those in the clay highlighted.
+    /// Draws the hand: its skeleton — wrist, metacarpals, palm and the finger chains, joints
+    /// and bones ([`draw_skeleton`]) — from any source (the mouse's ray: palm and fingers
+    /// from its pose), then the capsule of every pressing part (the fingers and palm in the
+    /// loop's set), those in the clay highlighted.
     pub fn draw(&self, lines: &mut LineBatch, spheres: &mut Vec<SphereInstance>) {
         if let Some(f) = &self.feedback {
             f.draw(lines, spheres, self.hand_loop.options().finger_radius);
@@ -326,17 +329,22 @@ impl HandDriver {
         } else {
             Rgba::HAND
         };
-        // The palm: the sensor to each knuckle, and the knuckles in a row.
-        let knuckles: Vec<DVec3> = pose.fingers.iter().map(|f| f.points[0]).collect();
-        for k in &knuckles {
-            lines.segment(pose.sensor.as_vec3(), k.as_vec3(), Rgba::HAND);
-        }
-        lines.polyline(knuckles[1..].iter().map(|p| p.as_vec3()), Rgba::HAND);
         let joint_radius = 0.012 * pose.scale.max(1e-6);
-        for finger in &pose.fingers {
-            lines.polyline(finger.points.iter().map(|p| p.as_vec3()), bone);
-            for p in &finger.points {
-                spheres.push(sphere(*p, joint_radius, [0.92, 0.9, 0.88, 1.0]));
+        if let Some(skeleton) = self.hand_loop.skeleton() {
+            let joints = self.hand_loop.hand().skeleton_joints(&skeleton);
+            draw_skeleton(&joints, joint_radius, bone, lines, spheres);
+        } else {
+            // The palm: the sensor to each knuckle, and the knuckles in a row.
+            let knuckles: Vec<DVec3> = pose.fingers.iter().map(|f| f.points[0]).collect();
+            for k in &knuckles {
+                lines.segment(pose.sensor.as_vec3(), k.as_vec3(), Rgba::HAND);
+            }
+            lines.polyline(knuckles[1..].iter().map(|p| p.as_vec3()), Rgba::HAND);
+            for finger in &pose.fingers {
+                lines.polyline(finger.points.iter().map(|p| p.as_vec3()), bone);
+                for p in &finger.points {
+                    spheres.push(sphere(*p, joint_radius, MEASURED_JOINT));
+                }
             }
         }
         // Every pressing part's capsule: orange while that part is in the clay (or holds it),
@@ -351,6 +359,78 @@ impl HandDriver {
             spheres.push(sphere(tip.tip, tip.radius, colour));
             lines.segment(tip.base.as_vec3(), tip.tip.as_vec3(), bone);
         }
+    }
+}
+
+/// A measured joint's colour: opaque, light.
+pub const MEASURED_JOINT: [f32; 4] = [0.92, 0.9, 0.88, 1.0];
+/// A made joint's colour (derived from measured ones: a VMC tip, the palm, a glove hand's wrist
+/// and metacarpals): dim and see-through, so it reads as a hollow ghost of a joint.
+pub const MADE_JOINT: [f32; 4] = [0.55, 0.6, 0.7, 0.35];
+/// A made joint's sphere, as a multiple of a measured one's radius: a larger shell, so a made
+/// joint at a measured one's place (a glove's metacarpals at its wrist) still shows.
+pub const MADE_JOINT_SCALE: f64 = 1.4;
+/// A bone to or from a made joint: dimmer than [`Rgba::HAND`].
+pub const MADE_BONE: Rgba = Rgba([0.6, 0.62, 0.7, 0.6]);
+
+/// Draws a skeleton placed in the world ([`crate::hand::Hand::skeleton_joints`]): a sphere
+/// per joint of radius `radius` — measured joints opaque ([`MEASURED_JOINT`]), made ones a
+/// larger see-through shell ([`MADE_JOINT`]) — and the bones: the wrist to every metacarpal
+/// (the thumb's included) and to the palm, each metacarpal to its knuckle, the knuckles of
+/// the four fingers in a row, and every finger's chain to its tip, in `bone` where both ends
+/// are measured and [`MADE_BONE`] where one is made. Joints the skeleton lacks, and bones to
+/// them, are not drawn.
+pub fn draw_skeleton(
+    joints: &[(HandJoint, DVec3, JointSource)],
+    radius: f64,
+    bone: Rgba,
+    lines: &mut LineBatch,
+    spheres: &mut Vec<SphereInstance>,
+) {
+    let at = |j: HandJoint| {
+        joints
+            .iter()
+            .find(|(k, ..)| *k == j)
+            .map(|(_, p, s)| (*p, *s))
+    };
+    let mut segment = |a: HandJoint, b: HandJoint| {
+        if let (Some((pa, sa)), Some((pb, sb))) = (at(a), at(b)) {
+            let made = sa == JointSource::Made || sb == JointSource::Made;
+            lines.segment(
+                pa.as_vec3(),
+                pb.as_vec3(),
+                if made { MADE_BONE } else { bone },
+            );
+        }
+    };
+    use HandJoint::*;
+    segment(Wrist, Palm);
+    for (metacarpal, chain) in [ThumbMetacarpal]
+        .into_iter()
+        .chain(HandJoint::METACARPALS)
+        .zip(HandJoint::FINGERS)
+    {
+        segment(Wrist, metacarpal);
+        if metacarpal != chain[0] {
+            segment(metacarpal, chain[0]);
+        }
+        for pair in chain.windows(2) {
+            segment(pair[0], pair[1]);
+        }
+    }
+    for pair in [IndexProximal, MiddleProximal, RingProximal, LittleProximal].windows(2) {
+        segment(pair[0], pair[1]);
+    }
+    for (_, p, source) in joints {
+        let (r, colour) = match source {
+            JointSource::Made => (MADE_JOINT_SCALE * radius, MADE_JOINT),
+            _ => (radius, MEASURED_JOINT),
+        };
+        spheres.push(SphereInstance {
+            center: p.as_vec3().to_array(),
+            radius: r as f32,
+            colour,
+        });
     }
 }
 

@@ -46,7 +46,8 @@ pub const SETTINGS_FORMAT: &str = "nendo-settings";
 pub struct DevicePorts {
     /// The glove's serial port.
     pub glove: Option<String>,
-    /// The tracker's serial port.
+    /// The tracker's serial port, or a skeleton source's listening address (a VMC
+    /// receiver's `ADDR:PORT`).
     pub tracker: Option<String>,
 }
 

@@ -77,6 +77,16 @@ pub fn describe(stats: &FilterStats) -> String {
         ),
         (stats.orientation.total(), "orientation", "orientations"),
         (stats.joints.total(), "joint angle", "joint angles"),
+        (
+            stats.skeleton_positions.total(),
+            "skeleton joint position",
+            "skeleton joint positions",
+        ),
+        (
+            stats.skeleton_orientations.total(),
+            "skeleton joint orientation",
+            "skeleton joint orientations",
+        ),
     ] {
         if n > 0 {
             parts.push(plural(n, one, many));
@@ -87,8 +97,11 @@ pub fn describe(stats: &FilterStats) -> String {
         Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
         None => String::new(),
     };
-    let range =
-        stats.position.out_of_range + stats.orientation.out_of_range + stats.joints.out_of_range;
+    let range = stats.position.out_of_range
+        + stats.orientation.out_of_range
+        + stats.joints.out_of_range
+        + stats.skeleton_positions.out_of_range
+        + stats.skeleton_orientations.out_of_range;
     let kinematic = stats.rejected() - range;
     let resyncs = if stats.resyncs > 0 {
         format!(

@@ -51,7 +51,8 @@
 //!    `ok` are never used. No finger: the contact ends, and where the parts were is
 //!    forgotten (the next frame with a hand is the parts' first). A frame carrying a skeleton
 //!    (a VMC source in the tracker's slot) takes the hand from its joints
-//!    ([`super::skeleton`]); a skeleton missing a joint of the finger chains has no finger.
+//!    ([`super::skeleton`]); a skeleton without its palm has no finger, and a finger missing
+//!    a joint of its chain (a bone not sent, or stale) is left out of the pressing parts.
 //! 2. **Activation** ([`Activation`](super::Activation)). The glove's finger always acts;
 //!    its switch ([`nendo_devices::buttons::PRIMARY`]) is the grip. The mouse finger acts
 //!    only while a button is held: the left button presses, the right one grips.
@@ -143,7 +144,7 @@
 //! the starting grid and the options.
 
 use glam::DVec3;
-use nendo_devices::{FrameFilter, HandFrame, JointAngles, SourceState};
+use nendo_devices::{FrameFilter, HandFrame, SourceState};
 
 use super::HandError;
 use super::contact::{Fingertip, Probe};
@@ -156,6 +157,7 @@ use crate::surface::{Grid, LiveOperation, Op, Regulation};
 
 pub mod clutch;
 mod pinch;
+mod placing;
 mod side;
 mod track;
 
@@ -175,6 +177,8 @@ pub struct HandLoop {
     contact: Option<Box<Contact>>,
     hold: Option<Box<Hold>>,
     pose: Option<HandPose>,
+    /// The filtered frame of the last frame that had a hand (for drawing its skeleton).
+    drawn: Option<Box<HandFrame>>,
     fingertip: Option<Fingertip>,
     tips: Vec<(Part, Fingertip)>,
     /// Every part's place at the last frame with a hand, and whether it is in the clay
@@ -221,6 +225,7 @@ impl HandLoop {
             contact: None,
             hold: None,
             pose: None,
+            drawn: None,
             fingertip: None,
             tips: Vec::new(),
             sides: [None; 6],
@@ -395,97 +400,6 @@ impl HandLoop {
         Some(ops)
     }
 
-    /// The hand and primary fingertip of a frame, if it has them (rule 1 of the module docs).
-    #[must_use]
-    pub fn finger_of(&self, frame: &HandFrame) -> Option<(HandPose, Fingertip)> {
-        let (pose, tips) = self.parts_of(frame)?;
-        let primary = Part::Digit(self.options.finger.primary());
-        let tip = tips
-            .iter()
-            .find(|(p, _)| *p == primary)
-            .or_else(|| tips.first())?
-            .1;
-        Some((pose, tip))
-    }
-
-    /// The hand and the capsules of every pressing part of a frame (rule 1): a fingertip for
-    /// each finger of the set, the palm's for the palm.
-    #[must_use]
-    pub fn parts_of(&self, frame: &HandFrame) -> Option<(HandPose, Vec<(Part, Fingertip)>)> {
-        // Only a delivering source acts: a pose held over from a tracker that is now silent or
-        // lost (a frame built by hand, a trace from elsewhere) never reaches the surface.
-        if frame.status.tracker != SourceState::Ok {
-            return None;
-        }
-        // A skeleton source gives the hand's joints themselves (super::skeleton).
-        let placed = match &frame.skeleton {
-            Some(skeleton) => self.hand.skeleton_pose(skeleton)?,
-            None => self.glove_pose(frame)?,
-        };
-        let mut tips = Vec::new();
-        for part in self.options.finger.parts().parts() {
-            let tip = match part {
-                Part::Digit(d) => {
-                    let chain = placed.finger(d);
-                    Fingertip {
-                        tip: chain.tip(),
-                        axis: chain.direction(),
-                        base: chain.points[2],
-                        radius: self.options.finger_radius,
-                        length: self.reach_of(part),
-                        body: [
-                            placed.sensor,
-                            chain.points[0],
-                            chain.points[1],
-                            chain.points[2],
-                            chain.points[3],
-                        ],
-                    }
-                }
-                Part::Palm => {
-                    let palm = self.hand.palm(&placed);
-                    Fingertip {
-                        tip: palm.centre,
-                        axis: palm.normal,
-                        base: palm.centre - self.reach_of(part) * palm.normal,
-                        radius: self.palm_radius(),
-                        length: self.reach_of(part),
-                        body: [
-                            placed.sensor,
-                            placed.sensor,
-                            placed.sensor,
-                            placed.sensor,
-                            palm.centre,
-                        ],
-                    }
-                }
-            };
-            if !(tip.tip.is_finite()
-                && tip.axis.is_finite()
-                && tip.body.iter().all(|p| p.is_finite()))
-            {
-                return None;
-            }
-            tips.push((part, tip));
-        }
-        (!tips.is_empty()).then_some((placed, tips))
-    }
-
-    /// The kinematic hand of a glove and tracker frame (rule 1): the tracker's pose, bent by
-    /// the glove's angles (flat without a glove in the profile).
-    fn glove_pose(&self, frame: &HandFrame) -> Option<HandPose> {
-        let pose = frame.pose?;
-        let joints: Option<&JointAngles> = match (frame.status.glove, &frame.joints) {
-            (SourceState::Ok, Some(j)) => Some(j),
-            (SourceState::Absent, _) => None,
-            _ => return None,
-        };
-        Some(match self.options.finger {
-            FingerModel::Hand(_) => self.hand.pose(&pose, joints),
-            FingerModel::Ray => self.hand.pose_at_fingertip(&pose, joints, Digit::Index),
-        })
-    }
-
     /// Signed penetration of a fingertip into `grid` along its axis: `ahead` is how far past
     /// the tip the surface may be.
     fn penetration(
@@ -593,6 +507,7 @@ impl HandLoop {
         let mut out = FrameOutcome::default();
         let parts = self.parts_of(frame);
         self.pose = parts.as_ref().map(|(p, _)| *p);
+        self.drawn = parts.as_ref().map(|_| Box::new(*frame));
         self.tips.clear();
         if let Some((_, tips)) = &parts {
             self.tips.extend_from_slice(tips);

@@ -12,7 +12,11 @@
 //!   middle finger, +Z out of the back of the hand), `R·Q_palm` in the world; the sensor (the
 //!   back of the hand, where the kinematic hand's sensor sits) is half the palm's thickness
 //!   `T = 0.3·W` above the palm joint: `t + c·R·(x_palm + Q_palm·(0, 0, T/2))`. A skeleton
-//!   without every joint of the five chains and the palm places no hand.
+//!   without the palm places no hand; a finger missing a joint of its chain (a bone not sent,
+//!   or stale: [`nendo_devices::vmc`]) is not [`whole`]: its chain is collapsed onto the palm
+//!   joint, and the hand loop leaves it out of the pressing parts — the other fingers press.
+//! - [`Hand::skeleton_joints`]: the skeleton's joints placed in the world, with their sources,
+//!   for drawing (wrist, metacarpals and palm too; made joints drawn apart from measured ones).
 //! - [`Hand::skeleton`]: glove frame → skeleton, in the tracker's frame. With `(P, Q)` the
 //!   tracker pose and `x_k` the kinematic hand's joints in its sensor frame: each finger's
 //!   joints at `P + Q·x_k`; the palm at `P + Q·(0, 0, −T/2)` oriented `Q`; the wrist at
@@ -30,13 +34,11 @@ use nendo_devices::{JointAngles, TrackerPose};
 use super::kinematics::{Digit, FingerChain, Hand, HandPose, PALM_THICKNESS};
 
 impl Hand {
-    /// The hand of a skeleton, in the world (see the module docs); `None` when a joint of the
-    /// five chains or the palm is missing, or a value is not finite.
+    /// The hand of a skeleton, in the world (see the module docs); `None` when the palm is
+    /// missing or a value is not finite. A finger that is not [`whole`] has its chain at the
+    /// palm joint.
     #[must_use]
     pub fn skeleton_pose(&self, s: &Skeleton) -> Option<HandPose> {
-        if !s.is_complete() {
-            return None;
-        }
         let w = self.world_from_tracker();
         let (t, r, c) = (w.translation(), w.rotation(), w.scale);
         let place = |x: DVec3| t + c * (r * x);
@@ -46,9 +48,13 @@ impl Hand {
         let mut fingers = [FingerChain {
             points: [DVec3::ZERO; 4],
         }; 5];
-        for (finger, chain) in fingers.iter_mut().zip(HandJoint::FINGERS) {
+        let whole = whole(s);
+        for ((finger, chain), ok) in fingers.iter_mut().zip(HandJoint::FINGERS).zip(whole) {
             for (point, joint) in finger.points.iter_mut().zip(chain) {
-                *point = place(s.get(joint)?.position);
+                *point = match s.get(joint) {
+                    Some(j) if ok => place(j.position),
+                    _ => place(palm.position),
+                };
             }
         }
         let pose = HandPose {
@@ -63,6 +69,17 @@ impl Hand {
                 .iter()
                 .all(|f| f.points.iter().all(|p| p.is_finite()));
         finite.then_some(pose)
+    }
+
+    /// Every known joint of a skeleton placed in the world (`x ↦ t + c·R·x`), with where it
+    /// comes from, in OpenXR's order: what the window draws.
+    #[must_use]
+    pub fn skeleton_joints(&self, s: &Skeleton) -> Vec<(HandJoint, DVec3, JointSource)> {
+        let w = self.world_from_tracker();
+        let (t, r, c) = (w.translation(), w.rotation(), w.scale);
+        s.iter()
+            .map(|(j, pose, source)| (j, t + c * (r * pose.position), source))
+            .collect()
     }
 
     /// The skeleton of a glove frame, in the tracker's frame (see the module docs).
@@ -95,4 +112,11 @@ impl Hand {
         }
         s
     }
+}
+
+/// Which of the five fingers (thumb first, [`Digit::ALL`]'s order) have every joint of their
+/// chain ([`HandJoint::FINGERS`]): the fingers that may press.
+#[must_use]
+pub fn whole(s: &Skeleton) -> [bool; 5] {
+    HandJoint::FINGERS.map(|chain| chain.iter().all(|j| s.get(*j).is_some()))
 }

@@ -61,6 +61,8 @@ mod session;
 mod status;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod vmc_tests;
 
 pub(crate) use calibration::CalibrationCapture;
 use inbox::DeviceSession;

@@ -143,7 +143,7 @@ impl LiveInput {
             .unwrap_or_default();
         self.tracker_port = remembered
             .tracker
-            .or_else(|| entry.profile.tracker().map(|t| t.port().to_string()))
+            .or_else(|| own_tracker(&entry.profile).map(String::from))
             .unwrap_or_default();
         self.hand_edit = None;
     }
@@ -265,7 +265,29 @@ impl LiveInput {
         {
             t.set_port(self.tracker_port.trim());
         }
+        if let Input::Skeleton(s) = &mut p.input
+            && !self.tracker_port.trim().is_empty()
+        {
+            s.set_listen(self.tracker_port.trim());
+        }
         Some(p)
+    }
+
+    /// What is wrong with the VMC listening address typed for the selected skeleton profile
+    /// (`ADDR:PORT`, an IP address), if anything; `None` for other profiles or a good one.
+    #[must_use]
+    pub fn listen_error(&self) -> Option<String> {
+        let entry = self.entries.get(self.selected)?;
+        if !matches!(entry.profile.input, Input::Skeleton(_)) {
+            return None;
+        }
+        let typed = self.tracker_port.trim();
+        if typed.is_empty() {
+            return None;
+        }
+        nendo_devices::vmc::parse_listen(typed)
+            .err()
+            .map(|e| e.to_string())
     }
 
     /// The selected profile's mouse settings, when it is the mouse (driven by the window's
@@ -338,7 +360,7 @@ pub(super) fn note_ports(
     tracker: &str,
 ) {
     let own_glove = entry.profile.glove().and_then(|g| g.port());
-    let own_tracker = entry.profile.tracker().map(|t| t.port());
+    let own_tracker = own_tracker(&entry.profile);
     let differs = |typed: &str, own: Option<&str>| {
         let typed = typed.trim();
         (!typed.is_empty() && Some(typed) != own).then(|| typed.to_string())
@@ -351,5 +373,14 @@ pub(super) fn note_ports(
         ports.remove(&entry.key());
     } else {
         ports.insert(entry.key(), noted);
+    }
+}
+
+/// A profile's own tracker slot: its tracker's serial port, or its skeleton source's
+/// listening address (a VMC receiver's `ADDR:PORT`) — what the panel's tracker field edits.
+pub(super) fn own_tracker(profile: &Profile) -> Option<&str> {
+    match &profile.input {
+        Input::Skeleton(s) => Some(s.listen()),
+        _ => profile.tracker().map(|t| t.port()),
     }
 }

@@ -110,6 +110,10 @@ impl LiveInput {
         let Some(profile) = self.selected_profile() else {
             return;
         };
+        if let Some(e) = self.listen_error() {
+            self.message = Some(e);
+            return;
+        }
         self.disconnect_from(doc);
         if let Some(path) = &record {
             self.record_to = path.display().to_string();

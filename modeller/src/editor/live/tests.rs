@@ -602,7 +602,10 @@ fn the_finger_radius_follows_the_hand_unless_set() {
 
 /// `nendo replay TRACE --out OUT` with every other option left to the trace (it reports its
 /// outcome on standard error), and the model it wrote.
-fn replay_with_defaults(trace: std::path::PathBuf, out: &std::path::Path) -> crate::model::Model {
+pub(super) fn replay_with_defaults(
+    trace: std::path::PathBuf,
+    out: &std::path::Path,
+) -> crate::model::Model {
     let _ = crate::cli::replay::run(crate::cli::replay::ReplayArgs {
         trace,
         primitive: None,

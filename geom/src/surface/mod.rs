@@ -70,7 +70,7 @@ pub use constraint::isometry::Isometry;
 pub use grab::Hold;
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
-pub use limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, MAX_PATCHES};
+pub use limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, G2_FLAT, G2_TOLERANCE, MAX_PATCHES};
 pub use mirror::{
     Asymmetry, LATHE_TURNS, MirrorError, Plane, SYMMETRY_TOLERANCE, Symmetry, SymmetrySpec,
     group_error, is_symmetric, symmetry_error,

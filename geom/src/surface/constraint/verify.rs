@@ -9,15 +9,19 @@
 //! tolerance, and that side has a tangent plane all along); only the edges it does not prove
 //! (at poles, creased, or with ratios varying along the edge) have their normals compared at
 //! sampled points. An edge creased before the operation is not the operation's failure.
+//! Under [`Regulation::G2`] the same edges must also be curvature-continuous: the normal
+//! curvatures across the edge at 5 points inside it agree within [`G2_TOLERANCE`]
+//! ([`verify_g2`]).
 //! [`Regulation::None`], [`Regulation::C1`] and [`Regulation::G1`] are documented baselines
 //! that do not promise G1 everywhere: only the coordinate check applies to them.
 
 use glam::DVec3;
 
 use crate::surface::continuity::angle_deg;
+use crate::surface::curvature::seam_mismatch;
 use crate::surface::error::SurfaceError;
 use crate::surface::grid::Grid;
-use crate::surface::limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG};
+use crate::surface::limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, G2_FLAT, G2_TOLERANCE};
 use crate::surface::marks::Marks;
 use crate::surface::patch::{Patch, cubic_basis, cubic_basis_derivative};
 use crate::surface::regulate::Regulation;
@@ -81,7 +85,7 @@ pub(crate) fn verify_marked(
             }
         }
     }
-    if regulation != Regulation::Exact {
+    if !regulation.promises_g1() {
         return Ok(());
     }
     // The nodes that differ from their old positions (a node written twice is marked when
@@ -112,6 +116,9 @@ pub(crate) fn verify_marked(
         }
     });
     if creased.is_empty() {
+        if regulation == Regulation::G2 {
+            return verify_g2(grid, patches, before, marks);
+        }
         return Ok(());
     }
     // Which of them were G1 before the operation?
@@ -129,17 +136,90 @@ pub(crate) fn verify_marked(
             nodes[id] = x;
         }
     }
-    match creased
+    if let Some(&(patch, other, _, angle_deg)) = creased
         .iter()
         .max_by(|x, y| x.3.partial_cmp(&y.3).unwrap_or(std::cmp::Ordering::Greater))
     {
-        None => Ok(()),
-        Some(&(patch, other, _, angle_deg)) => Err(SurfaceError::NotG1 {
+        return Err(SurfaceError::NotG1 {
             regulation,
             patch,
             other,
             angle_deg,
             tolerance_deg: G1_TOLERANCE_DEG,
+        });
+    }
+    if regulation == Regulation::G2 {
+        return verify_g2(grid, patches, before, marks);
+    }
+    Ok(())
+}
+
+/// Points per edge at which [`verify_g2`] compares the normal curvatures of the two sides
+/// (inside the edge: its ends may be a pole).
+const G2_SAMPLES: usize = 7;
+
+/// Under [`Regulation::G2`]: every shared edge of `patches` with a changed control point
+/// (marked in `marks`) has its normal curvatures across the edge agree within
+/// [`G2_TOLERANCE`] relative, unless their absolute difference is below [`G2_FLAT`] / the
+/// model's size, or the edge was not G2 before the operation either (measured with the old
+/// positions of `before` put back, as for G1).
+fn verify_g2(
+    grid: &mut Grid,
+    patches: &[usize],
+    before: &[(usize, DVec3)],
+    marks: &Marks,
+) -> Result<(), SurfaceError> {
+    let m = grid.patches_u();
+    let shape = grid.shape();
+    let bounds = grid.bounds();
+    let size = (bounds.max - bounds.min).length().max(f64::MIN_POSITIVE);
+    let flat = G2_FLAT / size;
+    let measure = |grid: &Grid, a: usize, b: usize, along_u: bool| {
+        let (pa, pb) = (grid.patch_struct(a), grid.patch_struct(b));
+        seam_mismatch(&pa, &pb, along_u, G2_SAMPLES, flat)
+    };
+    let fails = |(rel, abs): (f64, f64)| rel.is_nan() || (rel > G2_TOLERANCE && abs > flat);
+    let mut jumps = Vec::new();
+    shared_edges(grid, patches, |pa, pb, along_u| {
+        let ids = shape.edge_ids(pa, pb, along_u);
+        if !ids.iter().flatten().any(|&id| marks.get(id)) {
+            return;
+        }
+        let (a, b) = (pa.1 * m + pa.0, pb.1 * m + pb.0);
+        let got = measure(grid, a, b, along_u);
+        if fails(got) {
+            jumps.push((a, b, along_u, got));
+        }
+    });
+    if jumps.is_empty() {
+        return Ok(());
+    }
+    let after: Vec<DVec3> = before.iter().map(|&(id, _)| grid.nodes()[id]).collect();
+    {
+        let nodes = grid.nodes_mut();
+        for &(id, x) in before.iter().rev() {
+            nodes[id] = x;
+        }
+    }
+    jumps.retain(|&(a, b, along_u, _)| !fails(measure(grid, a, b, along_u)));
+    {
+        let nodes = grid.nodes_mut();
+        for (&(id, _), &x) in before.iter().zip(&after) {
+            nodes[id] = x;
+        }
+    }
+    match jumps.iter().max_by(|x, y| {
+        x.3.0
+            .partial_cmp(&y.3.0)
+            .unwrap_or(std::cmp::Ordering::Greater)
+    }) {
+        None => Ok(()),
+        Some(&(patch, other, _, (relative, absolute))) => Err(SurfaceError::NotG2 {
+            patch,
+            other,
+            relative,
+            absolute,
+            tolerance: G2_TOLERANCE,
         }),
     }
 }

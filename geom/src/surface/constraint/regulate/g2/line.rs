@@ -284,7 +284,7 @@ mod tests {
             seams: (0..segs)
                 .map(|k| Seam {
                     position: 3 * k,
-                    rho: 1.0 + 0.1 * k as f64 - 0.05 * (k == 0) as u8 as f64 * 0.0,
+                    rho: 1.0 + 0.1 * k as f64,
                     alpha: 0.0,
                 })
                 .collect(),
@@ -327,11 +327,18 @@ mod tests {
             segments: (0..8).map(|s| 3 * s).collect(),
             seams,
         };
-        // A C2 row to start from: a cubic in the global parameter, uniform knots.
+        // A C2 row to start from: a cubic in the global parameter, uniform knots, in Bezier
+        // form (node 3s + i is the blossom at s (3 − i times) and s + 1 (i times)).
         let base: Vec<DVec3> = (0..len)
-            .map(|i| {
-                let t = i as f64 / 3.0;
-                DVec3::new(t, t * t * 0.1, t * t * t * 0.01)
+            .map(|a| {
+                let (s, i) = ((a / 3) as f64, a % 3);
+                let x: Vec<f64> = (0..3)
+                    .map(|k| if k < 3 - i { s } else { s + 1.0 })
+                    .collect();
+                let b1 = (x[0] + x[1] + x[2]) / 3.0;
+                let b2 = (x[0] * x[1] + x[0] * x[2] + x[1] * x[2]) / 3.0;
+                let b3 = x[0] * x[1] * x[2];
+                DVec3::new(b1, 0.1 * b2, 0.01 * b3)
             })
             .collect();
         assert!(residual(&w, &base) < 1e-12);

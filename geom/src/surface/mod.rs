@@ -53,7 +53,7 @@ mod operation;
 
 // Every module by its own name inside the crate (`crate::surface::grid`, …).
 pub(crate) use base::{bounds, error, limits, marks, patch, plane_fit, topology};
-pub(crate) use constraint::{mirror, verify};
+pub(crate) use constraint::{mirror, verify, verify_g2};
 pub(crate) use net::{grid, group, primitive, ratio_check, spline};
 pub(crate) use operation::{grab, nearest, shape_fn, smooth};
 // The namespaces the workspace uses as modules.

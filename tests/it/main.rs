@@ -24,6 +24,7 @@ mod figure_fit;
 mod figure_morph;
 mod figure_shape;
 mod figure_warp;
+mod g2_regulation;
 mod hand_clutch;
 mod hand_contact;
 mod hand_filter;

@@ -116,7 +116,7 @@ fn assert_same_surface(old: &Grid, r: &Refinement, new: &Grid, rng: &mut ChaCha8
         );
     }
     let mut again = new.clone();
-    regulate_all(&mut again, Regulation::Exact);
+    regulate_all(&mut again, Regulation::Exact).expect("exact regulates");
     let moved = new
         .nodes()
         .iter()

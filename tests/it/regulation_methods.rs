@@ -235,7 +235,7 @@ fn regulating_a_whole_unregulated_model_makes_it_g1() {
         s.apply(&mut g, &op, Regulation::None).unwrap();
     }
     assert!(report(&g, 33).g1_max_deg > 1.0);
-    regulate_all(&mut g, Regulation::Exact);
+    regulate_all(&mut g, Regulation::Exact).expect("exact regulates");
     let r = report(&g, 33);
     assert!(r.g1_max_deg < 1e-8, "{}", r.g1_max_deg);
     assert!(r.poles.iter().all(|p| p.spread_deg < 1e-8));

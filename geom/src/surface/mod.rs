@@ -54,7 +54,7 @@ mod operation;
 
 // Every module by its own name inside the crate (`crate::surface::grid`, …).
 pub(crate) use base::{bounds, error, limits, marks, patch, plane_fit, topology};
-pub(crate) use constraint::{mirror, verify};
+pub(crate) use constraint::{mirror, verify, verify_g2};
 pub(crate) use net::{grid, group, primitive, ratio_check, spline};
 pub(crate) use operation::{grab, nearest, shape_fn, smooth};
 // The namespaces the workspace uses as modules.
@@ -72,7 +72,7 @@ pub use constraint::isometry::Isometry;
 pub use grab::Hold;
 pub use grid::Grid;
 pub use group::{Group, Pole, PoleEnd};
-pub use limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, MAX_PATCHES};
+pub use limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG, G2_FLAT, G2_TOLERANCE, MAX_PATCHES};
 pub use mirror::{
     Asymmetry, LATHE_TURNS, MirrorError, Plane, SYMMETRY_TOLERANCE, Symmetry, SymmetrySpec,
     group_error, is_symmetric, symmetry_error,

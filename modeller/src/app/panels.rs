@@ -529,6 +529,9 @@ fn regulation_help(r: Regulation) -> &'static str {
         Regulation::Exact => {
             "exact: the nearest surface that meets smoothly everywhere (to rounding), poles included"
         }
+        Regulation::G2 => {
+            "g2: as exact, and the curvature continuous across every seam (no reflection-line kinks); a stroke moves a few patches more"
+        }
     }
 }
 

@@ -85,7 +85,7 @@ pub fn parse_primitive(s: &str) -> Result<crate::surface::Primitive, ArgError> {
     Ok(s.parse()?)
 }
 
-/// A regulation method's name (`none`, `c1`, `g1`, `exact`, `default`).
+/// A regulation method's name (`none`, `c1`, `g1`, `exact`, `default`, `g2`).
 ///
 /// # Errors
 /// [`ArgError::Unknown`].

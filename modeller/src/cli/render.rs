@@ -2,7 +2,8 @@
 //! [--matcap red-wax]`: draws a model headless with the window's renderer (offscreen, on any
 //! wgpu adapter — Mesa's lavapipe without a GPU), in clay (lit or with a matcap,
 //! [`crate::render::matcap`]) or an analysis mode ([`crate::render::display_mode`]), in
-//! perspective or orthographic projection ([`crate::editor::camera`]).
+//! perspective or orthographic projection ([`crate::editor::camera`]); a curvature map gets
+//! its legend drawn into the image ([`crate::render::legend`]).
 
 use clap::Args as ClapArgs;
 use std::path::PathBuf;
@@ -60,7 +61,8 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 4, value_parser = parse_samples)]
     pub samples: u32,
     /// How the surface is drawn: clay, zebra, curvature or isophotes (from the patches' exact
-    /// derivatives per pixel).
+    /// derivatives per pixel); a curvature map carries its legend (colour bar, range) at the
+    /// image's top right.
     #[arg(long, default_value = "clay")]
     pub display: SurfaceMode,
     /// The curvature a `--display curvature` map shows: mean, gaussian or max.
@@ -203,7 +205,22 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
     let view = camera.view(aspect);
     renderer.set_analysis(&gpu.queue, &analysis, &view);
     renderer.prepare(&gpu.queue, &view, &style, [w as f32, h as f32]);
-    let image = Offscreen::new(&gpu.device, [w, h], args.samples).render(&gpu, &renderer)?;
+    let mut image = Offscreen::new(&gpu.device, [w, h], args.samples).render(&gpu, &renderer)?;
+    let legend = if analysis.mode == SurfaceMode::Curvature {
+        let drawn = crate::render::legend::draw_legend(
+            &mut image.pixels,
+            image.width,
+            image.height,
+            range,
+            analysis.kind,
+        );
+        if drawn.is_none() {
+            eprintln!("the image is too small for the curvature legend: none drawn");
+        }
+        drawn
+    } else {
+        None
+    };
     image.save_png(&args.png)?;
     eprintln!(
         "{}: {}x{} from {}{}, {} patches, {} triangles, on {} in {:.0} ms",
@@ -223,6 +240,20 @@ fn render(args: &RenderArgs) -> anyhow::Result<()> {
             analysis.kind,
             crate::num::Compact(f64::from(range[0])),
             crate::num::Compact(f64::from(range[1]))
+        );
+    }
+    if let Some(l) = legend {
+        eprintln!(
+            "legend: bar {}x{} at ({}, {}), labels {}",
+            l.bar.width,
+            l.bar.height,
+            l.bar.x,
+            l.bar.y,
+            l.labels
+                .iter()
+                .map(|(t, _)| t.as_str())
+                .collect::<Vec<_>>()
+                .join(" | ")
         );
     }
     Ok(())

@@ -58,8 +58,9 @@ pub struct SculptArgs {
     #[arg(long)]
     pub ops: Option<PathBuf>,
     /// Regulation after each operation: none (the Bernstein inverse alone), c1 (the paper's
-    /// baseline), g1 (the paper's method) or exact (our own, also called `default`). Without
-    /// the option: the model's, else exact.
+    /// baseline), g1 (the paper's method), exact (our own, also called `default`) or g2 (exact,
+    /// and curvature-continuous across every seam). Without the option: the model's, else
+    /// exact.
     #[arg(long, value_parser = clap::builder::ValueParser::new(parse_regulation))]
     pub regulation: Option<Regulation>,
     /// Before each operation, split the patches its finger reaches that are more than 3/4 of

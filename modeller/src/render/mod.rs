@@ -34,6 +34,7 @@ mod buffer;
 mod context;
 pub mod display_mode;
 pub mod gpu_data;
+pub mod legend;
 pub mod matcap;
 #[cfg(feature = "gui")]
 mod offscreen;

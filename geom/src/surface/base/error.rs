@@ -123,6 +123,32 @@ pub enum SurfaceError {
         /// The tolerance, [`crate::surface::G1_TOLERANCE_DEG`].
         tolerance_deg: f64,
     },
+    /// The `g2` regulation left a seam of a touched patch with a curvature mismatch above
+    /// [`crate::surface::G2_TOLERANCE`]; the grid is left as it was.
+    #[error(
+        "regulation g2 could not keep the surface curvature-continuous: across the edge between patches {patch} and {other} the normal curvatures differ by {relative:.3e} relative ({absolute:.3e} absolute; tolerance {tolerance:e} relative); refused"
+    )]
+    NotG2 {
+        /// One patch of the worst edge.
+        patch: usize,
+        /// The patch on the other side.
+        other: usize,
+        /// The largest relative mismatch `|κ₁ − κ₂| / (|κ₁| + |κ₂|)` found along it.
+        relative: f64,
+        /// The largest absolute mismatch `|κ₁ − κ₂|` found along it.
+        absolute: f64,
+        /// The tolerance, [`crate::surface::G2_TOLERANCE`].
+        tolerance: f64,
+    },
+    /// The `g2` regulation found no curvature-continuous net in its window (not expected:
+    /// the window always admits the net before the operation); the grid is left as it was.
+    #[error(
+        "regulation g2 found no curvature-continuous net in its window of {patches} patches; refused"
+    )]
+    G2Singular {
+        /// Patches in the window.
+        patches: usize,
+    },
     /// The grids compared by a measure do not have the same topology and patch counts.
     #[error("the grids differ in topology or patch counts")]
     Mismatch,

@@ -23,6 +23,18 @@ pub const COORDINATE_LIMIT: f64 = 1e30;
 /// is refused ([`SurfaceError::NotG1`](crate::surface::SurfaceError::NotG1)).
 pub const G1_TOLERANCE_DEG: f64 = 1e-6;
 
+/// The largest relative curvature mismatch `|κ₁ − κ₂| / (|κ₁| + |κ₂|)` (Rhino's
+/// `(R₁ − R₂) / (R₁ + R₂)`) [`Regulation::G2`](crate::surface::Regulation::G2) may leave across a
+/// seam of a touched patch: 1 %. Counted only where the absolute mismatch is above
+/// [`G2_FLAT`] / the model's size (two nearly flat sides whose tiny curvatures differ in sign
+/// are not a curvature jump). The construction holds G2 to rounding; above this the
+/// operation is refused ([`SurfaceError::NotG2`](crate::surface::SurfaceError::NotG2)).
+pub const G2_TOLERANCE: f64 = 0.01;
+
+/// The absolute curvature mismatch, times the model's size, below which a seam counts as
+/// G2 whatever its relative mismatch (see [`G2_TOLERANCE`]).
+pub const G2_FLAT: f64 = 1e-7;
+
 /// Largest number of patches a grid may have: 65 536 (256 × 256), about 0.5 GB with its
 /// samples and groups — far past any interactive model (the paper's largest is 128), and a
 /// clear error rather than an allocation failure for a mistyped count.

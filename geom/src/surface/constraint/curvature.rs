@@ -156,6 +156,49 @@ fn mismatch(k1: f64, k2: f64, flat: f64) -> (f64, f64) {
     (if sum > flat { abs / sum } else { 0.0 }, abs)
 }
 
+/// The largest relative and absolute mismatch of the normal curvatures across the edge
+/// between patches `a` and `bp` (`bp` after `a` across a u line when `across_u`, else across a
+/// v line), at `k − 2` points inside the edge; `flat` as in [`g2_report`].
+#[must_use]
+pub(crate) fn seam_mismatch(
+    a: &Patch,
+    bp: &Patch,
+    across_u: bool,
+    k: usize,
+    flat: f64,
+) -> (f64, f64) {
+    let k = k.max(3);
+    let (mut rel, mut abs) = (0.0f64, 0.0f64);
+    for i in 1..k - 1 {
+        let t = i as f64 / (k - 1) as f64;
+        let ((ua, va), (ub, vb)) = if across_u {
+            ((1.0, t), (0.0, t))
+        } else {
+            ((t, 1.0), (t, 0.0))
+        };
+        let (Some(na), Some(nb)) = (a.normal(ua, va), bp.normal(ub, vb)) else {
+            continue;
+        };
+        let nb = if nb.dot(na) < 0.0 { -nb } else { nb };
+        let fa = a.frame(ua, va);
+        let tangent = if across_u { fa.dv } else { fa.du };
+        let Some(tangent) = tangent.try_normalize() else {
+            continue;
+        };
+        let (da, db) = (na.cross(tangent), nb.cross(tangent));
+        let (Some(ka), Some(kb)) = (
+            normal_curvature(a, ua, va, na, da),
+            normal_curvature(bp, ub, vb, nb, db),
+        ) else {
+            continue;
+        };
+        let (r, x) = mismatch(ka, kb, flat);
+        rel = rel.max(r);
+        abs = abs.max(x);
+    }
+    (rel, abs)
+}
+
 /// Measures the G2 mismatch of `grid` with `k` points per shared edge (at least 3; the end
 /// points of each edge are left out, where a pole or a corner may leave a side without a
 /// tangent plane).
@@ -170,37 +213,7 @@ pub fn g2_report(grid: &Grid, k: usize) -> G2Report {
         .map(|p| Patch::new(grid.patch_at(p)))
         .collect();
     let mut seams = Vec::new();
-    let seam = |a: &Patch, bp: &Patch, across_u: bool| -> (f64, f64) {
-        let (mut rel, mut abs) = (0.0f64, 0.0f64);
-        for i in 1..k - 1 {
-            let t = i as f64 / (k - 1) as f64;
-            let ((ua, va), (ub, vb)) = if across_u {
-                ((1.0, t), (0.0, t))
-            } else {
-                ((t, 1.0), (t, 0.0))
-            };
-            let (Some(na), Some(nb)) = (a.normal(ua, va), bp.normal(ub, vb)) else {
-                continue;
-            };
-            let nb = if nb.dot(na) < 0.0 { -nb } else { nb };
-            let fa = a.frame(ua, va);
-            let tangent = if across_u { fa.dv } else { fa.du };
-            let Some(tangent) = tangent.try_normalize() else {
-                continue;
-            };
-            let (da, db) = (na.cross(tangent), nb.cross(tangent));
-            let (Some(ka), Some(kb)) = (
-                normal_curvature(a, ua, va, na, da),
-                normal_curvature(bp, ub, vb, nb, db),
-            ) else {
-                continue;
-            };
-            let (r, x) = mismatch(ka, kb, flat);
-            rel = rel.max(r);
-            abs = abs.max(x);
-        }
-        (rel, abs)
-    };
+    let seam = |a: &Patch, bp: &Patch, across_u: bool| seam_mismatch(a, bp, across_u, k, flat);
     for line in 0..grid.vertices_u() {
         if !grid.u_line_shared(line) {
             continue;

@@ -12,3 +12,4 @@ pub mod regulate;
 pub mod shape_operator;
 mod symmetry;
 pub(crate) mod verify;
+pub(crate) mod verify_g2;

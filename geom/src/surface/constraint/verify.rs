@@ -9,6 +9,9 @@
 //! tolerance, and that side has a tangent plane all along); only the edges it does not prove
 //! (at poles, creased, or with ratios varying along the edge) have their normals compared at
 //! sampled points. An edge creased before the operation is not the operation's failure.
+//! Under [`Regulation::G2`] the same edges must also be curvature-continuous: the normal
+//! curvatures across the edge at 5 points inside it agree within [`G2_TOLERANCE`]
+//! ([`verify_g2`]).
 //! [`Regulation::None`], [`Regulation::C1`] and [`Regulation::G1`] are documented baselines
 //! that do not promise G1 everywhere: only the coordinate check applies to them.
 
@@ -21,6 +24,7 @@ use crate::surface::limits::{COORDINATE_LIMIT, G1_TOLERANCE_DEG};
 use crate::surface::marks::Marks;
 use crate::surface::patch::{Patch, cubic_basis, cubic_basis_derivative};
 use crate::surface::regulate::Regulation;
+use crate::surface::verify_g2::verify_g2;
 
 /// Points per edge at which [`verify`] compares the normals of the two sides: both ends and
 /// the middle (9 points cost about 3× more; the folds seen so far show at these three).
@@ -81,7 +85,7 @@ pub(crate) fn verify_marked(
             }
         }
     }
-    if regulation != Regulation::Exact {
+    if !regulation.promises_g1() {
         return Ok(());
     }
     // The nodes that differ from their old positions (a node written twice is marked when
@@ -112,6 +116,9 @@ pub(crate) fn verify_marked(
         }
     });
     if creased.is_empty() {
+        if regulation == Regulation::G2 {
+            return verify_g2(grid, patches, before, marks);
+        }
         return Ok(());
     }
     // Which of them were G1 before the operation?
@@ -129,19 +136,22 @@ pub(crate) fn verify_marked(
             nodes[id] = x;
         }
     }
-    match creased
+    if let Some(&(patch, other, _, angle_deg)) = creased
         .iter()
         .max_by(|x, y| x.3.partial_cmp(&y.3).unwrap_or(std::cmp::Ordering::Greater))
     {
-        None => Ok(()),
-        Some(&(patch, other, _, angle_deg)) => Err(SurfaceError::NotG1 {
+        return Err(SurfaceError::NotG1 {
             regulation,
             patch,
             other,
             angle_deg,
             tolerance_deg: G1_TOLERANCE_DEG,
-        }),
+        });
     }
+    if regulation == Regulation::G2 {
+        return verify_g2(grid, patches, before, marks);
+    }
+    Ok(())
 }
 
 /// `C(3, j) C(2, k) / C(5, j + k)`: the weight of `B³_j B²_k = w B⁵_(j+k)` (degree elevation
@@ -371,7 +381,7 @@ fn regular_normal((du, dv): (DVec3, DVec3), size: f64) -> Option<DVec3> {
 
 /// Calls `f(a, b, along_u)` once for every shared edge of the listed patches (sorted), with
 /// the patches as `(iu, iv)`.
-fn shared_edges(
+pub(crate) fn shared_edges(
     grid: &Grid,
     patches: &[usize],
     mut f: impl FnMut((usize, usize), (usize, usize), bool),

@@ -5,14 +5,16 @@
 //! during one operation ([`Commit::write`], [`Commit::keep`]) and the set of patches whose
 //! control points may change ([`Commit::include`]). [`Commit::finish`] then
 //!
-//! 1. regulates the groups and poles it is given ([`regulate::regulate`]),
+//! 1. regulates the groups and poles it is given ([`regulate::regulate`]); under
+//!    [`Regulation::G2`] then projects a window around the included patches onto the
+//!    curvature-continuous nets ([`regulate::g2`]), taking in the window's patches,
 //! 2. with a symmetry, takes in the images of every included patch under every isometry of
 //!    the group and makes their control points exactly symmetric ([`Symmetry::enforce`]), then takes in every other patch holding
 //!    a control point that moved; a mirror made for a grid of other patch counts is an error,
 //!    never dropped,
 //! 3. lands a move's grabbed point exactly on its target ([`grab::land`]),
-//! 4. verifies the result ([`verify_marked`]: coordinates within the limit, and G1 under
-//!    [`Regulation::Exact`]),
+//! 4. verifies the result ([`verify_marked`]: coordinates within the limit, G1 under
+//!    [`Regulation::Exact`] and [`Regulation::G2`], G2 under the latter),
 //! 5. refits the boxes of the included patches — or, on any refusal, puts every journaled
 //!    control point back, so the grid is bit for bit as it was.
 
@@ -124,6 +126,9 @@ impl Commit {
                 }
             }
             groups = regulate::regulate(grid, regulation, vertices, poles, &mut self.projections);
+            if regulation == Regulation::G2 {
+                self.curvature_step(grid)?;
+            }
         }
         if let Some(s) = symmetry {
             if !s.fits(grid) {
@@ -194,6 +199,32 @@ impl Commit {
         }
         grid.refit(&self.changed, &mut self.scratch);
         Ok(groups)
+    }
+
+    /// The g2 step ([`regulate::g2`]) on the window around the included patches: its writes
+    /// journaled, its patches included. On failure the grid is rolled back.
+    fn curvature_step(&mut self, grid: &mut Grid) -> Result<(), SurfaceError> {
+        let old: std::collections::HashMap<usize, DVec3> = self.journal.iter().copied().collect();
+        let step = {
+            let now = grid.nodes();
+            let before = |id: usize| old.get(&id).copied().unwrap_or(now[id]);
+            regulate::g2::regulate(grid, &before, &self.changed)
+        };
+        let step = match step {
+            Ok(step) => step,
+            Err(e) => {
+                self.rollback(grid);
+                return Err(SurfaceError::G2Singular { patches: e.patches });
+            }
+        };
+        for &p in &step.patches {
+            self.include(p);
+        }
+        self.keep_included(grid);
+        for &(id, x) in &step.writes {
+            self.write(grid, id, x);
+        }
+        Ok(())
     }
 
     /// Takes in the patches outside the included ones that hold a control point the mirror

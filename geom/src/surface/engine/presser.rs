@@ -509,7 +509,7 @@ impl Presser {
                 self.queue.push((k, q));
             }
         }
-        if regulation == Regulation::Exact && self.commit.projections.coupled {
+        if regulation.promises_g1() && self.commit.projections.coupled {
             self.couple_components(grid);
         }
         for (row, end) in [(0, PoleEnd::Start), (1, PoleEnd::End)] {

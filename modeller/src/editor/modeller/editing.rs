@@ -119,7 +119,17 @@ impl Modeller {
         let model = self.session.doc.model();
         let regulation = model.regulation;
         let mut regulated = model.clone();
-        let worked = crate::surface::regulate::regulate_all(&mut regulated.surface, regulation);
+        let worked =
+            match crate::surface::regulate::regulate_all(&mut regulated.surface, regulation) {
+                Ok(worked) => worked,
+                Err(e) => {
+                    self.set_status(
+                        format!("regulate now ({regulation}): {e}; nothing changed"),
+                        true,
+                    );
+                    return;
+                }
+            };
         if !regulated.surface.nodes().iter().all(|p| p.is_finite()) {
             self.set_status(
                 format!("regulate now ({regulation}): the result is not finite; nothing changed"),

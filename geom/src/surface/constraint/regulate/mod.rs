@@ -17,6 +17,7 @@
 //! | [`Regulation::C1`] | the paper's "former method" baseline: C1 groups, rows equally spaced ([`c1`]) | at vertices, and along edges of uniform spacing |
 //! | [`Regulation::G1`] | the paper's method, §4.2 and §4.3 with the misprints corrected ([`g1`]) | at vertices; along an edge only where its two end ratios agree |
 //! | [`Regulation::Exact`] (default) | projection onto per-grid-line spacing constraints, the touched groups together, nearest to the unregulated surface in `Σ ∫\|ΔS\|²` over their patches; poles onto a fitted tangent plane ([`exact`]) | everywhere, to rounding |
+//! | [`Regulation::G2`] | `exact`, then every row and column of a window around what moved projected onto the curvature-continuous piecewise cubics with the grid's spacing ([`g2`]; the engine's commit runs that step) | everywhere, to rounding; and G2 across every regular seam |
 
 // Groups are small fixed arrays indexed by lattice offsets `(s, t)`; the index form follows
 // the formulas.
@@ -25,6 +26,7 @@
 pub mod c1;
 pub mod exact;
 pub mod g1;
+pub mod g2;
 
 use glam::DVec3;
 use std::collections::HashMap;
@@ -47,15 +49,19 @@ pub enum Regulation {
     /// least-squares projection of [`exact`]; the default.
     #[default]
     Exact,
+    /// [`Regulation::Exact`], and curvature continuity (G2) across every regular seam
+    /// ([`g2`]).
+    G2,
 }
 
 impl Regulation {
     /// Every method, in the order of the tables.
-    pub const ALL: [Regulation; 4] = [
+    pub const ALL: [Regulation; 5] = [
         Regulation::None,
         Regulation::C1,
         Regulation::G1,
         Regulation::Exact,
+        Regulation::G2,
     ];
 
     /// The name used on the command line and in model files.
@@ -66,7 +72,14 @@ impl Regulation {
             Regulation::C1 => "c1",
             Regulation::G1 => "g1",
             Regulation::Exact => "exact",
+            Regulation::G2 => "g2",
         }
+    }
+
+    /// Whether the method promises exact G1 (verified after every operation).
+    #[must_use]
+    pub fn promises_g1(self) -> bool {
+        matches!(self, Regulation::Exact | Regulation::G2)
     }
 }
 
@@ -90,7 +103,7 @@ impl std::str::FromStr for Regulation {
             .ok_or_else(|| crate::surface::error::UnknownName {
                 kind: "regulation",
                 given: s.to_owned(),
-                expected: "none, c1, g1, exact (= default)",
+                expected: "none, c1, g1, exact (= default), g2",
             })
     }
 }
@@ -354,7 +367,7 @@ pub(crate) fn regulate(
         return 0;
     }
     let mut count = 0;
-    if method == Regulation::Exact && projections.coupled {
+    if method.promises_g1() && projections.coupled {
         // Poles first (their rings are fixed nodes of the groups' projection), then every
         // group together in the surface metric.
         for &end in poles {
@@ -409,13 +422,15 @@ pub(crate) fn regulate(
             Regulation::None => false,
             Regulation::C1 => c1::regulate_group(&mut p),
             Regulation::G1 => g1::regulate_group(&mut p),
-            Regulation::Exact => match projections.get(g.ratios, exact::present(&p)) {
-                Some(proj) => {
-                    proj.apply(&mut p);
-                    true
+            Regulation::Exact | Regulation::G2 => {
+                match projections.get(g.ratios, exact::present(&p)) {
+                    Some(proj) => {
+                        proj.apply(&mut p);
+                        true
+                    }
+                    None => false,
                 }
-                None => false,
-            },
+            }
         };
         if changed {
             write_group(grid, &g, &p);
@@ -429,7 +444,7 @@ pub(crate) fn regulate(
             Regulation::None => false,
             Regulation::C1 => c1::regulate_pole(&mut p),
             Regulation::G1 => g1::regulate_pole(&mut p),
-            Regulation::Exact => exact::regulate_pole(&mut p, &pole.ratios),
+            Regulation::Exact | Regulation::G2 => exact::regulate_pole(&mut p, &pole.ratios),
         };
         if changed {
             write_pole(grid, &pole, &p);
@@ -457,12 +472,36 @@ pub fn exact_group_by_group(grid: &mut Grid, vertices: &[(usize, usize)]) -> usi
 }
 
 /// Regulates every group and pole of a grid (e.g. after reading a model made elsewhere);
-/// returns how many were worked on.
-pub fn regulate_all(grid: &mut Grid, method: Regulation) -> usize {
+/// returns how many were worked on. [`Regulation::G2`] then projects the whole grid onto
+/// the G2 nets ([`g2`]).
+///
+/// # Errors
+/// [`crate::surface::SurfaceError::G2Singular`] when the G2 projection finds no admissible
+/// net (the grid is then regulated by `exact` only).
+pub fn regulate_all(
+    grid: &mut Grid,
+    method: Regulation,
+) -> Result<usize, crate::surface::SurfaceError> {
     let vertices: Vec<(usize, usize)> = grid.groups().iter().map(|g| g.vertex).collect();
     let poles: Vec<PoleEnd> = grid.poles().iter().map(|p| p.end).collect();
     let n = regulate(grid, method, &vertices, &poles, &mut Projections::default());
     let all: Vec<usize> = (0..grid.patch_count()).collect();
+    let mut failed = None;
+    if method == Regulation::G2 {
+        let now = grid.nodes().to_vec();
+        match g2::regulate(grid, &|id| now[id], &all) {
+            Ok(step) => {
+                let nodes = grid.nodes_mut();
+                for (id, x) in step.writes {
+                    nodes[id] = x;
+                }
+            }
+            Err(e) => failed = Some(e),
+        }
+    }
     grid.refit(&all, &mut Vec::new());
-    n
+    match failed {
+        None => Ok(n),
+        Some(e) => Err(crate::surface::SurfaceError::G2Singular { patches: e.patches }),
+    }
 }

@@ -407,8 +407,12 @@ fn strokes_far_apart_are_each_their_own_push_and_one_stroke_is_apply() {
         Sculptor::new()
             .apply(&mut apart, &describe(&pb, 1.2)[0], reg)
             .unwrap();
-        for (x, y) in together.nodes().iter().zip(apart.nodes()) {
-            assert!((*x - *y).length() < 1e-12, "{reg}: {x} vs {y}");
+        // Under g2 a stroke's window reaches two patches past what it moves (on this 8 × 4
+        // sphere, the whole grid), so strokes far apart are not independent there.
+        if reg != Regulation::G2 {
+            for (x, y) in together.nodes().iter().zip(apart.nodes()) {
+                assert!((*x - *y).length() < 1e-12, "{reg}: {x} vs {y}");
+            }
         }
         let mut one = sphere.clone();
         Presser::default()

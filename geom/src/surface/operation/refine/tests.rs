@@ -141,7 +141,7 @@ fn a_split_keeps_the_surface_and_gives_the_ratio_formula() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     for p in Primitive::ALL {
         let mut g = build(p, p.defaults().patches);
-        regulate_all(&mut g, Regulation::Exact);
+        regulate_all(&mut g, Regulation::Exact).unwrap();
         let (m, n) = (g.patches_u(), g.patches_v());
         let tu: f64 = rng.gen_range(0.1..0.9) + rng.gen_range(0..m) as f64;
         let tv: f64 = rng.gen_range(0.1..0.9) + rng.gen_range(0..n) as f64;
@@ -168,7 +168,7 @@ fn a_split_keeps_the_surface_and_gives_the_ratio_formula() {
         }
         // The refined grid's rows all have its reference ratios: regulation is a no-op.
         let mut again = h.clone();
-        regulate_all(&mut again, Regulation::Exact);
+        regulate_all(&mut again, Regulation::Exact).unwrap();
         let moved = h
             .nodes()
             .iter()

@@ -7,9 +7,11 @@ use glam::DVec3;
 use nendo::editor::document::Document;
 use nendo::editor::stroke::LiveStroke;
 use nendo::model::Model;
+use nendo::surface::brush::{Brush, Falloff};
 use nendo::surface::{
-    Dirs, Grid, MirrorError, Op, Plane, Primitive, PrimitiveParams, Regulation, Sculptor,
-    SurfaceError, Symmetry, SymmetrySpec, continuity, group_error, is_symmetric, nearest,
+    Dirs, Grid, MirrorError, Op, Plane, Primitive, PrimitiveParams, Regulation, SculptBrush,
+    SculptKind, Sculptor, SurfaceError, Symmetry, SymmetrySpec, continuity, group_error,
+    is_symmetric, nearest,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -43,7 +45,7 @@ fn random_op(rng: &mut ChaCha8Rng, grid: &Grid) -> Op {
     let (at, n) = random_surface_point(rng, grid);
     let radius = rng.gen_range(0.4..1.0);
     let depth = rng.gen_range(-0.1..0.1);
-    match rng.gen_range(0..6) {
+    match rng.gen_range(0..6 + SculptKind::ALL.len()) {
         0 => Op::Push {
             at,
             dir: -n,
@@ -75,11 +77,31 @@ fn random_op(rng: &mut ChaCha8Rng, grid: &Grid) -> Op {
             to: at + (DVec3::new(rng.r#gen(), rng.r#gen(), rng.r#gen()) - 0.5) * 0.15,
             radius,
         },
-        _ => Op::Smooth {
+        5 => Op::Smooth {
             at,
             radius,
             strength: rng.gen_range(0.1..1.0),
         },
+        k => {
+            // The surface brushes: inflate and flatten as dabs, pinch and crease as strokes.
+            let kind = SculptKind::ALL[k - 6];
+            let (b, _) = random_surface_point(rng, grid);
+            let path = match kind {
+                SculptKind::Inflate | SculptKind::Flatten => vec![at],
+                SculptKind::Pinch | SculptKind::Crease => {
+                    vec![at, at + (b - at).clamp_length_max(1.0)]
+                }
+            };
+            let depth = match kind {
+                SculptKind::Inflate | SculptKind::Crease => depth,
+                SculptKind::Flatten | SculptKind::Pinch => 0.0,
+            };
+            let brush = Brush {
+                falloff: Falloff::ALL[rng.gen_range(0..Falloff::ALL.len())],
+                strength: rng.gen_range(0.1..1.0),
+            };
+            Op::Sculpt(SculptBrush::try_new(kind, path, radius, depth, brush).expect("valid brush"))
+        }
     }
 }
 

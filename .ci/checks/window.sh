@@ -75,12 +75,14 @@ sleep 1.5
 [ ! -e "$AUTOSAVE" ] || fail "a press that began on the panel changed the model"
 # The wheel over the panel scrolls the panel; it must not zoom the 3D view.
 VIEW_CROP="$(( WIDTH - 320 ))x$(( HEIGHT - 100 ))+300+40"
-xdotool mousemove --window "$WID" 145 600
+# A widget under the pointer may show a tooltip reaching into the view: both images are taken
+# with the pointer at the empty end of the top bar (outside the compared crop).
+xdotool mousemove --window "$WID" $(( WIDTH - 40 )) 10
 sleep 1
 import -window "$WID" "$WORK/wheel-before.png"
+xdotool mousemove --window "$WID" 145 600
+sleep 0.5
 for _ in 1 2 3; do xdotool click 5; sleep 0.1; done
-# The scrolled panel puts another widget under the pointer, whose tooltip may reach into the
-# view: the pointer leaves for the empty end of the top bar (outside the compared crop) first.
 xdotool mousemove --window "$WID" $(( WIDTH - 40 )) 10
 sleep 1
 import -window "$WID" "$WORK/wheel-after.png"

@@ -301,27 +301,31 @@ pub fn parse_op(text: &str) -> Result<Op, OpError> {
     }
     let op = match brush {
         (None, None) => op,
-        (name, strength) => {
-            let falloff = match name {
-                None => Falloff::Finger,
-                Some(n) => Falloff::from_name(&n).ok_or_else(|| {
-                    JsonError::at(
-                        "brush",
-                        format!("unknown brush {n:?}: expected \"finger\", \"soft\" or \"flat\""),
-                    )
-                })?,
-            };
-            Op::Brushed {
-                op: Box::new(op),
-                brush: Brush {
-                    falloff,
-                    strength: strength.unwrap_or(1.0),
-                },
-            }
-        }
+        (name, strength) => Op::Brushed {
+            op: Box::new(op),
+            brush: brush_of(name, strength)?,
+        },
     };
     op.validate()?;
     Ok(op)
+}
+
+/// An op line's `"brush"` and `"strength"` members as a [`Brush`] (the finger and full strength
+/// where missing; the strength is checked with the op).
+fn brush_of(name: Option<String>, strength: Option<f64>) -> Result<Brush, JsonError> {
+    let falloff = match name {
+        None => Falloff::Finger,
+        Some(n) => Falloff::from_name(&n).ok_or_else(|| {
+            JsonError::at(
+                "brush",
+                format!("unknown brush {n:?}: expected \"finger\", \"soft\" or \"flat\""),
+            )
+        })?,
+    };
+    Ok(Brush {
+        falloff,
+        strength: strength.unwrap_or(1.0),
+    })
 }
 
 /// The surface brush of a [`SculptDoc`], validated.
@@ -352,19 +356,7 @@ fn sculpt_op(kind: SculptKind, d: SculptDoc) -> Result<Op, OpError> {
             );
         }
     };
-    let falloff = match d.brush {
-        None => Falloff::Finger,
-        Some(n) => Falloff::from_name(&n).ok_or_else(|| {
-            JsonError::at(
-                "brush",
-                format!("unknown brush {n:?}: expected \"finger\", \"soft\" or \"flat\""),
-            )
-        })?,
-    };
-    let brush = Brush {
-        falloff,
-        strength: d.strength.unwrap_or(1.0),
-    };
+    let brush = brush_of(d.brush, d.strength)?;
     Ok(Op::Sculpt(SculptBrush::try_new(
         kind, path, d.radius, depth, brush,
     )?))

@@ -103,17 +103,19 @@ fn sphere_push_at_the_pole_and_pull_at_the_equator() {
     assert_g1("sphere", &g);
     let south = g.pole(nendo::surface::PoleEnd::Start).unwrap();
     assert_eq!(g.nodes()[south.node], sphere.nodes()[south.node]);
-    // Every regulation method moves the same places, without NaN — but `g2`: a contact held
-    // over many frames re-projects the g2 window from the previous frame's surface, so the
-    // clay drifts (here the equator reaches 2.96 of 3.6); a known defect of the hand under g2
-    // (the presser must restore the window's nodes to the contact's start each frame).
-    for r in Regulation::ALL.into_iter().filter(|&r| r != Regulation::G2) {
+    // Every regulation method moves the same places, without NaN (g2 included: its contact
+    // projects the contact's exact net each frame, so a held contact does not drift).
+    for r in Regulation::ALL {
         let (g, _) = replay(&t, &sphere, r);
         assert!(finite(&g), "{r}");
         let top = 10.0 - along(&g, DVec3::new(0.0, 0.0, 10.0), -DVec3::Z);
         assert!((top - 2.4).abs() < 0.05, "{r}: pole at z = {top}");
         let out = 10.0 - along(&g, DVec3::new(10.0, 0.0, 0.0), -DVec3::X);
-        assert!((out - 3.6).abs() < 0.05, "{r}: equator at x = {out}");
+        // g2 projects the pulled net onto curvature-continuous ones over a window two patches
+        // past the pull (on this 8 × 4 sphere, the whole grid): the bump comes out wider and
+        // lower, its top at 3.42 — the same figure the contact applied at once gives.
+        let reach = if r == Regulation::G2 { 0.25 } else { 0.05 };
+        assert!((out - 3.6).abs() < reach, "{r}: equator at x = {out}");
     }
 }
 

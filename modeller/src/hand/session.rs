@@ -149,10 +149,8 @@ mod tests {
         c.hold(36);
         c.move_to(DVec3::new(0.5, 0.5, 0.5), down, 24);
         let trace = c.finish("test").unwrap();
-        // Not g2: its window is re-projected each frame from the previous frame's net (the
-        // presser restores only the contact's groups), so a held finger's clay keeps moving
-        // (3e-3 side per frame measured) and spreads — a known defect of g2 with the hand.
-        for regulation in Regulation::ALL.into_iter().filter(|&r| r != Regulation::G2) {
+        // Every regulation, g2 included: a held finger's clay stops moving when the finger does.
+        for regulation in Regulation::ALL {
             let mut s = plane_session(regulation);
             // The contact rules on the exact frames: through the One-Euro filter the finger
             // comes to rest a little later (tests/it/hand_filter.rs measures how much).
@@ -185,9 +183,16 @@ mod tests {
             );
             assert_eq!(committed.len(), 1);
             assert!(matches!(committed[0][..], [Op::Push { .. }]));
-            // Withdrawing leaves the dent; far away nothing moved.
+            // Withdrawing leaves the dent; far away nothing moved (under g2, the window two
+            // patches past what moved shifts by what a curvature-continuous dent needs: 8.8e-4
+            // at (4, 4), 1.3e-4 at (4.8, 4.8)).
             assert!((z_at(s.grid(), 0.5, 0.5) + 0.3).abs() < 2e-3);
-            assert_eq!(z_at(s.grid(), 4.0, 4.0), 0.0);
+            let far = z_at(s.grid(), 4.0, 4.0);
+            if regulation == Regulation::G2 {
+                assert!(far.abs() < 2e-3, "{far}");
+            } else {
+                assert_eq!(far, 0.0);
+            }
         }
     }
 

@@ -7,7 +7,8 @@
 //!
 //! 1. regulates the groups and poles it is given ([`regulate::regulate`]); under
 //!    [`Regulation::G2`] then projects a window around the included patches onto the
-//!    curvature-continuous nets ([`regulate::g2`]), taking in the window's patches,
+//!    curvature-continuous nets ([`regulate::g2`]), taking in the window's patches (a
+//!    contact of the hand projects its own exact net there, see [`G2Contact`]),
 //! 2. with a symmetry, takes in the images of every included patch under every isometry of
 //!    the group and makes their control points exactly symmetric ([`Symmetry::enforce`]), then takes in every other patch holding
 //!    a control point that moved; a mirror made for a grid of other patch counts is an error,
@@ -26,6 +27,7 @@ use crate::surface::grid::Grid;
 use crate::surface::group::PoleEnd;
 use crate::surface::marks::Marks;
 use crate::surface::mirror::Symmetry;
+use crate::surface::regulate::g2::G2Cache;
 use crate::surface::regulate::{self, Projections, Regulation};
 use crate::surface::topology::wrap;
 use crate::surface::verify::verify_marked;
@@ -47,6 +49,52 @@ pub(crate) struct Commit {
     /// The nodes the mirror moved.
     moved_by_mirror: Marks,
     asymmetry: f64,
+    /// The g2 step's projections, kept for the next operation on the same window.
+    g2_cache: G2Cache,
+    /// A contact's g2 state ([`Commit::start_contact`]); `None` for one-off operations.
+    contact: Option<G2Contact>,
+}
+
+/// What the g2 step of a contact of the hand keeps between frames.
+///
+/// A contact ([`super::presser`]) re-applies its envelope every frame to the grid as the last
+/// frame left it, re-regulating (exactly) only the groups the changed fingers reach. Were the
+/// g2 step then to project the grid, it would project the last frame's g2 result in the window's
+/// margin, where the exact step wrote nothing this frame: each frame would move it a little
+/// further (a held contact drifted ≈ 3e-3 side per frame) and the result would depend on the
+/// frames' history. So the contact keeps its **exact net** — the grid as `exact` alone would
+/// leave it: the reference, with every node the exact step writes updated — and every frame
+/// the g2 step projects that net, in the window around the patches where it differs from the
+/// reference, with `α` measured on the reference. A node a former frame's window made free and
+/// this one does not goes back to the exact net. The g2 result is therefore a function of the
+/// contact's exact net alone, which is itself a function of the placements: the same
+/// placements give the same surface, bit for bit, whatever came before them.
+#[derive(Debug, Clone, Default)]
+struct G2Contact {
+    /// The grid at the contact's start (empty until the first g2 step).
+    reference: Vec<DVec3>,
+    /// The exact net.
+    exact: Vec<DVec3>,
+    /// The last g2 step's free nodes (sorted) and window patches.
+    free: Vec<usize>,
+    patches: Vec<usize>,
+    /// This operation's changes to the above, for a rollback.
+    undo_exact: Vec<(usize, DVec3)>,
+    undo_window: Option<(Vec<usize>, Vec<usize>)>,
+}
+
+impl G2Contact {
+    /// Back to the state before this operation's g2 step.
+    fn undo(&mut self) {
+        for &(id, x) in self.undo_exact.iter().rev() {
+            self.exact[id] = x;
+        }
+        self.undo_exact.clear();
+        if let Some((free, patches)) = self.undo_window.take() {
+            self.free = free;
+            self.patches = patches;
+        }
+    }
 }
 
 /// The error of a mirror map made for another grid.
@@ -62,6 +110,17 @@ impl Commit {
         self.journaled.start(grid.nodes().len());
         self.included.start(grid.patch_count());
         self.asymmetry = 0.0;
+        if let Some(c) = &mut self.contact {
+            c.undo_exact.clear();
+            c.undo_window = None;
+        }
+    }
+
+    /// Starts a contact of the hand: the following operations are the frames of one contact,
+    /// each applied to the grid the last one left, from the grid as it is at the next
+    /// operation's start (see [`G2Contact`]; only the g2 step keeps state).
+    pub(crate) fn start_contact(&mut self) {
+        self.contact = Some(G2Contact::default());
     }
 
     /// Adds patch `p` to those whose control points may change.
@@ -204,11 +263,20 @@ impl Commit {
     /// The g2 step ([`regulate::g2`]) on the window around the included patches: its writes
     /// journaled, its patches included. On failure the grid is rolled back.
     fn curvature_step(&mut self, grid: &mut Grid) -> Result<(), SurfaceError> {
+        if let Some(mut contact) = self.contact.take() {
+            let result = self.contact_curvature_step(grid, &mut contact);
+            self.contact = Some(contact);
+            if result.is_err() {
+                self.rollback(grid);
+            }
+            return result;
+        }
         let old: std::collections::HashMap<usize, DVec3> = self.journal.iter().copied().collect();
         let step = {
             let now = grid.nodes();
             let before = |id: usize| old.get(&id).copied().unwrap_or(now[id]);
-            regulate::g2::regulate(grid, &before, &self.changed)
+            let base = |id: usize| now[id];
+            regulate::g2::regulate(grid, &before, &base, &self.changed, &mut self.g2_cache)
         };
         let step = match step {
             Ok(step) => step,
@@ -224,6 +292,72 @@ impl Commit {
         for &(id, x) in &step.writes {
             self.write(grid, id, x);
         }
+        Ok(())
+    }
+
+    /// The g2 step of one frame of a contact ([`G2Contact`]). Every node this operation wrote
+    /// so far is the exact step's (a contact's frame writes a node only from its exact net).
+    fn contact_curvature_step(
+        &mut self,
+        grid: &mut Grid,
+        c: &mut G2Contact,
+    ) -> Result<(), SurfaceError> {
+        if c.reference.len() != grid.nodes().len() {
+            // The first g2 step of the contact: the grid before this operation.
+            let mut reference = grid.nodes().to_vec();
+            for &(id, x) in &self.journal {
+                reference[id] = x;
+            }
+            c.exact.clone_from(&reference);
+            c.reference = reference;
+            c.free.clear();
+            c.patches.clear();
+        }
+        for &(id, _) in &self.journal {
+            let x = grid.nodes()[id];
+            c.undo_exact.push((id, c.exact[id]));
+            c.exact[id] = x;
+        }
+        let bits = |x: DVec3| x.to_array().map(f64::to_bits);
+        let m = grid.patches_u();
+        let deformed: Vec<usize> = (0..grid.patch_count())
+            .filter(|&p| {
+                grid.patch_node_ids(p % m, p / m)
+                    .iter()
+                    .any(|&id| bits(c.exact[id]) != bits(c.reference[id]))
+            })
+            .collect();
+        let step = if deformed.is_empty() {
+            regulate::g2::G2Step::default()
+        } else {
+            let (reference, exact) = (&c.reference, &c.exact);
+            regulate::g2::regulate(
+                grid,
+                &|id| reference[id],
+                &|id| exact[id],
+                &deformed,
+                &mut self.g2_cache,
+            )
+            .map_err(|e| SurfaceError::G2Singular { patches: e.patches })?
+        };
+        // The last window's patches, where its free nodes go back to the exact net, and this
+        // one's.
+        for &p in c.patches.iter().chain(&step.patches) {
+            self.include(p);
+        }
+        self.keep_included(grid);
+        for &id in &c.free {
+            if step.free.binary_search(&id).is_err() && bits(grid.nodes()[id]) != bits(c.exact[id])
+            {
+                self.write(grid, id, c.exact[id]);
+            }
+        }
+        for &(id, x) in &step.writes {
+            self.write(grid, id, x);
+        }
+        let free = std::mem::replace(&mut c.free, step.free);
+        let patches = std::mem::replace(&mut c.patches, step.patches);
+        c.undo_window = Some((free, patches));
         Ok(())
     }
 
@@ -287,6 +421,9 @@ impl Commit {
     /// Puts every journaled control point back (the boxes were not refitted yet, or are
     /// refitted by the caller).
     pub(crate) fn rollback(&mut self, grid: &mut Grid) {
+        if let Some(c) = &mut self.contact {
+            c.undo();
+        }
         let nodes = grid.nodes_mut();
         for &(id, x) in &self.journal {
             nodes[id] = x;

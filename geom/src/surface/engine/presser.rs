@@ -271,6 +271,7 @@ impl Presser {
         self.deformed.resize(reference.patch_count(), false);
         self.applied.clear();
         self.fingers.clear();
+        self.commit.start_contact();
     }
 
     /// Makes `grid` (which holds the previous application, or `reference` after

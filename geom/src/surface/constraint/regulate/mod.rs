@@ -489,7 +489,8 @@ pub fn regulate_all(
     let mut failed = None;
     if method == Regulation::G2 {
         let now = grid.nodes().to_vec();
-        match g2::regulate(grid, &|id| now[id], &all) {
+        let at = |id: usize| now[id];
+        match g2::regulate(grid, &at, &at, &all, &mut g2::G2Cache::default()) {
             Ok(step) => {
                 let nodes = grid.nodes_mut();
                 for (id, x) in step.writes {

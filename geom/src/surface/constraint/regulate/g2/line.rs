@@ -59,7 +59,7 @@ pub(super) fn stencils(rho: f64, alpha: f64) -> [[f64; 5]; 2] {
 }
 
 /// The window of one direction, as the projection needs it.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub(super) struct Window {
     /// Nodes in the window.
     pub len: usize,

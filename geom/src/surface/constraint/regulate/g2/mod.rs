@@ -55,11 +55,37 @@ pub const MARGIN: usize = 2;
 /// What the g2 step wants written.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct G2Step {
-    /// `(node id, new position)`.
+    /// `(node id, new position)`: the window's free nodes whose projection differs from the grid.
     pub writes: Vec<(usize, DVec3)>,
+    /// Every free node of the window (sorted), written or not.
+    pub free: Vec<usize>,
     /// The window's patches (sorted); every patch when a line crossing the window was not
     /// G2 before the operation.
     pub patches: Vec<usize>,
+}
+
+/// The last projection of each direction and the window it was built for: a contact of the
+/// hand projects the same window frame after frame, and building a projection (a dense solve
+/// over the window's line) costs far more than applying it.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct G2Cache {
+    u: Option<(Window, LineProjection)>,
+    v: Option<(Window, LineProjection)>,
+}
+
+/// The projection of `w`, from `slot` when it was built for the same window.
+fn projection(
+    slot: &mut Option<(Window, LineProjection)>,
+    w: Window,
+) -> Result<&LineProjection, line::LineFailure> {
+    let entry = match slot.take() {
+        Some(cached) if cached.0 == w => cached,
+        _ => {
+            let p = LineProjection::new(&w)?;
+            (w, p)
+        }
+    };
+    Ok(&slot.insert(entry).1)
 }
 
 /// Why the g2 step found nothing.
@@ -246,11 +272,16 @@ fn alphas(
 
 /// The g2 step on `grid` (after the exact step): the nearest net, in the window around the
 /// patches `changed`, whose seams are all G2 (see the module docs). `before(id)` is node `id`
-/// before the operation. Nothing is written: the caller writes [`G2Step::writes`].
+/// before the operation (where each line's `α` is measured), `base(id)` the net to project
+/// (the grid as the exact step left it; a contact of the hand gives its exact net, which the
+/// grid no longer holds where an earlier frame's g2 step wrote). Nothing is written: the
+/// caller writes [`G2Step::writes`], which differ from the grid's present nodes.
 pub(crate) fn regulate(
     grid: &Grid,
     before: &impl Fn(usize) -> DVec3,
+    base: &impl Fn(usize) -> DVec3,
     changed: &[usize],
+    cache: &mut G2Cache,
 ) -> Result<G2Step, G2Singular> {
     let (m, n) = (grid.patches_u(), grid.patches_v());
     let topology = grid.topology();
@@ -304,29 +335,33 @@ pub(crate) fn regulate(
     let fail = |_| G2Singular {
         patches: window_patches,
     };
-    let pu = LineProjection::new(&wu).map_err(fail)?;
-    let pv = LineProjection::new(&wv).map_err(fail)?;
+    let pu = projection(&mut cache.u, wu).map_err(fail)?;
+    let pv = projection(&mut cache.v, wv).map_err(fail)?;
+    let (ulen, vlen) = (lat_u.len(), lat_v.len());
     let nodes = grid.nodes();
     let id = |i: usize, j: usize| grid.node_id(lat_u[i] as isize, lat_v[j] as isize);
     // The window's nodes, row by row (v position j, u position i).
-    let mut y: Vec<Vec<DVec3>> = (0..wv.len)
+    let mut y: Vec<Vec<DVec3>> = (0..vlen)
         .map(|j| {
-            (0..wu.len)
-                .map(|i| id(i, j).map_or(DVec3::ZERO, |x| nodes[x]))
+            (0..ulen)
+                .map(|i| id(i, j).map_or(DVec3::ZERO, base))
                 .collect()
         })
         .collect();
     let pole_row =
         |b: usize| (axis_v.poles.0 && b == 0) || (axis_v.poles.1 && b + 1 == lb && !axis_v.closed);
     let ring_row = |b: usize| (axis_v.poles.0 && b == 1) || (axis_v.poles.1 && b + 2 == lb);
-    let u_rows: Vec<usize> = (0..wv.len)
-        .filter(|&j| (wv.free[j] || ring_row(lat_v[j])) && !pole_row(lat_v[j]))
+    let v_free: Vec<bool> = (0..vlen)
+        .map(|j| pv.free.binary_search(&j).is_ok())
+        .collect();
+    let u_rows: Vec<usize> = (0..vlen)
+        .filter(|&j| (v_free[j] || ring_row(lat_v[j])) && !pole_row(lat_v[j]))
         .collect();
     let mut scratch = Vec::new();
     for &j in &u_rows {
         pu.apply(&mut y[j], &mut scratch);
     }
-    let mut column = vec![DVec3::ZERO; wv.len];
+    let mut column = vec![DVec3::ZERO; vlen];
     for &i in &pu.free {
         for (j, c) in column.iter_mut().enumerate() {
             *c = y[j][i];
@@ -337,17 +372,21 @@ pub(crate) fn regulate(
         }
     }
     let mut writes: HashMap<usize, DVec3> = HashMap::new();
+    let mut free = Vec::new();
     for &j in &u_rows {
         for &i in &pu.free {
-            if let Some(node) = id(i, j)
-                && nodes[node] != y[j][i]
-            {
-                writes.insert(node, y[j][i]);
+            if let Some(node) = id(i, j) {
+                free.push(node);
+                if nodes[node] != y[j][i] {
+                    writes.insert(node, y[j][i]);
+                }
             }
         }
     }
     let mut writes: Vec<(usize, DVec3)> = writes.into_iter().collect();
     writes.sort_unstable_by_key(|w| w.0);
+    free.sort_unstable();
+    free.dedup();
     let mut patches = Vec::with_capacity(window_patches);
     for dv in 0..sv.width {
         for du in 0..su.width {
@@ -356,5 +395,9 @@ pub(crate) fn regulate(
     }
     patches.sort_unstable();
     patches.dedup();
-    Ok(G2Step { writes, patches })
+    Ok(G2Step {
+        writes,
+        free,
+        patches,
+    })
 }

@@ -71,7 +71,9 @@ impl Symmetry {
     }
 
     /// The symmetry group of `spec` on `grid`: each generator is checked first (a mirror,
-    /// then the turn by `2π / N`), so a refusal names the one that fails.
+    /// then the turn by `2π / N`), so a refusal names the one that fails. Every map is listed
+    /// once, whatever products name it; mirrors across x and y together with an odd `N` hold
+    /// the half turn, so their group turns by `2π / 2N` ([`Symmetry::turns`] says `2N`).
     ///
     /// # Errors
     /// [`MirrorError::NotSymmetric`] or [`MirrorError::Spacing`] for a mirror the grid does
@@ -89,6 +91,14 @@ impl Symmetry {
             u32::try_from(m).unwrap_or(u32::MAX)
         } else {
             spec.radial.max(1)
+        };
+        // Mirrors across x and y together make the half turn: with an odd `N` the group they
+        // generate with the `N`-fold turn holds the `2N`-fold one.
+        let both = spec.planes.contains(&Plane::X) && spec.planes.contains(&Plane::Y);
+        let turns = if both && turns > 1 && turns % 2 == 1 {
+            2 * turns
+        } else {
+            turns
         };
         if turns > 1 {
             if !t.closed_u() {
@@ -126,7 +136,10 @@ impl Symmetry {
                     k = (k + turns / 2) % turns;
                 }
                 let g = Isometry::new(k, turns, flip);
-                if !g.is_identity() && !isos.contains(&g) {
+                // One element per map: a product may be another's map under another name
+                // (the mirror across y is the mirror across x after a half turn), and a map
+                // listed twice would be enforced from two lattice maps.
+                if !g.is_identity() && !isos.iter().any(|h| same_map(h, &g)) {
                     isos.push(g);
                 }
             }
@@ -461,6 +474,13 @@ impl Symmetry {
 }
 
 /// The plane of an isometry that is one mirror.
+/// Whether `a` and `b` are the same linear map (equal on the basis, to rounding).
+fn same_map(a: &Isometry, b: &Isometry) -> bool {
+    [DVec3::X, DVec3::Y, DVec3::Z]
+        .iter()
+        .all(|&e| (a.apply(e) - b.apply(e)).length() < 1e-9)
+}
+
 fn single_plane(iso: &Isometry) -> Option<Plane> {
     if iso.turns() {
         return None;

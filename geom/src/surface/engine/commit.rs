@@ -243,7 +243,11 @@ impl Commit {
             self.scratch = ids;
         }
         if let Some(h) = hold {
-            grab::land(grid, h, symmetry);
+            if regulation == Regulation::G2 {
+                self.land_g2(grid, h, symmetry);
+            } else {
+                grab::land(grid, h, symmetry);
+            }
         }
         self.changed.sort_unstable();
         if let Err(e) = verify_marked(
@@ -359,6 +363,92 @@ impl Commit {
         let patches = std::mem::replace(&mut c.patches, step.patches);
         c.undo_window = Some((free, patches));
         Ok(())
+    }
+
+    /// A move's landing under [`Regulation::G2`]. [`grab::land`] translates whole control-point
+    /// groups, which keeps every G1 condition but not the g2 ones (a group's translation `t`
+    /// changes `D₂⁺` by `−t` and the right side by `−ρ²t`, and the next seam's `D₂⁻` by `t`),
+    /// so the landed net is projected again — which moves the point off its target. Both maps
+    /// are linear: the translations are linear in the residual `δ` they remove, and the g2
+    /// projection of this window is `P(x + Δ) = P(x) + AΔ` (fixed outer nodes). So with
+    /// `S₀ = S(P(x))` and the responses `s_i = S(P(x + Δ(e_i))) − S₀` of the three unit
+    /// residuals, the landing that puts the projected point on the target `T` solves the
+    /// 3 × 3 system `[s_x s_y s_z] c = T − S₀` (by the pseudo-inverse: a direction a mirror
+    /// forbids stays unreached, as without g2), and the result is `P(x + Δ(c))` — G2, and on
+    /// the target to rounding.
+    fn land_g2(&mut self, grid: &mut Grid, hold: &Hold, symmetry: Option<&Symmetry>) {
+        let m = grid.patches_u();
+        let (iu, iv) = (hold.patch % m, hold.patch / m);
+        let at = |g: &Grid| g.eval(iu, iv, hold.u, hold.v);
+        let base: Vec<DVec3> = grid.nodes().to_vec();
+        let old: std::collections::HashMap<usize, DVec3> = self.journal.iter().copied().collect();
+        let before = |id: usize| old.get(&id).copied().unwrap_or(base[id]);
+        let here = at(grid);
+        // Lands the residual `delta` from the base net, projects, and returns the nodes
+        // touched; the grid then holds the result.
+        let project = |grid: &mut Grid, delta: Option<DVec3>, cache: &mut G2Cache| {
+            let mut touched = match delta {
+                Some(d) => grab::land(
+                    grid,
+                    &Hold {
+                        to: here + d,
+                        ..*hold
+                    },
+                    symmetry,
+                ),
+                None => Vec::new(),
+            };
+            let step = {
+                let now = grid.nodes();
+                regulate::g2::regulate(grid, &before, &|id: usize| now[id], &self.changed, cache)
+            };
+            if let Ok(step) = step {
+                let nodes = grid.nodes_mut();
+                for (id, x) in step.writes {
+                    nodes[id] = x;
+                    touched.push(id);
+                }
+            }
+            touched
+        };
+        let restore = |grid: &mut Grid, touched: &[usize]| {
+            let nodes = grid.nodes_mut();
+            for &id in touched {
+                nodes[id] = base[id];
+            }
+        };
+        let mut cache = std::mem::take(&mut self.g2_cache);
+        let b = grid.bounds();
+        let scale = (b.max - b.min).max_element().max(f64::MIN_POSITIVE);
+        let touched = project(grid, None, &mut cache);
+        let s0 = at(grid);
+        restore(grid, &touched);
+        let mut response = nalgebra::Matrix3::zeros();
+        for i in 0..3 {
+            let touched = project(grid, Some(DVec3::AXES[i] * scale), &mut cache);
+            let s = (at(grid) - s0) / scale;
+            restore(grid, &touched);
+            for r in 0..3 {
+                response[(r, i)] = s[r];
+            }
+        }
+        let r = hold.to - s0;
+        let c = response
+            .svd(true, true)
+            .pseudo_inverse(1e-9)
+            .map(|inv| inv * nalgebra::Vector3::new(r.x, r.y, r.z))
+            .map_or(DVec3::ZERO, |c| DVec3::new(c.x, c.y, c.z));
+        let mut touched = project(grid, Some(c), &mut cache);
+        self.g2_cache = cache;
+        touched.sort_unstable();
+        touched.dedup();
+        // Journaled with the values before the operation (the base net's, for a node not
+        // written before this step).
+        for id in touched {
+            if self.journaled.mark(id) {
+                self.journal.push((id, base[id]));
+            }
+        }
     }
 
     /// Takes in the patches outside the included ones that hold a control point the mirror

@@ -7,7 +7,7 @@ use super::*;
 use crate::editor::document::Document;
 use crate::editor::settings::Settings;
 use nendo_devices::profile::{self, Input};
-use nendo_devices::{FrameStatus, Timestamp, TraceHeader};
+use nendo_devices::{FilterSettings, FrameStatus, Timestamp, TraceHeader};
 use nendo_devices::{HandFrame, HandStream, Trace};
 
 /// A window frame far slower than the device (here a whole second) loses nothing: the
@@ -25,6 +25,7 @@ fn a_slow_window_frame_drops_no_sample() {
     let trace = Trace {
         header: TraceHeader::default(),
         frames,
+        held: Vec::new(),
     };
     // 100 Hz played 10 times faster: 1 000 frames/s through a 64-frame channel.
     let stream = HandStream::replay(trace, 10.0, false, 64);
@@ -55,6 +56,7 @@ fn session_start_and_recording_report_typed_outcomes() {
                 ..Default::default()
             })
             .collect(),
+        held: Vec::new(),
     };
     let profile = profile::builtin()
         .into_iter()
@@ -64,9 +66,13 @@ fn session_start_and_recording_report_typed_outcomes() {
     std::fs::create_dir_all(&dir).expect("temp dir");
     let missing = dir.join("no-such-folder").join("t.trace");
     let stream = HandStream::replay(trace(), 100.0, false, 64);
-    let err = DeviceSession::start(stream, Some((missing.clone(), &profile, None)), false)
-        .map(|_| ())
-        .expect_err("no folder to record into");
+    let err = DeviceSession::start(
+        stream,
+        Some((missing.clone(), &profile, None, FilterSettings::off())),
+        false,
+    )
+    .map(|_| ())
+    .expect_err("no folder to record into");
     assert!(matches!(err, LiveError::Record(_)), "{err:?}");
     assert!(
         err.to_string().contains(&missing.display().to_string()),
@@ -74,8 +80,12 @@ fn session_start_and_recording_report_typed_outcomes() {
     );
     let path = dir.join("t.trace");
     let stream = HandStream::replay(trace(), 100.0, false, 64);
-    let mut session =
-        DeviceSession::start(stream, Some((path.clone(), &profile, None)), false).expect("started");
+    let mut session = DeviceSession::start(
+        stream,
+        Some((path.clone(), &profile, None, FilterSettings::off())),
+        false,
+    )
+    .expect("started");
     let deadline = Instant::now() + Duration::from_secs(10);
     while !lock(&session.shared.status).finished && Instant::now() < deadline {
         std::thread::sleep(Duration::from_millis(10));
@@ -370,6 +380,7 @@ fn window_recording_under_a_size_limit() {
             ..TraceHeader::default()
         },
         frames,
+        held: Vec::new(),
     };
     let profile = profile::builtin()
         .into_iter()
@@ -378,8 +389,12 @@ fn window_recording_under_a_size_limit() {
     let path = std::path::Path::new(&dir).join("limited.trace");
     // A channel that holds the whole trace: no frame is dropped on overflow.
     let stream = HandStream::replay(trace, 20.0, false, 8192);
-    let mut session =
-        DeviceSession::start(stream, Some((path.clone(), &profile, None)), false).expect("started");
+    let mut session = DeviceSession::start(
+        stream,
+        Some((path.clone(), &profile, None, FilterSettings::off())),
+        false,
+    )
+    .expect("started");
     let deadline = Instant::now() + Duration::from_secs(60);
     while !lock(&session.shared.status).finished && Instant::now() < deadline {
         std::thread::sleep(Duration::from_millis(20));

@@ -7,6 +7,7 @@ use glam::{DQuat, DVec3};
 use nendo::hand::script::Choreography;
 use nendo::hand::{Digit, FingerModel, Hand, HandOptions, HandSession};
 use nendo::surface::{Grid, Primitive, PrimitiveParams, Regulation};
+use nendo_devices::trace::HeldMarks;
 use nendo_devices::{FilterSettings, FrameFilter, HandFrame, HandSize, Joint, Trace};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -529,9 +530,19 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
     let mut joints: Vec<Vec<f64>> = Vec::new();
     let mut joint_times = Vec::new();
     let mut held_joints: Vec<u32> = Vec::new();
-    for f in &trace.frames {
+    // The marks the recording wrote (trace version 4) are the gate's on the frames read back.
+    assert!(
+        trace.header.marks_held,
+        "a gated recording declares its marks"
+    );
+    let mut marks = Vec::new();
+    for (k, f) in trace.frames.iter().enumerate() {
         filter.apply(f);
         let held = filter.held();
+        let m = HeldMarks::from(held).carried_by(f, &trace.header.joints, false);
+        if !m.is_empty() {
+            marks.push((k, m));
+        }
         if f.status.tracker_fresh
             && let Some(p) = f.pose
         {
@@ -553,6 +564,15 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
         }
     }
     let st = *filter.stats();
+    assert_eq!(trace.held, marks, "the recorded marks are the gate's");
+    assert_eq!(trace.held.len() as u64, st.frames_held);
+    let recorded = String::from_utf8_lossy(&out.stdout);
+    let says = format!(
+        "gate: {} of {} frames marked held",
+        trace.held.len(),
+        trace.frames.len()
+    );
+    assert!(recorded.contains(&says), "{says}: {recorded}");
 
     // The independent reference: isolated spikes found after the fact, each sample against
     // both its neighbours (which the gate, deciding at once, never sees).
@@ -602,7 +622,9 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
         }
     }
     eprintln!(
-        "--corrupt 0.05, 6 s: {} tracker and {} glove samples; reference spikes: {} of the position ≥ 1 cm (largest {:.3} m), {} of a joint ≥ 0.2 rad (largest {:.2} rad); the gate held {} positions ({} out of range, {} too fast, {} too sudden), {} orientations, {} joint angles; missed {:?} / {joint_missed} ({excused} position and {joint_excused} joint spikes within what a hand can do in their interval); held {smooth_held} positions lying within 2 mm of their neighbours",
+        "--corrupt 0.05, 6 s: {} frames, {} marked held in the trace (as the gate recomputes); {} tracker and {} glove samples; reference spikes: {} of the position ≥ 1 cm (largest {:.3} m), {} of a joint ≥ 0.2 rad (largest {:.2} rad); the gate held {} positions ({} out of range, {} too fast, {} too sudden), {} orientations, {} joint angles; missed {:?} / {joint_missed} ({excused} position and {joint_excused} joint spikes within what a hand can do in their interval); held {smooth_held} positions lying within 2 mm of their neighbours",
+        trace.frames.len(),
+        trace.held.len(),
         positions.len(),
         joints.len(),
         big.len(),
@@ -645,6 +667,13 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
         .unwrap();
     let summary = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(out.status.success(), "{summary}");
+    // The replay's gate agrees with the trace's marks.
+    let agree = format!(
+        "the trace marks {} frames held, as this replay's gate does",
+        trace.held.len()
+    );
+    assert!(summary.contains(&agree), "{agree}: {summary}");
+    assert!(!summary.contains("warning"), "{summary}");
     let n = st.position.total();
     if n > 0 {
         let says = format!("{n} tracker position");
@@ -663,6 +692,11 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
         .output()
         .unwrap();
     assert!(out.status.success());
+    let unfiltered = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        unfiltered.contains("held (not compared: not filtered)"),
+        "{unfiltered}"
+    );
     let away = |path: &Path| {
         let g = nendo::model::Model::read(path).unwrap().model.surface;
         dense(&g)

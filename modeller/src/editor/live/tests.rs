@@ -111,15 +111,27 @@ fn plane_doc() -> Document {
 }
 
 /// The window's recorder writes the scene it records on — the document's model embedded,
-/// the hand's finger and radius — and `nendo replay` of the recording, with no other
-/// argument, gives the window's surface.
+/// the hand's finger, radius and filter — marks the frames that filter's gate holds, and
+/// `nendo replay` of the recording, with no other argument, gives the window's surface.
 #[test]
 fn a_window_recording_replays_to_the_windows_surface() {
     use crate::hand::scene::{Scene, Start};
     let dir = std::env::temp_dir().join(format!("nendo-live-scene-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+    let shipped = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../devices/traces/plane-groove.trace");
+    // The groove with three tracker samples 6 cm low, for the gate to hold.
+    let mut groove = Trace::read(&shipped).expect("the shipped trace");
+    let posed: Vec<usize> = (0..groove.frames.len())
+        .filter(|&k| groove.frames[k].pose.is_some() && groove.frames[k].status.tracker_fresh)
+        .collect();
+    for k in [posed[100], posed[250], posed[400]] {
+        if let Some(p) = &mut groove.frames[k].pose {
+            p.position.z -= 0.06;
+        }
+    }
+    let source = dir.join("spiked.trace");
+    groove.write(&source).expect("the spiked trace");
     let profile_path = dir.join("replay.json");
     let json = serde_json::json!({
         "format": "nendo-device-profile",
@@ -173,6 +185,27 @@ fn a_window_recording_replays_to_the_windows_surface() {
     assert_eq!(scene.start, Start::Model(Box::new(start)));
     assert_eq!(scene.finger.as_deref(), Some("index"));
     assert_eq!(scene.finger_radius, Some(0.8));
+    // The recording is marked by the hand loop's gate (the scene's filter): its marks are
+    // what that gate holds on the recorded frames.
+    let filter = scene.filter.expect("the hand loop's filter");
+    assert!(filter.enabled && recorded.header.marks_held);
+    let mut gate = nendo_devices::FrameFilter::new(filter);
+    let marks: Vec<_> = recorded
+        .frames
+        .iter()
+        .enumerate()
+        .filter_map(|(k, f)| {
+            gate.apply(f);
+            let m = nendo_devices::trace::HeldMarks::from(gate.held()).carried_by(
+                f,
+                &recorded.header.joints,
+                recorded.header.skeleton.is_some(),
+            );
+            (!m.is_empty()).then_some((k, m))
+        })
+        .collect();
+    assert!(marks.len() >= 3, "{marks:?}");
+    assert_eq!(recorded.held, marks);
     let out = dir.join("replayed.json");
     let replayed = replay_with_defaults(trace_path, &out);
     assert_eq!(replayed.surface.nodes(), doc.model().surface.nodes());

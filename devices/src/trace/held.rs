@@ -68,16 +68,6 @@ impl HeldMarks {
         *self == Self::default()
     }
 
-    /// How many channels are marked.
-    #[must_use]
-    pub fn len(&self) -> usize {
-        usize::from(self.position)
-            + usize::from(self.orientation)
-            + (self.joints.count_ones()
-                + self.skeleton_positions.count_ones()
-                + self.skeleton_orientations.count_ones()) as usize
-    }
-
     /// The marks as a trace writes them after `held=` (the header's glove columns give the
     /// joints' order; a joint outside them is not written, as its column is not either).
     /// Empty when nothing is marked.

@@ -74,7 +74,9 @@ pub struct TraceRecorder {
 }
 
 impl TraceRecorder {
-    /// Starts recording to `path`: its header is in the file, synced, when this returns.
+    /// Starts recording to `path`: its header is in the file, synced, when this returns. No
+    /// gate runs and no frame is marked (the header is written without `marks held`, whatever
+    /// `header.marks_held` says; see [`TraceRecorder::create_gated`]).
     ///
     /// # Errors
     /// [`DeviceError::File`] naming `path`: a file already there with [`Existing::Refuse`]

@@ -12,7 +12,7 @@ use crate::{DeviceError, HandFrame, Joint};
 /// (through a symbolic link, keeping the replaced file's permissions); dropped unfinished, or
 /// on a stop signal handled by the binary, the temporary file is removed. For traces made of
 /// frames already at hand; a live recording, which must survive being killed, is written by
-/// [`TraceRecorder`].
+/// [`super::TraceRecorder`].
 #[derive(Debug)]
 pub struct TraceWriter {
     out: Option<nendo_file::AtomicFile>,

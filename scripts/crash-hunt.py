@@ -17,7 +17,8 @@ seconds and report what ran; Ctrl+C does the same), `--no-shrink`. `render` and 
 Vulkan driver (on Debian: `apt-get install -y mesa-vulkan-drivers libvulkan1`); XDG_RUNTIME_DIR
 is set to a temporary directory.
 
-Inputs: seeds come from the repository (tests/data/**, devices/profiles/*, devices/traces/*, the
+Inputs: seeds come from the repository (tests/data/**, devices/profiles/*, devices/traces/* and
+each of them as version 4 with the gate's `held=` marks, the
 README's examples) and from valid inputs the binary generates (primitives, sculpted models);
 mutations are byte flips, insertions, deletions, truncation, duplicated chunks, a BOM, UTF-8
 garbage, numbers swapped for NaN / 1e308 / -0 / huge integers / strings, duplicated and unknown
@@ -639,6 +640,8 @@ class Seeds:
                 head, sep, frames = data.partition(b"\nframes\n")
                 lines = frames.split(b"\n")
                 self.traces[f] = head + sep + b"\n".join(lines[:150]) + b"\n"
+                # the same trace as version 4, with the gate's marks (`held=`) on some frames
+                self.traces[f[:-6] + "-marked.trace"] = marked_trace(head, lines[:150])
         # device byte streams for `record`: valid-looking records per protocol
         self.device_bytes = {
             "fastrak": [
@@ -1050,6 +1053,27 @@ def gen_record(rng, seeds):
         stream = mutate_bytes(rng, stream)
     c["pty_bytes"] = stream[:65536]
     return c
+
+
+def marked_trace(head, frames):
+    """A trace as version 4 with the gate's marks: `marks held` in its header and `held=` on
+    every seventh frame line with a tracker pose (the first joint column too when it has one)."""
+    hl = head.split(b"\n")
+    hl[0] = b"nendo-hand-trace 4"
+    at = next((i for i, l in enumerate(hl) if l.startswith(b"scene ")), len(hl))
+    hl.insert(at, b"marks held")
+    joints = next((l.split()[1:] for l in hl if l.startswith(b"joints")), [])
+    out = []
+    for k, line in enumerate(frames):
+        w = line.split()
+        if k % 7 == 3 and len(w) > 6 and w[1].startswith(b"ok") and w[5] != b"-":
+            marks = b"position,orientation"
+            j = w.index(b"J") if b"J" in w else -1
+            if joints and 0 <= j < len(w) - 1 and w[j + 1] not in (b"-", b"?"):
+                marks += b"," + joints[0]
+            line = line + b" held=" + marks
+        out.append(line)
+    return b"\n".join(hl) + b"\nframes\n" + b"\n".join(out) + b"\n"
 
 
 def gen_replay(rng, seeds):

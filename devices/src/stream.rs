@@ -648,6 +648,7 @@ impl HandStream {
                     Input::Skeleton(_) => Some(profile.hand.side),
                     _ => None,
                 },
+                marks_held: false,
             },
         }
     }

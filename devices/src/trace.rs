@@ -16,8 +16,13 @@
 //! ```
 //!
 //! - Line 1 names the format and its version ([`TRACE_FORMAT`], [`TRACE_VERSION`]). This crate
-//!   reads versions 1 to 3 ([`OLDEST_TRACE_VERSION`]) and writes the oldest that holds the
-//!   trace: version 2, or version 3 for a trace of skeleton frames (a `skeleton` header line).
+//!   reads versions 1 to 4 ([`OLDEST_TRACE_VERSION`]) and writes the oldest that holds the
+//!   header: version 2, version 3 for a trace of skeleton frames (a `skeleton` header line),
+//!   version 4 for a trace whose header says its frames carry the gate's marks (`marks held`).
+//!   A recorder decides that before its first frame (it runs the gate or it does not,
+//!   [`TraceRecorder::create_gated`]), so a version-4 recording in which the gate never held
+//!   anything has the line and no `held=` field: it says "nothing was held", where a version-3
+//!   trace says nothing about the gate.
 //! - Header lines, each a keyword and its value: `profile` (optional, the rest of the line),
 //!   `world_from_tracker` and `hand` (optional, one-line JSON as in profiles, validated by the
 //!   same rules; defaults when absent), `joints` (the glove columns of every frame, by joint
@@ -31,6 +36,9 @@
 //! - Since version 3, `skeleton left` or `skeleton right` (before `scene`): the frames carry a
 //!   hand as joint poses ([`crate::skeleton`]), each in an `S` section after its `J` columns
 //!   (module `skeleton` says how it is written). A trace without the line has no `S` sections.
+//! - Since version 4, `marks held` (before `scene`): the frames carry the plausibility gate's
+//!   marks, the per-frame field `held=` below. `marks` names the per-frame fields the frames
+//!   may carry; `held` is the only one defined.
 //! - `frames` ends the header. Each following line is one frame:
 //!   `time tracker glove buttons P pose J angles`, where
 //!   - `time` is in microseconds since the recording started, never decreasing;
@@ -45,11 +53,15 @@
 //!     frame) or by a single `-` when the frame has no glove data;
 //!   - then optional **per-frame fields**, each one word `name=value` (`name` lowercase ASCII
 //!     letters, digits and `_`, starting with a letter; `value` not empty). They are the
-//!     format's extension point for what a frame may come to carry besides its samples (such
-//!     as marks on samples a plausibility gate rejected). No joint column, `-` or `?` holds an
-//!     `=`, so the first word that does starts them. This version of the format defines no
-//!     field, and its reader refuses any it does not know ([`FrameError::UnknownField`])
-//!     instead of replaying a frame without what it says.
+//!     format's extension point for what a frame carries besides its samples. No joint
+//!     column, `-` or `?` holds an `=`, so the first word that does starts them. Version 4
+//!     defines one, `held=CHANNELS` ([`HeldMarks`], module `held`: e.g.
+//!     `held=position,orientation`, `held=index_pip`, `held=index_tip.position`): the channels
+//!     of this frame the recording's plausibility gate ([`crate::filter`]) rejected, written
+//!     only on such frames and only in a trace whose header has `marks held` (elsewhere it
+//!     is refused, [`FrameError::HeldUndeclared`]), at most once per frame. The reader refuses
+//!     any field it does not know ([`FrameError::UnknownField`]) instead of replaying a frame
+//!     without what it says.
 //! - `end N` closes the trace and repeats the number of frames, so truncation is detected.
 //!
 //! **Interrupted recordings.** A recording ([`TraceRecorder`], module `recorder`) writes its
@@ -75,34 +87,41 @@
 //! final newline, and the line does not read) is reported as truncated.
 
 use std::fmt::Write as _;
-use std::io::Write;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::{DQuat, DVec3};
 
 use crate::profile::{HandSize, WorldFromTracker};
 
 mod header;
+mod held;
 mod recorder;
 mod recover;
 mod skeleton;
 mod stream;
+mod writer;
 use crate::{
     DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SourceState, Timestamp, TrackerPose,
 };
 use header::{parse_header_line, parse_version_line};
+pub use held::{HELD_FIELD, HeldMarks};
 pub use nendo_file::Existing;
 pub use recorder::{SYNC_INTERVAL, TraceRecorder};
 pub use recover::{DroppedTail, Interrupted, Recovered};
 pub use stream::{MAX_FRAME_LINE_BYTES, MAX_HEADER_LINE_BYTES, TraceStream};
+pub use writer::TraceWriter;
 
 /// The format name on the first line.
 pub const TRACE_FORMAT: &str = "nendo-hand-trace";
-/// The format version this crate writes (and the newest it reads).
-pub const TRACE_VERSION: u32 = 3;
-/// The version of a trace without skeleton frames (written as before skeletons came).
+/// The newest format version this crate writes and reads: version 4, the gate's marks.
+pub const TRACE_VERSION: u32 = 4;
+/// The version of a trace without skeleton frames or marks (written as before they came).
 pub const GLOVE_TRACE_VERSION: u32 = 2;
+/// The version of a trace of skeleton frames without marks.
+pub const SKELETON_TRACE_VERSION: u32 = 3;
+/// The version of a trace with the gate's marks (the header line `marks held`).
+pub const MARKED_TRACE_VERSION: u32 = 4;
 /// The oldest format version this crate reads: version 1, without the `scene` header line.
 pub const OLDEST_TRACE_VERSION: u32 = 1;
 /// Decimals of every number in a trace.
@@ -124,6 +143,10 @@ pub struct TraceHeader {
     pub scene: Option<SceneText>,
     /// The hand of the frames' skeletons (`None`: the frames carry none; trace version 3).
     pub skeleton: Option<crate::profile::Side>,
+    /// The frames carry the plausibility gate's marks, `held=` (the header line `marks held`,
+    /// trace version 4; see [`HeldMarks`]): a frame without one had nothing held. `false`:
+    /// the trace says nothing about the gate.
+    pub marks_held: bool,
 }
 
 /// The `scene` of a trace header: one line of well-formed JSON whose value is an object,
@@ -182,6 +205,12 @@ pub struct Trace {
     pub header: TraceHeader,
     /// The frames, in time order.
     pub frames: Vec<HandFrame>,
+    /// The gate's marks: the frames where it held something (by index into `frames`,
+    /// increasing) and what it held, as the `held=` fields say (see [`HeldMarks`]). Read only
+    /// from a trace with `marks held` (empty otherwise). Written by [`Trace::to_text`] and
+    /// [`Trace::write`]; a trace with marks is written with `marks held` whatever its header
+    /// says, and marks on an index past the frames, or empty ones, are not written.
+    pub held: Vec<(usize, HeldMarks)>,
 }
 
 /// Rounds a value to the trace's six decimals, exactly as writing and reading it would.
@@ -255,6 +284,20 @@ pub fn format_frame(joints: &[Joint], f: &HandFrame, out: &mut String) {
 /// [`format_frame`] for a trace with or without skeleton frames (`skeleton`: the header has a
 /// `skeleton` line, and the frame gets its `S` section).
 pub fn format_frame_of(joints: &[Joint], skeleton: bool, f: &HandFrame, out: &mut String) {
+    format_marked_frame(joints, skeleton, f, &HeldMarks::default(), out);
+}
+
+/// [`format_frame_of`] with the gate's marks: a `held=` field when `held` marks a channel the
+/// written frame carries (see [`HeldMarks`]; the marks on channels it does not carry — a
+/// joint outside the columns, a value the frame does not have — are not written, so the line
+/// always reads back). For a trace whose header has `marks held`.
+pub fn format_marked_frame(
+    joints: &[Joint],
+    skeleton: bool,
+    f: &HandFrame,
+    held: &HeldMarks,
+    out: &mut String,
+) {
     let f = &quantize_frame(f, joints);
     let _ = write!(out, "{} ", f.time.as_micros());
     state_token(f.status.tracker, f.status.tracker_fresh, out);
@@ -288,13 +331,19 @@ pub fn format_frame_of(joints: &[Joint], skeleton: bool, f: &HandFrame, out: &mu
     if skeleton {
         skeleton::format_skeleton(f.skeleton.as_ref(), out);
     }
+    let held = held.carried_by(f, joints, skeleton);
+    if !held.is_empty() {
+        let _ = write!(out, " {HELD_FIELD}={}", held.to_value(joints));
+    }
     out.push('\n');
 }
 
 /// The header lines, up to and including `frames`.
 pub fn format_header(h: &TraceHeader) -> String {
-    let version = if h.skeleton.is_some() {
-        TRACE_VERSION
+    let version = if h.marks_held {
+        MARKED_TRACE_VERSION
+    } else if h.skeleton.is_some() {
+        SKELETON_TRACE_VERSION
     } else {
         GLOVE_TRACE_VERSION
     };
@@ -320,6 +369,9 @@ pub fn format_header(h: &TraceHeader) -> String {
     if let Some(side) = h.skeleton {
         let _ = write!(s, "\nskeleton {}", skeleton::side_token(side));
     }
+    if h.marks_held {
+        let _ = write!(s, "\nmarks {HELD_FIELD}");
+    }
     match &h.scene {
         Some(scene) => {
             let _ = write!(s, "\nscene {scene}");
@@ -333,17 +385,27 @@ pub fn format_header(h: &TraceHeader) -> String {
 impl Trace {
     /// The trace as text.
     pub fn to_text(&self) -> String {
-        let mut s = format_header(&self.header);
-        for f in &self.frames {
-            format_frame_of(
-                &self.header.joints,
-                self.header.skeleton.is_some(),
+        let header = self.written_header();
+        let mut s = format_header(&header);
+        let mut held = self.held.iter().peekable();
+        for (k, f) in self.frames.iter().enumerate() {
+            format_marked_frame(
+                &header.joints,
+                header.skeleton.is_some(),
                 f,
+                &marks_at(&mut held, k),
                 &mut s,
             );
         }
         let _ = writeln!(s, "end {}", self.frames.len());
         s
+    }
+
+    /// The header as written: with `marks held` when the trace has marks.
+    fn written_header(&self) -> TraceHeader {
+        let mut header = self.header.clone();
+        header.marks_held |= !self.held.is_empty();
+        header
     }
 
     /// Parses a whole trace; errors name the 1-based line. A trace without its `end` line is
@@ -401,6 +463,7 @@ impl Trace {
             ));
         }
         let mut frames = Vec::new();
+        let mut held = Vec::new();
         let mut last = 0u64;
         let last_line = text.lines().count();
         while let Some((n, line)) = lines.next() {
@@ -419,7 +482,11 @@ impl Trace {
                     return Err(err(m, format!("text after the end line: `{extra}`")));
                 }
                 return Ok(Recovered {
-                    trace: Trace { header, frames },
+                    trace: Trace {
+                        header,
+                        frames,
+                        held,
+                    },
                     interrupted: None,
                 });
             }
@@ -433,20 +500,29 @@ impl Trace {
                     cut_short: true,
                     reason: "no newline".into(),
                 };
-                return Ok(Recovered::interrupted(header, frames, Some(tail)));
+                let trace = Trace {
+                    header,
+                    frames,
+                    held,
+                };
+                return Ok(Recovered::interrupted(trace, Some(tail)));
             }
-            let frame = parse_frame_of(&header.joints, header.skeleton, line)
-                .map_err(|e| e.to_string())
-                .and_then(|f| {
-                    if f.time.as_micros() < last {
-                        Err("time goes backwards".to_owned())
-                    } else {
-                        Ok(f)
-                    }
-                });
+            let frame =
+                parse_marked_frame(&header.joints, header.skeleton, header.marks_held, line)
+                    .map_err(|e| e.to_string())
+                    .and_then(|(f, marks)| {
+                        if f.time.as_micros() < last {
+                            Err("time goes backwards".to_owned())
+                        } else {
+                            Ok((f, marks))
+                        }
+                    });
             match frame {
-                Ok(f) => {
+                Ok((f, marks)) => {
                     last = f.time.as_micros();
+                    if !marks.is_empty() {
+                        held.push((frames.len(), marks));
+                    }
                     frames.push(f);
                 }
                 // The damaged end of an interrupted recording: nothing after it says the
@@ -459,13 +535,23 @@ impl Trace {
                         cut_short: after == 0 && !text.ends_with('\n'),
                         reason,
                     };
-                    return Ok(Recovered::interrupted(header, frames, Some(tail)));
+                    let trace = Trace {
+                        header,
+                        frames,
+                        held,
+                    };
+                    return Ok(Recovered::interrupted(trace, Some(tail)));
                 }
                 Err(reason) => return Err(err(n, reason)),
             }
         }
         if recover {
-            return Ok(Recovered::interrupted(header, frames, None));
+            let trace = Trace {
+                header,
+                frames,
+                held,
+            };
+            return Ok(Recovered::interrupted(trace, None));
         }
         Err(err(
             text.lines().count() + 1,
@@ -484,12 +570,24 @@ impl Trace {
 
     /// Writes the trace atomically (temporary file, then rename).
     pub fn write(&self, path: &Path) -> Result<(), DeviceError> {
-        let mut w = TraceWriter::create(path, self.header.clone())?;
-        for f in &self.frames {
-            w.push(f)?;
+        let mut w = TraceWriter::create(path, self.written_header())?;
+        let mut held = self.held.iter().peekable();
+        for (k, f) in self.frames.iter().enumerate() {
+            w.push_marked(f, &marks_at(&mut held, k))?;
         }
         w.finish().map(|_| ())
     }
+}
+
+/// The marks of frame `k` from a list by frame index (increasing; an entry out of order is
+/// passed over).
+fn marks_at<'a>(
+    held: &mut std::iter::Peekable<impl Iterator<Item = &'a (usize, HeldMarks)>>,
+    k: usize,
+) -> HeldMarks {
+    while held.next_if(|(i, _)| *i < k).is_some() {}
+    held.next_if(|(i, _)| *i == k)
+        .map_or_else(HeldMarks::default, |(_, m)| *m)
 }
 
 /// Why one frame line of a trace does not read. [`Trace::parse`] wraps it in
@@ -563,6 +661,12 @@ pub enum FrameError {
     /// A per-frame field this version of the format does not know.
     #[error("unknown per-frame field `{0}` (a trace from a newer nendo?)")]
     UnknownField(String),
+    /// A `held=` field in a trace whose header does not say `marks held`.
+    #[error("a `held=` field, but the header does not say `marks held` (trace version 4)")]
+    HeldUndeclared,
+    /// A `held=` field that does not read (the message says why: see [`HeldMarks`]).
+    #[error("held: {0}")]
+    BadHeld(String),
 }
 
 fn parse_number(word: Option<&str>) -> Result<f64, FrameError> {
@@ -595,12 +699,12 @@ fn parse_state(word: Option<&str>) -> Result<(SourceState, bool), FrameError> {
 }
 
 /// Reads one per-frame field `name=value` (see the module docs: the format's extension
-/// point). The fields a version of the format defines are matched here by name; this version
-/// defines none, so every well-formed field is refused as unknown rather than ignored — a frame
-/// whose meaning depends on a field (a sample marked rejected, say) must not be replayed as if
-/// it had none.
-fn read_field(word: &str) -> Result<(), FrameError> {
-    let bad = || FrameError::BadField(word.to_owned());
+/// point), returning the value of a `held=` field (the one field version 4 defines; a trace
+/// without `marks held` may not have it). Every other well-formed field is refused as
+/// unknown rather than ignored — a frame whose meaning depends on a field must not be
+/// replayed as if it had none. Error messages quote at most 40 characters of the word.
+fn read_field(word: &str, marks_held: bool) -> Result<&str, FrameError> {
+    let bad = || FrameError::BadField(held::clip(word));
     let (name, value) = word.split_once('=').ok_or_else(bad)?;
     let name_ok = name.starts_with(|c: char| c.is_ascii_lowercase())
         && name
@@ -609,7 +713,11 @@ fn read_field(word: &str) -> Result<(), FrameError> {
     if !name_ok || value.is_empty() {
         return Err(bad());
     }
-    Err(FrameError::UnknownField(name.to_owned()))
+    match name {
+        HELD_FIELD if marks_held => Ok(value),
+        HELD_FIELD => Err(FrameError::HeldUndeclared),
+        _ => Err(FrameError::UnknownField(held::clip(name))),
+    }
 }
 
 /// Parses one frame line given the header's joint columns.
@@ -618,12 +726,23 @@ pub fn parse_frame(joints: &[Joint], line: &str) -> Result<HandFrame, FrameError
 }
 
 /// Parses one frame line given the header's joint columns and skeleton hand (`Some`: the
-/// frame has an `S` section).
+/// frame has an `S` section), in a trace without marks (a `held=` field is refused).
 pub fn parse_frame_of(
     joints: &[Joint],
     skeleton: Option<crate::profile::Side>,
     line: &str,
 ) -> Result<HandFrame, FrameError> {
+    parse_marked_frame(joints, skeleton, false, line).map(|(f, _)| f)
+}
+
+/// Parses one frame line and its gate's marks ([`HeldMarks`], empty without a `held=`
+/// field) given the header's joint columns, skeleton hand and whether it has `marks held`.
+pub fn parse_marked_frame(
+    joints: &[Joint],
+    skeleton: Option<crate::profile::Side>,
+    marks_held: bool,
+    line: &str,
+) -> Result<(HandFrame, HeldMarks), FrameError> {
     let mut w = line.split_whitespace();
     let time: u64 = w
         .next()
@@ -671,8 +790,14 @@ pub fn parse_frame_of(
         .position(|w| w.contains('='))
         .unwrap_or(words.len());
     let (rest, fields) = words.split_at(split);
+    let mut held_value = None;
     for field in fields {
-        read_field(field)?;
+        let value = read_field(field, marks_held)?;
+        if held_value.replace(value).is_some() {
+            return Err(FrameError::BadHeld(format!(
+                "`{HELD_FIELD}=` given twice in one frame"
+            )));
+        }
     }
     let (rest, hand) = match skeleton {
         None => (rest, None),
@@ -707,7 +832,7 @@ pub fn parse_frame_of(
         }
         Some(a)
     };
-    Ok(HandFrame {
+    let frame = HandFrame {
         time: Timestamp(time),
         pose,
         joints: angles,
@@ -719,88 +844,12 @@ pub fn parse_frame_of(
             glove_fresh,
         },
         skeleton: hand,
-    })
-}
-
-/// Writes a whole trace frame by frame with the one safe writer ([`nendo_file::AtomicFile`]):
-/// into a temporary file beside the target, renamed into place by [`TraceWriter::finish`]
-/// (through a symbolic link, keeping the replaced file's permissions); dropped unfinished, or
-/// on a stop signal handled by the binary, the temporary file is removed. For traces made of
-/// frames already at hand; a live recording, which must survive being killed, is written by
-/// [`TraceRecorder`].
-#[derive(Debug)]
-pub struct TraceWriter {
-    out: Option<nendo_file::AtomicFile>,
-    path: PathBuf,
-    joints: Vec<Joint>,
-    skeleton: bool,
-    count: u64,
-    line: String,
-}
-
-impl TraceWriter {
-    /// Starts a trace at `path` (nothing appears there until [`TraceWriter::finish`]). A
-    /// directory, device, pipe or socket at `path` is refused.
-    pub fn create(path: &Path, header: TraceHeader) -> Result<TraceWriter, DeviceError> {
-        // Errors name the trace asked for, not the temporary file beside it.
-        let io = |error| DeviceError::File {
-            path: path.to_path_buf(),
-            error,
-        };
-        let mut out = nendo_file::AtomicFile::create(path).map_err(|e| io(e.into_io()))?;
-        // Dropping `out` on failure removes the temporary file.
-        out.write_all(format_header(&header).as_bytes())
-            .map_err(io)?;
-        Ok(TraceWriter {
-            out: Some(out),
-            path: path.to_path_buf(),
-            skeleton: header.skeleton.is_some(),
-            joints: header.joints,
-            count: 0,
-            line: String::new(),
-        })
-    }
-
-    /// Appends a frame. Errors name the trace (not its temporary file).
-    pub fn push(&mut self, frame: &HandFrame) -> Result<(), DeviceError> {
-        self.line.clear();
-        format_frame_of(&self.joints, self.skeleton, frame, &mut self.line);
-        let Some(out) = self.out.as_mut() else {
-            return Err(DeviceError::File {
-                path: self.path.clone(),
-                error: std::io::Error::other("trace writer already finished"),
-            });
-        };
-        out.write_all(self.line.as_bytes())
-            .map_err(|error| DeviceError::File {
-                path: self.path.clone(),
-                error,
-            })?;
-        self.count += 1;
-        Ok(())
-    }
-
-    /// Frames written so far.
-    pub fn frames(&self) -> u64 {
-        self.count
-    }
-
-    /// Writes the `end` line, flushes, syncs and renames the file into place. Returns the number
-    /// of frames. On failure the temporary file is removed and nothing appears at the path.
-    pub fn finish(mut self) -> Result<u64, DeviceError> {
-        let Some(mut out) = self.out.take() else {
-            return Ok(self.count);
-        };
-        writeln!(out, "end {}", self.count).map_err(|error| DeviceError::File {
-            path: self.path.clone(),
-            error,
-        })?;
-        out.commit().map_err(|e| DeviceError::File {
-            path: self.path.clone(),
-            error: e.into_io(),
-        })?;
-        Ok(self.count)
-    }
+    };
+    let marks = match held_value {
+        Some(v) => HeldMarks::parse(v, joints, skeleton, &frame)?,
+        None => HeldMarks::default(),
+    };
+    Ok((frame, marks))
 }
 
 #[cfg(test)]

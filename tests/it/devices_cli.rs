@@ -201,8 +201,15 @@ fn recording_a_replay_keeps_the_source_traces_header() {
     );
     assert!(stdout.contains("the replayed trace ended"), "{stdout}");
     let again = Trace::read(&path).unwrap();
-    // The recording's header is the source trace's, not the replay profile's.
-    assert_eq!(again.header, source.header);
+    // The recording's header is the source trace's, not the replay profile's — and says
+    // that its frames carry the marks of the gate it was recorded with (version 4).
+    assert_eq!(
+        again.header,
+        nendo_devices::TraceHeader {
+            marks_held: true,
+            ..source.header.clone()
+        }
+    );
     assert_eq!(again.frames.len(), source.frames.len());
     let first = source.frames[0].time.as_micros();
     for (a, s) in again.frames.iter().zip(&source.frames) {

@@ -1,12 +1,14 @@
 //! The hand loop's plausibility gate and One-Euro filter (`nendo::hand::filter`) on the clay:
 //! glitches that must leave no mark, jitter that must not move a resting finger, the lag on
-//! recorded motions, and a corrupted emulator stream recorded and replayed. Every surface is
+//! recorded motions, a corrupted emulator stream recorded and replayed, and the gate's marks in
+//! a trace (version 4) checked by the replay. Every surface is
 //! measured on the surface itself, each patch evaluated on a 33 × 33 grid of parameters.
 
 use glam::{DQuat, DVec3};
 use nendo::hand::script::Choreography;
 use nendo::hand::{Digit, FingerModel, Hand, HandOptions, HandSession};
 use nendo::surface::{Grid, Primitive, PrimitiveParams, Regulation};
+use nendo_devices::trace::HeldMarks;
 use nendo_devices::{FilterSettings, FrameFilter, HandFrame, HandSize, Joint, Trace};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -529,9 +531,19 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
     let mut joints: Vec<Vec<f64>> = Vec::new();
     let mut joint_times = Vec::new();
     let mut held_joints: Vec<u32> = Vec::new();
-    for f in &trace.frames {
+    // The marks the recording wrote (trace version 4) are the gate's on the frames read back.
+    assert!(
+        trace.header.marks_held,
+        "a gated recording declares its marks"
+    );
+    let mut marks = Vec::new();
+    for (k, f) in trace.frames.iter().enumerate() {
         filter.apply(f);
         let held = filter.held();
+        let m = HeldMarks::from(held).carried_by(f, &trace.header.joints, false);
+        if !m.is_empty() {
+            marks.push((k, m));
+        }
         if f.status.tracker_fresh
             && let Some(p) = f.pose
         {
@@ -553,6 +565,15 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
         }
     }
     let st = *filter.stats();
+    assert_eq!(trace.held, marks, "the recorded marks are the gate's");
+    assert_eq!(trace.held.len() as u64, st.frames_held);
+    let recorded = String::from_utf8_lossy(&out.stdout);
+    let says = format!(
+        "gate: {} of {} frames marked held",
+        trace.held.len(),
+        trace.frames.len()
+    );
+    assert!(recorded.contains(&says), "{says}: {recorded}");
 
     // The independent reference: isolated spikes found after the fact, each sample against
     // both its neighbours (which the gate, deciding at once, never sees).
@@ -602,7 +623,9 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
         }
     }
     eprintln!(
-        "--corrupt 0.05, 6 s: {} tracker and {} glove samples; reference spikes: {} of the position ≥ 1 cm (largest {:.3} m), {} of a joint ≥ 0.2 rad (largest {:.2} rad); the gate held {} positions ({} out of range, {} too fast, {} too sudden), {} orientations, {} joint angles; missed {:?} / {joint_missed} ({excused} position and {joint_excused} joint spikes within what a hand can do in their interval); held {smooth_held} positions lying within 2 mm of their neighbours",
+        "--corrupt 0.05, 6 s: {} frames, {} marked held in the trace (as the gate recomputes); {} tracker and {} glove samples; reference spikes: {} of the position ≥ 1 cm (largest {:.3} m), {} of a joint ≥ 0.2 rad (largest {:.2} rad); the gate held {} positions ({} out of range, {} too fast, {} too sudden), {} orientations, {} joint angles; missed {:?} / {joint_missed} ({excused} position and {joint_excused} joint spikes within what a hand can do in their interval); held {smooth_held} positions lying within 2 mm of their neighbours",
+        trace.frames.len(),
+        trace.held.len(),
         positions.len(),
         joints.len(),
         big.len(),
@@ -645,6 +668,13 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
         .unwrap();
     let summary = String::from_utf8_lossy(&out.stderr).to_string();
     assert!(out.status.success(), "{summary}");
+    // The replay's gate agrees with the trace's marks.
+    let agree = format!(
+        "the trace marks {} frames held, as this replay's gate does",
+        trace.held.len()
+    );
+    assert!(summary.contains(&agree), "{agree}: {summary}");
+    assert!(!summary.contains("warning"), "{summary}");
     let n = st.position.total();
     if n > 0 {
         let says = format!("{n} tracker position");
@@ -663,6 +693,11 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
         .output()
         .unwrap();
     assert!(out.status.success());
+    let unfiltered = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        unfiltered.contains("held (not compared: not filtered)"),
+        "{unfiltered}"
+    );
     let away = |path: &Path| {
         let g = nendo::model::Model::read(path).unwrap().model.surface;
         dense(&g)
@@ -685,4 +720,127 @@ fn a_corrupted_emulator_stream_has_its_spikes_held() {
     );
     assert!(away_filtered < away_clean + 0.01, "{away_filtered}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The gate's marks of a trace (version 4) are checked against the replay's own gate: the
+/// summary counts them and says the gate agrees; marks that differ give a warning naming the
+/// first differing frames, and change nothing else (exit status, the model written byte for
+/// byte). A version-2 trace's summary says nothing of marks.
+#[test]
+fn a_traces_gate_marks_are_checked_by_the_replay() {
+    use nendo::hand::scene::Scene;
+    use nendo_devices::FrameFilter;
+    use nendo_devices::trace::{HeldMarks, quantize_frame};
+    let dir = temp_dir("filter-marks");
+    let s = |p: &Path| p.to_str().unwrap().to_owned();
+    let nendo = |args: &[&str]| nendo().args(args).output().unwrap();
+    let source = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("devices/traces/plane-groove.trace")
+        .display()
+        .to_string();
+    let plain = dir.join("plain.json");
+    let o = nendo(&["replay", &source, "--out", &s(&plain)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("the trace marks"), "{err}");
+
+    // The shipped trace with three tracker spikes, marked by the gate the replay filters with
+    // (its scene's filter, else the defaults for a glove's hand).
+    let mut trace = Trace::read(Path::new(&source)).unwrap();
+    let joints = trace.header.joints.clone();
+    let with_pose: Vec<usize> = (0..trace.frames.len())
+        .filter(|&k| trace.frames[k].pose.is_some() && trace.frames[k].status.tracker_fresh)
+        .collect();
+    for &k in &[with_pose[100], with_pose[250], with_pose[400]] {
+        let f = &mut trace.frames[k];
+        if let Some(p) = &mut f.pose {
+            p.position.z -= 0.06;
+        }
+        *f = quantize_frame(f, &joints);
+    }
+    let settings = Scene::of_trace(&trace.header)
+        .unwrap()
+        .and_then(|s| s.filter)
+        .unwrap_or_default();
+    let mut gate = FrameFilter::new(settings);
+    trace.held = trace
+        .frames
+        .iter()
+        .enumerate()
+        .filter_map(|(k, f)| {
+            gate.apply(f);
+            let m = HeldMarks::from(gate.held()).carried_by(f, &joints, false);
+            (!m.is_empty()).then_some((k, m))
+        })
+        .collect();
+    let spikes = [with_pose[100], with_pose[250], with_pose[400]];
+    for k in spikes {
+        assert!(trace.held.iter().any(|(i, m)| *i == k && m.position), "{k}");
+    }
+    let marked = dir.join("marked.trace");
+    trace.write(&marked).unwrap();
+    let text = std::fs::read_to_string(&marked).unwrap();
+    assert!(text.starts_with("nendo-hand-trace 4\n") && text.contains("\nmarks held\n"));
+    let agreed = dir.join("agreed.json");
+    let o = nendo(&["replay", &s(&marked), "--out", &s(&agreed)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let says = format!(
+        "the trace marks {} frames held, as this replay's gate does",
+        trace.held.len()
+    );
+    assert!(err.contains(&says), "{says}: {err}");
+    assert!(!err.contains("warning"), "{err}");
+
+    // Marks that differ: the first one dropped, one added where the gate held nothing.
+    let mut tampered = trace.clone();
+    let (dropped, _) = tampered.held.remove(0);
+    let added = with_pose
+        .iter()
+        .copied()
+        .find(|k| *k > dropped && !trace.held.iter().any(|(i, _)| i == k))
+        .unwrap();
+    let at = tampered.held.partition_point(|(i, _)| *i < added);
+    tampered.held.insert(
+        at,
+        (
+            added,
+            HeldMarks {
+                orientation: true,
+                ..HeldMarks::default()
+            },
+        ),
+    );
+    let path = dir.join("tampered.trace");
+    tampered.write(&path).unwrap();
+    let out = dir.join("tampered.json");
+    let o = nendo(&["replay", &s(&path), "--out", &s(&out)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "a warning, not a failure: {err}");
+    let warning = format!(
+        "warning: {}: the trace's gate marks differ from this replay's gate on 2 frames (first: {}, {})",
+        path.display(),
+        dropped + 1,
+        added + 1
+    );
+    assert!(err.contains(&warning), "{warning}: {err}");
+    assert!(
+        err.contains(&format!(
+            "the trace marks {} frames held; this replay's gate differs on 2 frames",
+            trace.held.len()
+        )),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        std::fs::read(&agreed).unwrap(),
+        "the replay filters with its own gate"
+    );
+    eprintln!(
+        "marks: {} frames of {} marked ({} spikes injected); tampered: {err}",
+        trace.held.len(),
+        trace.frames.len(),
+        spikes.len()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

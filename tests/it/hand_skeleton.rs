@@ -142,6 +142,7 @@ fn a_vmc_skeleton_dents_the_plane_as_deep_as_its_index_tip_went() {
                 ..TraceHeader::default()
             },
             frames,
+            held: Vec::new(),
         };
         let text = trace.to_text();
         assert!(text.starts_with("nendo-hand-trace 3\n"));

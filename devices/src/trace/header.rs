@@ -2,8 +2,8 @@
 //! readers: the whole-text [`super::Trace::parse`] and the line stream [`super::TraceStream`].
 
 use super::{
-    DeviceError, HandSize, Joint, OLDEST_TRACE_VERSION, SceneText, TRACE_FORMAT, TRACE_VERSION,
-    TraceHeader, WorldFromTracker, skeleton,
+    DeviceError, HELD_FIELD, HandSize, Joint, OLDEST_TRACE_VERSION, SceneText, TRACE_FORMAT,
+    TRACE_VERSION, TraceHeader, WorldFromTracker, skeleton,
 };
 
 /// The version a trace's first line names.
@@ -105,6 +105,26 @@ pub(crate) fn parse_header_line(
                     err(n, format!("skeleton `{rest}`: expected `left` or `right`"))
                 })?);
         }
+        "marks" if version < 4 => {
+            return Err(err(
+                n,
+                format!(
+                    "a `marks` header line needs trace version 4; this trace says version {version}"
+                ),
+            ));
+        }
+        "marks" => match rest.trim() {
+            HELD_FIELD => header.marks_held = true,
+            other => {
+                return Err(err(
+                    n,
+                    format!(
+                        "marks `{}`: this nendo knows only `marks {HELD_FIELD}`",
+                        super::held::clip(other)
+                    ),
+                ));
+            }
+        },
         "frames" => return Ok(true),
         other => return Err(err(n, format!("unknown header keyword `{other}`"))),
     }

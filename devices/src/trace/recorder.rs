@@ -28,13 +28,23 @@
 //!   new header is in place.
 //!
 //! Every frame is written as [`crate::trace::quantize_frame`] rounds it, like every trace line.
+//!
+//! **The gate's marks.** A recorder made with [`TraceRecorder::create_gated`] runs the
+//! plausibility gate and filter ([`FrameFilter`]) of the given settings over the frames as it
+//! writes them (rounded, as the trace stores them and a replay reads them) and marks each
+//! frame where the gate held something (`held=`, [`crate::trace::HeldMarks`]); its header says
+//! `marks held` (trace version 4). The gate is a pure function of the frames and the settings,
+//! so these are the marks any hand loop with the same settings — the window's, `nendo
+//! replay`'s — computes on the same frames. With the gate off ([`FilterSettings::enabled`]
+//! false), or made with [`TraceRecorder::create`], it writes no marks and no `marks` line.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use nendo_file::{AppendFile, Existing};
 
-use super::{TraceHeader, format_frame_of, format_header};
+use super::{HeldMarks, TraceHeader, format_header, format_marked_frame, quantize_frame};
+use crate::filter::{FilterSettings, FrameFilter};
 use crate::{DeviceError, HandFrame, Joint};
 
 /// The longest a pushed frame waits for its `fdatasync`.
@@ -49,6 +59,10 @@ pub struct TraceRecorder {
     joints: Vec<Joint>,
     /// The frames carry skeletons (the header's `skeleton` line).
     skeleton: bool,
+    /// The gate whose rejections the frames are marked with (the header's `marks held`).
+    gate: Option<FrameFilter>,
+    /// Frames written with a `held=` mark.
+    marked: u64,
     count: u64,
     line: String,
     /// When the file was last synced.
@@ -60,7 +74,9 @@ pub struct TraceRecorder {
 }
 
 impl TraceRecorder {
-    /// Starts recording to `path`: its header is in the file, synced, when this returns.
+    /// Starts recording to `path`: its header is in the file, synced, when this returns. No
+    /// gate runs and no frame is marked (the header is written without `marks held`, whatever
+    /// `header.marks_held` says; see [`TraceRecorder::create_gated`]).
     ///
     /// # Errors
     /// [`DeviceError::File`] naming `path`: a file already there with [`Existing::Refuse`]
@@ -71,6 +87,22 @@ impl TraceRecorder {
         header: TraceHeader,
         existing: Existing,
     ) -> Result<TraceRecorder, DeviceError> {
+        TraceRecorder::create_gated(path, header, existing, FilterSettings::off())
+    }
+
+    /// Starts recording to `path` as [`TraceRecorder::create`] does, marking the frames the
+    /// gate of `gate` holds (see the module docs): with the gate on, the header says `marks
+    /// held` (whatever `header.marks_held` says); off, it has no marks.
+    ///
+    /// # Errors
+    /// As [`TraceRecorder::create`].
+    pub fn create_gated(
+        path: &Path,
+        mut header: TraceHeader,
+        existing: Existing,
+        gate: FilterSettings,
+    ) -> Result<TraceRecorder, DeviceError> {
+        header.marks_held = gate.enabled;
         let out =
             AppendFile::create(path, format_header(&header).as_bytes(), existing).map_err(|e| {
                 DeviceError::File {
@@ -82,6 +114,8 @@ impl TraceRecorder {
             out: Some(out),
             path: path.to_path_buf(),
             skeleton: header.skeleton.is_some(),
+            gate: gate.enabled.then(|| FrameFilter::new(gate)),
+            marked: 0,
             joints: header.joints,
             count: 0,
             line: String::new(),
@@ -101,14 +135,35 @@ impl TraceRecorder {
         self.count
     }
 
+    /// Frames in the file marked `held=` (none without the gate).
+    pub fn marked(&self) -> u64 {
+        self.marked
+    }
+
+    /// The gate the frames are marked by (`None`: no marks), with its counters.
+    pub fn gate(&self) -> Option<&FrameFilter> {
+        self.gate.as_ref()
+    }
+
     /// Appends a frame (one write), syncing the file if [`SYNC_INTERVAL`] has passed.
     ///
     /// # Errors
     /// [`DeviceError::RecordingStopped`]: the write failed (the recording has stopped; the
     /// file keeps every frame before this one), or it had stopped already.
     pub fn push(&mut self, frame: &HandFrame) -> Result<(), DeviceError> {
+        if self.out.is_none() {
+            return Err(self.not_writable());
+        }
+        let frame = &quantize_frame(frame, &self.joints);
+        let held = match &mut self.gate {
+            Some(gate) => {
+                gate.apply(frame);
+                HeldMarks::from(gate.held()).carried_by(frame, &self.joints, self.skeleton)
+            }
+            None => HeldMarks::default(),
+        };
         self.line.clear();
-        format_frame_of(&self.joints, self.skeleton, frame, &mut self.line);
+        format_marked_frame(&self.joints, self.skeleton, frame, &held, &mut self.line);
         let Some(out) = self.out.as_mut() else {
             return Err(self.not_writable());
         };
@@ -116,6 +171,7 @@ impl TraceRecorder {
             return Err(self.stop(e.into_io()));
         }
         self.count += 1;
+        self.marked += u64::from(!held.is_empty());
         self.unsynced = true;
         self.sync_if_due()
     }

@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-use super::{Trace, TraceHeader};
-use crate::{DeviceError, HandFrame};
+use super::Trace;
+use crate::DeviceError;
 
 /// A trace read with [`Trace::parse_recovering`] or [`Trace::read_recovering`].
 #[derive(Debug, Clone, PartialEq)]
@@ -18,17 +18,13 @@ pub struct Recovered {
 }
 
 impl Recovered {
-    pub(super) fn interrupted(
-        header: TraceHeader,
-        frames: Vec<HandFrame>,
-        dropped: Option<DroppedTail>,
-    ) -> Self {
+    pub(super) fn interrupted(trace: Trace, dropped: Option<DroppedTail>) -> Self {
         Recovered {
             interrupted: Some(Interrupted {
-                frames: frames.len(),
+                frames: trace.frames.len(),
                 dropped,
             }),
-            trace: Trace { header, frames },
+            trace,
         }
     }
 }
@@ -98,7 +94,11 @@ impl Trace {
     pub fn read_recovering(path: &Path) -> Result<Recovered, DeviceError> {
         let mut stream = super::TraceStream::open(path)?;
         let mut frames = Vec::new();
+        let mut held = Vec::new();
         while let Some(f) = stream.next_frame()? {
+            if !stream.held().is_empty() {
+                held.push((frames.len(), stream.held()));
+            }
             frames.push(f);
         }
         let interrupted = stream.interrupted().cloned();
@@ -106,6 +106,7 @@ impl Trace {
             trace: Trace {
                 header: stream.header().clone(),
                 frames,
+                held,
             },
             interrupted,
         })

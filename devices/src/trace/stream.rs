@@ -20,8 +20,8 @@ use std::io::{self, BufRead, BufReader};
 use std::path::{Path, PathBuf};
 
 use super::{
-    DroppedTail, HandFrame, Interrupted, TraceHeader, parse_frame_of, parse_header_line,
-    parse_version_line,
+    DroppedTail, HandFrame, HeldMarks, Interrupted, TraceHeader, parse_header_line,
+    parse_marked_frame, parse_version_line,
 };
 use crate::DeviceError;
 
@@ -52,6 +52,8 @@ pub struct TraceStream<R> {
     line: usize,
     frames: usize,
     last_time: u64,
+    /// The gate's marks on the last frame read.
+    held: HeldMarks,
     buf: Vec<u8>,
     /// The last line read had no newline (it ended the file).
     cut: bool,
@@ -115,6 +117,7 @@ impl<R: BufRead> TraceStream<R> {
             line: 0,
             frames: 0,
             last_time: 0,
+            held: HeldMarks::default(),
             buf: Vec::new(),
             cut: false,
             done: None,
@@ -189,6 +192,12 @@ impl<R: BufRead> TraceStream<R> {
         self.done.as_ref().and_then(Option::as_ref)
     }
 
+    /// The gate's marks on the frame [`TraceStream::next_frame`] returned last (its `held=`
+    /// field; empty without one, and always in a trace without `marks held`).
+    pub fn held(&self) -> HeldMarks {
+        self.held
+    }
+
     /// The next frame, or `None` after the last (then see [`TraceStream::interrupted`]).
     ///
     /// # Errors
@@ -196,6 +205,7 @@ impl<R: BufRead> TraceStream<R> {
     /// it), a wrong `end` count, or text after the `end` line; [`DeviceError::File`] (or
     /// [`DeviceError::Io`] for a stream not opened from a file) for a read error.
     pub fn next_frame(&mut self) -> Result<Option<HandFrame>, DeviceError> {
+        self.held = HeldMarks::default();
         if self.done.is_some() {
             return Ok(None);
         }
@@ -239,19 +249,21 @@ impl<R: BufRead> TraceStream<R> {
             };
             return Ok(self.finish(Some(tail)));
         }
-        let frame = parse_frame_of(&self.header.joints, self.header.skeleton, text)
+        let h = &self.header;
+        let frame = parse_marked_frame(&h.joints, h.skeleton, h.marks_held, text)
             .map_err(|e| e.to_string())
-            .and_then(|f| {
+            .and_then(|(f, marks)| {
                 if f.time.as_micros() < self.last_time {
                     Err("time goes backwards".to_owned())
                 } else {
-                    Ok(f)
+                    Ok((f, marks))
                 }
             });
         match frame {
-            Ok(f) => {
+            Ok((f, marks)) => {
                 self.last_time = f.time.as_micros();
                 self.frames += 1;
+                self.held = marks;
                 Ok(Some(f))
             }
             Err(reason) => self.bad_line(n, newline, reason),
@@ -424,8 +436,11 @@ mod tests {
     /// What the stream reads from `bytes`, as [`Trace::parse_recovering`] reports it.
     fn streamed(bytes: &[u8]) -> Result<super::super::Recovered, String> {
         let mut s = TraceStream::new(bytes).map_err(|e| e.to_string())?;
-        let mut frames = Vec::new();
+        let (mut frames, mut held) = (Vec::new(), Vec::new());
         while let Some(f) = s.next_frame().map_err(|e| e.to_string())? {
+            if !s.held().is_empty() {
+                held.push((frames.len(), s.held()));
+            }
             frames.push(f);
         }
         Ok(super::super::Recovered {
@@ -433,6 +448,7 @@ mod tests {
             trace: Trace {
                 header: s.header().clone(),
                 frames,
+                held,
             },
         })
     }

@@ -138,6 +138,7 @@ fn a_recording_cut_at_any_byte_recovers_its_complete_frames() {
     let text = Trace {
         header: header(),
         frames: all.clone(),
+        held: Vec::new(),
     }
     .to_text();
     let body = text.find("frames\n").unwrap() + "frames\n".len();
@@ -181,6 +182,7 @@ fn a_damaged_end_is_dropped_only_from_an_unfinished_recording() {
     let text = Trace {
         header: header(),
         frames: all.clone(),
+        held: Vec::new(),
     }
     .to_text();
     let unfinished = &text[..text.rfind("end ").unwrap()];
@@ -321,5 +323,96 @@ fn a_live_streams_frames_are_what_its_recording_reads_back() {
     for (k, (a, b)) in got.iter().zip(&back.frames).enumerate() {
         assert_eq!(a, b, "frame {k}");
         assert_eq!(bits(a), bits(b), "frame {k}");
+    }
+}
+
+/// A gated recorder marks the frames its gate holds: every injected tracker spike, and
+/// exactly the frames a gate run afterwards over the frames read back holds (the same
+/// settings, the same rounded frames); its header says `marks held` (version 4). With the gate
+/// off, or made without one, it writes no marks and the version of before.
+#[test]
+fn a_gated_recorder_marks_what_its_gate_holds() {
+    use nendo_devices::trace::HeldMarks;
+    use nendo_devices::{FilterSettings, FrameFilter};
+    let dir = tempfile::tempdir().unwrap();
+    let dir = dir.path();
+    let spikes = [40usize, 90, 151, 152, 230];
+    let mut all = frames(300);
+    for &k in &spikes {
+        if let Some(p) = &mut all[k].pose {
+            p.position.z -= 0.06;
+        }
+    }
+    let path = dir.join("gated.trace");
+    let settings = FilterSettings::default();
+    let mut rec = TraceRecorder::create_gated(&path, header(), Existing::Refuse, settings).unwrap();
+    for f in &all {
+        rec.push(f).unwrap();
+    }
+    let marked = rec.marked();
+    assert_eq!(rec.finish().unwrap(), 300);
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(text.starts_with("nendo-hand-trace 4\n") && text.contains("\nmarks held\n"));
+    let trace = Trace::read(&path).unwrap();
+    assert_eq!(trace.held.len() as u64, marked);
+    // The reference: a gate run over the frames as read back.
+    let mut gate = FrameFilter::new(settings);
+    let mut expected = Vec::new();
+    for (k, f) in trace.frames.iter().enumerate() {
+        gate.apply(f);
+        let m = HeldMarks::from(gate.held());
+        if !m.is_empty() {
+            expected.push((k, m));
+        }
+    }
+    assert_eq!(trace.held, expected);
+    // Every spike held (a two-sample spike too), and nothing far from them.
+    for &k in &spikes {
+        assert!(
+            trace.held.iter().any(|(i, m)| *i == k && m.position),
+            "spike at {k}: {:?}",
+            trace.held
+        );
+    }
+    let position_marks: Vec<usize> = trace
+        .held
+        .iter()
+        .filter(|(_, m)| m.position)
+        .map(|(i, _)| *i)
+        .collect();
+    assert!(
+        position_marks
+            .iter()
+            .all(|i| spikes.iter().any(|s| s.abs_diff(*i) <= 2)),
+        "{position_marks:?}"
+    );
+    eprintln!(
+        "gated recorder: {marked} of 300 frames marked, position marks at {position_marks:?}"
+    );
+    // Gate off, or no gate: no marks, the version of before.
+    for (name, off) in [("off", true), ("plain", false)] {
+        let path = dir.join(format!("{name}.trace"));
+        let mut rec = if off {
+            TraceRecorder::create_gated(&path, header(), Existing::Refuse, FilterSettings::off())
+        } else {
+            TraceRecorder::create(
+                &path,
+                TraceHeader {
+                    marks_held: true,
+                    ..header()
+                },
+                Existing::Refuse,
+            )
+        }
+        .unwrap();
+        for f in &all {
+            rec.push(f).unwrap();
+        }
+        assert_eq!(rec.marked(), 0);
+        rec.finish().unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.starts_with("nendo-hand-trace 2\n"), "{name}");
+        assert!(!text.contains("marks") && !text.contains("held="), "{name}");
+        assert_eq!(Trace::read(&path).unwrap().frames, trace.frames);
     }
 }

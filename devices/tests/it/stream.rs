@@ -306,6 +306,7 @@ fn a_trace_replays_in_real_time_with_its_frames() {
     let trace = Trace {
         header: TraceHeader::default(),
         frames: frames.clone(),
+        held: Vec::new(),
     };
     let start = Instant::now();
     let stream = HandStream::replay(trace.clone(), 1.0, false, 64);
@@ -364,6 +365,7 @@ fn a_trace_file_streamed_plays_as_the_trace_read_whole() {
     let trace = Trace {
         header: TraceHeader::default(),
         frames,
+        held: Vec::new(),
     };
     let dir = std::env::temp_dir().join(format!("nendo-replay-file-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");

@@ -4,7 +4,9 @@ use glam::{DQuat, DVec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use nendo_devices::trace::{TraceWriter, quantize_frame};
+use nendo_devices::profile::Side;
+use nendo_devices::skeleton::{HandJoint, JointPose, JointSource, Skeleton};
+use nendo_devices::trace::{HeldMarks, TraceWriter, quantize_frame};
 use nendo_devices::{
     DeviceError, FrameStatus, HandFrame, Joint, JointAngles, SceneText, SourceState, Timestamp,
     Trace, TraceHeader, TrackerPose,
@@ -80,6 +82,7 @@ fn traces_round_trip_bit_exactly() {
     let trace = Trace {
         header: header.clone(),
         frames: frames.clone(),
+        held: Vec::new(),
     };
     let text = trace.to_text();
     let back = Trace::parse(&text).unwrap();
@@ -137,6 +140,7 @@ fn malformed_traces_report_the_line() {
     let good = Trace {
         header: header(),
         frames: random_frames(1, 12, &header().joints),
+        held: Vec::new(),
     }
     .to_text();
     let lines: Vec<&str> = good.lines().collect();
@@ -146,11 +150,11 @@ fn malformed_traces_report_the_line() {
         v[i] = new;
         v.join("\n")
     };
-    assert_eq!(error_line("nendo-hand-trace 4\nframes\nend 0\n").0, 1);
+    assert_eq!(error_line("nendo-hand-trace 5\nframes\nend 0\n").0, 1);
     assert!(
         error_line("nendo-hand-trace 0\nframes\nend 0\n")
             .1
-            .contains("reads versions 1 to 3")
+            .contains("reads versions 1 to 4")
     );
     assert_eq!(error_line("hello\n").0, 1);
     // The first frame line with a number (values only come with an `ok` source).
@@ -202,6 +206,7 @@ fn the_scene_is_carried_as_its_text_and_version_1_still_reads() {
     let trace = Trace {
         header: with_scene.clone(),
         frames: random_frames(9, 5, &with_scene.joints),
+        held: Vec::new(),
     };
     let text = trace.to_text();
     assert!(text.starts_with("nendo-hand-trace 2\n"), "{text}");
@@ -219,6 +224,7 @@ fn the_scene_is_carried_as_its_text_and_version_1_still_reads() {
     let none = Trace {
         header: header(),
         frames: Vec::new(),
+        held: Vec::new(),
     }
     .to_text();
     assert!(none.contains("\nscene none\nframes\n"), "{none}");
@@ -324,6 +330,7 @@ fn the_writer_withdraws_values_of_a_source_that_is_not_ok() {
     let trace = Trace {
         header: header(),
         frames: vec![frame],
+        held: Vec::new(),
     };
     let back = Trace::parse(&trace.to_text()).unwrap();
     assert!(back.frames[0].pose.is_none() && back.frames[0].joints.is_none());
@@ -335,6 +342,7 @@ fn the_hand_header_is_validated_with_its_line_number() {
     let good = Trace {
         header: header(),
         frames: Vec::new(),
+        held: Vec::new(),
     }
     .to_text();
     let lines: Vec<&str> = good.lines().collect();
@@ -360,6 +368,7 @@ fn a_trace_cut_mid_line_is_reported_as_truncated() {
     let good = Trace {
         header: header(),
         frames: random_frames(5, 6, &header().joints),
+        held: Vec::new(),
     }
     .to_text();
     let lines = good.lines().count();
@@ -394,8 +403,6 @@ fn a_writer_error_names_the_trace_not_its_temporary_file() {
 /// version 2; a `skeleton` line needs version 3; a bad `S` section is an error on its line.
 #[test]
 fn skeleton_traces_round_trip_and_glove_traces_stay_version_2() {
-    use nendo_devices::profile::Side;
-    use nendo_devices::skeleton::{HandJoint, JointPose, JointSource, Skeleton};
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let mut frames = Vec::new();
     for k in 0..20u64 {
@@ -446,6 +453,7 @@ fn skeleton_traces_round_trip_and_glove_traces_stay_version_2() {
             .iter()
             .map(|f| nendo_devices::trace::quantize_frame(f, &[]))
             .collect(),
+        held: Vec::new(),
     };
     let text = trace.to_text();
     assert!(text.starts_with("nendo-hand-trace 3\n"), "{text}");
@@ -457,6 +465,7 @@ fn skeleton_traces_round_trip_and_glove_traces_stay_version_2() {
     let glove = Trace {
         header: header(),
         frames: Vec::new(),
+        held: Vec::new(),
     };
     assert!(glove.to_text().starts_with("nendo-hand-trace 2\n"));
     // A skeleton line in a version-2 trace, a bad flag, a short section.
@@ -484,4 +493,276 @@ fn skeleton_traces_round_trip_and_glove_traces_stay_version_2() {
             .to_string();
         assert!(e.starts_with(&format!("trace line {}:", first + 1)), "{e}");
     }
+}
+
+/// Random marks on the channels a frame carries (the tracker, its joint columns, its skeleton
+/// joints), about one frame in two.
+fn random_marks(rng: &mut ChaCha8Rng, f: &HandFrame, joints: &[Joint]) -> HeldMarks {
+    if !rng.gen_bool(0.5) {
+        return HeldMarks::default();
+    }
+    let mut m = HeldMarks {
+        position: rng.gen_bool(0.5),
+        orientation: rng.gen_bool(0.3),
+        ..HeldMarks::default()
+    };
+    for j in joints {
+        if rng.gen_bool(0.3) {
+            m.joints |= 1 << j.index();
+        }
+    }
+    for k in 0..HandJoint::COUNT {
+        if rng.gen_bool(0.2) {
+            m.skeleton_positions |= 1 << k;
+        }
+        if rng.gen_bool(0.2) {
+            m.skeleton_orientations |= 1 << k;
+        }
+    }
+    // Only what the frame carries: the rest could not be written.
+    m.carried_by(&quantize_frame(f, joints), joints, f.skeleton.is_some())
+}
+
+/// Version 4: the gate's marks round-trip text to text and value to value, on glove frames
+/// and on skeleton frames, and only where a frame carries the channel; `marks held` makes the
+/// version 4 whatever else the header has; a trace without marks is written as before.
+#[test]
+fn held_marks_round_trip_in_version_4() {
+    let joints = header().joints;
+    for seed in 0..20u64 {
+        let mut rng = ChaCha8Rng::seed_from_u64(100 + seed);
+        let frames: Vec<HandFrame> = random_frames(seed, 60, &joints)
+            .iter()
+            .map(|f| quantize_frame(f, &joints))
+            .collect();
+        let held: Vec<(usize, HeldMarks)> = frames
+            .iter()
+            .enumerate()
+            .map(|(k, f)| (k, random_marks(&mut rng, f, &joints)))
+            .filter(|(_, m)| !m.is_empty())
+            .collect();
+        assert!(!held.is_empty(), "seed {seed}");
+        let trace = Trace {
+            header: TraceHeader {
+                marks_held: true,
+                ..header()
+            },
+            frames,
+            held,
+        };
+        let text = trace.to_text();
+        assert!(text.starts_with("nendo-hand-trace 4\n"), "{text}");
+        assert!(text.contains("\nmarks held\n"));
+        let marked_lines = text.lines().filter(|l| l.contains(" held=")).count();
+        assert_eq!(marked_lines, trace.held.len());
+        let back = Trace::parse(&text).unwrap();
+        assert_eq!(back, trace, "seed {seed}");
+        assert_eq!(back.to_text(), text);
+        // The stream reads the same marks.
+        let mut stream = nendo_devices::TraceStream::new(text.as_bytes()).unwrap();
+        let mut streamed = Vec::new();
+        let mut k = 0;
+        while stream.next_frame().unwrap().is_some() {
+            if !stream.held().is_empty() {
+                streamed.push((k, stream.held()));
+            }
+            k += 1;
+        }
+        assert_eq!(streamed, trace.held);
+    }
+    // Skeleton frames: `NAME.position` / `NAME.orientation`, in OpenXR's order.
+    let mut s = Skeleton::new(Side::Right);
+    for j in [HandJoint::Wrist, HandJoint::IndexTip] {
+        s.set(j, JointPose::IDENTITY, JointSource::Measured);
+    }
+    let frame = HandFrame {
+        time: Timestamp(5),
+        skeleton: Some(s),
+        status: FrameStatus {
+            tracker: SourceState::Ok,
+            tracker_fresh: true,
+            ..FrameStatus::default()
+        },
+        ..HandFrame::default()
+    };
+    let marks = HeldMarks {
+        skeleton_positions: (1 << HandJoint::IndexTip.index()) | (1 << HandJoint::Palm.index()),
+        skeleton_orientations: 1 << HandJoint::Wrist.index(),
+        ..HeldMarks::default()
+    };
+    let trace = Trace {
+        header: TraceHeader {
+            skeleton: Some(Side::Right),
+            ..TraceHeader::default()
+        },
+        frames: vec![frame],
+        held: vec![(0, marks)],
+    };
+    let text = trace.to_text();
+    assert!(text.starts_with("nendo-hand-trace 4\n"), "{text}");
+    // The palm is not in the frame: its mark is not written.
+    assert!(
+        text.contains(" held=wrist.orientation,index_tip.position\n"),
+        "{text}"
+    );
+    let back = Trace::parse(&text).unwrap();
+    assert_eq!(
+        back.held,
+        vec![(0, marks.carried_by(&trace.frames[0], &[], true))]
+    );
+    // No marks: written as before (version 2, no `marks` line).
+    let plain = Trace {
+        header: header(),
+        frames: random_frames(1, 5, &joints),
+        held: Vec::new(),
+    }
+    .to_text();
+    assert!(plain.starts_with("nendo-hand-trace 2\n") && !plain.contains("marks"));
+    // A version-4 trace with `marks held` and no mark says nothing was held.
+    let none = Trace {
+        header: TraceHeader {
+            marks_held: true,
+            ..header()
+        },
+        frames: random_frames(1, 5, &joints)
+            .iter()
+            .map(|f| quantize_frame(f, &joints))
+            .collect(),
+        held: Vec::new(),
+    };
+    let text = none.to_text();
+    assert!(text.contains("\nmarks held\n") && !text.contains("held="));
+    assert_eq!(Trace::parse(&text).unwrap(), none);
+}
+
+/// Every way a mark can be wrong is an error naming the line, and none panics or holds more
+/// than the line: a mark in a trace that does not declare marks, a `marks` line before
+/// version 4 or naming another field, a channel the frame does not carry, a name that is no
+/// channel, a repeat, a list out of order, two `held=` fields, an empty item, a hostile list.
+#[test]
+fn malformed_marks_are_errors_on_their_line() {
+    let joints = vec![Joint::IndexMcp, Joint::IndexPip];
+    let h = TraceHeader {
+        joints: joints.clone(),
+        marks_held: true,
+        ..TraceHeader::default()
+    };
+    let head = nendo_devices::trace::format_header(&h);
+    let pose = "P 0.100000 0.200000 -0.050000 1.000000 0.000000 0.000000 0.000000";
+    let line = |rest: &str| format!("{head}0 ok* ok* 0 {rest}\nend 1\n");
+    let good = line(&format!(
+        "{pose} J 0.100000 0.200000 held=position,index_pip"
+    ));
+    let t = Trace::parse(&good).unwrap();
+    assert_eq!(
+        t.held,
+        vec![(
+            0,
+            HeldMarks {
+                position: true,
+                joints: 1 << Joint::IndexPip.index(),
+                ..HeldMarks::default()
+            }
+        )]
+    );
+    let frames_line = head.lines().count() + 1;
+    let cases: Vec<(String, &str)> = vec![
+        (
+            line(&format!("{pose} J 0.100000 ? held=index_pip")),
+            "no value in this column",
+        ),
+        (
+            line("P - J 0.100000 0.200000 held=orientation"),
+            "no tracker pose",
+        ),
+        (
+            line(&format!("{pose} J 0.100000 0.200000 held=thumb_roll")),
+            "not a joint column",
+        ),
+        (
+            line(&format!("{pose} J 0.100000 0.200000 held=elbow")),
+            "not a channel",
+        ),
+        (
+            line(&format!(
+                "{pose} J 0.100000 0.200000 held=position,position"
+            )),
+            "in order",
+        ),
+        (
+            line(&format!(
+                "{pose} J 0.100000 0.200000 held=index_pip,index_mcp"
+            )),
+            "in order",
+        ),
+        (
+            line(&format!(
+                "{pose} J 0.100000 0.200000 held=orientation,position"
+            )),
+            "in order",
+        ),
+        (
+            line(&format!("{pose} J 0.100000 0.200000 held=position,")),
+            "not a channel",
+        ),
+        (
+            line(&format!("{pose} J 0.100000 0.200000 held=wrist.position")),
+            "no skeleton",
+        ),
+        (
+            line(&format!("{pose} J 0.100000 0.200000 held=wrist.angle")),
+            ".position or .orientation",
+        ),
+        (
+            line(&format!(
+                "{pose} J 0.100000 0.200000 held=position held=index_mcp"
+            )),
+            "twice",
+        ),
+        (
+            line(&format!("{pose} J 0.100000 0.200000 held=position other=1")),
+            "unknown per-frame field `other`",
+        ),
+        (
+            line(&format!("{pose} J 0.100000 0.200000 held=")),
+            "is not a per-frame field",
+        ),
+    ];
+    for (text, says) in &cases {
+        let (at, message) = error_line(text);
+        assert_eq!(at, frames_line, "{message}");
+        assert!(message.contains(says), "{says}: {message}");
+    }
+    // Marks need the header's `marks held`, which needs version 4.
+    let undeclared = good.replacen("marks held\n", "", 1);
+    assert!(
+        error_line(&undeclared)
+            .1
+            .contains("does not say `marks held`")
+    );
+    let v3 = good.replacen("nendo-hand-trace 4", "nendo-hand-trace 3", 1);
+    assert!(error_line(&v3).1.contains("needs trace version 4"));
+    let other = good.replacen("marks held", "marks rejected", 1);
+    assert!(error_line(&other).1.contains("knows only `marks held`"));
+    // A hostile list: a 1 MB value of valid-looking tokens is refused at its first repeat,
+    // quoting at most 40 characters of it; the stream refuses a longer line unread.
+    let long = "index_mcp,".repeat(100_000);
+    let (_, message) = error_line(&line(&format!("{pose} J 0.100000 0.200000 held={long}x")));
+    assert!(message.len() < 300, "{}", message.len());
+    let huge = "position".repeat(200_000);
+    let (_, message) = error_line(&line(&format!("{pose} J 0.100000 0.200000 held={huge}")));
+    assert!(
+        message.len() < 300 && message.contains('…'),
+        "{}",
+        message.len()
+    );
+    let text = line(&format!("{pose} J 0.100000 0.200000 held={huge}"));
+    let mut stream = nendo_devices::TraceStream::new(text.as_bytes()).unwrap();
+    assert!(
+        stream
+            .next_frame()
+            .unwrap_err()
+            .to_string()
+            .contains("longer than 1 MB")
+    );
 }

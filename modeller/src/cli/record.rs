@@ -33,6 +33,15 @@
 //! them (the scene's `filter`); `nendo replay TRACE --out M.json` then needs nothing else. Without `--primitive` or `--model` the trace says it has no scene (`scene none`; a
 //! replayed trace keeps its own), and the settings options are refused.
 //!
+//! **The gate's marks** (trace version 4): the recording runs the plausibility gate over the
+//! frames it writes and marks those where it held something (`held=`, see
+//! [`nendo_devices::trace::HeldMarks`]), with the settings `nendo replay` filters the trace
+//! with by default: the scene's `filter` (the profile's, or a replayed trace's own scene's),
+//! else, for a trace without a scene, the profile's. So the marks are what a replay's gate
+//! holds, and `nendo replay` says whether it agrees. A profile whose filter is off
+//! (`"filter": {"enabled": false}`) records no marks (and no `marks` header line). The summary
+//! counts the marked frames.
+//!
 //! Devices start as in the window's Connect ([`HandStream::connect`]): whatever is present
 //! records from the start, a device absent or mute at start is retried every 250 ms and joins
 //! when it answers (a warning says so); with no device answering, the command fails naming
@@ -320,7 +329,13 @@ fn record(args: RecordArgs) -> anyhow::Result<String> {
     if scene.is_some() {
         header.scene = scene;
     }
-    let mut writer = match TraceRecorder::create(&args.out, header, existing) {
+    // The gate the frames are marked by: the settings a replay of this trace filters with.
+    let gate = Scene::of_trace(&header)
+        .ok()
+        .flatten()
+        .and_then(|s| s.filter)
+        .unwrap_or(profile.filter);
+    let mut writer = match TraceRecorder::create_gated(&args.out, header, existing, gate) {
         Ok(w) => w,
         Err(DeviceError::File { error, .. })
             if error.kind() == std::io::ErrorKind::AlreadyExists =>
@@ -373,6 +388,15 @@ fn record(args: RecordArgs) -> anyhow::Result<String> {
     if let Some(e) = failed {
         anyhow::bail!("{e} (after {elapsed:.1} s)");
     }
+    let marks = match writer.gate() {
+        Some(gate) => format!(
+            "\ngate: {} of {frames} frames marked held ({})",
+            writer.marked(),
+            crate::hand::filter::describe(gate.stats()),
+            frames = writer.frames()
+        ),
+        None => "\ngate off: no frames marked".to_owned(),
+    };
     let frames = writer.finish()?;
     let source = |name: &str, s: nendo_devices::DeviceStats| {
         format!(
@@ -399,6 +423,7 @@ fn record(args: RecordArgs) -> anyhow::Result<String> {
         stats.disconnects,
         stats.overflow,
     );
+    summary.push_str(&marks);
     if let Some(e) = last_error {
         summary.push_str(&format!("\nlast device error: {e}"));
     }

@@ -63,6 +63,17 @@
 //! made with), else `--profile`'s, else the defaults for the finger; `--no-filter` replays the
 //! raw frames. The summary says what the gate held (per channel, with the first frames).
 //!
+//! A trace recorded with the gate's marks (version 4, `marks held`: which samples the
+//! recording's gate held, [`nendo_devices::trace::HeldMarks`]) is checked against them: the
+//! summary says how many frames the trace marks and whether this replay's gate held the same
+//! channels on the same frames (`the trace marks 12 frames held, as this replay's gate does`).
+//! Where it does not — the trace recorded with other filter settings than the replay's,
+//! `--no-filter`, a trace edited by hand — a warning on standard error names how many frames
+//! differ and the first of them; the replay goes on with its own gate all the same (the marks
+//! are a record, never an input: a replay filters exactly as the window did), and the exit
+//! status does not change. A trace without marks (version 3 or older, or recorded with the
+//! gate off) replays as before, its summary unchanged.
+//!
 //! `--mirror x|y|z` presses every contact together with its mirror image across the plane
 //! `x = 0` (`y = 0`, `z = 0`), keeping a symmetric model exactly symmetric; a model that is not
 //! symmetric about the plane is refused (exit status 1). Mirrors combine (`--mirror x,y`), and
@@ -80,12 +91,64 @@ use crate::hand::{FingerModel, Hand, HandLoop, HandOptions, filter};
 use crate::model::Model;
 use crate::surface::MAX_PATCHES;
 use crate::surface::{Grid, Plane, Primitive, PrimitiveParams, Regulation, refine};
+use nendo_devices::trace::HeldMarks;
 use nendo_devices::{FilterSettings, HandFrame, TraceHeader, TraceStream};
 
 /// Frames from which a replay reports its progress.
 pub const PROGRESS_FROM: usize = 1_000;
 /// Frames the summary names where the gate held something (the rest are counted).
 const HELD_NAMED: usize = 8;
+
+/// A trace's gate marks against the replay's own gate: how many frames the trace marks, and
+/// the frames where the two differ (counted, the first few kept).
+#[derive(Debug, Default)]
+struct MarksCheck {
+    marked: usize,
+    differ: usize,
+    first: Vec<usize>,
+}
+
+impl MarksCheck {
+    /// Frame `number` (1-based): the trace's marks and what the replay's gate held.
+    fn frame(&mut self, number: usize, trace: HeldMarks, gate: HeldMarks) {
+        self.marked += usize::from(!trace.is_empty());
+        if trace != gate {
+            self.differ += 1;
+            if self.first.len() < HELD_NAMED {
+                self.first.push(number);
+            }
+        }
+    }
+
+    /// The summary's words, and a warning when the replay's gate (`filtered`: on) disagrees.
+    fn summary(&self, filtered: bool) -> (String, Option<String>) {
+        let frames = |n: usize| format!("{n} frame{}", if n == 1 { "" } else { "s" });
+        let marked = format!("the trace marks {} held", frames(self.marked));
+        if !filtered {
+            return (format!("{marked} (not compared: not filtered)"), None);
+        }
+        if self.differ == 0 {
+            return (format!("{marked}, as this replay's gate does"), None);
+        }
+        let first: Vec<String> = self.first.iter().map(usize::to_string).collect();
+        let more = if self.differ > self.first.len() {
+            ", …"
+        } else {
+            ""
+        };
+        (
+            format!(
+                "{marked}; this replay's gate differs on {} (see the warning)",
+                frames(self.differ)
+            ),
+            Some(format!(
+                "the trace's gate marks differ from this replay's gate on {} (first: {}{more}): recorded with other filter settings? The replay uses its own gate",
+                frames(self.differ),
+                first.join(", ")
+            )),
+        )
+    }
+}
 
 /// The frames a trace file holds, for the progress report, counted without holding any of
 /// it: its lines after the `header_lines`, less a last `end` line. `0` (no progress
@@ -135,7 +198,7 @@ fn frames_in(path: &Path, header_lines: usize) -> usize {
 /// Arguments of `nendo replay`.
 #[derive(Debug, ClapArgs)]
 pub struct ReplayArgs {
-    /// The trace (`nendo-hand-trace` version 1 or 2).
+    /// The trace (`nendo-hand-trace` version 1 to 4).
     pub trace: PathBuf,
     /// Start from a primitive: plane, cylinder, hemisphere, sphere, torus or tube (default: the
     /// trace's scene).
@@ -584,6 +647,8 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
     // the summary), never a list as long as the trace.
     let mut held = Vec::new();
     let mut held_count = 0usize;
+    // The trace's own marks, checked against the gate's (see the module docs).
+    let mut marks = MarksCheck::default();
     let mut grid = model.surface.clone();
     let mut refiner = auto_refine.then(AutoRefine::default);
     let start = Instant::now();
@@ -596,6 +661,14 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             r.before(&mut hand_loop, frame, &mut grid, k + 1)?;
         }
         let out = hand_loop.frame(frame, &mut grid, regulation);
+        if header.marks_held {
+            let gate = HeldMarks::from(hand_loop.filter().held()).carried_by(
+                frame,
+                &header.joints,
+                header.skeleton.is_some(),
+            );
+            marks.frame(k + 1, stream.held(), gate);
+        }
         if !hand_loop.filter().held().is_empty() {
             held_count += 1;
             if held.len() < HELD_NAMED {
@@ -664,6 +737,16 @@ pub(crate) fn replay(args: &ReplayArgs) -> anyhow::Result<String> {
             let first: Vec<String> = held.iter().map(usize::to_string).collect();
             let more = if n > HELD_NAMED { ", …" } else { "" };
             format!("{gate} — frames {}{more}", first.join(", "))
+        }
+    };
+    let filtered = hand_loop.filter().settings().enabled;
+    let gate = match (header.marks_held, marks.summary(filtered)) {
+        (false, _) => gate,
+        (true, (summary, warning)) => {
+            if let Some(w) = warning {
+                eprintln!("nendo replay: warning: {}: {w}", args.trace.display());
+            }
+            format!("{gate}; {summary}")
         }
     };
     let clutched = match st.clutched {

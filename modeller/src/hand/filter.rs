@@ -7,7 +7,10 @@
 //! `nendo replay` and [`super::HandSession`] all feed frames through — on the frames' own
 //! timestamps, so a replay reproduces the window exactly: same raw frames in, same filtered
 //! frames, same rejections. Traces keep the raw samples; the settings travel with a recording
-//! in its scene ([`super::scene::Scene::filter`]).
+//! in its scene ([`super::scene::Scene::filter`]), and the recorders (the window's, `nendo
+//! record`) run the same gate with those settings as they write, marking the samples it held
+//! (trace version 4, [`nendo_devices::trace::HeldMarks`]), which `nendo replay` checks against
+//! its own gate.
 //!
 //! Which settings a loop uses:
 //! - a new loop: [`default_for`] its finger — the defaults for a glove's hand, **off for the

@@ -322,8 +322,10 @@ impl Choreography {
                 joints: CYBERGLOVE_18_JOINTS.to_vec(),
                 scene: None,
                 skeleton: None,
+                marks_held: false,
             },
             frames: self.frames,
+            held: Vec::new(),
         })
     }
 }

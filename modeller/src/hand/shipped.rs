@@ -450,8 +450,10 @@ pub fn mouse_sphere() -> Result<Trace, HandError> {
             joints,
             scene: None,
             skeleton: None,
+            marks_held: false,
         },
         frames,
+        held: Vec::new(),
     })
 }
 

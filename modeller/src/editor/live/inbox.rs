@@ -5,6 +5,12 @@
 //! stream's, already rounded as the trace stores them, so the hand loop and the recording see
 //! the same numbers. Each frame keeps its arrival stamp ([`StampedFrame`]) for the latency
 //! figure.
+//!
+//! The recording marks the frames the plausibility gate holds (`held=`, trace version 4): its
+//! recorder runs the gate with the settings the window's hand loop filters with — the same
+//! settings the recording's scene carries, which `nendo replay` filters with — over the same
+//! frames, so the marks are what the hand loop held ([`TraceRecorder::create_gated`]). With
+//! the gate off the trace has no marks.
 
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -14,7 +20,8 @@ use std::time::{Duration, Instant};
 
 use nendo_devices::trace::Existing;
 use nendo_devices::{
-    DeviceError, DeviceStatus, HandStream, Profile, SceneText, StampedFrame, TraceRecorder,
+    DeviceError, DeviceStatus, FilterSettings, HandStream, Profile, SceneText, StampedFrame,
+    TraceRecorder,
 };
 
 /// What the loop thread calls when it has put samples into the inbox: the window asks for a
@@ -91,20 +98,21 @@ pub(super) struct DeviceSession {
 impl DeviceSession {
     /// Starts the loop on `stream`; with `record`, every frame also goes to a trace file whose
     /// header names `profile` (or, for a replay, is the replayed trace's own header) and the
-    /// scene the session runs on (see [`crate::hand::scene::Scene::of_window`]). `clutch`
+    /// scene the session runs on (see [`crate::hand::scene::Scene::of_window`]), marked by the
+    /// gate of the hand loop's filter settings (the scene's). `clutch`
     /// says whether the clutch key is held as it starts: set before the loop thread takes its
     /// first frame, so a key held from the start marks every frame.
     pub(super) fn start(
         stream: HandStream,
-        record: Option<(PathBuf, &Profile, Option<SceneText>)>,
+        record: Option<(PathBuf, &Profile, Option<SceneText>, FilterSettings)>,
         clutch: bool,
     ) -> Result<DeviceSession, LiveError> {
         let describe = stream.describe();
         let shared = Arc::new(Shared::default());
         shared.clutch.store(clutch, Ordering::Relaxed);
-        let recording = record.as_ref().map(|(p, _, _)| p.clone());
+        let recording = record.as_ref().map(|(p, _, _, _)| p.clone());
         let mut writer = match record {
-            Some((path, profile, scene)) => {
+            Some((path, profile, scene, gate)) => {
                 // A replayed trace is recorded with its own header, not the replay profile's;
                 // the scene is the window's.
                 let mut header = stream.recording_header(profile);
@@ -112,7 +120,7 @@ impl DeviceSession {
                 // Appended as frames come, so a crash keeps them; the panel has asked before
                 // replacing an existing file (`LiveInput::connect`).
                 Some(
-                    TraceRecorder::create(&path, header, Existing::Replace)
+                    TraceRecorder::create_gated(&path, header, Existing::Replace, gate)
                         .map_err(LiveError::Record)?,
                 )
             }

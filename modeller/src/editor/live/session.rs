@@ -141,9 +141,11 @@ impl LiveInput {
             filter: Some(*driver.hand_loop().filter().settings()),
             ..Scene::of_window(doc.model(), finger, radius)
         };
+        // The recording marks what the hand loop's gate holds: the same settings.
+        let gate = *driver.hand_loop().filter().settings();
         let record = match record {
             Some(path) => match scene.to_text() {
-                Ok(scene) => Some((path, &profile, Some(scene))),
+                Ok(scene) => Some((path, &profile, Some(scene), gate)),
                 Err(e) => {
                     self.message = Some(format!("cannot record the scene: {e}"));
                     return;

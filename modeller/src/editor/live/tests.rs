@@ -7,7 +7,7 @@ use super::*;
 use crate::editor::document::Document;
 use crate::editor::settings::Settings;
 use nendo_devices::profile::{self, Input};
-use nendo_devices::{FrameStatus, Timestamp, TraceHeader};
+use nendo_devices::{FilterSettings, FrameStatus, Timestamp, TraceHeader};
 use nendo_devices::{HandFrame, HandStream, Trace};
 
 /// A window frame far slower than the device (here a whole second) loses nothing: the
@@ -25,6 +25,7 @@ fn a_slow_window_frame_drops_no_sample() {
     let trace = Trace {
         header: TraceHeader::default(),
         frames,
+        held: Vec::new(),
     };
     // 100 Hz played 10 times faster: 1 000 frames/s through a 64-frame channel.
     let stream = HandStream::replay(trace, 10.0, false, 64);
@@ -55,6 +56,7 @@ fn session_start_and_recording_report_typed_outcomes() {
                 ..Default::default()
             })
             .collect(),
+        held: Vec::new(),
     };
     let profile = profile::builtin()
         .into_iter()
@@ -64,9 +66,13 @@ fn session_start_and_recording_report_typed_outcomes() {
     std::fs::create_dir_all(&dir).expect("temp dir");
     let missing = dir.join("no-such-folder").join("t.trace");
     let stream = HandStream::replay(trace(), 100.0, false, 64);
-    let err = DeviceSession::start(stream, Some((missing.clone(), &profile, None)), false)
-        .map(|_| ())
-        .expect_err("no folder to record into");
+    let err = DeviceSession::start(
+        stream,
+        Some((missing.clone(), &profile, None, FilterSettings::off())),
+        false,
+    )
+    .map(|_| ())
+    .expect_err("no folder to record into");
     assert!(matches!(err, LiveError::Record(_)), "{err:?}");
     assert!(
         err.to_string().contains(&missing.display().to_string()),
@@ -74,8 +80,12 @@ fn session_start_and_recording_report_typed_outcomes() {
     );
     let path = dir.join("t.trace");
     let stream = HandStream::replay(trace(), 100.0, false, 64);
-    let mut session =
-        DeviceSession::start(stream, Some((path.clone(), &profile, None)), false).expect("started");
+    let mut session = DeviceSession::start(
+        stream,
+        Some((path.clone(), &profile, None, FilterSettings::off())),
+        false,
+    )
+    .expect("started");
     let deadline = Instant::now() + Duration::from_secs(10);
     while !lock(&session.shared.status).finished && Instant::now() < deadline {
         std::thread::sleep(Duration::from_millis(10));
@@ -101,15 +111,27 @@ fn plane_doc() -> Document {
 }
 
 /// The window's recorder writes the scene it records on — the document's model embedded,
-/// the hand's finger and radius — and `nendo replay` of the recording, with no other
-/// argument, gives the window's surface.
+/// the hand's finger, radius and filter — marks the frames that filter's gate holds, and
+/// `nendo replay` of the recording, with no other argument, gives the window's surface.
 #[test]
 fn a_window_recording_replays_to_the_windows_surface() {
     use crate::hand::scene::{Scene, Start};
     let dir = std::env::temp_dir().join(format!("nendo-live-scene-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let source = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+    let shipped = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../devices/traces/plane-groove.trace");
+    // The groove with three tracker samples 6 cm low, for the gate to hold.
+    let mut groove = Trace::read(&shipped).expect("the shipped trace");
+    let posed: Vec<usize> = (0..groove.frames.len())
+        .filter(|&k| groove.frames[k].pose.is_some() && groove.frames[k].status.tracker_fresh)
+        .collect();
+    for k in [posed[100], posed[250], posed[400]] {
+        if let Some(p) = &mut groove.frames[k].pose {
+            p.position.z -= 0.06;
+        }
+    }
+    let source = dir.join("spiked.trace");
+    groove.write(&source).expect("the spiked trace");
     let profile_path = dir.join("replay.json");
     let json = serde_json::json!({
         "format": "nendo-device-profile",
@@ -163,6 +185,27 @@ fn a_window_recording_replays_to_the_windows_surface() {
     assert_eq!(scene.start, Start::Model(Box::new(start)));
     assert_eq!(scene.finger.as_deref(), Some("index"));
     assert_eq!(scene.finger_radius, Some(0.8));
+    // The recording is marked by the hand loop's gate (the scene's filter): its marks are
+    // what that gate holds on the recorded frames.
+    let filter = scene.filter.expect("the hand loop's filter");
+    assert!(filter.enabled && recorded.header.marks_held);
+    let mut gate = nendo_devices::FrameFilter::new(filter);
+    let marks: Vec<_> = recorded
+        .frames
+        .iter()
+        .enumerate()
+        .filter_map(|(k, f)| {
+            gate.apply(f);
+            let m = nendo_devices::trace::HeldMarks::from(gate.held()).carried_by(
+                f,
+                &recorded.header.joints,
+                recorded.header.skeleton.is_some(),
+            );
+            (!m.is_empty()).then_some((k, m))
+        })
+        .collect();
+    assert!(marks.len() >= 3, "{marks:?}");
+    assert_eq!(recorded.held, marks);
     let out = dir.join("replayed.json");
     let replayed = replay_with_defaults(trace_path, &out);
     assert_eq!(replayed.surface.nodes(), doc.model().surface.nodes());
@@ -370,6 +413,7 @@ fn window_recording_under_a_size_limit() {
             ..TraceHeader::default()
         },
         frames,
+        held: Vec::new(),
     };
     let profile = profile::builtin()
         .into_iter()
@@ -378,8 +422,12 @@ fn window_recording_under_a_size_limit() {
     let path = std::path::Path::new(&dir).join("limited.trace");
     // A channel that holds the whole trace: no frame is dropped on overflow.
     let stream = HandStream::replay(trace, 20.0, false, 8192);
-    let mut session =
-        DeviceSession::start(stream, Some((path.clone(), &profile, None)), false).expect("started");
+    let mut session = DeviceSession::start(
+        stream,
+        Some((path.clone(), &profile, None, FilterSettings::off())),
+        false,
+    )
+    .expect("started");
     let deadline = Instant::now() + Duration::from_secs(60);
     while !lock(&session.shared.status).finished && Instant::now() < deadline {
         std::thread::sleep(Duration::from_millis(20));

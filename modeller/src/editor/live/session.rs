@@ -409,7 +409,7 @@ impl LiveInput {
         ))
     }
 
-    /// `describe — N s; frames, rate`, for the panel.
+    /// `describe — N s; frames, rate`, the recording and a fixed symmetry group, for the panel.
     pub(crate) fn session_line(&self) -> Option<String> {
         let s = self.session.as_ref()?;
         let what = match &s.replay {
@@ -421,8 +421,12 @@ impl LiveInput {
             .as_ref()
             .map(|p| format!("; recording to {}", p.display()))
             .unwrap_or_default();
+        let symmetry = self
+            .symmetry_note()
+            .map(|n| format!("; {n}"))
+            .unwrap_or_default();
         Some(format!(
-            "{what} — {:.0} s, {} frames, {:.1} frames/s{recording}",
+            "{what} — {:.0} s, {} frames, {:.1} frames/s{recording}{symmetry}",
             s.started.elapsed().as_secs_f64(),
             s.shared.frames.load(Ordering::Relaxed),
             self.rate.2

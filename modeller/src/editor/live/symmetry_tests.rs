@@ -104,6 +104,8 @@ fn a_mirrored_glove_recording_replays_bit_for_bit() {
         note.contains("mirror x = 0") && note.contains("until it stops"),
         "{note}"
     );
+    let line = live.session_line().unwrap_or_default();
+    assert!(line.ends_with(&note), "the Devices panel says so: {line}");
     poll_through_the_press(&mut live, &mut doc, |_| {});
     live.disconnect_from(&mut doc);
     assert!(live.contacts >= 1, "the press reached the clay");

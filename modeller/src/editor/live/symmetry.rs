@@ -9,8 +9,9 @@
 //!   recording stops (Disconnect, or the stream's end), whatever the toggle says meanwhile: the
 //!   trace's scene is written once, in its header, and names that group (`mirror`, `radial`,
 //!   `lathe`: [`crate::hand::scene`]), and `nendo replay` presses every contact of the trace
-//!   with that one group — so the window and the replay agree bit for bit. The symmetry panel
-//!   and the status line say so while the recording runs ([`LiveInput::symmetry_note`]). A
+//!   with that one group — so the window and the replay agree bit for bit. While the recording
+//!   runs the Tool panel (under the symmetry checkbox), the Devices panel's session line and,
+//!   when the toggle changes, the status line say so ([`LiveInput::symmetry_note`]). A
 //!   lathe kept over `N`-fold radial symmetry (`N` not the patch columns) has no scene member
 //!   (`nendo replay` has no such option): Connect refuses to record it, saying why.
 //! - **A replayed trace** (the panel's Replay, a replay profile) presses with its scene's group

@@ -261,6 +261,7 @@ pub(super) fn tool_ui(
     tool: Tool,
     settings: &mut ToolSettings,
     mirror: &MirrorToggle,
+    session_note: Option<&str>,
 ) -> Vec<Command> {
     let mut commands = Vec::new();
     let mut chosen = tool;
@@ -277,7 +278,7 @@ pub(super) fn tool_ui(
     if chosen != tool {
         commands.push(Command::SelectTool(chosen));
     }
-    commands.extend(symmetry_ui(ui, mirror));
+    commands.extend(symmetry_ui(ui, mirror, session_note));
     let s = settings;
     ui.add(
         egui::Slider::new(&mut s.radius, RADIUS_RANGE)
@@ -569,8 +570,10 @@ fn tool_help(t: Tool) -> &'static str {
 /// The symmetry checkbox: on when wanted and the model allows it; disabled, with the reason,
 /// when it does not. Below it, what the symmetry is made of: the mirrors across x, y and z,
 /// radial symmetry about the z axis with its `N`, the lathe; a change the model does not
-/// allow is refused with the reason on the status line.
-fn symmetry_ui(ui: &mut Ui, mirror: &MirrorToggle) -> Vec<Command> {
+/// allow is refused with the reason on the status line. Under them, `session_note`: the group
+/// a device session presses with when the toggle does not govern it (a recording's, a replayed
+/// trace's).
+fn symmetry_ui(ui: &mut Ui, mirror: &MirrorToggle, session_note: Option<&str>) -> Vec<Command> {
     let available = mirror.available();
     let mut on = mirror.wanted() && available;
     let label = format!("symmetry ({})", mirror.spec());
@@ -581,7 +584,7 @@ fn symmetry_ui(ui: &mut Ui, mirror: &MirrorToggle) -> Vec<Command> {
         }
         None => {
             response.on_hover_text(
-                "Every stroke is applied together with its images (mirrored, turned about the z axis), as one operation (X; Shift+X: radial). The planes and the axis are drawn in the view. The Hand tool's contacts too; not a glove session or a replayed trace.",
+                "Every stroke is applied together with its images (mirrored, turned about the z axis), as one operation (X; Shift+X: radial). The planes and the axis are drawn in the view. The Hand tool's contacts and a glove session's too, taken up between contacts; a recording glove session keeps the symmetry it started with until it stops, and a replayed trace presses with its scene's, as nendo replay does.",
             );
         }
     }
@@ -631,6 +634,9 @@ fn symmetry_ui(ui: &mut Ui, mirror: &MirrorToggle) -> Vec<Command> {
             wanted.radial = 0;
         }
     });
+    if let Some(note) = session_note {
+        ui.small(note);
+    }
     if &wanted != spec {
         commands.push(Command::SetSymmetrySpec(wanted));
     }

@@ -122,8 +122,8 @@ fn side_panel_ui(ui: &mut egui::Ui, m: &mut Modeller, commands: &mut Vec<Command
     egui::CollapsingHeader::new("Tool")
         .default_open(true)
         .show(ui, |ui| {
-            let (tool, settings, mirror) = m.tool_panel();
-            commands.extend(panels::tool_ui(ui, tool, settings, mirror));
+            let (tool, settings, mirror, note) = m.tool_panel();
+            commands.extend(panels::tool_ui(ui, tool, settings, mirror, note.as_deref()));
         });
     egui::CollapsingHeader::new("Regulation")
         .default_open(true)

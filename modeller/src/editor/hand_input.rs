@@ -14,9 +14,12 @@
 //! partners are made exactly symmetric after the regulation
 //! ([`crate::surface::Presser::set_mirror`]); a pinch moves the clay with its mirror image
 //! ([`crate::surface::Sculptor::apply_mirrored`]). The mirror is taken up only between
-//! contacts: a contact keeps the mirror map it began with. Device sessions (a glove, a replayed
-//! trace) stay one-sided: their traces record a scene without a mirror, and `nendo replay`
-//! must give the window's surface bit for bit.
+//! contacts: a contact keeps the mirror map it began with. A device session's hand (a glove and
+//! tracker, a skeleton source such as VMC) presses with the window's group the same way,
+//! taken up between contacts — except while it records, when it keeps the group it started
+//! with (named in its trace's scene) until the recording stops; a replayed trace presses with
+//! its scene's group, whatever the window's toggle says. Both so that `nendo replay` gives the
+//! window's surface bit for bit (`editor::live` `symmetry` module docs).
 
 use glam::DVec3;
 use nendo_devices::profile::MouseProfile;

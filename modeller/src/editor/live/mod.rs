@@ -21,11 +21,18 @@
 //! `r = DEFAULT_FINGER_RADIUS · L · s / (FIT_FRACTION · 10)`, `L` the hand's length (metres),
 //! `s` the profile's sides per metre — so a hand fitted to the default 10-side plane
 //! ("Fit the hand to the model") touches with the library's default radius, and a hand half as
-//! large with half of it. A replayed trace is read with `DEFAULT_FINGER_RADIUS` unless set, as
-//! `nendo replay` reads it.
+//! large with half of it. A replayed trace is read with its scene's finger and finger radius
+//! (`DEFAULT_FINGER_RADIUS` when it names none) unless set, as `nendo replay` reads it.
 //!
 //! The desk's aids — the hand fitted on a profile's first connect, the pressing parts chosen,
 //! the clutch key, the contact feedback — are in `desk`.
+//!
+//! The device hand presses with a symmetry group (`symmetry`): a session that does not record
+//! follows the window's symmetry, taken up between contacts as the mouse hand does; a
+//! recording keeps the window's group at Connect until it stops, and names it in its trace's
+//! scene (`mirror`, `radial`, `lathe`); a replayed trace presses with its scene's group. A
+//! fixed group first makes the whole surface exactly invariant, as `nendo replay` does, so the
+//! window and `nendo replay` of the trace agree bit for bit.
 //!
 //! Each sample's latency, from its arrival on the port to the frame that shows it, is kept by
 //! a [`LatencyMeter`] (see `latency`): the window marks the display refresh, the frame's GPU
@@ -59,6 +66,9 @@ mod latency;
 mod profiles;
 mod session;
 mod status;
+mod symmetry;
+#[cfg(test)]
+mod symmetry_tests;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
@@ -148,6 +158,8 @@ pub struct LiveInput {
     latency: LatencyMeter,
     /// Called by the loop thread when samples arrive (the window's redraw request).
     waker: Option<DeviceWaker>,
+    /// The symmetry group the device hand presses with (see `symmetry`).
+    symmetry: symmetry::PressingSymmetry,
 }
 
 /// The fingers a replayed trace presses with: those its scene names, else those of the

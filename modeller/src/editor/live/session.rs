@@ -52,6 +52,7 @@ impl LiveInput {
     pub fn disconnect(&mut self) {
         self.driver = None;
         self.running = None;
+        self.release_symmetry();
         self.calibration.capturing = None;
         if let Some(mut s) = self.session.take() {
             s.stop();
@@ -133,14 +134,27 @@ impl LiveInput {
         let Some((driver, finger, radius)) = self.driver_for(&stream, &profile) else {
             return;
         };
+        // The group the session presses with, when it is fixed: a replay's scene's, or the
+        // window's now for a recording (the `symmetry` module docs).
+        let plan = match self.plan_symmetry(doc, stream.source_header(), record.is_some()) {
+            Ok(plan) => plan,
+            Err(e) => {
+                self.message = Some(e);
+                return;
+            }
+        };
         // Mismatches the devices worked around (a glove for the other hand) stay on show.
         let warnings = (!stream.warnings().is_empty()).then(|| stream.warnings().join("; "));
-        // The recording names the scene it is made on: the document's model as it is now, and
-        // the hand's finger, radius and filter.
-        let scene = Scene {
+        // The recording names the scene it is made on: the document's model as it is now (before
+        // the group makes it invariant, as `nendo replay` does it again), the hand's finger,
+        // radius and filter, and the group the session presses with.
+        let mut scene = Scene {
             filter: Some(*driver.hand_loop().filter().settings()),
             ..Scene::of_window(doc.model(), finger, radius)
         };
+        if let Some(plan) = &plan {
+            plan.name_in(&mut scene);
+        }
         // The recording marks what the hand loop's gate holds: the same settings.
         let gate = *driver.hand_loop().filter().settings();
         let record = match record {
@@ -166,6 +180,10 @@ impl LiveInput {
                     (f, w) => f.or(w),
                 };
                 self.set_clutch(self.clutch);
+                if let Err(e) = self.fix_symmetry(doc, plan) {
+                    self.disconnect();
+                    self.message = Some(e);
+                }
             }
             Err(e) => self.message = Some(e.to_string()),
         }
@@ -181,17 +199,7 @@ impl LiveInput {
         profile: &Profile,
     ) -> Option<(HandDriver, FingerModel, f64)> {
         let (driver, finger, radius) = match stream.source_header() {
-            Some(h) => {
-                let finger = trace_finger(h);
-                let radius = self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS);
-                let filter = crate::hand::filter::for_trace(h, finger);
-                (
-                    HandDriver::new(h.hand, h.world_from_tracker, finger, radius)
-                        .map(|d| d.with_filter(filter)),
-                    finger,
-                    radius,
-                )
-            }
+            Some(h) => self.trace_driver(h),
             None => {
                 let finger = self.finger_for(profile);
                 let radius = self.radius(profile, false);
@@ -210,6 +218,30 @@ impl LiveInput {
                 None
             }
         }
+    }
+
+    /// The hand of a replayed trace, as `nendo replay` reads it with no other argument: the
+    /// trace's hand and transform, its scene's finger ([`trace_finger`]), finger radius (unless
+    /// set in the panel; without one the library's default) and filter.
+    fn trace_driver(
+        &self,
+        h: &nendo_devices::TraceHeader,
+    ) -> (Result<HandDriver, crate::hand::HandError>, FingerModel, f64) {
+        let finger = trace_finger(h);
+        let radius = self.radius_set.unwrap_or_else(|| {
+            Scene::of_trace(h)
+                .ok()
+                .flatten()
+                .and_then(|s| s.finger_radius)
+                .unwrap_or(DEFAULT_FINGER_RADIUS)
+        });
+        let filter = crate::hand::filter::for_trace(h, finger);
+        (
+            HandDriver::new(h.hand, h.world_from_tracker, finger, radius)
+                .map(|d| d.with_filter(filter)),
+            finger,
+            radius,
+        )
     }
 
     /// The finger radius of a session: set, or following the hand (a replay: the default).
@@ -243,18 +275,18 @@ impl LiveInput {
         let Some(h) = stream.source_header() else {
             return;
         };
-        let finger = FingerModel::for_profile_name(h.profile.as_deref());
-        let driver = HandDriver::new(
-            h.hand,
-            h.world_from_tracker,
-            finger,
-            self.radius_set.unwrap_or(DEFAULT_FINGER_RADIUS),
-        )
-        .map(|d| d.with_filter(crate::hand::filter::for_trace(h, finger)));
-        let driver = match driver {
+        let driver = match self.trace_driver(h).0 {
             Ok(d) => d,
             Err(e) => {
                 self.message = Some(e.to_string());
+                return;
+            }
+        };
+        // The trace's scene's group, whatever the window's toggle says (`symmetry` docs).
+        let plan = match self.plan_symmetry(doc, Some(h), false) {
+            Ok(plan) => plan,
+            Err(e) => {
+                self.message = Some(format!("{}: {e}", path.display()));
                 return;
             }
         };
@@ -266,6 +298,10 @@ impl LiveInput {
                 self.session = Some(s);
                 self.driver = Some(driver);
                 self.set_clutch(self.clutch);
+                if let Err(e) = self.fix_symmetry(doc, plan) {
+                    self.disconnect();
+                    self.message = Some(e);
+                }
             }
             Err(e) => self.message = Some(e.to_string()),
         }
@@ -310,6 +346,8 @@ impl LiveInput {
         if let Some(driver) = &mut self.driver {
             let mut samples = Vec::with_capacity(stamped.len());
             for s in &stamped {
+                // Between contacts the hand takes up the group its next contact presses with.
+                self.symmetry.take_up(driver, doc);
                 let revision = doc.revision();
                 driver.feed(doc, &s.frame);
                 samples.push((s.arrival, Instant::now(), doc.revision() != revision));
@@ -348,6 +386,7 @@ impl LiveInput {
             if let Some(mut s) = self.session.take() {
                 s.stop();
             }
+            self.release_symmetry();
         }
         self.write_status(finished);
         refused
@@ -372,7 +411,7 @@ impl LiveInput {
         ))
     }
 
-    /// `describe — N s; frames, rate`, for the panel.
+    /// `describe — N s; frames, rate`, the recording and a fixed symmetry group, for the panel.
     pub(crate) fn session_line(&self) -> Option<String> {
         let s = self.session.as_ref()?;
         let what = match &s.replay {
@@ -384,8 +423,12 @@ impl LiveInput {
             .as_ref()
             .map(|p| format!("; recording to {}", p.display()))
             .unwrap_or_default();
+        let symmetry = self
+            .symmetry_note()
+            .map(|n| format!("; {n}"))
+            .unwrap_or_default();
         Some(format!(
-            "{what} — {:.0} s, {} frames, {:.1} frames/s{recording}",
+            "{what} — {:.0} s, {} frames, {:.1} frames/s{recording}{symmetry}",
             s.started.elapsed().as_secs_f64(),
             s.shared.frames.load(Ordering::Relaxed),
             self.rate.2

@@ -100,7 +100,7 @@ fn session_start_and_recording_report_typed_outcomes() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-fn plane_doc() -> Document {
+pub(super) fn plane_doc() -> Document {
     use crate::model::Model;
     use crate::surface::{Primitive, PrimitiveParams};
     Document::new(Model::new(
@@ -213,6 +213,116 @@ fn a_window_recording_replays_to_the_windows_surface() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The shipped glove + tracker profile placed so the press gesture reaches the default
+/// plane (the index fingertip down to z = −0.3 at x = y = 0.5), and emulated CyberGlove and
+/// Fastrak doing the gesture on pseudo-terminals (they run while this lives).
+pub(super) struct EmulatedPress {
+    pub(super) profile: Profile,
+    pub(super) glove: nendo_devices::emulator::PtyEmulator,
+    pub(super) tracker: nendo_devices::emulator::PtyEmulator,
+}
+
+impl EmulatedPress {
+    pub(super) fn start() -> Self {
+        use crate::cli::emulate::{GESTURE_RATE_HZ, frame_at, raw_values};
+        use crate::hand::script::Gesture;
+        use nendo_devices::cyberglove::SensorCount;
+        use nendo_devices::emulator::{
+            CyberGloveModel, DeviceModel, FastrakModel, PtyEmulator, Script,
+        };
+        use std::sync::Arc;
+
+        let mut profile = profile::resolve("cyberglove2-18-fastrak").expect("shipped");
+        profile.world_from_tracker.translation = [0.0; 3];
+        profile.world_from_tracker.scale = 21.5;
+        let gesture = Gesture::Press
+            .trace(profile.world_from_tracker, GESTURE_RATE_HZ)
+            .expect("the press gesture");
+        let frames = Arc::new(gesture.frames);
+        let tracker = FastrakModel::new();
+        let period = tracker.period();
+        let poses = Arc::clone(&frames);
+        let tracker = PtyEmulator::spawn(tracker.with_path(Script::new(move |k| {
+            frame_at(&poses, period, k)
+                .pose
+                .unwrap_or(nendo_devices::TrackerPose::IDENTITY)
+        })))
+        .expect("tracker emulator");
+        let table = profile
+            .glove()
+            .map(|g| g.calibration().to_vec())
+            .expect("a glove");
+        let glove = CyberGloveModel::new(SensorCount::Eighteen);
+        let period = glove.period();
+        let angles = Arc::clone(&frames);
+        let glove = PtyEmulator::spawn(glove.with_values(Script::new(move |k| {
+            raw_values(&table, frame_at(&angles, period, k), 1)
+        })))
+        .expect("glove emulator");
+        Self {
+            profile,
+            glove,
+            tracker,
+        }
+    }
+
+    /// The panel with the profile selected and the emulators' ports chosen.
+    pub(super) fn live(&self) -> LiveInput {
+        LiveInput {
+            entries: vec![ProfileEntry {
+                profile: self.profile.clone(),
+                source: ProfileSource::Builtin,
+            }],
+            selected: 0,
+            glove_port: self.glove.port(),
+            tracker_port: self.tracker.port(),
+            ..LiveInput::default()
+        }
+    }
+}
+
+/// Polls `live` on `doc` as the window does (every 20 ms, `each` after every poll) through one
+/// press (3 s) and a little more, until a contact was made; the deadline only guards against a
+/// hang.
+pub(super) fn poll_through_the_press(
+    live: &mut LiveInput,
+    doc: &mut Document,
+    mut each: impl FnMut(&mut LiveInput),
+) {
+    let begun = Instant::now();
+    let deadline = begun + Duration::from_secs(60);
+    while (begun.elapsed() < Duration::from_millis(3500) || live.contacts == 0)
+        && Instant::now() < deadline
+    {
+        std::thread::sleep(Duration::from_millis(20));
+        let _ = live.poll(doc);
+        each(live);
+    }
+}
+
+/// The control points' coordinates as bits.
+pub(super) fn bits(m: &crate::model::Model) -> Vec<[u64; 3]> {
+    m.surface
+        .nodes()
+        .iter()
+        .map(|p| p.to_array().map(f64::to_bits))
+        .collect()
+}
+
+/// How many control points of `a` and `b` differ in a bit, and by up to how much.
+pub(super) fn differing(a: &crate::model::Model, b: &crate::model::Model) -> (usize, f64) {
+    let worst = a
+        .surface
+        .nodes()
+        .iter()
+        .zip(b.surface.nodes())
+        .map(|(p, q)| (*p - *q).abs().max_element())
+        .fold(0.0, f64::max);
+    let (x, y) = (bits(a), bits(b));
+    assert_eq!(x.len(), y.len());
+    (x.iter().zip(&y).filter(|(p, q)| p != q).count(), worst)
+}
+
 /// A live device session recorded by the window (the editor's device path: the stream, the
 /// loop thread's recorder, the hand driver on the document) replays with `nendo replay` to
 /// the window's surface bit for bit. The devices are emulated CyberGlove and Fastrak doing
@@ -221,71 +331,21 @@ fn a_window_recording_replays_to_the_windows_surface() {
 /// than the trace stores would leave a different surface.
 #[test]
 fn a_live_session_recorded_in_the_window_replays_bit_for_bit() {
-    use crate::cli::emulate::{GESTURE_RATE_HZ, frame_at, raw_values};
-    use crate::hand::script::Gesture;
-    use nendo_devices::cyberglove::SensorCount;
-    use nendo_devices::emulator::{
-        CyberGloveModel, DeviceModel, FastrakModel, PtyEmulator, Script,
-    };
-    use std::sync::Arc;
-
     let dir = std::env::temp_dir().join(format!("nendo-live-bits-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
-    // The shipped glove + tracker profile placed so the press reaches the default plane.
-    let mut profile = profile::resolve("cyberglove2-18-fastrak").expect("shipped");
-    profile.world_from_tracker.translation = [0.0; 3];
-    profile.world_from_tracker.scale = 21.5;
-    let gesture = Gesture::Press
-        .trace(profile.world_from_tracker, GESTURE_RATE_HZ)
-        .expect("the press gesture");
-    let frames = Arc::new(gesture.frames);
-    let tracker = FastrakModel::new();
-    let period = tracker.period();
-    let poses = Arc::clone(&frames);
-    let tracker = PtyEmulator::spawn(tracker.with_path(Script::new(move |k| {
-        frame_at(&poses, period, k)
-            .pose
-            .unwrap_or(nendo_devices::TrackerPose::IDENTITY)
-    })))
-    .expect("tracker emulator");
-    let table = profile
-        .glove()
-        .map(|g| g.calibration().to_vec())
-        .expect("a glove");
-    let glove = CyberGloveModel::new(SensorCount::Eighteen);
-    let period = glove.period();
-    let angles = Arc::clone(&frames);
-    let glove = PtyEmulator::spawn(glove.with_values(Script::new(move |k| {
-        raw_values(&table, frame_at(&angles, period, k), 1)
-    })))
-    .expect("glove emulator");
+    let press = EmulatedPress::start();
     let trace_path = dir.join("window.trace");
     let mut live = LiveInput {
-        entries: vec![ProfileEntry {
-            profile,
-            source: ProfileSource::Builtin,
-        }],
-        selected: 0,
-        glove_port: glove.port(),
-        tracker_port: tracker.port(),
         record: true,
         record_to: trace_path.display().to_string(),
-        ..LiveInput::default()
+        ..press.live()
     };
     let mut doc = plane_doc();
     let start = doc.model().clone();
     live.connect(&mut doc);
     assert!(live.is_connected(), "{:?}", live.message);
-    // One press (3 s) and a little more; the deadline only guards against a hang.
-    let begun = Instant::now();
-    let deadline = begun + Duration::from_secs(60);
-    while (begun.elapsed() < Duration::from_millis(3500) || live.contacts == 0)
-        && Instant::now() < deadline
-    {
-        std::thread::sleep(Duration::from_millis(20));
-        let _ = live.poll(&mut doc);
-    }
+    poll_through_the_press(&mut live, &mut doc, |_| {});
     live.disconnect_from(&mut doc);
     assert!(live.contacts >= 1, "the press reached the clay");
     assert_ne!(doc.model(), &start, "the hand pressed the document");
@@ -305,29 +365,13 @@ fn a_live_session_recorded_in_the_window_replays_bit_for_bit() {
     );
     let out = dir.join("replayed.json");
     let replayed = replay_with_defaults(trace_path, &out);
-    let bits = |m: &crate::model::Model| -> Vec<[u64; 3]> {
-        m.surface
-            .nodes()
-            .iter()
-            .map(|p| p.to_array().map(f64::to_bits))
-            .collect()
-    };
     let window = doc.model();
-    let worst = replayed
-        .surface
-        .nodes()
-        .iter()
-        .zip(window.surface.nodes())
-        .map(|(a, b)| (*a - *b).abs().max_element())
-        .fold(0.0, f64::max);
-    let (a, b) = (bits(&replayed), bits(window));
-    assert_eq!(a.len(), b.len());
-    let differing = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    let (differ, worst) = differing(&replayed, window);
     assert_eq!(
-        differing,
+        differ,
         0,
-        "{differing} of {} control points differ, by up to {worst:e}",
-        a.len()
+        "{differ} of {} control points differ, by up to {worst:e}",
+        window.surface.nodes().len()
     );
     assert_eq!(&replayed, window);
     let _ = std::fs::remove_dir_all(&dir);
@@ -674,7 +718,7 @@ pub(super) fn replay_with_defaults(
 }
 
 /// Polls `live` on `doc` until its session has ended (at most 30 s).
-fn poll_to_end(live: &mut LiveInput, doc: &mut Document) {
+pub(super) fn poll_to_end(live: &mut LiveInput, doc: &mut Document) {
     let deadline = Instant::now() + Duration::from_secs(30);
     while live.is_connected() && Instant::now() < deadline {
         live.poll(doc);

@@ -408,6 +408,7 @@ impl Modeller {
         self.cancel_stroke();
         self.end_hand_contacts();
         self.mirror.invalidate();
+        self.live.forget_symmetry();
         self.session.replace(doc);
         self.frame_pending = true;
         self.cache.invalidate();

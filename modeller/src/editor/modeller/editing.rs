@@ -65,6 +65,14 @@ impl Modeller {
         }
     }
 
+    /// Tells the device loop the symmetry the window asks for (before it polls and before the
+    /// Devices panel can Connect): a device session that follows the window takes it up between
+    /// contacts, a recording starts with it (`editor::live` `symmetry` module docs).
+    pub(super) fn sync_window_symmetry(&mut self) {
+        let wanted = self.mirror.wanted().then(|| self.mirror.spec().clone());
+        self.live.set_window_symmetry(wanted);
+    }
+
     /// The mirror a stroke begun now uses (`None`: symmetry off or not offered).
     pub(super) fn active_mirror(&mut self) -> Option<crate::surface::Symmetry> {
         let doc = &self.session.doc;
@@ -86,7 +94,7 @@ impl Modeller {
         } else {
             "symmetry off".to_string()
         };
-        self.set_status(text, false);
+        self.set_symmetry_status(text);
     }
 
     /// Asks for another symmetry (mirrors, radial, lathe) and turns symmetry on with it; when
@@ -109,7 +117,17 @@ impl Modeller {
             return;
         }
         self.mirror.set_wanted(true);
-        self.set_status(format!("symmetry on: {}", self.mirror.spec()), false);
+        self.set_symmetry_status(format!("symmetry on: {}", self.mirror.spec()));
+    }
+
+    /// The status line after a symmetry change: the change, and, while a device session's group
+    /// is fixed (a recording, a replayed trace), that the session keeps its own.
+    fn set_symmetry_status(&mut self, text: String) {
+        let text = match self.live.symmetry_note() {
+            Some(note) => format!("{text}; {note}"),
+            None => text,
+        };
+        self.set_status(text, false);
     }
 
     /// Applies the model's regulation to the whole surface as one undoable edit.

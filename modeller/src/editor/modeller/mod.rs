@@ -345,6 +345,7 @@ impl Modeller {
         self.panel.devices_open = true;
         let anchor = self.view_anchor();
         self.live.set_view_anchor(anchor);
+        self.sync_window_symmetry();
         if let Some(mouse) = self.live.connect_or_mouse(&mut self.session.doc) {
             self.apply(Command::UseMouseHand(mouse));
         }
@@ -571,6 +572,7 @@ impl Modeller {
     /// ([`Modeller::tick`]) and again just before the display refresh ([`Modeller::refresh`]),
     /// so that a sample arriving during the UI pass is shown by this frame.
     pub(super) fn poll_devices(&mut self) {
+        self.sync_window_symmetry();
         if let Some(e) = self.live.poll(&mut self.session.doc) {
             self.set_status(format!("stroke refused: {e}"), true);
         }
@@ -753,10 +755,17 @@ impl Modeller {
         self.auto_refine
     }
 
-    /// The tool panel's part: the active tool, its settings to edit in place, and the
-    /// symmetry toggle (whether it is on, offered, and why not).
-    pub fn tool_panel(&mut self) -> (Tool, &mut ToolSettings, &MirrorToggle) {
-        (self.tools.active, &mut self.tools.settings, &self.mirror)
+    /// The tool panel's part: the active tool, its settings to edit in place, the symmetry
+    /// toggle (whether it is on, offered, and why not), and what the toggle does not govern
+    /// now (a recording's or a replayed trace's group: [`LiveInput::symmetry_note`]).
+    pub fn tool_panel(&mut self) -> (Tool, &mut ToolSettings, &MirrorToggle, Option<String>) {
+        let note = self.live.symmetry_note();
+        (
+            self.tools.active,
+            &mut self.tools.settings,
+            &self.mirror,
+            note,
+        )
     }
 
     /// The export panel's part: the tolerance to edit in place and the export running, if
@@ -790,6 +799,7 @@ impl Modeller {
 
     /// The Devices panel's part: the device loop and the document it deforms.
     pub fn devices_mut(&mut self) -> (&mut LiveInput, &mut Document) {
+        self.sync_window_symmetry();
         (&mut self.live, &mut self.session.doc)
     }
 

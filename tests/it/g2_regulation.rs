@@ -298,7 +298,7 @@ fn the_rendered_curvature_map_carries_a_legend_that_follows_the_colour_map() {
 /// A move under g2 (the window's Move tool, a pinch of the hand): random grabs on the plane,
 /// the sphere and the torus, with and without the mirror across x — each lands the grabbed
 /// surface point on its target (as under `exact`, to 1e-9 of the model's size; a grab on the
-/// mirror plane keeps to it) and leaves every seam G2 and G1. Translating the grabbed point's
+/// mirror plane keeps to it) and leaves every seam G2 and G1, a mirrored result symmetric. Translating the grabbed point's
 /// control-point groups, as the exact landing does, broke the g2 conditions: every move
 /// under g2 was refused.
 #[test]
@@ -352,6 +352,10 @@ fn a_move_under_g2_lands_exactly_and_keeps_every_seam_g2() {
                 // Relative to curvatures near 0 on the plane: 7e-8 there, with absolute 6e-15.
                 assert!(r.max_relative < 1e-6, "{p:?}: G2 {}", r.max_relative);
                 assert!(report(&g, 17).g1_max_deg < 1e-9, "{p:?}: G1");
+                if let Some(s) = &symmetry {
+                    let e = nendo::surface::group_error(&g, s);
+                    assert!(e <= 1e-12, "{p:?}: asymmetry {e:.2e}");
+                }
                 moved += 1;
             }
         }

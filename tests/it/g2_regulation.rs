@@ -298,9 +298,9 @@ fn the_rendered_curvature_map_carries_a_legend_that_follows_the_colour_map() {
 /// A move under g2 (the window's Move tool, a pinch of the hand): random grabs on the plane,
 /// the sphere and the torus, with and without the mirror across x — each lands the grabbed
 /// surface point on its target (as under `exact`, to 1e-9 of the model's size; a grab on the
-/// mirror plane keeps to it) and leaves every seam G2 and G1, a mirrored result symmetric. Translating the grabbed point's
-/// control-point groups, as the exact landing does, broke the g2 conditions: every move
-/// under g2 was refused.
+/// mirror plane keeps to it) and leaves every seam G2 and G1, a mirrored result symmetric.
+/// Translating the grabbed point's control-point groups, as the exact landing does, broke the
+/// g2 conditions: every move under g2 was refused.
 #[test]
 fn a_move_under_g2_lands_exactly_and_keeps_every_seam_g2() {
     use nendo::surface::{Plane, Sculptor, Symmetry, nearest};

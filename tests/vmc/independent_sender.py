@@ -208,8 +208,10 @@ def read_trace(path):
     header, frames = {}, []
     with open(path) as f:
         lines = f.read().splitlines()
-    if not lines or not lines[0].startswith("nendo-hand-trace 3"):
-        fail(f"{path}: not a version-3 trace: {lines[:1]}")
+    # Version 3 brought skeleton frames; version 4 the gate's marks (a `marks held` header line,
+    # a `held=` field after a frame's columns), written by every gated recorder.
+    if not lines or lines[0] not in ("nendo-hand-trace 3", "nendo-hand-trace 4"):
+        fail(f"{path}: not a version-3 or -4 trace: {lines[:1]}")
     it = iter(lines[1:])
     for line in it:
         if line == "frames":
@@ -219,7 +221,7 @@ def read_trace(path):
     for line in it:
         if line.startswith("end "):
             break
-        words = line.split()
+        words = [w for w in line.split() if "=" not in w]
         s = words.index("S")
         rest = words[s + 1:]
         if rest == ["-"]:

@@ -275,7 +275,7 @@ impl Commit {
             }
             return result;
         }
-        let old: std::collections::HashMap<usize, DVec3> = self.journal.iter().copied().collect();
+        let old = self.first_positions();
         let step = {
             let now = grid.nodes();
             let before = |id: usize| old.get(&id).copied().unwrap_or(now[id]);
@@ -381,7 +381,7 @@ impl Commit {
         let (iu, iv) = (hold.patch % m, hold.patch / m);
         let at = |g: &Grid| g.eval(iu, iv, hold.u, hold.v);
         let base: Vec<DVec3> = grid.nodes().to_vec();
-        let old: std::collections::HashMap<usize, DVec3> = self.journal.iter().copied().collect();
+        let old = self.first_positions();
         let before = |id: usize| old.get(&id).copied().unwrap_or(base[id]);
         let here = at(grid);
         // Lands the residual `delta` from the base net, projects, and returns the nodes
@@ -449,6 +449,11 @@ impl Commit {
                 self.journal.push((id, base[id]));
             }
         }
+    }
+
+    /// Every journaled node's position before the operation.
+    fn first_positions(&self) -> std::collections::HashMap<usize, DVec3> {
+        self.journal.iter().copied().collect()
     }
 
     /// Takes in the patches outside the included ones that hold a control point the mirror

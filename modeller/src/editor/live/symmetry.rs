@@ -165,14 +165,12 @@ fn start_fixed(doc: &mut Document, spec: &SymmetrySpec) -> Result<Option<Symmetr
     let poles = model.regulation != Regulation::None;
     s.enforce_all(&mut model.surface, poles)
         .map_err(|e| format!("{spec}: {e}"))?;
-    let bits = |m: &crate::model::Model| -> Vec<[u64; 3]> {
-        m.surface
-            .nodes()
-            .iter()
-            .map(|p| p.to_array().map(f64::to_bits))
-            .collect()
-    };
-    if bits(&model) != bits(doc.model()) || &model != doc.model() {
+    // A bit changed (a −0 made +0 counts: `==` on the models would not see it).
+    let bits = |p: &glam::DVec3| p.to_array().map(f64::to_bits);
+    let moved = (model.surface.nodes().iter())
+        .zip(doc.model().surface.nodes())
+        .any(|(a, b)| bits(a) != bits(b));
+    if moved || &model != doc.model() {
         doc.replace("symmetry", model);
     }
     Ok(Some(s))
